@@ -1,0 +1,50 @@
+#pragma once
+// One interface for every place RGB-D frames come from (rawlog, TUM folder; later a live camera),
+// so that the SLAM system and the tools never care which one they read.
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+
+#include <memory>
+#include <string>
+
+namespace mrpt_yesslam
+{
+/** A stream of RGB-D frames, read one at a time (never the whole sequence in memory). */
+class CInputSource
+{
+   public:
+	/** Settings shared by all sources; section [Input] of the config. */
+	struct TOptions : public mrpt::config::CLoadableOptions
+	{
+		/** TUM folders: camera name (fr1, fr2, fr3) or camera file; empty = calibration.txt in the
+		 * folder, else the freiburg name in the folder path. */
+		std::string camera;
+		/** TUM folders: largest rgb/depth stamp difference to pair them, seconds (associate.py). */
+		double maxDiff = 0.02;
+		/** Rawlogs: only frames with this sensor label (empty = all 3D range scans). */
+		std::string sensorLabel;
+
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void dumpToTextStream(std::ostream& out) const override;
+	};
+
+	virtual ~CInputSource() = default;
+	/** The next frame, validated (colour + same-size depth), or nullptr at the end of the stream.
+	 * Throws InputError naming the file for unreadable or inconsistent data. */
+	virtual mrpt::obs::CObservation3DRangeScan::Ptr next() = 0;
+	/** Number of frames the source expects to deliver; 0 when unknown (streamed rawlogs). */
+	virtual std::size_t sizeHint() const { return 0; }
+	/** Entries that were in the input but cannot become frames (unpaired rgb, non-RGB-D observations). */
+	virtual std::size_t skipped() const { return 0; }
+	/** The path the source reads. */
+	virtual const std::string& path() const = 0;
+};
+
+/** Opens a rawlog file (*.rawlog, gz-compressed or not) or a TUM RGB-D folder; throws InputError
+ * when the path does not exist or is neither. */
+std::unique_ptr<CInputSource> openInputSource(const std::string& path, const CInputSource::TOptions& opts = {});
+
+/** The ground-truth file that belongs with an input: "groundtruth.txt" in a TUM folder, or
+ * "<name>_groundtruth.txt" beside "<name>.rawlog" (as tum2rawlog writes it); empty if none. */
+std::string findGroundTruthFor(const std::string& inputPath);
+}  // namespace mrpt_yesslam

@@ -1,0 +1,32 @@
+#pragma once
+// RGB-D camera models: the published TUM Kinect calibrations, and a plain camera file.
+#include <mrpt/img/TCamera.h>
+
+#include <string>
+
+namespace mrpt_yesslam
+{
+/** Intrinsics of a registered RGB-D camera (depth pixels aligned with colour pixels). */
+struct TRgbdCamera
+{
+	mrpt::img::TCamera intrinsics;	//!< fx fy cx cy, size, distortion k1 k2 p1 p2 k3
+	double depthScale = 5000.0;	 //!< raw depth value per metre (TUM: 5000, OpenNI: 1000)
+	std::string name;  //!< "fr1", "fr2", "fr3" or the camera file it was read from
+};
+
+/** The TUM calibration for "fr1"/"freiburg1", "fr2"/"freiburg2", "fr3"/"freiburg3" (TUM's
+ * published values; fr1 and fr2 with their distortion, fr3 images are already undistorted).
+ * Throws InputError for any other name. */
+TRgbdCamera tumCameraByName(const std::string& name);
+
+/** Finds "freiburg1/2/3" or "fr1/2/3" in a path's last folder names; empty if none. */
+std::string tumCameraNameFromPath(const std::string& folder);
+
+/** Reads a camera file: '#' comments, then "fx fy cx cy [width height [depth_scale]]" on one
+ * line and optionally "k1 k2 p1 p2 k3" on the next (TUM's d0..d4). Throws InputError. */
+TRgbdCamera readCameraFile(const std::string& path);
+
+/** Resolves a --camera argument for a TUM folder: a TUM name, or a camera file; when empty, the
+ * folder's calibration.txt if present, else the freiburg name in the folder path. */
+TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder);
+}  // namespace mrpt_yesslam

@@ -1,0 +1,23 @@
+#pragma once
+// Small strict parsers shared by every reader of user text files, so that they all reject the
+// same malformed input with the same kind of message.
+#include <string>
+#include <vector>
+
+namespace mrpt_yesslam
+{
+/** Reads a whole file; throws InputError("PATH: cannot open ...") if it cannot. */
+std::string readTextFile(const std::string& path);
+
+/** Splits a line on spaces, tabs and commas (the TUM tools accept all three). */
+std::vector<std::string> splitFields(const std::string& line);
+
+/** Parses a finite double; returns false for anything else (trailing garbage, nan, inf, empty). */
+bool parseFiniteDouble(const std::string& s, double& out);
+
+/** True for lines the TUM readers skip: empty, whitespace only, or starting with '#'. */
+bool isCommentOrBlank(const std::string& line);
+
+/** Splits text into lines (handles \n and \r\n). */
+std::vector<std::string> splitLines(const std::string& text);
+}  // namespace mrpt_yesslam

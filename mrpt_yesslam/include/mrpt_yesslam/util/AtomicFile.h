@@ -1,0 +1,18 @@
+#pragma once
+// Atomic output: everything we write goes to "<path>.tmp.<pid>" first and is renamed into place,
+// so an interrupted run never leaves a half-written file under the final name.
+#include <functional>
+#include <string>
+
+namespace mrpt_yesslam
+{
+/** Writes `content` to `path` atomically; throws InputError naming `path` on failure. */
+void writeFileAtomically(const std::string& path, const std::string& content);
+
+/** Calls `writer(tmpPath)` to produce the file, then renames it to `path`; on any failure the
+ * temporary file is removed and the error (an InputError naming `path`) propagates. */
+void writeFileAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& writer);
+
+/** The temporary name used for `path` by this process. */
+std::string temporaryPathFor(const std::string& path);
+}  // namespace mrpt_yesslam

@@ -1,0 +1,18 @@
+#pragma once
+// The one exception type of the project: main() catches it and prints its message as one line.
+#include <stdexcept>
+#include <string>
+
+namespace mrpt_yesslam
+{
+/** An error caused by user input (a file, an option): the message names the file and what is wrong. */
+class InputError : public std::runtime_error
+{
+   public:
+	/** Builds "FILE: PROBLEM"; an empty file gives just the problem. */
+	InputError(const std::string& file, const std::string& problem)
+		: std::runtime_error(file.empty() ? problem : file + ": " + problem)
+	{
+	}
+};
+}  // namespace mrpt_yesslam

@@ -1,0 +1,104 @@
+#include "mrpt_yesslam/io/CRawlogSource.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <filesystem>
+
+#include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace mrpt_yesslam
+{
+namespace
+{
+// The first line of an MRPT exception message is the useful one; the rest is a call stack.
+std::string firstLine(const std::string& s)
+{
+	const auto p = s.find('\n');
+	std::string l = s.substr(0, p);
+	while (!l.empty() && (l.back() == '\r' || l.back() == ' ')) l.pop_back();
+	return l;
+}
+}  // namespace
+
+CRawlogSource::CRawlogSource(const std::string& path, const TOptions& opts) : path_(path), opts_(opts)
+{
+	std::error_code ec;
+	if (!fs::exists(path, ec)) throw InputError(path, "file not found");
+	if (fs::is_directory(path, ec)) throw InputError(path, "is a folder, expected a .rawlog file");
+	file_ = std::make_unique<mrpt::io::CFileGZInputStream>();
+	if (!file_->open(path)) throw InputError(path, "cannot open rawlog");
+	if (file_->checkEOF()) throw InputError(path, "rawlog is empty");
+	// External images ("<name>_Images/") are resolved against one global MRPT path.
+	imagesDir_ = mrpt::obs::CRawlog::detectImagesDirectory(path);
+	mrpt::img::CImage::setImagesPathBase(imagesDir_);
+}
+
+mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
+{
+	if (file_->checkEOF()) return nullptr;
+	try
+	{
+		auto arch = mrpt::serialization::archiveFrom(*file_);
+		auto o = arch.ReadObject();
+		entries_++;
+		return o;
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError(
+			path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" + firstLine(e.what()) + ")");
+	}
+}
+
+void CRawlogSource::enqueue(const mrpt::serialization::CSerializable::Ptr& o)
+{
+	if (!o) return;
+	if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
+	{
+		if (opts_.sensorLabel.empty() || scan->sensorLabel == opts_.sensorLabel)
+			pending_.push_back(scan);
+		else
+			skipped_++;
+		return;
+	}
+	if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(o))
+	{
+		for (const auto& obs : *sf) enqueue(obs);
+		return;
+	}
+	// Actions (odometry) and other sensors carry no RGB-D frame.
+	if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(o)) skipped_++;
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr CRawlogSource::next()
+{
+	while (pending_.empty())
+	{
+		auto o = readObject();
+		if (!o) return nullptr;
+		enqueue(o);
+	}
+	auto obs = pending_.front();
+	pending_.pop_front();
+	frames_++;
+	const std::string where = path_ + ": frame " + std::to_string(frames_);
+	try
+	{
+		obs->load();  // external 3D data, if any
+		if (obs->hasIntensityImage && obs->intensityImage.isExternallyStored()) obs->intensityImage.forceLoad();
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError(where, "cannot load external data (looked in '" + imagesDir_ + "'): " + firstLine(e.what()));
+	}
+	validateRgbdObservation(*obs, where);
+	return obs;
+}
+}  // namespace mrpt_yesslam

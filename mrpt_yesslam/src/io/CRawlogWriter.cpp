@@ -1,0 +1,55 @@
+#include "mrpt_yesslam/io/CRawlogWriter.h"
+
+#include <mrpt/serialization/CArchive.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+CRawlogWriter::CRawlogWriter(const std::string& path, int compressionLevel)
+	: path_(path), tmp_(temporaryPathFor(path))
+{
+	out_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
+	std::string err;
+	if (!out_->open(tmp_, compressionLevel, err))
+		throw InputError(path, "cannot create rawlog (" + (err.empty() ? std::string("not writable?") : err) + ")");
+}
+
+CRawlogWriter::~CRawlogWriter()
+{
+	if (!committed_)
+	{
+		out_.reset();
+		std::remove(tmp_.c_str());
+	}
+}
+
+void CRawlogWriter::write(const mrpt::obs::CObservation& obs)
+{
+	try
+	{
+		auto arch = mrpt::serialization::archiveFrom(*out_);
+		arch << obs;
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError(path_, std::string("write failed (disk full?): ") + e.what());
+	}
+	count_++;
+}
+
+std::uintmax_t CRawlogWriter::commit()
+{
+	out_->close();
+	std::error_code ec;
+	std::filesystem::rename(tmp_, path_, ec);
+	if (ec) throw InputError(path_, "cannot move the finished rawlog into place (" + ec.message() + ")");
+	committed_ = true;
+	const auto sz = std::filesystem::file_size(path_, ec);
+	return ec ? 0 : sz;
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,156 @@
+#include "mrpt_yesslam/io/RgbdCamera.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <regex>
+
+#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+namespace
+{
+TRgbdCamera makeCamera(
+	const std::string& name, double fx, double fy, double cx, double cy, const double dist[5], unsigned w = 640,
+	unsigned h = 480, double depthScale = 5000.0)
+{
+	TRgbdCamera c;
+	c.name = name;
+	c.depthScale = depthScale;
+	c.intrinsics.ncols = w;
+	c.intrinsics.nrows = h;
+	c.intrinsics.setIntrinsicParamsFromValues(fx, fy, cx, cy);
+	for (int i = 0; i < 5; i++) c.intrinsics.dist[i] = dist[i];
+	return c;
+}
+
+std::string lower(std::string s)
+{
+	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	return s;
+}
+}  // namespace
+
+TRgbdCamera tumCameraByName(const std::string& nameIn)
+{
+	// Values from the TUM RGB-D benchmark's "file formats" page (ROS default for depth is not used:
+	// TUM depth images are registered to colour, so the colour intrinsics apply to both).
+	const std::string n = lower(nameIn);
+	if (n == "fr1" || n == "freiburg1")
+	{
+		const double d[5] = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+		return makeCamera("fr1", 517.3, 516.5, 318.6, 255.3, d);
+	}
+	if (n == "fr2" || n == "freiburg2")
+	{
+		const double d[5] = {0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
+		return makeCamera("fr2", 520.9, 521.0, 325.1, 249.7, d);
+	}
+	if (n == "fr3" || n == "freiburg3")
+	{
+		const double d[5] = {0, 0, 0, 0, 0};
+		return makeCamera("fr3", 535.4, 539.2, 320.1, 247.6, d);
+	}
+	throw InputError("", "unknown camera name '" + nameIn + "' (known: fr1, fr2, fr3, or give a camera file)");
+}
+
+std::string tumCameraNameFromPath(const std::string& folder)
+{
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	fs::path p = fs::weakly_canonical(fs::path(folder), ec);
+	if (ec) p = fs::path(folder);
+	static const std::regex re("(freiburg|fr)([123])(?![0-9])", std::regex::icase);
+	// Look at the folder itself and its parents (a sequence may sit in "fr3/walking_xyz").
+	for (int depth = 0; depth < 3 && !p.empty(); depth++)
+	{
+		std::string name = p.filename().string();
+		if (name.empty()) name = p.string();
+		std::smatch m;
+		if (std::regex_search(name, m, re)) return "fr" + m[2].str();
+		const fs::path parent = p.parent_path();
+		if (parent == p) break;
+		p = parent;
+	}
+	return {};
+}
+
+TRgbdCamera readCameraFile(const std::string& path)
+{
+	const auto lines = splitLines(readTextFile(path));
+	std::vector<std::vector<double>> rows;
+	for (std::size_t i = 0; i < lines.size(); i++)
+	{
+		if (isCommentOrBlank(lines[i])) continue;
+		std::vector<double> row;
+		for (const auto& f : splitFields(lines[i]))
+		{
+			double v;
+			if (!parseFiniteDouble(f, v))
+				throw InputError(path, "line " + std::to_string(i + 1) + ": '" + f + "' is not a finite number");
+			row.push_back(v);
+		}
+		rows.push_back(row);
+	}
+	if (rows.empty()) throw InputError(path, "camera file has no numbers (expected 'fx fy cx cy [width height [depth_scale]]')");
+	const auto& r = rows[0];
+	if (r.size() != 4 && r.size() != 6 && r.size() != 7)
+		throw InputError(
+			path, "first line must be 'fx fy cx cy [width height [depth_scale]]', found " + std::to_string(r.size()) +
+					  " numbers");
+	double dist[5] = {0, 0, 0, 0, 0};
+	if (rows.size() >= 2)
+	{
+		if (rows[1].size() != 5 && rows[1].size() != 4)
+			throw InputError(path, "second line must hold the distortion 'k1 k2 p1 p2 [k3]'");
+		for (std::size_t i = 0; i < rows[1].size(); i++) dist[i] = rows[1][i];
+	}
+	if (r[0] <= 0 || r[1] <= 0) throw InputError(path, "focal lengths must be positive");
+	unsigned w = 640, h = 480;
+	if (r.size() >= 6)
+	{
+		if (r[4] < 1 || r[5] < 1 || r[4] > 100000 || r[5] > 100000)
+			throw InputError(path, "image size must be positive integers");
+		w = static_cast<unsigned>(r[4]);
+		h = static_cast<unsigned>(r[5]);
+	}
+	double ds = 5000.0;
+	if (r.size() == 7)
+	{
+		if (r[6] <= 0) throw InputError(path, "depth_scale must be positive (TUM: 5000, OpenNI: 1000)");
+		ds = r[6];
+	}
+	return makeCamera(path, r[0], r[1], r[2], r[3], dist, w, h, ds);
+}
+
+TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
+{
+	namespace fs = std::filesystem;
+	if (!spec.empty())
+	{
+		std::error_code ec;
+		if (fs::is_regular_file(spec, ec)) return readCameraFile(spec);
+		try
+		{
+			return tumCameraByName(spec);
+		}
+		catch (const InputError&)
+		{
+			throw InputError(
+				spec, "--camera is neither a known camera name (fr1, fr2, fr3) nor an existing camera file");
+		}
+	}
+	const fs::path calib = fs::path(folder) / "calibration.txt";
+	std::error_code ec;
+	if (fs::is_regular_file(calib, ec)) return readCameraFile(calib.string());
+	const std::string n = tumCameraNameFromPath(folder);
+	if (n.empty())
+		throw InputError(
+			folder,
+			"cannot tell the camera: no calibration.txt and no freiburg1/2/3 in the folder name; pass a camera name "
+			"(fr1, fr2, fr3) or a camera file");
+	return tumCameraByName(n);
+}
+}  // namespace mrpt_yesslam

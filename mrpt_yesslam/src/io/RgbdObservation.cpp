@@ -1,0 +1,59 @@
+#include "mrpt_yesslam/io/RgbdObservation.h"
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/img/CImage.h>
+
+#include <cmath>
+
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+mrpt::obs::CObservation3DRangeScan::Ptr makeRgbdObservation(
+	double timestamp, const cv::Mat& bgr, const cv::Mat& depth16, const TRgbdCamera& camera,
+	const std::string& sensorLabel)
+{
+	auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+	obs->timestamp = mrpt::Clock::fromDouble(timestamp);
+	obs->sensorLabel = sensorLabel;
+	obs->hasIntensityImage = true;
+	obs->intensityImage = mrpt::img::CImage(bgr, mrpt::img::DEEP_COPY);
+	obs->hasRangeImage = true;
+	obs->range_is_depth = true;
+	obs->rangeImage_setSize(depth16.rows, depth16.cols);
+	for (int r = 0; r < depth16.rows; r++)
+	{
+		const uint16_t* src = depth16.ptr<uint16_t>(r);
+		for (int c = 0; c < depth16.cols; c++) obs->rangeImage(r, c) = src[c];
+	}
+	obs->rangeUnits = static_cast<float>(1.0 / camera.depthScale);
+	obs->cameraParams = camera.intrinsics;
+	obs->cameraParamsIntensity = camera.intrinsics;
+	// Registered depth: the colour camera sits where the depth camera is. MRPT's depth frame has
+	// +X forward, its camera frame +Z forward; this rotation is MRPT's own convention for that.
+	obs->relativePoseIntensityWRTDepth = mrpt::poses::CPose3D(0, 0, 0, -M_PI / 2, 0, -M_PI / 2);
+	obs->maxRange = 10.0f;
+	return obs;
+}
+
+void validateRgbdObservation(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& where)
+{
+	if (!obs.hasIntensityImage) throw InputError(where, "frame has no colour image");
+	if (!obs.hasRangeImage) throw InputError(where, "frame has no depth image");
+	const auto w = obs.intensityImage.getWidth(), h = obs.intensityImage.getHeight();
+	if (w == 0 || h == 0) throw InputError(where, "colour image is empty");
+	if (obs.rangeImage.cols() == 0 || obs.rangeImage.rows() == 0) throw InputError(where, "depth image is empty");
+	if (static_cast<size_t>(obs.rangeImage.cols()) != w || static_cast<size_t>(obs.rangeImage.rows()) != h)
+		throw InputError(
+			where, "depth image is " + std::to_string(obs.rangeImage.cols()) + "x" +
+					   std::to_string(obs.rangeImage.rows()) + " but colour image is " + std::to_string(w) + "x" +
+					   std::to_string(h) + " (registered depth of the same size is required)");
+	if (!std::isfinite(obs.rangeUnits) || obs.rangeUnits <= 0)
+		throw InputError(where, "depth units (rangeUnits) must be a positive number, got " + std::to_string(obs.rangeUnits));
+	const auto& K = obs.cameraParamsIntensity;
+	if (!(K.fx() > 0) || !(K.fy() > 0) || !std::isfinite(K.cx()) || !std::isfinite(K.cy()))
+		throw InputError(where, "camera intrinsics are not valid (fx, fy must be positive)");
+}
+
+double observationTime(const mrpt::obs::CObservation& obs) { return mrpt::Clock::toDouble(obs.timestamp); }
+}  // namespace mrpt_yesslam

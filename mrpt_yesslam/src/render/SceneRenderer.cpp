@@ -1,0 +1,121 @@
+#include "mrpt_yesslam/render/SceneRenderer.h"
+
+#include <mrpt/opengl/CFBORender.h>
+#include <mrpt/opengl/COpenGLViewport.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+namespace
+{
+std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+}  // namespace
+
+void loadScene(const std::string& path, mrpt::opengl::COpenGLScene& scene)
+{
+	std::error_code ec;
+	if (!std::filesystem::exists(path, ec)) throw InputError(path, "file not found");
+	if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a folder, expected a .3Dscene file");
+	bool ok = false;
+	try
+	{
+		ok = scene.loadFromFile(path);
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError(path, "not a readable .3Dscene file (" + firstLine(e.what()) + ")");
+	}
+	if (!ok) throw InputError(path, "not a readable .3Dscene file");
+}
+
+mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOptions& o)
+{
+	if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
+		throw InputError("", "image size must be between 16 and 8192 pixels");
+	auto vp = scene.getViewport("main");
+	if (!vp) throw InputError("", "scene has no 'main' viewport");
+	vp->setCustomBackgroundColor(mrpt::img::TColorf(
+		static_cast<float>(o.background[0]), static_cast<float>(o.background[1]), static_cast<float>(o.background[2])));
+
+	// Default view: look at the centre of the scene from far enough to see all of it.
+	mrpt::math::TPoint3D centre(0, 0, 0);
+	double radius = 1.0;
+	try
+	{
+		const auto bb = scene.getBoundingBox();
+		const auto d = bb.max - bb.min;
+		if (std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && d.norm() > 0 && d.norm() < 1e6)
+		{
+			centre = (bb.min + bb.max) * 0.5;
+			radius = 0.5 * d.norm();
+		}
+	}
+	catch (const std::exception&)
+	{
+		// An empty scene has no bounding box: keep the defaults.
+	}
+	const double fov = std::clamp(o.fovDeg, 5.0, 150.0);
+	const double dist = o.distance.value_or(1.15 * radius / std::sin(0.5 * fov * M_PI / 180.0));
+
+	std::unique_ptr<mrpt::opengl::CFBORender> fbo;
+	try
+	{
+		fbo = std::make_unique<mrpt::opengl::CFBORender>(o.width, o.height);
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError("render", "cannot create an OpenGL context through EGL (" + firstLine(e.what()) + ")");
+	}
+	auto& cam = fbo->getCamera(scene);
+	cam.setProjectiveModel(true);
+	cam.setProjectiveFOVdeg(static_cast<float>(fov));
+	cam.setPointingAt(o.lookAt.value_or(centre));
+	cam.setZoomDistance(static_cast<float>(dist));
+	cam.setAzimuthDegrees(static_cast<float>(o.azimuthDeg));
+	cam.setElevationDegrees(static_cast<float>(o.elevationDeg));
+	mrpt::img::CImage img;
+	try
+	{
+		fbo->render_RGB(scene, img);
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError("render", "rendering failed (" + firstLine(e.what()) + ")");
+	}
+	return img;
+}
+
+double nonBackgroundShare(const mrpt::img::CImage& img, const double bg[3])
+{
+	const cv::Mat m = img.asCvMatRef();
+	if (m.empty()) return 0.0;
+	const int b = static_cast<int>(std::lround(bg[2] * 255)), g = static_cast<int>(std::lround(bg[1] * 255)),
+			  r = static_cast<int>(std::lround(bg[0] * 255));
+	std::size_t diff = 0;
+	for (int y = 0; y < m.rows; y++)
+		for (int x = 0; x < m.cols; x++)
+		{
+			const cv::Vec3b p = m.channels() == 3 ? m.at<cv::Vec3b>(y, x) : cv::Vec3b::all(m.at<uchar>(y, x));
+			if (std::abs(p[0] - b) > 8 || std::abs(p[1] - g) > 8 || std::abs(p[2] - r) > 8) diff++;
+		}
+	return static_cast<double>(diff) / (static_cast<double>(m.rows) * m.cols);
+}
+
+double renderSceneFileToPng(const std::string& scenePath, const std::string& pngPath, const TRenderOptions& opts)
+{
+	mrpt::opengl::COpenGLScene scene;
+	loadScene(scenePath, scene);
+	const mrpt::img::CImage img = renderScene(scene, opts);
+	std::vector<uchar> png;
+	if (!cv::imencode(".png", img.asCvMatRef(), png)) throw InputError(pngPath, "cannot encode PNG");
+	writeFileAtomically(pngPath, std::string(png.begin(), png.end()));
+	return nonBackgroundShare(img, opts.background);
+}
+}  // namespace mrpt_yesslam

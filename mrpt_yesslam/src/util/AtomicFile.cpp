@@ -1,0 +1,49 @@
+#include "mrpt_yesslam/util/AtomicFile.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+std::string temporaryPathFor(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+
+void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& writer)
+{
+	const std::string tmp = temporaryPathFor(path);
+	try
+	{
+		writer(tmp);
+	}
+	catch (...)
+	{
+		std::remove(tmp.c_str());
+		throw;
+	}
+	if (std::rename(tmp.c_str(), path.c_str()) != 0)
+	{
+		const std::string why = std::strerror(errno);
+		std::remove(tmp.c_str());
+		throw InputError(path, "cannot write file (" + why + ")");
+	}
+}
+
+void writeFileAtomically(const std::string& path, const std::string& content)
+{
+	writeFileAtomically(
+		path,
+		[&](const std::string& tmp)
+		{
+			std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+			if (!f) throw InputError(path, std::string("cannot open for writing (") + std::strerror(errno) + ")");
+			f.write(content.data(), static_cast<std::streamsize>(content.size()));
+			f.flush();
+			if (!f) throw InputError(path, "write failed (disk full?)");
+		});
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,201 @@
+#include "mrpt_yesslam/util/CommandLine.h"
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <sstream>
+
+#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+CommandLine::CommandLine(std::string program, std::string synopsis, std::string description, std::vector<std::string> examples)
+	: program_(std::move(program)),
+	  synopsis_(std::move(synopsis)),
+	  description_(std::move(description)),
+	  examples_(std::move(examples))
+{
+}
+
+CommandLine::Opt& CommandLine::add(const std::string& name)
+{
+	opts_.push_back({});
+	opts_.back().name = name;
+	return opts_.back();
+}
+
+void CommandLine::flag(const std::string& name, const std::string& help, bool* target)
+{
+	Opt& o = add(name);
+	o.help = help;
+	o.set = [target](const std::string&) { *target = true; };
+}
+
+void CommandLine::text(
+	const std::string& name, const std::string& metavar, const std::string& help, std::string* target, bool required)
+{
+	Opt& o = add(name);
+	o.metavar = metavar;
+	o.help = help;
+	o.takesValue = true;
+	o.required = required;
+	if (!target->empty()) o.defaultText = *target;
+	o.set = [target](const std::string& v) { *target = v; };
+}
+
+void CommandLine::number(
+	const std::string& name, const std::string& metavar, const std::string& help, double* target, bool required)
+{
+	Opt& o = add(name);
+	o.metavar = metavar;
+	o.help = help;
+	o.takesValue = true;
+	o.required = required;
+	if (!required)
+	{
+		std::ostringstream ss;
+		ss << *target;
+		o.defaultText = ss.str();
+	}
+	o.set = [target, name](const std::string& v)
+	{
+		if (!parseFiniteDouble(v, *target)) throw InputError("", "--" + name + " expects a number, got '" + v + "'");
+	};
+}
+
+void CommandLine::count(const std::string& name, const std::string& metavar, const std::string& help, std::size_t* target)
+{
+	Opt& o = add(name);
+	o.metavar = metavar;
+	o.help = help;
+	o.takesValue = true;
+	o.defaultText = std::to_string(*target);
+	o.set = [target, name](const std::string& v)
+	{
+		double d;
+		if (!parseFiniteDouble(v, d) || d < 0 || d != static_cast<double>(static_cast<long long>(d)) || d > 1e15)
+			throw InputError("", "--" + name + " expects a non-negative integer, got '" + v + "'");
+		*target = static_cast<std::size_t>(d);
+	};
+}
+
+bool CommandLine::parse(int argc, char** argv)
+{
+	for (int i = 1; i < argc; i++)
+	{
+		std::string a = argv[i];
+		if (a == "-h" || a == "--help")
+		{
+			std::fputs(help().c_str(), stdout);
+			return false;
+		}
+		if (a.rfind("--", 0) != 0)
+			throw InputError("", "unexpected argument '" + a + "' (options start with --; see --help)");
+		std::string name = a.substr(2), value;
+		bool inlineValue = false;
+		if (const auto eq = name.find('='); eq != std::string::npos)
+		{
+			value = name.substr(eq + 1);
+			name = name.substr(0, eq);
+			inlineValue = true;
+		}
+		Opt* o = nullptr;
+		for (auto& c : opts_)
+			if (c.name == name) o = &c;
+		if (!o) throw InputError("", "unknown option --" + name + " (see --help)");
+		if (o->takesValue && !inlineValue)
+		{
+			if (i + 1 >= argc) throw InputError("", "option --" + name + " needs a value " + o->metavar);
+			value = argv[++i];
+		}
+		if (!o->takesValue && inlineValue) throw InputError("", "option --" + name + " takes no value");
+		o->set(value);
+		o->seen = true;
+	}
+	for (const auto& o : opts_)
+		if (o.required && !o.seen) throw InputError("", "missing required option --" + o.name + " (see --help)");
+	return true;
+}
+
+bool CommandLine::given(const std::string& name) const
+{
+	for (const auto& o : opts_)
+		if (o.name == name) return o.seen;
+	return false;
+}
+
+std::string CommandLine::help() const
+{
+	std::string h = "Usage: " + synopsis_ + "\n\n" + description_ + "\n\nOptions:\n";
+	for (const auto& o : opts_)
+	{
+		std::string left = "  --" + o.name + (o.takesValue ? " " + o.metavar : "");
+		if (left.size() < 26)
+			left += std::string(26 - left.size(), ' ');
+		else
+			left += "\n" + std::string(26, ' ');
+		std::string text = o.help;
+		if (o.required) text += " (required)";
+		if (!o.defaultText.empty()) text += " [default: " + o.defaultText + "]";
+		h += left + text + "\n";
+	}
+	h += "  --help                  Show this help and exit.\n";
+	if (!examples_.empty())
+	{
+		h += "\nExamples:\n";
+		for (const auto& e : examples_) h += "  " + e + "\n";
+	}
+	return h;
+}
+
+namespace
+{
+std::atomic<int> g_interrupts{0};
+extern "C" void onSignal(int sig)
+{
+	if (g_interrupts.fetch_add(1) >= 1)
+	{
+		std::signal(sig, SIG_DFL);
+		std::raise(sig);
+	}
+}
+}  // namespace
+
+void installInterruptHandler()
+{
+	std::signal(SIGINT, onSignal);
+	std::signal(SIGTERM, onSignal);
+}
+
+bool interruptRequested() { return g_interrupts.load() > 0; }
+
+int runTool(const std::string& program, const std::function<int()>& body)
+{
+	auto oneLine = [](std::string s)
+	{
+		const auto p = s.find('\n');
+		if (p != std::string::npos) s = s.substr(0, p);
+		return s;
+	};
+	try
+	{
+		return body();
+	}
+	catch (const InputError& e)
+	{
+		std::fprintf(stderr, "%s: error: %s\n", program.c_str(), oneLine(e.what()).c_str());
+		return 1;
+	}
+	catch (const std::exception& e)
+	{
+		std::fprintf(stderr, "%s: error: %s\n", program.c_str(), oneLine(e.what()).c_str());
+		return 1;
+	}
+	catch (...)
+	{
+		std::fprintf(stderr, "%s: error: unknown failure\n", program.c_str());
+		return 1;
+	}
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,58 @@
+// yesslam-eval: ATE and RPE of an estimated trajectory against ground truth, with the numbers the
+// TUM RGB-D benchmark tools print.
+#include <cstdio>
+
+#include "mrpt_yesslam/eval/EvalReport.h"
+#include "mrpt_yesslam/eval/TrajectoryPlot.h"
+#include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/CommandLine.h"
+#include "mrpt_yesslam/util/Error.h"
+
+using namespace mrpt_yesslam;
+
+int main(int argc, char** argv)
+{
+	return runTool(
+		"yesslam-eval",
+		[&]() -> int
+		{
+			std::string gtPath, estPath, jsonPath, plotPath, unit = "s";
+			TEvalOptions o;
+			CommandLine cl(
+				"yesslam-eval",
+				"yesslam-eval --gt GT.txt --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3] [--rpe-delta 1] "
+				"[--rpe-unit s|f] [--json OUT.json] [--plot OUT.png]",
+				"Absolute trajectory error (ATE) and relative pose error (RPE) of a TUM-format trajectory, computed\n"
+				"as the TUM RGB-D benchmark's evaluate_ate.py and evaluate_rpe.py --fixed_delta compute them:\n"
+				"greedy one-to-one association within --max-diff, Horn/Umeyama rigid alignment, every RPE pair\n"
+				"used (no random sampling). Prints one 'key: value' line per figure (metres, degrees).",
+				{"yesslam-eval --gt groundtruth.txt --est trajectory.txt",
+				 "yesslam-eval --gt gt.txt --est kf_mono.txt --sim3 --json ate.json --plot ate.png"});
+			cl.text("gt", "FILE", "ground-truth trajectory (TUM format)", &gtPath, true);
+			cl.text("est", "FILE", "estimated trajectory (TUM format)", &estPath, true);
+			cl.number("max-diff", "SECONDS", "largest stamp difference for an associated pair", &o.maxDiff);
+			cl.number("offset", "SECONDS", "time offset added to the estimate's stamps", &o.offset);
+			cl.flag("sim3", "align with scale too (Umeyama Sim(3), for monocular estimates); output says 'alignment: sim3'", &o.sim3);
+			cl.number("rpe-delta", "D", "spacing of RPE pairs, in --rpe-unit", &o.rpeDelta);
+			cl.text("rpe-unit", "s|f", "RPE spacing unit: s = seconds, f = frames", &unit);
+			cl.text("json", "FILE", "also write all figures and the alignment as JSON", &jsonPath);
+			cl.text("plot", "FILE", "write a top-down PNG of ground truth and aligned estimate, coloured by error", &plotPath);
+			if (!cl.parse(argc, argv)) return 0;
+			if (unit != "s" && unit != "f") throw InputError("", "--rpe-unit must be 's' or 'f', got '" + unit + "'");
+			o.rpeDeltaInFrames = unit == "f";
+			if (!(o.maxDiff > 0)) throw InputError("", "--max-diff must be positive");
+			if (!(o.rpeDelta > 0)) throw InputError("", "--rpe-delta must be positive");
+
+			const TTrajectory gt = readTumTrajectory(gtPath);
+			const TTrajectory est = readTumTrajectory(estPath);
+			if (gt.empty()) throw InputError(gtPath, "contains no poses");
+			if (est.empty()) throw InputError(estPath, "contains no poses");
+			const TEvalReport r = evaluateTrajectories(gt, est, o, gtPath, estPath);
+			std::fputs(formatEvalKeyValues(r).c_str(), stdout);
+			if (!r.hasRpe) std::fprintf(stderr, "yesslam-eval: note: no RPE (%s)\n", r.rpeProblem.c_str());
+			if (!jsonPath.empty()) writeFileAtomically(jsonPath, formatEvalJson(r));
+			if (!plotPath.empty()) plotAteTopDown(r.ate, gt, plotPath, estPath);
+			return 0;
+		});
+}
