@@ -33,16 +33,28 @@ CRawlogSource::CRawlogSource(const std::string& path, const TOptions& opts) : pa
 	if (!fs::exists(path, ec)) throw InputError(path, "file not found");
 	if (fs::is_directory(path, ec)) throw InputError(path, "is a folder, expected a .rawlog file");
 	file_ = std::make_unique<mrpt::io::CFileGZInputStream>();
+	if (fs::file_size(path, ec) == 0) throw InputError(path, "rawlog is empty (0 bytes)");
 	if (!file_->open(path)) throw InputError(path, "cannot open rawlog");
-	if (file_->checkEOF()) throw InputError(path, "rawlog is empty");
-	// External images ("<name>_Images/") are resolved against one global MRPT path.
-	imagesDir_ = mrpt::obs::CRawlog::detectImagesDirectory(path);
+	// External images ("<name>_Images/") are resolved against one global MRPT path. We look for the
+	// folders MRPT's convention names ourselves: CRawlog::detectImagesDirectory in MRPT 2.5 joins
+	// the folder and file name without a separator and so misses "<dir>/<name>_Images".
+	const fs::path p(path);
+	const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+	for (const std::string& cand : {p.stem().string() + "_Images", p.stem().string() + "_images", std::string("Images")})
+		if (fs::is_directory(dir / cand, ec))
+		{
+			imagesDir_ = (dir / cand).string();
+			break;
+		}
+	if (imagesDir_.empty()) imagesDir_ = mrpt::obs::CRawlog::detectImagesDirectory(path);
 	mrpt::img::CImage::setImagesPathBase(imagesDir_);
 }
 
 mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 {
-	if (file_->checkEOF()) return nullptr;
+	// gzeof() only turns true after a failed read, so the end is recognised afterwards: an
+	// exception with no byte consumed is the clean end of the file; anything else is damage.
+	const uint64_t before = file_->getPosition();
 	try
 	{
 		auto arch = mrpt::serialization::archiveFrom(*file_);
@@ -52,6 +64,7 @@ mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 	}
 	catch (const std::exception& e)
 	{
+		if (file_->getPosition() == before) return nullptr;
 		throw InputError(
 			path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" + firstLine(e.what()) + ")");
 	}
@@ -82,7 +95,18 @@ mrpt::obs::CObservation3DRangeScan::Ptr CRawlogSource::next()
 	while (pending_.empty())
 	{
 		auto o = readObject();
-		if (!o) return nullptr;
+		if (!o)
+		{
+			if (frames_ == 0)
+			{
+				if (entries_ == 0) throw InputError(path_, "not a rawlog, or a rawlog with no entries");
+				throw InputError(
+					path_, "no RGB-D frames (CObservation3DRangeScan with colour and depth" +
+							   (opts_.sensorLabel.empty() ? std::string() : " and sensor label '" + opts_.sensorLabel + "'") +
+							   ") among its " + std::to_string(entries_) + " entries");
+			}
+			return nullptr;
+		}
 		enqueue(o);
 	}
 	auto obs = pending_.front();

@@ -25,7 +25,8 @@ class CRawlogSource : public CInputSource
 	std::size_t entriesRead() const { return entries_; }
 
    private:
-	/** Reads the next serialized object; nullptr at a clean end of file. */
+	/** Reads the next serialized object; nullptr at a clean end of file. A stream that ends before
+	 * the first frame raises InputError (no frames is never what the user wanted). */
 	mrpt::serialization::CSerializable::Ptr readObject();
 	void enqueue(const mrpt::serialization::CSerializable::Ptr& o);
 

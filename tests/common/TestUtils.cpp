@@ -1,0 +1,141 @@
+#include "TestUtils.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace fs = std::filesystem;
+
+namespace yesslam_test
+{
+std::string sharedFile(const std::string& relative)
+{
+	const fs::path p = fs::path(YESSLAM_SHARED_DIR) / relative;
+	if (!fs::exists(p))
+		throw std::runtime_error(
+			"required shared test file is missing: " + p.string() + " (the tests need ../shared beside the repository)");
+	return p.string();
+}
+
+TempDir::TempDir(const std::string& tag)
+{
+	static std::atomic<int> counter{0};
+	const fs::path base = fs::temp_directory_path() / "yesslam_tests";
+	fs::create_directories(base);
+	path_ = (base / (tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++))).string();
+	fs::remove_all(path_);
+	fs::create_directories(path_);
+}
+
+TempDir::~TempDir()
+{
+	std::error_code ec;
+	fs::remove_all(path_, ec);
+}
+
+namespace
+{
+std::string slurp(const std::string& path)
+{
+	std::ifstream f(path);
+	std::stringstream ss;
+	ss << f.rdbuf();
+	return ss.str();
+}
+std::string quote(const std::string& s)
+{
+	std::string q = "'";
+	for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+	return q + "'";
+}
+}  // namespace
+
+RunResult runTool(const std::string& tool, const std::vector<std::string>& args)
+{
+	TempDir tmp("run");
+	std::string cmd = quote(std::string(YESSLAM_TOOLS_DIR) + "/" + tool);
+	for (const auto& a : args) cmd += " " + quote(a);
+	cmd += " >" + quote(tmp / "out") + " 2>" + quote(tmp / "err") + " </dev/null";
+	const int st = std::system(cmd.c_str());
+	RunResult r;
+	r.exitCode = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+	r.out = slurp(tmp / "out");
+	r.err = slurp(tmp / "err");
+	return r;
+}
+
+std::vector<SyntheticFrame> makeSyntheticFrames(int n, int w, int h)
+{
+	std::vector<SyntheticFrame> frames;
+	std::mt19937 rng(42);
+	for (int k = 0; k < n; k++)
+	{
+		SyntheticFrame f;
+		f.tRgb = 1000.0 + k / 30.0;
+		f.tDepth = f.tRgb + 0.004;	// depth 4 ms after colour, well inside the 0.02 s window
+		f.bgr = cv::Mat(h, w, CV_8UC3);
+		f.depth = cv::Mat(h, w, CV_16UC1);
+		for (int y = 0; y < h; y++)
+			for (int x = 0; x < w; x++)
+			{
+				f.bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(
+					static_cast<uchar>((x * 4 + k) & 255), static_cast<uchar>((y * 5) & 255),
+					static_cast<uchar>(rng() & 255));
+				f.depth.at<uint16_t>(y, x) = static_cast<uint16_t>(5001 + 7 * x + 3 * y + k);
+			}
+		f.depth.at<uint16_t>(0, 0) = 0;	 // an invalid pixel
+		f.depth.at<uint16_t>(1, 1) = 65535;	 // the largest raw value
+		frames.push_back(std::move(f));
+	}
+	return frames;
+}
+
+void writeText(const std::string& path, const std::string& content)
+{
+	std::ofstream f(path, std::ios::binary);
+	f << content;
+	if (!f) throw std::runtime_error("cannot write " + path);
+}
+
+void writeTumFolder(
+	const std::string& folder, const std::vector<SyntheticFrame>& frames, bool withGroundTruth, bool withCalibration)
+{
+	fs::create_directories(fs::path(folder) / "rgb");
+	fs::create_directories(fs::path(folder) / "depth");
+	std::string rgb = "# color images\n# timestamp filename\n", depth = "# depth maps\n# timestamp filename\n",
+				gt = "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n";
+	char buf[256];
+	for (std::size_t k = 0; k < frames.size(); k++)
+	{
+		const auto& f = frames[k];
+		std::snprintf(buf, sizeof(buf), "%.6f", f.tRgb);
+		const std::string rn = std::string("rgb/") + buf + ".png";
+		rgb += std::string(buf) + " " + rn + "\n";
+		std::snprintf(buf, sizeof(buf), "%.6f", f.tDepth);
+		const std::string dn = std::string("depth/") + buf + ".png";
+		depth += std::string(buf) + " " + dn + "\n";
+		cv::imwrite((fs::path(folder) / rn).string(), f.bgr);
+		cv::imwrite((fs::path(folder) / dn).string(), f.depth);
+		std::snprintf(buf, sizeof(buf), "%.4f %.4f 0.0000 1.5000 0 0 0 1\n", f.tRgb, 0.01 * k);
+		gt += buf;
+	}
+	writeText((fs::path(folder) / "rgb.txt").string(), rgb);
+	writeText((fs::path(folder) / "depth.txt").string(), depth);
+	if (withGroundTruth) writeText((fs::path(folder) / "groundtruth.txt").string(), gt);
+	if (withCalibration && !frames.empty())
+	{
+		std::snprintf(
+			buf, sizeof(buf), "# fx fy cx cy width height depth_scale\n535.4 539.2 %.1f %.1f %d %d 5000\n",
+			frames[0].bgr.cols / 2.0, frames[0].bgr.rows / 2.0, frames[0].bgr.cols, frames[0].bgr.rows);
+		writeText((fs::path(folder) / "calibration.txt").string(), buf);
+	}
+}
+}  // namespace yesslam_test

@@ -1,0 +1,70 @@
+// Camera models: TUM names, names found in folder paths, camera files and their errors.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
+#include "mrpt_yesslam/util/Error.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+
+TEST(Camera, TumNamesGivePublishedCalibrations)
+{
+	const auto fr1 = tumCameraByName("freiburg1");
+	EXPECT_DOUBLE_EQ(fr1.intrinsics.fx(), 517.3);
+	EXPECT_DOUBLE_EQ(fr1.intrinsics.cy(), 255.3);
+	EXPECT_DOUBLE_EQ(fr1.intrinsics.dist[0], 0.2624);
+	EXPECT_DOUBLE_EQ(fr1.intrinsics.dist[4], 1.1633);
+	const auto fr2 = tumCameraByName("FR2");
+	EXPECT_DOUBLE_EQ(fr2.intrinsics.fy(), 521.0);
+	EXPECT_DOUBLE_EQ(fr2.intrinsics.dist[1], -0.7849);
+	const auto fr3 = tumCameraByName("fr3");
+	EXPECT_DOUBLE_EQ(fr3.intrinsics.fx(), 535.4);
+	EXPECT_DOUBLE_EQ(fr3.intrinsics.cx(), 320.1);
+	EXPECT_DOUBLE_EQ(fr3.intrinsics.dist[0], 0.0);
+	EXPECT_DOUBLE_EQ(fr3.depthScale, 5000.0);
+	expectInputError([] { tumCameraByName("fr4"); }, {"unknown camera name 'fr4'"});
+}
+
+TEST(Camera, NameFromFolderPath)
+{
+	EXPECT_EQ(tumCameraNameFromPath("/data/rgbd_dataset_freiburg3_walking_xyz"), "fr3");
+	EXPECT_EQ(tumCameraNameFromPath("/data/fr2/desk"), "fr2");
+	EXPECT_EQ(tumCameraNameFromPath("/data/FR1_xyz/"), "fr1");
+	EXPECT_EQ(tumCameraNameFromPath("/data/my_sequence"), "");
+	EXPECT_EQ(tumCameraNameFromPath("/data/fr12_other"), "");
+}
+
+TEST(Camera, CameraFileOfTheSharedFolder)
+{
+	// calibration.txt of the real fr1/desk frames (TUM RGB-D, CC BY 4.0).
+	const auto c = readCameraFile(sharedFile("data/tum_fr1_desk_9frames/calibration.txt"));
+	EXPECT_DOUBLE_EQ(c.intrinsics.fx(), 517.3);
+	EXPECT_EQ(c.intrinsics.ncols, 640u);
+	EXPECT_DOUBLE_EQ(c.depthScale, 5000.0);
+	EXPECT_DOUBLE_EQ(c.intrinsics.dist[2], -0.0054);
+}
+
+TEST(Camera, BadCameraFilesAndSpecs)
+{
+	TempDir d("cam");
+	writeText(d / "bad1.txt", "# nothing\n");
+	expectInputError([&] { readCameraFile(d / "bad1.txt"); }, {"bad1.txt", "no numbers"});
+	writeText(d / "bad2.txt", "500 500 320\n");
+	expectInputError([&] { readCameraFile(d / "bad2.txt"); }, {"bad2.txt", "first line"});
+	writeText(d / "bad3.txt", "500 500 320 240 640 480 -1\n");
+	expectInputError([&] { readCameraFile(d / "bad3.txt"); }, {"depth_scale must be positive"});
+	writeText(d / "bad4.txt", "500 x 320 240\n");
+	expectInputError([&] { readCameraFile(d / "bad4.txt"); }, {"bad4.txt", "line 1", "'x'"});
+	writeText(d / "ok.txt", "500 501 320 240 320 240 1000\n0.1 0.2 0.3 0.4 0.5\n");
+	const auto c = resolveTumCamera(d / "ok.txt", d.path());
+	EXPECT_EQ(c.intrinsics.ncols, 320u);
+	EXPECT_DOUBLE_EQ(c.depthScale, 1000.0);
+	EXPECT_DOUBLE_EQ(c.intrinsics.dist[4], 0.5);
+	expectInputError([&] { resolveTumCamera("kinect9", d.path()); }, {"kinect9", "neither a known camera name"});
+	// A folder with no calibration.txt and no freiburg name cannot be guessed.
+	TempDir plain("plain_sequence");
+	expectInputError([&] { resolveTumCamera("", plain.path()); }, {"cannot tell the camera"});
+}

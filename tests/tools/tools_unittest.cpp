@@ -1,0 +1,150 @@
+// The command-line contract of the tools: outputs, exit codes, and one-line errors for bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/io/CRawlogSource.h"
+
+using namespace yesslam_test;
+namespace fs = std::filesystem;
+
+namespace
+{
+// A failed run: non-zero exit, exactly one stderr line, naming what is wrong.
+void expectCleanFailure(const RunResult& r, const std::vector<std::string>& fragments)
+{
+	EXPECT_NE(r.exitCode, 0);
+	EXPECT_LT(r.exitCode, 128) << "killed by a signal: " << r.err;
+	EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+	for (const auto& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << "stderr: " << r.err << "\nmissing: " << f;
+}
+
+std::string value(const std::string& out, const std::string& key)
+{
+	const auto p = out.find("\n" + key + ": ");
+	const auto q = p == std::string::npos ? (out.rfind(key + ": ", 0) == 0 ? 0 : std::string::npos) : p + 1;
+	if (q == std::string::npos) return {};
+	auto s = q + key.size() + 2;
+	while (s < out.size() && out[s] == ' ') s++;
+	return out.substr(s, out.find('\n', s) - s);
+}
+
+const std::string kTraj = "data/tum_eval_trajectories/";
+}  // namespace
+
+TEST(Tools, EvalPrintsTheContractKeys)
+{
+	TempDir d("eval");
+	const auto r = runTool(
+		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
+						 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--json", d / "r.json", "--plot", d / "r.png"});
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	for (const char* k : {"ate_pairs", "ate_rmse", "ate_mean", "ate_median", "ate_std", "ate_min", "ate_max", "rpe_pairs",
+						  "rpe_trans_rmse", "rpe_rot_rmse_deg"})
+		EXPECT_FALSE(value(r.out, k).empty()) << k << " missing in\n" << r.out;
+	EXPECT_EQ(value(r.out, "ate_pairs"), "2223");
+	EXPECT_NEAR(std::stod(value(r.out, "ate_rmse")), 0.008144, 1e-6);
+	EXPECT_EQ(value(r.out, "rpe_pairs"), "1998");
+	EXPECT_TRUE(fs::file_size(d / "r.json") > 100);
+	EXPECT_TRUE(fs::file_size(d / "r.png") > 1000);
+
+	// RPE in frames: pairs i, i+30; those whose partner would be the last pose are dropped.
+	const auto f = runTool(
+		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
+						 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--rpe-delta", "30", "--rpe-unit", "f"});
+	ASSERT_EQ(f.exitCode, 0) << f.err;
+	EXPECT_EQ(value(f.out, "rpe_unit"), "f");
+	// (Some pairs fall in ground-truth gaps longer than twice its median period and are dropped.)
+	EXPECT_LE(std::stoi(value(f.out, "rpe_pairs")), 2893 - 31);
+	EXPECT_GT(std::stoi(value(f.out, "rpe_pairs")), 1900);
+
+	const auto s = runTool(
+		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
+						 sharedFile(kTraj + "evo_fr2_desk_ORB_kf_mono.txt"), "--sim3"});
+	ASSERT_EQ(s.exitCode, 0) << s.err;
+	EXPECT_EQ(value(s.out, "alignment"), "sim3");
+	EXPECT_NEAR(std::stod(value(s.out, "scale")), 2.2283, 1e-4);
+}
+
+TEST(Tools, EvalBadInput)
+{
+	TempDir d("evalbad");
+	const std::string gt = sharedFile(kTraj + "evo_freiburg1_xyz-groundtruth.txt");
+	writeText(d / "six.txt", "# x\n1305031102.16 1 2 3 4 5\n");
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "six.txt"}), {"six.txt", "line 2", "expected 8"});
+	writeText(d / "nan.txt", "1305031102.16 1 2 nan 0 0 0 1\n");
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "nan.txt"}), {"nan.txt", "not a finite number"});
+	expectCleanFailure(
+		runTool("yesslam-eval", {"--gt", gt, "--est", sharedFile(kTraj + "evo_fr2_desk_ORB.txt")}),
+		{"evo_fr2_desk_ORB.txt", "only 0 of 2893 poses"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "missing.txt"}), {"missing.txt", "not found"});
+	writeText(d / "empty.txt", "# nothing\n");
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "empty.txt"}), {"empty.txt", "no poses"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt}), {"missing required option --est"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--max-diff", "abc"}), {"--max-diff expects a number"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--rpe-unit", "m"}), {"--rpe-unit"});
+	expectCleanFailure(runTool("yesslam-eval", {"--bogus"}), {"unknown option --bogus"});
+	const auto h = runTool("yesslam-eval", {"--help"});
+	EXPECT_EQ(h.exitCode, 0);
+	for (const char* o : {"--gt", "--est", "--max-diff", "--offset", "--sim3", "--rpe-delta", "--rpe-unit", "--json", "--plot"})
+		EXPECT_NE(h.out.find(o), std::string::npos) << o;
+}
+
+TEST(Tools, Tum2RawlogConvertsAndSummarises)
+{
+	TempDir d("t2r");
+	const auto frames = makeSyntheticFrames(5);
+	writeTumFolder(d / "seq", frames);
+	const auto r = runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "seq.rawlog", "--quiet"});
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	EXPECT_EQ(value(r.out, "frames"), "5");
+	EXPECT_NE(value(r.out, "skipped").rfind("0", 0), std::string::npos);
+	EXPECT_NE(r.out.find("seq_groundtruth.txt"), std::string::npos);
+	mrpt_yesslam::CRawlogSource src(d / "seq.rawlog");
+	int n = 0;
+	while (auto obs = src.next())
+	{
+		EXPECT_EQ(obs->rangeImage(5, 9), frames[n].depth.at<uint16_t>(5, 9));
+		n++;
+	}
+	EXPECT_EQ(n, 5);
+
+	const auto e = runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "ext.rawlog", "--external-images", "--max-frames", "2"});
+	ASSERT_EQ(e.exitCode, 0) << e.err;
+	EXPECT_EQ(value(e.out, "frames"), "2");
+	EXPECT_TRUE(fs::is_directory(d / "ext_Images"));
+	// Progress goes to stderr, the summary to stdout.
+	EXPECT_NE(e.err.find("tum2rawlog"), std::string::npos);
+}
+
+TEST(Tools, Tum2RawlogBadInput)
+{
+	TempDir d("t2rbad");
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "nope", "--output", d / "x.rawlog"}), {"nope", "folder not found"});
+	writeTumFolder(d / "seq", makeSyntheticFrames(2));
+	expectCleanFailure(
+		runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "x.rawlog", "--camera", "fr9"}),
+		{"fr9", "neither a known camera name"});
+	expectCleanFailure(
+		runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "nodir/x.rawlog"}), {"x.rawlog", "output folder does not exist"});
+	fs::remove(d / "seq/depth/1000.037333.png");
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "y.rawlog"}), {"1000.037333.png", "not found"});
+	EXPECT_FALSE(fs::exists(d / "y.rawlog")) << "a failed conversion must not leave a partial rawlog";
+	int leftovers = 0;
+	for (const auto& e : fs::directory_iterator(d.path())) leftovers += e.path().string().find(".tmp.") != std::string::npos;
+	EXPECT_EQ(leftovers, 0);
+}
+
+TEST(Tools, RenderCliAndErrors)
+{
+	TempDir d("rendercli");
+	expectCleanFailure(runTool("yesslam-render", {"--scene", d / "none.3Dscene", "--out", d / "x.png"}), {"none.3Dscene", "not found"});
+	expectCleanFailure(
+		runTool("yesslam-render", {"--scene", d / "none.3Dscene", "--out", d / "x.png", "--look-at", "1,2"}),
+		{"--look-at expects three numbers"});
+	const auto h = runTool("yesslam-render", {"--help"});
+	EXPECT_EQ(h.exitCode, 0);
+	for (const char* o : {"--width", "--height", "--azimuth", "--elevation", "--distance", "--look-at"})
+		EXPECT_NE(h.out.find(o), std::string::npos) << o;
+}
