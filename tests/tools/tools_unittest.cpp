@@ -148,3 +148,26 @@ TEST(Tools, RenderCliAndErrors)
 	for (const char* o : {"--width", "--height", "--azimuth", "--elevation", "--distance", "--look-at"})
 		EXPECT_NE(h.out.find(o), std::string::npos) << o;
 }
+
+TEST(Tools, CloudOfRealFramesRendersAndRejectsBadPoses)
+{
+	// 9 real TUM fr1/desk frames with their motion-capture ground truth (TUM RGB-D, CC BY 4.0).
+	TempDir d("cloud");
+	const std::string folder = sharedFile("data/tum_fr1_desk_9frames");
+	const auto c = runTool(
+		"yesslam-cloud", {"--input", folder, "--poses", folder + "/groundtruth.txt", "--out", d / "desk.3Dscene", "--quiet"});
+	ASSERT_EQ(c.exitCode, 0) << c.err;
+	EXPECT_EQ(value(c.out, "frames used"), "9");
+	EXPECT_GT(std::stol(value(c.out, "points")), 100000);
+	const auto r = runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.png", "--width", "400", "--height", "300"});
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	EXPECT_NE(r.out.find("of pixels show the scene"), std::string::npos);
+	EXPECT_EQ(r.out.find("(0.0% of pixels"), std::string::npos) << r.out;
+
+	// Poses from another sequence: no frame has a pose, said clearly.
+	expectCleanFailure(
+		runTool("yesslam-cloud", {"--input", folder, "--poses", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--out",
+								  d / "x.3Dscene", "--quiet"}),
+		{"tum_fr1_desk_9frames", "no frame has a pose"});
+	EXPECT_FALSE(fs::exists(d / "x.3Dscene"));
+}

@@ -2,6 +2,8 @@
 
 #include <mrpt/opengl/CFBORender.h>
 #include <mrpt/opengl/COpenGLViewport.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +18,56 @@ namespace mrpt_yesslam
 namespace
 {
 std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+
+// The extent of everything in the main viewport. COpenGLScene::getBoundingBox() misses point
+// clouds before their first render (their box is built lazily), so clouds are measured here.
+bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& lo, mrpt::math::TPoint3D& hi)
+{
+	bool any = false;
+	auto grow = [&](const mrpt::math::TPoint3D& p)
+	{
+		if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
+		if (!any) lo = hi = p;
+		lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+		hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+		any = true;
+	};
+	const auto vp = scene.getViewport("main");
+	if (!vp) return false;
+	for (const auto& o : *vp)
+	{
+		if (!o) continue;
+		auto addCloud = [&](const auto& pc)
+		{
+			for (std::size_t i = 0; i < pc.size(); i++)
+			{
+				const auto& p = pc.getPoint3Df(i);
+				grow(o->getPose().composePoint(mrpt::math::TPoint3D(p.x, p.y, p.z)));
+			}
+		};
+		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloudColoured*>(o.get()))
+		{
+			addCloud(*pc);
+			continue;
+		}
+		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloud*>(o.get()))
+		{
+			addCloud(*pc);
+			continue;
+		}
+		try
+		{
+			const auto bb = o->getBoundingBox();
+			grow(bb.min);
+			grow(bb.max);
+		}
+		catch (const std::exception&)
+		{
+			// Objects without extent (empty sets) do not count.
+		}
+	}
+	return any;
+}
 }  // namespace
 
 void loadScene(const std::string& path, mrpt::opengl::COpenGLScene& scene)
@@ -47,22 +99,20 @@ mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOp
 	// Default view: look at the centre of the scene from far enough to see all of it.
 	mrpt::math::TPoint3D centre(0, 0, 0);
 	double radius = 1.0;
-	try
+	mrpt::math::TPoint3D lo, hi;
+	if (sceneBounds(scene, lo, hi))
 	{
-		const auto bb = scene.getBoundingBox();
-		const auto d = bb.max - bb.min;
-		if (std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && d.norm() > 0 && d.norm() < 1e6)
+		const auto d = hi - lo;
+		if (d.norm() > 0 && d.norm() < 1e6)
 		{
-			centre = (bb.min + bb.max) * 0.5;
+			centre = (lo + hi) * 0.5;
 			radius = 0.5 * d.norm();
 		}
 	}
-	catch (const std::exception&)
-	{
-		// An empty scene has no bounding box: keep the defaults.
-	}
 	const double fov = std::clamp(o.fovDeg, 5.0, 150.0);
-	const double dist = o.distance.value_or(1.15 * radius / std::sin(0.5 * fov * M_PI / 180.0));
+	// The bounding-box diagonal overestimates what must fit in view; 0.8 of the enclosing-sphere distance
+	// frames typical maps well.
+	const double dist = o.distance.value_or(0.8 * radius / std::sin(0.5 * fov * M_PI / 180.0));
 
 	std::unique_ptr<mrpt::opengl::CFBORender> fbo;
 	try
