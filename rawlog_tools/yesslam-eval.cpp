@@ -1,6 +1,7 @@
 // yesslam-eval: ATE and RPE of an estimated trajectory against ground truth, with the numbers the
 // TUM RGB-D benchmark tools print.
 #include <cstdio>
+#include <filesystem>
 
 #include "mrpt_yesslam/eval/EvalReport.h"
 #include "mrpt_yesslam/eval/TrajectoryPlot.h"
@@ -52,7 +53,8 @@ int main(int argc, char** argv)
 			std::fputs(formatEvalKeyValues(r).c_str(), stdout);
 			if (!r.hasRpe) std::fprintf(stderr, "yesslam-eval: note: no RPE (%s)\n", r.rpeProblem.c_str());
 			if (!jsonPath.empty()) writeFileAtomically(jsonPath, formatEvalJson(r));
-			if (!plotPath.empty()) plotAteTopDown(r.ate, gt, plotPath, estPath);
+			if (!plotPath.empty())
+				plotAteTopDown(r.ate, gt, plotPath, std::filesystem::path(estPath).filename().string() + " vs " + std::filesystem::path(gtPath).filename().string());
 			return 0;
 		});
 }
