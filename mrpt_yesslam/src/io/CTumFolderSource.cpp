@@ -12,6 +12,25 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
+namespace
+{
+// cv::imread returns an empty Mat for most damage but throws for some truncated files.
+cv::Mat readImage(const std::string& path, int flags, const std::string& what)
+{
+	cv::Mat m;
+	try
+	{
+		m = cv::imread(path, flags);
+	}
+	catch (const cv::Exception&)
+	{
+		m.release();
+	}
+	if (m.empty()) throw InputError(path, "cannot decode " + what + " (corrupt or not an image)");
+	return m;
+}
+}  // namespace
+
 std::vector<TTumListEntry> readTumFileList(const std::string& path)
 {
 	const auto lines = splitLines(readTextFile(path));
@@ -80,26 +99,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr CTumFolderSource::next()
 	std::error_code ec;
 	if (!fs::exists(fr.rgbPath, ec)) throw InputError(fr.rgbPath, "image listed in rgb.txt not found");
 	if (!fs::exists(fr.depthPath, ec)) throw InputError(fr.depthPath, "image listed in depth.txt not found");
-	cv::Mat bgr;
-	try
-	{
-		bgr = cv::imread(fr.rgbPath, cv::IMREAD_COLOR);
-	}
-	catch (const cv::Exception&)
-	{
-		bgr.release();
-	}
-	if (bgr.empty()) throw InputError(fr.rgbPath, "cannot decode image (corrupt or not an image)");
-	cv::Mat depth;
-	try
-	{
-		depth = cv::imread(fr.depthPath, cv::IMREAD_UNCHANGED);
-	}
-	catch (const cv::Exception&)
-	{
-		depth.release();
-	}
-	if (depth.empty()) throw InputError(fr.depthPath, "cannot decode depth image (corrupt or not an image)");
+	const cv::Mat bgr = readImage(fr.rgbPath, cv::IMREAD_COLOR, "image");
+	const cv::Mat depth = readImage(fr.depthPath, cv::IMREAD_UNCHANGED, "depth image");
 	if (depth.channels() != 1)
 		throw InputError(fr.depthPath, "depth image has " + std::to_string(depth.channels()) + " channels, expected 1");
 	if (depth.depth() == CV_8U)
