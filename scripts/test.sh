@@ -1,13 +1,30 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds (Release, all cores) and runs the whole test suite with ctest.
+#   ./scripts/test.sh             normal build in build/
+#   ./scripts/test.sh --sanitize  ASan + UBSan build in build-sanitize/, same suite, halting on the first finding
 # The tests read data from ../shared beside the repository and fail if it is missing.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+mode="normal"
+case "${1:-}" in
+  "") ;;
+  --sanitize) mode="sanitize" ;;
+  -h|--help) sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  *) echo "test.sh: error: unknown option '$1' (use --sanitize or nothing)" >&2; exit 2 ;;
+esac
 start=$(date +%s)
 ./scripts/install_deps.sh
-./scripts/build.sh "$ROOT/build"
+if [ "$mode" = sanitize ]; then
+  BUILD="$ROOT/build-sanitize"
+  ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=ON
+  export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0"
+  export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$ROOT/tests/sanitizer/ubsan.supp"
+else
+  BUILD="$ROOT/build"
+  ./scripts/build.sh "$BUILD"
+fi
 built=$(date +%s)
-cd "$ROOT/build"
+cd "$BUILD"
 ctest --output-on-failure -j "$(nproc)"
-echo "test.sh: build $((built - start)) s, tests $(( $(date +%s) - built )) s"
+echo "test.sh ($mode): build $((built - start)) s, tests $(( $(date +%s) - built )) s"
