@@ -17,12 +17,12 @@ start=$(date +%s)
 ./scripts/install_deps.sh
 if [ "$mode" = sanitize ]; then
   BUILD="$ROOT/build-sanitize"
-  ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=ON
+  ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=ON -DYESSLAM_BUILD_TESTS=ON
   export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0"
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$ROOT/tests/sanitizer/ubsan.supp"
 else
   BUILD="$ROOT/build"
-  ./scripts/build.sh "$BUILD"
+  ./scripts/build.sh "$BUILD" -DYESSLAM_BUILD_TESTS=ON
 fi
 built=$(date +%s)
 cd "$BUILD"

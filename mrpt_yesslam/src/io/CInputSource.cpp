@@ -20,6 +20,11 @@ void CInputSource::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
 	MRPT_LOAD_CONFIG_VAR(sensorLabel, string, c, s);
 }
 
+std::vector<TConfigKey> CInputSource::TOptions::configKeys()
+{
+	return {{"camera", TConfigKey::Type::Text}, {"maxDiff", TConfigKey::Type::Number}, {"sensorLabel", TConfigKey::Type::Text}};
+}
+
 void CInputSource::TOptions::dumpToTextStream(std::ostream& out) const
 {
 	out << "[Input]\n";

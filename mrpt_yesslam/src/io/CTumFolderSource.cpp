@@ -31,9 +31,11 @@ cv::Mat readImage(const std::string& path, int flags, const std::string& what)
 }
 }  // namespace
 
-std::vector<TTumListEntry> readTumFileList(const std::string& path)
+std::vector<TTumListEntry> readTumFileList(const std::string& path) { return parseTumFileList(readTextFile(path), path); }
+
+std::vector<TTumListEntry> parseTumFileList(const std::string& text, const std::string& path)
 {
-	const auto lines = splitLines(readTextFile(path));
+	const auto lines = splitLines(text);
 	std::vector<TTumListEntry> out;
 	for (std::size_t i = 0; i < lines.size(); i++)
 	{

@@ -77,9 +77,11 @@ std::string tumCameraNameFromPath(const std::string& folder)
 	return {};
 }
 
-TRgbdCamera readCameraFile(const std::string& path)
+TRgbdCamera readCameraFile(const std::string& path) { return parseCameraFile(readTextFile(path), path); }
+
+TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 {
-	const auto lines = splitLines(readTextFile(path));
+	const auto lines = splitLines(text);
 	std::vector<std::vector<double>> rows;
 	for (std::size_t i = 0; i < lines.size(); i++)
 	{

@@ -4,6 +4,8 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
+#include "mrpt_yesslam/util/ConfigFile.h"
+
 #include <memory>
 #include <string>
 
@@ -25,6 +27,8 @@ class CInputSource
 		std::string sensorLabel;
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		/** The keys loadFromConfigFile reads, with their types, for validateConfigSection. */
+		static std::vector<TConfigKey> configKeys();
 		void dumpToTextStream(std::ostream& out) const override;
 	};
 

@@ -20,6 +20,9 @@ struct TTumListEntry
  * have) are skipped; throws InputError for malformed lines or stamps that go backwards. */
 std::vector<TTumListEntry> readTumFileList(const std::string& path);
 
+/** Parses the text of a TUM image list; `nameForErrors` is used in messages. */
+std::vector<TTumListEntry> parseTumFileList(const std::string& text, const std::string& nameForErrors);
+
 /** One associated RGB-D frame of a TUM folder. */
 struct TTumFrame
 {

@@ -26,6 +26,9 @@ std::string tumCameraNameFromPath(const std::string& folder);
  * line and optionally "k1 k2 p1 p2 k3" on the next (TUM's d0..d4). Throws InputError. */
 TRgbdCamera readCameraFile(const std::string& path);
 
+/** Parses the text of a camera file; `nameForErrors` is used in messages and as the camera name. */
+TRgbdCamera parseCameraFile(const std::string& text, const std::string& nameForErrors);
+
 /** Resolves a --camera argument for a TUM folder: a TUM name, or a camera file; when empty, the
  * folder's calibration.txt if present, else the freiburg name in the folder path. */
 TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder);

@@ -1,0 +1,42 @@
+#pragma once
+// Loading configuration files (INI, or YAML through MRPT's own converter, so both formats share one
+// code path into the TOptions structs) and checking them: a misspelt key is a warning, a value of
+// the wrong type is an error naming the file, section and key. MRPT_LOAD_CONFIG_VAR alone would
+// silently read "abc" as 0.
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mrpt_yesslam
+{
+/** One key a TOptions struct reads, with the type its value must have. */
+struct TConfigKey
+{
+	enum class Type
+	{
+		Number,	 //!< finite floating point
+		Integer,  //!< whole number
+		Boolean,  //!< true/false, 1/0, yes/no
+		Text  //!< anything
+	};
+	std::string name;
+	Type type = Type::Text;
+};
+
+/** Parses config text: YAML when `yaml` is true, INI otherwise. Throws InputError(name, ...) for
+ * text MRPT cannot parse. */
+std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
+	const std::string& text, bool yaml, const std::string& nameForErrors);
+
+/** Loads a config file; ".yaml"/".yml" files are YAML, anything else INI. */
+std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path);
+
+/** Checks one section against the keys its TOptions reads. Returns one warning per unknown key
+ * ("FILE: [Section] unknown key 'maxdif' (known: ...)"); throws InputError for a value of the wrong
+ * type. A missing section is fine (defaults apply). */
+std::vector<std::string> validateConfigSection(
+	const mrpt::config::CConfigFileBase& cfg, const std::string& fileName, const std::string& section,
+	const std::vector<TConfigKey>& keys);
+}  // namespace mrpt_yesslam
