@@ -3,6 +3,7 @@
 
 #include "mrpt_yesslam/io/TumToRawlog.h"
 #include "mrpt_yesslam/util/CommandLine.h"
+#include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ProgressBar.h"
 
@@ -16,6 +17,7 @@ int main(int argc, char** argv)
 		{
 			TTumToRawlogOptions o;
 			bool quiet = false;
+			std::string configPath;
 			CommandLine cl(
 				"tum2rawlog", "tum2rawlog --input TUM_FOLDER --output OUT.rawlog [options]",
 				"Converts a TUM RGB-D folder (rgb.txt, depth.txt, rgb/, depth/) into an MRPT rawlog of\n"
@@ -35,8 +37,17 @@ int main(int argc, char** argv)
 			cl.number("max-diff", "SECONDS", "largest rgb/depth stamp difference for a pair", &o.input.maxDiff);
 			cl.flag("external-images", "store colour images as PNG files in OUT_Images/ instead of inline", &o.externalImages);
 			cl.count("max-frames", "N", "convert at most N frames (0 = all)", &o.maxFrames);
+			cl.text("config", "FILE", "INI or YAML config; its [Input] section sets camera, maxDiff, sensorLabel", &configPath);
 			cl.flag("quiet", "no progress bar", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
+			if (!configPath.empty())
+			{
+				// The file gives the defaults; options given on the command line win.
+				const auto cli = o.input;
+				loadOptionsFromFile(configPath, "Input", o.input, CInputSource::TOptions::configKeys());
+				if (cl.given("camera")) o.input.camera = cli.camera;
+				if (cl.given("max-diff")) o.input.maxDiff = cli.maxDiff;
+			}
 
 			installInterruptHandler();
 			ProgressBar bar("tum2rawlog", 0, !quiet);

@@ -5,6 +5,7 @@
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/util/CommandLine.h"
+#include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ProgressBar.h"
 
@@ -21,6 +22,7 @@ int main(int argc, char** argv)
 			TSceneExportOptions o;
 			std::size_t stride = 4, step = 1;
 			bool quiet = false;
+			std::string configPath;
 			CommandLine cl(
 				"yesslam-cloud", "yesslam-cloud --input PATH --poses TRAJ.txt --out SCENE.3Dscene [options]",
 				"Back-projects every frame of a rawlog or TUM folder with the pose of the nearest stamp in a\n"
@@ -38,8 +40,16 @@ int main(int argc, char** argv)
 			cl.count("max-frames", "N", "use at most N frames (0 = all)", &o.maxFrames);
 			cl.number("max-depth", "M", "ignore depth beyond this distance", &o.maxDepth);
 			cl.number("max-diff", "SECONDS", "a frame needs a pose this close in time", &o.maxTimeDiff);
+			cl.text("config", "FILE", "INI or YAML config; its [Input] section sets camera, maxDiff, sensorLabel", &configPath);
 			cl.flag("quiet", "no progress bar", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
+			if (!configPath.empty())
+			{
+				// The file gives the defaults; options given on the command line win.
+				const auto cli = in;
+				loadOptionsFromFile(configPath, "Input", in, CInputSource::TOptions::configKeys());
+				if (cl.given("camera")) in.camera = cli.camera;
+			}
 			if (stride < 1 || step < 1) throw InputError("", "--stride and --frame-step must be at least 1");
 			o.pixelStride = static_cast<int>(stride);
 			o.frameStep = step;

@@ -15,18 +15,6 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-namespace
-{
-// The first line of an MRPT exception message is the useful one; the rest is a call stack.
-std::string firstLine(const std::string& s)
-{
-	const auto p = s.find('\n');
-	std::string l = s.substr(0, p);
-	while (!l.empty() && (l.back() == '\r' || l.back() == ' ')) l.pop_back();
-	return l;
-}
-}  // namespace
-
 CRawlogSource::CRawlogSource(const std::string& path, const TOptions& opts) : path_(path), opts_(opts)
 {
 	std::error_code ec;
@@ -66,7 +54,7 @@ mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 	{
 		if (file_->getPosition() == before) return nullptr;
 		throw InputError(
-			path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" + firstLine(e.what()) + ")");
+			path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" + exceptionSummary(e.what()) + ")");
 	}
 }
 
@@ -120,7 +108,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr CRawlogSource::next()
 	}
 	catch (const std::exception& e)
 	{
-		throw InputError(where, "cannot load external data (looked in '" + imagesDir_ + "'): " + firstLine(e.what()));
+		throw InputError(where, "cannot load external data (looked in '" + imagesDir_ + "'): " + exceptionSummary(e.what()));
 	}
 	validateRgbdObservation(*obs, where);
 	return obs;

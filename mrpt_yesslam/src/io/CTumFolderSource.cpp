@@ -1,6 +1,8 @@
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "mrpt_yesslam/io/Association.h"
@@ -14,9 +16,25 @@ namespace mrpt_yesslam
 {
 namespace
 {
+// A complete PNG ends with its IEND chunk. Checking that first gives a precise message for the
+// most common damage (a copy cut short) and keeps libpng from printing its own lines to stderr.
+bool pngLooksTruncated(const std::string& path)
+{
+	static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+	std::ifstream f(path, std::ios::binary);
+	unsigned char sig[8] = {0};
+	if (!f.read(reinterpret_cast<char*>(sig), 8) || sig[0] != 0x89 || sig[1] != 'P' || sig[2] != 'N' || sig[3] != 'G')
+		return false;  // not a PNG: let the decoder decide
+	f.seekg(-12, std::ios::end);
+	unsigned char tail[12] = {0};
+	if (!f.read(reinterpret_cast<char*>(tail), 12)) return true;
+	return std::memcmp(tail, iend, 12) != 0;
+}
+
 // cv::imread returns an empty Mat for most damage but throws for some truncated files.
 cv::Mat readImage(const std::string& path, int flags, const std::string& what)
 {
+	if (pngLooksTruncated(path)) throw InputError(path, "cannot decode " + what + " (truncated PNG: no IEND chunk)");
 	cv::Mat m;
 	try
 	{

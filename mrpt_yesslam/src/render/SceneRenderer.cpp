@@ -17,8 +17,6 @@ namespace mrpt_yesslam
 {
 namespace
 {
-std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
-
 // The extent of everything in the main viewport. COpenGLScene::getBoundingBox() misses point
 // clouds before their first render (their box is built lazily), so clouds are measured here.
 bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& lo, mrpt::math::TPoint3D& hi)
@@ -82,7 +80,7 @@ void loadScene(const std::string& path, mrpt::opengl::COpenGLScene& scene)
 	}
 	catch (const std::exception& e)
 	{
-		throw InputError(path, "not a readable .3Dscene file (" + firstLine(e.what()) + ")");
+		throw InputError(path, "not a readable .3Dscene file (" + exceptionSummary(e.what()) + ")");
 	}
 	if (!ok) throw InputError(path, "not a readable .3Dscene file");
 }
@@ -121,7 +119,7 @@ mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOp
 	}
 	catch (const std::exception& e)
 	{
-		throw InputError("render", "cannot create an OpenGL context through EGL (" + firstLine(e.what()) + ")");
+		throw InputError("render", "cannot create an OpenGL context through EGL (" + exceptionSummary(e.what()) + ")");
 	}
 	auto& cam = fbo->getCamera(scene);
 	cam.setProjectiveModel(true);
@@ -137,7 +135,7 @@ mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOp
 	}
 	catch (const std::exception& e)
 	{
-		throw InputError("render", "rendering failed (" + firstLine(e.what()) + ")");
+		throw InputError("render", "rendering failed (" + exceptionSummary(e.what()) + ")");
 	}
 	return img;
 }

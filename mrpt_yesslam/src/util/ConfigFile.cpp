@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 
 #include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -26,21 +27,74 @@ std::string trim(const std::string& s)
 }
 }  // namespace
 
+// Our YAML configs are two levels: "Section:" then indented "key: value" lines. We convert them to
+// INI text ourselves because MRPT 2.5.8's CConfigFileMemory::setContentFromYAML throws on every
+// nested map ("Trying to use as() on a node of type map"); the INI text then takes the same path
+// as an INI file.
+std::string yamlToIni(const std::string& text, const std::string& name)
+{
+	std::string ini;
+	bool inSection = false;
+	const auto lines = splitLines(text);
+	for (std::size_t i = 0; i < lines.size(); i++)
+	{
+		std::string l = lines[i];
+		// Strip comments: '#' at the start or after whitespace, outside quotes.
+		char quote = 0;
+		for (std::size_t k = 0; k < l.size(); k++)
+		{
+			if (quote)
+			{
+				if (l[k] == quote) quote = 0;
+			}
+			else if (l[k] == '"' || l[k] == '\'')
+				quote = l[k];
+			else if (l[k] == '#' && (k == 0 || l[k - 1] == ' ' || l[k - 1] == '\t'))
+			{
+				l = l.substr(0, k);
+				break;
+			}
+		}
+		const auto first = l.find_first_not_of(" \t\r");
+		if (first == std::string::npos || l.compare(first, 3, "---") == 0) continue;
+		const std::string where = "line " + std::to_string(i + 1) + ": ";
+		const auto colon = l.find(':', first);
+		if (l[first] == '-') throw InputError(name, where + "YAML lists are not used in our configs");
+		if (colon == std::string::npos) throw InputError(name, where + "expected 'key: value' or 'Section:'");
+		const std::string key = trim(l.substr(first, colon - first));
+		const std::string value = trim(l.substr(colon + 1));
+		if (key.empty()) throw InputError(name, where + "empty key");
+		if (first == 0)
+		{
+			if (!value.empty()) throw InputError(name, where + "'" + key + "' must be a section (\"" + key + ":\" then indented keys)");
+			ini += "[" + key + "]\n";
+			inSection = true;
+		}
+		else
+		{
+			if (!inSection) throw InputError(name, where + "indented key outside a section");
+			if (value.empty()) throw InputError(name, where + "'" + key + "' has no value (nested sections are not used in our configs)");
+			ini += key + " = " + value + "\n";
+		}
+	}
+	return ini;
+}
+
 std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 	const std::string& text, bool yaml, const std::string& name)
 {
 	auto cfg = std::make_unique<mrpt::config::CConfigFileMemory>();
 	try
 	{
-		if (yaml)
-			cfg->setContentFromYAML(text);
-		else
-			cfg->setContent(text);
+		cfg->setContent(yaml ? yamlToIni(text, name) : text);
+	}
+	catch (const InputError&)
+	{
+		throw;
 	}
 	catch (const std::exception& e)
 	{
-		std::string why = e.what();
-		why = why.substr(0, why.find('\n'));
+		const std::string why = exceptionSummary(e.what());
 		throw InputError(name, std::string("not a valid ") + (yaml ? "YAML" : "INI") + " config (" + why + ")");
 	}
 	return cfg;
@@ -96,5 +150,21 @@ std::vector<std::string> validateConfigSection(
 		}
 	}
 	return warnings;
+}
+
+void loadOptionsFromFile(
+	const std::string& path, const std::string& section, mrpt::config::CLoadableOptions& opts,
+	const std::vector<TConfigKey>& keys)
+{
+	const auto cfg = loadConfigFile(path);
+	for (const auto& w : validateConfigSection(*cfg, path, section, keys)) std::fprintf(stderr, "warning: %s\n", w.c_str());
+	try
+	{
+		opts.loadFromConfigFile(*cfg, section);
+	}
+	catch (const std::exception& e)
+	{
+		throw InputError(path, "[" + section + "] cannot be loaded (" + exceptionSummary(e.what()) + ")");
+	}
 }
 }  // namespace mrpt_yesslam

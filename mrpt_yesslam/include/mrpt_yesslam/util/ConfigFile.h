@@ -4,6 +4,7 @@
 // the wrong type is an error naming the file, section and key. MRPT_LOAD_CONFIG_VAR alone would
 // silently read "abc" as 0.
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/config/CLoadableOptions.h>
 
 #include <memory>
 #include <string>
@@ -38,5 +39,10 @@ std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::strin
  * type. A missing section is fine (defaults apply). */
 std::vector<std::string> validateConfigSection(
 	const mrpt::config::CConfigFileBase& cfg, const std::string& fileName, const std::string& section,
+	const std::vector<TConfigKey>& keys);
+/** Loads `path`, validates `section` against `keys` (warnings go to stderr, one line each) and
+ * fills `opts` from it; throws InputError for an unreadable file or a value of the wrong type. */
+void loadOptionsFromFile(
+	const std::string& path, const std::string& section, mrpt::config::CLoadableOptions& opts,
 	const std::vector<TConfigKey>& keys);
 }  // namespace mrpt_yesslam

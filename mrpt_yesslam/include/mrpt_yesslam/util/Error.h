@@ -15,4 +15,7 @@ class InputError : public std::runtime_error
 	{
 	}
 };
+/** One line that says what went wrong in a third-party exception message: MRPT's multi-line
+ * messages ("==== MRPT exception ====", "Message: ...", a call stack) give their Message line. */
+std::string exceptionSummary(const std::string& what);
 }  // namespace mrpt_yesslam
