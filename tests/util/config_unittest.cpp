@@ -1,0 +1,74 @@
+// Config files: INI and YAML reach the same TOptions; unknown keys warn, wrong types fail.
+#include <gtest/gtest.h>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/io/CInputSource.h"
+#include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/Error.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+
+TEST(Config, IniAndYamlGiveTheSameOptions)
+{
+	TempDir d("cfg");
+	writeText(d / "a.ini", "; comment\n[Input]\ncamera = fr1\nmaxDiff = 0.03\nsensorLabel = KINECT\n");
+	writeText(d / "a.yaml", "# comment\nInput:\n  camera: fr1   # trailing comment\n  maxDiff: 0.03\n  sensorLabel: \"KINECT\"\n");
+	for (const char* f : {"a.ini", "a.yaml"})
+	{
+		SCOPED_TRACE(f);
+		CInputSource::TOptions o;
+		loadOptionsFromFile(d / f, "Input", o, CInputSource::TOptions::configKeys());
+		EXPECT_EQ(o.camera, "fr1");
+		EXPECT_DOUBLE_EQ(o.maxDiff, 0.03);
+		EXPECT_EQ(o.sensorLabel, "KINECT");
+	}
+}
+
+TEST(Config, UnknownKeysWarnWrongTypesFail)
+{
+	auto cfg = parseConfigText("[Input]\nmaxdif = 0.1\nmaxDiff = 0.05\n", false, "c.ini");
+	const auto w = validateConfigSection(*cfg, "c.ini", "Input", CInputSource::TOptions::configKeys());
+	ASSERT_EQ(w.size(), 1u);
+	EXPECT_NE(w[0].find("unknown key 'maxdif'"), std::string::npos);
+	EXPECT_NE(w[0].find("known: camera, maxDiff, sensorLabel"), std::string::npos);
+	// Key names are case-insensitive, as in MRPT.
+	auto cfg2 = parseConfigText("[Input]\nMAXDIFF = x\n", false, "c.ini");
+	expectInputError(
+		[&] { validateConfigSection(*cfg2, "c.ini", "Input", CInputSource::TOptions::configKeys()); },
+		{"c.ini", "[Input] MAXDIFF = 'x'", "expected a number"});
+	// A missing section means defaults.
+	EXPECT_TRUE(validateConfigSection(*cfg, "c.ini", "Tracking", {{"x", TConfigKey::Type::Number}}).empty());
+	auto cfg3 = parseConfigText("[S]\nn = 2.5\nb = maybe\n", false, "t.ini");
+	expectInputError(
+		[&] { validateConfigSection(*cfg3, "t.ini", "S", {{"n", TConfigKey::Type::Integer}}); }, {"expected a whole number"});
+	expectInputError(
+		[&] { validateConfigSection(*cfg3, "t.ini", "S", {{"b", TConfigKey::Type::Boolean}}); }, {"expected true or false"});
+}
+
+TEST(Config, MalformedYamlNamesTheLine)
+{
+	expectInputError([] { parseConfigText("Input:\n  - a\n", true, "c.yaml"); }, {"c.yaml", "line 2", "lists"});
+	expectInputError([] { parseConfigText("Input:\n  camera fr1\n", true, "c.yaml"); }, {"c.yaml", "line 2", "key: value"});
+	expectInputError([] { parseConfigText("  camera: fr1\n", true, "c.yaml"); }, {"outside a section"});
+	expectInputError([] { parseConfigText("camera: fr1\n", true, "c.yaml"); }, {"must be a section"});
+	expectInputError([] { loadConfigFile("/nonexistent/c.yaml"); }, {"/nonexistent/c.yaml", "not found"});
+}
+
+TEST(Config, EveryDeclaredKeyIsDumped)
+{
+	// The key list used for validation and the keys the options print must not drift apart.
+	CInputSource::TOptions o;
+	std::ostringstream ss;
+	o.dumpToTextStream(ss);
+	for (const auto& k : CInputSource::TOptions::configKeys()) EXPECT_NE(ss.str().find(k.name + " "), std::string::npos) << k.name;
+}
+
+TEST(Errors, ExceptionSummaryPicksMrptMessage)
+{
+	EXPECT_EQ(
+		exceptionSummary("==== MRPT exception ====\nMessage:  Cannot read object\nLocation: x.cpp:1\nCall stack backtrace:\n[0] 0x1\n"),
+		"Cannot read object");
+	EXPECT_EQ(exceptionSummary("plain message\nsecond"), "plain message");
+	EXPECT_EQ(exceptionSummary(""), "unknown error");
+}
