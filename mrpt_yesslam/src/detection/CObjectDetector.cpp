@@ -1,0 +1,133 @@
+#include "mrpt_yesslam/detection/CObjectDetector.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <algorithm>
+
+#include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/detection/CHogPeopleDetector.h"
+#include "mrpt_yesslam/detection/CYoloDnnDetector.h"
+#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+void CObjectDetector::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	MRPT_LOAD_CONFIG_VAR(backend, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(model, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(weights, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(names, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(format, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(inputSize, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(confThreshold, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(nmsThreshold, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(dynamicClasses, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(file, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(fileMaxDiff, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(threads, int, c, s);
+}
+
+void CObjectDetector::TOptions::dumpToTextStream(std::ostream& o) const
+{
+	o << "[Detector]\n";
+	o << "backend        = " << backend << "  ; yolo | file | hog | none\n";
+	o << "model          = " << model << "  ; yolo: .cfg (darknet) or .onnx (YOLOv5/v7/v8, YOLOX)\n";
+	o << "weights        = " << weights << "  ; yolo darknet: .weights\n";
+	o << "names          = " << names << "  ; class names, one per line\n";
+	o << "format         = " << format << "  ; auto | darknet | yolov5 | yolov8 | yolox\n";
+	o << "inputSize      = " << inputSize << "  ; network input side, 0 = from the model\n";
+	o << "confThreshold  = " << confThreshold << "\n";
+	o << "nmsThreshold   = " << nmsThreshold << "\n";
+	o << "dynamicClasses = " << dynamicClasses << "\n";
+	o << "file           = " << file << "  ; file backend: detections.txt\n";
+	o << "fileMaxDiff    = " << fileMaxDiff << "  ; file backend: stamp tolerance, s\n";
+	o << "threads        = " << threads << "  ; OpenCV threads, 0 = default\n";
+}
+
+std::vector<TConfigKey> CObjectDetector::TOptions::configKeys()
+{
+	using T = TConfigKey::Type;
+	return {{"backend", T::Text},		{"model", T::Text},		  {"weights", T::Text},			{"names", T::Text},
+			{"format", T::Text},		{"inputSize", T::Integer}, {"confThreshold", T::Number}, {"nmsThreshold", T::Number},
+			{"dynamicClasses", T::Text}, {"file", T::Text},		  {"fileMaxDiff", T::Number},	{"threads", T::Integer}};
+}
+
+std::string CObjectDetector::className(int id) const
+{
+	if (id >= 0 && static_cast<std::size_t>(id) < names_.size()) return names_[static_cast<std::size_t>(id)];
+	return "class " + std::to_string(id);
+}
+
+void CObjectDetector::setClassNames(std::vector<std::string> names, const std::string& source)
+{
+	names_ = std::move(names);
+	dynamicIds_.clear();
+	for (const auto& want : splitFields(opts_.dynamicClasses))
+	{
+		const auto it = std::find(names_.begin(), names_.end(), want);
+		if (it == names_.end())
+			throw InputError(source, "dynamic class '" + want + "' is not among the " + std::to_string(names_.size()) + " class names");
+		dynamicIds_.insert(static_cast<int>(it - names_.begin()));
+	}
+}
+
+std::vector<TDetection> CObjectDetector::detect(const cv::Mat& bgr, double timestamp)
+{
+	if (bgr.empty()) return {};
+	std::vector<TDetection> out;
+	const cv::Rect2f image(0, 0, static_cast<float>(bgr.cols), static_cast<float>(bgr.rows));
+	for (auto d : detectImpl(bgr, timestamp))
+	{
+		if (!(d.score >= opts_.confThreshold)) continue;
+		d.box &= image;
+		if (d.box.width < 1 || d.box.height < 1) continue;
+		d.dynamic = isDynamicClass(d.classId);
+		out.push_back(d);
+	}
+	return out;
+}
+
+std::vector<std::string> readClassNames(const std::string& path, std::size_t expected)
+{
+	std::vector<std::string> names;
+	for (auto l : splitLines(readTextFile(path)))
+	{
+		while (!l.empty() && (l.back() == ' ' || l.back() == '\t')) l.pop_back();
+		const auto b = l.find_first_not_of(" \t");
+		if (b == std::string::npos) continue;
+		names.push_back(l.substr(b));
+	}
+	if (names.empty()) throw InputError(path, "class names file is empty");
+	if (expected > 0 && names.size() != expected)
+		throw InputError(
+			path, "has " + std::to_string(names.size()) + " class names but the model outputs " + std::to_string(expected) +
+					  " classes");
+	return names;
+}
+
+namespace
+{
+// The "none" backend: no detections, so no dynamic filtering (the baseline of the comparisons).
+class CNoDetector : public CObjectDetector
+{
+   public:
+	explicit CNoDetector(const TOptions& o) : CObjectDetector(o) { setClassNames({"person"}, "none"); }
+	std::string description() const override { return "none"; }
+
+   protected:
+	std::vector<TDetection> detectImpl(const cv::Mat&, double) override { return {}; }
+};
+}  // namespace
+
+std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOptions& o)
+{
+	if (!(o.confThreshold >= 0 && o.confThreshold <= 1)) throw InputError("", "[Detector] confThreshold must be in [0,1]");
+	if (!(o.nmsThreshold > 0 && o.nmsThreshold <= 1)) throw InputError("", "[Detector] nmsThreshold must be in (0,1]");
+	if (o.backend == "yolo") return std::make_unique<CYoloDnnDetector>(o);
+	if (o.backend == "file") return std::make_unique<CDetectionsFileDetector>(o);
+	if (o.backend == "hog") return std::make_unique<CHogPeopleDetector>(o);
+	if (o.backend == "none") return std::make_unique<CNoDetector>(o);
+	throw InputError("", "unknown detector backend '" + o.backend + "' (yolo, file, hog or none)");
+}
+}  // namespace mrpt_yesslam

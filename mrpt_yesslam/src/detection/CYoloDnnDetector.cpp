@@ -1,0 +1,320 @@
+#include "mrpt_yesslam/detection/CYoloDnnDetector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <opencv2/imgproc.hpp>
+
+#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace mrpt_yesslam
+{
+namespace
+{
+std::string shapeText(const cv::Mat& m)
+{
+	std::string s = "[";
+	for (int i = 0; i < m.dims; i++) s += (i ? "," : "") + std::to_string(m.size[i]);
+	return s + "]";
+}
+
+std::string extensionOf(const std::string& p)
+{
+	std::string e = fs::path(p).extension().string();
+	std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	return e;
+}
+
+// The network side written in a darknet cfg's [net] section ("width=320").
+int darknetInputSize(const std::string& cfg)
+{
+	for (const auto& l : splitLines(readTextFile(cfg)))
+	{
+		std::string t;
+		for (char c : l)
+			if (c != ' ' && c != '\t') t += c;
+		double v;
+		if (t.rfind("width=", 0) == 0 && parseFiniteDouble(t.substr(6), v) && v >= 32 && v <= 4096) return static_cast<int>(v);
+	}
+	return 416;
+}
+
+// Rows of a stride-8/16/32 grid for a square input of this side.
+int gridCells(int size)
+{
+	int n = 0;
+	for (int s : {8, 16, 32}) n += (size / s) * (size / s);
+	return n;
+}
+}  // namespace
+
+std::string CYoloDnnDetector::formatName(Format f)
+{
+	switch (f)
+	{
+		case Format::Darknet:
+			return "darknet";
+		case Format::YoloV5:
+			return "yolov5";
+		case Format::YoloV8:
+			return "yolov8";
+		case Format::YoloX:
+			return "yolox";
+	}
+	return "?";
+}
+
+CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), modelPath_(o.model)
+{
+	if (o.model.empty()) throw InputError("", "[Detector] model is not set (a .cfg + .weights or an .onnx file)");
+	std::error_code ec;
+	if (!fs::is_regular_file(o.model, ec)) throw InputError(o.model, "model file not found");
+	if (o.names.empty()) throw InputError(o.model, "[Detector] names is not set (the class names file of this model)");
+	if (o.threads > 0) cv::setNumThreads(o.threads);	// process-wide in OpenCV
+	const std::string ext = extensionOf(o.model);
+	try
+	{
+		if (ext == ".cfg")
+		{
+			if (o.weights.empty()) throw InputError(o.model, "darknet model needs [Detector] weights (.weights file)");
+			if (!fs::is_regular_file(o.weights, ec)) throw InputError(o.weights, "weights file not found");
+			net_ = cv::dnn::readNetFromDarknet(o.model, o.weights);
+			format_ = Format::Darknet;
+		}
+		else if (ext == ".onnx")
+			net_ = cv::dnn::readNetFromONNX(o.model);
+		else
+			throw InputError(o.model, "unknown model type '" + ext + "' (expected .cfg + .weights or .onnx)");
+	}
+	catch (const cv::Exception& e)
+	{
+		throw InputError(ext == ".cfg" ? o.model + " + " + o.weights : o.model, "cannot load model (" + exceptionSummary(e.what()) + ")");
+	}
+	if (net_.empty()) throw InputError(o.model, "cannot load model (empty network)");
+	net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+	net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+	outNames_ = net_.getUnconnectedOutLayersNames();
+
+	if (o.format != "auto")
+	{
+		static const std::map<std::string, Format> byName = {
+			{"darknet", Format::Darknet}, {"yolov5", Format::YoloV5}, {"yolov7", Format::YoloV5},
+			{"yolov8", Format::YoloV8},	  {"yolox", Format::YoloX}};
+		const auto it = byName.find(o.format);
+		if (it == byName.end()) throw InputError(o.model, "unknown [Detector] format '" + o.format + "' (auto, darknet, yolov5, yolov7, yolov8, yolox)");
+		format_ = it->second;
+	}
+
+	// Probe the input size with a blank image: fixed-size ONNX exports fail at any other size. The
+	// run also tells the output layout and proves the model really runs.
+	std::vector<int> sizes;
+	if (o.inputSize > 0)
+		sizes = {o.inputSize};
+	else if (format_ == Format::Darknet)
+		sizes = {darknetInputSize(o.model)};
+	else
+		sizes = {640, 416, 320, 352, 512};
+	std::string lastError = "no size tried";
+	for (int s : sizes)
+	{
+		try
+		{
+			TFit fit;
+			const auto outs = forward(makeBlob(cv::Mat(s, s, CV_8UC3, cv::Scalar(114, 114, 114)), s, fit));
+			if (!recognise(outs, s))
+			{
+				std::string shapes;
+				for (const auto& m : outs) shapes += (shapes.empty() ? "" : " ") + shapeText(m);
+				throw InputError(
+					o.model, "output shape " + shapes + " is not a YOLO layout this reader knows (set [Detector] format; "
+					"YOLOv7 must be exported without NMS)");
+			}
+			size_ = s;
+			break;
+		}
+		catch (const cv::Exception& e)
+		{
+			lastError = exceptionSummary(e.what());
+		}
+	}
+	if (size_ == 0) throw InputError(o.model, "the network does not run at input size(s) tried (" + lastError + "); set [Detector] inputSize");
+	setClassNames(readClassNames(o.names, static_cast<std::size_t>(numClasses_)), o.names);
+}
+
+std::string CYoloDnnDetector::description() const
+{
+	return "yolo " + formatName(format_) + " " + std::to_string(size_) + "x" + std::to_string(size_) + " " +
+		   fs::path(modelPath_).filename().string() + " (" + std::to_string(numClasses_) + " classes)";
+}
+
+bool CYoloDnnDetector::recognise(const std::vector<cv::Mat>& outs, int size)
+{
+	if (outs.empty()) return false;
+	if (format_ == Format::Darknet)
+	{
+		// Darknet region layers: one 2-D [rows, 5+C] matrix per YOLO head.
+		for (const auto& m : outs)
+			if (m.dims != 2 || m.cols < 6) return false;
+		numClasses_ = outs[0].cols - 5;
+		return true;
+	}
+	if (outs.size() != 1) return false;
+	const cv::Mat& m = outs[0];
+	if (m.dims != 3 || m.size[0] != 1) return false;
+	const int a = m.size[1], b = m.size[2];
+	const bool auto_ = opts_.format == "auto";
+	if (auto_)
+	{
+		if (a > b && b >= 6)
+			format_ = (a == gridCells(size)) ? Format::YoloX : Format::YoloV5;
+		else if (b > a && a >= 5)
+			format_ = Format::YoloV8;
+		else
+			return false;
+	}
+	if (format_ == Format::YoloV8)
+	{
+		if (a < 5) return false;
+		numClasses_ = a - 4;
+	}
+	else
+	{
+		if (b < 6) return false;
+		if (format_ == Format::YoloX && a != gridCells(size)) return false;
+		numClasses_ = b - 5;
+	}
+	return true;
+}
+
+cv::Mat CYoloDnnDetector::makeBlob(const cv::Mat& bgr, int size, TFit& fit) const
+{
+	if (format_ == Format::Darknet)
+	{
+		// Darknet models are trained on plainly resized images.
+		fit.sx = static_cast<double>(size) / bgr.cols;
+		fit.sy = static_cast<double>(size) / bgr.rows;
+		fit.dx = fit.dy = 0;
+		return cv::dnn::blobFromImage(bgr, 1.0 / 255.0, cv::Size(size, size), cv::Scalar(), true, false);
+	}
+	// Letterbox: keep the aspect ratio, pad with grey 114 (centred for YOLOv5/v8, top-left for YOLOX,
+	// as their reference pre-processing does).
+	const double r = std::min(static_cast<double>(size) / bgr.cols, static_cast<double>(size) / bgr.rows);
+	const int w = static_cast<int>(std::round(bgr.cols * r)), h = static_cast<int>(std::round(bgr.rows * r));
+	fit.sx = fit.sy = r;
+	fit.dx = format_ == Format::YoloX ? 0 : (size - w) / 2;
+	fit.dy = format_ == Format::YoloX ? 0 : (size - h) / 2;
+	cv::Mat canvas(size, size, CV_8UC3, cv::Scalar(114, 114, 114)), resized;
+	cv::resize(bgr, resized, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
+	resized.copyTo(canvas(cv::Rect(static_cast<int>(fit.dx), static_cast<int>(fit.dy), w, h)));
+	if (format_ == Format::YoloX) return cv::dnn::blobFromImage(canvas, 1.0, cv::Size(), cv::Scalar(), false, false);
+	return cv::dnn::blobFromImage(canvas, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false);
+}
+
+std::vector<cv::Mat> CYoloDnnDetector::forward(const cv::Mat& blob)
+{
+	net_.setInput(blob);
+	std::vector<cv::Mat> outs;
+	net_.forward(outs, outNames_);
+	return outs;
+}
+
+std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
+{
+	TFit fit;
+	const auto outs = forward(makeBlob(bgr, size_, fit));
+	const float thr = static_cast<float>(opts_.confThreshold);
+	std::vector<TDetection> cands;
+	// Adds a candidate from a box centre/size in network-input pixels.
+	auto add = [&](float cx, float cy, float w, float h, const float* cls, float obj)
+	{
+		int best = 0;
+		for (int c = 1; c < numClasses_; c++)
+			if (cls[c] > cls[best]) best = c;
+		const float score = obj * cls[best];
+		if (!(score >= thr)) return;
+		TDetection d;
+		d.classId = best;
+		d.score = score;
+		d.box = cv::Rect2f(
+			static_cast<float>((cx - w / 2 - fit.dx) / fit.sx), static_cast<float>((cy - h / 2 - fit.dy) / fit.sy),
+			static_cast<float>(w / fit.sx), static_cast<float>(h / fit.sy));
+		cands.push_back(d);
+	};
+	const float S = static_cast<float>(size_);
+	switch (format_)
+	{
+		case Format::Darknet:
+			// Region layer rows: normalised cx cy w h, objectness, class scores already times objectness.
+			for (const auto& m : outs)
+				for (int r = 0; r < m.rows; r++)
+				{
+					const float* p = m.ptr<float>(r);
+					if (p[4] < thr) continue;
+					add(p[0] * S, p[1] * S, p[2] * S, p[3] * S, p + 5, 1.0f);
+				}
+			break;
+		case Format::YoloV5:
+		{
+			const cv::Mat m = outs[0].reshape(1, outs[0].size[1]);
+			for (int r = 0; r < m.rows; r++)
+			{
+				const float* p = m.ptr<float>(r);
+				if (p[4] < thr) continue;
+				add(p[0], p[1], p[2], p[3], p + 5, p[4]);
+			}
+			break;
+		}
+		case Format::YoloV8:
+		{
+			const cv::Mat m = outs[0].reshape(1, outs[0].size[1]).t();	// [N, 4+C]
+			for (int r = 0; r < m.rows; r++)
+			{
+				const float* p = m.ptr<float>(r);
+				add(p[0], p[1], p[2], p[3], p + 4, 1.0f);
+			}
+			break;
+		}
+		case Format::YoloX:
+		{
+			// Raw head outputs: xy = (out + grid) * stride, wh = exp(out) * stride, rows by stride 8, 16, 32.
+			const cv::Mat m = outs[0].reshape(1, outs[0].size[1]);
+			int r = 0;
+			for (int s : {8, 16, 32})
+			{
+				const int g = size_ / s;
+				for (int gy = 0; gy < g; gy++)
+					for (int gx = 0; gx < g; gx++, r++)
+					{
+						const float* p = m.ptr<float>(r);
+						if (p[4] < thr) continue;
+						add((p[0] + gx) * s, (p[1] + gy) * s, std::exp(p[2]) * s, std::exp(p[3]) * s, p + 5, p[4]);
+					}
+			}
+			break;
+		}
+	}
+	// Class-wise non-maximum suppression.
+	std::map<int, std::vector<int>> byClass;
+	for (int i = 0; i < static_cast<int>(cands.size()); i++) byClass[cands[static_cast<std::size_t>(i)].classId].push_back(i);
+	std::vector<TDetection> out;
+	for (const auto& [cls, idx] : byClass)
+	{
+		std::vector<cv::Rect2d> boxes;
+		std::vector<float> scores;
+		for (int i : idx)
+		{
+			boxes.emplace_back(cands[static_cast<std::size_t>(i)].box);
+			scores.push_back(cands[static_cast<std::size_t>(i)].score);
+		}
+		std::vector<int> keep;
+		cv::dnn::NMSBoxes(boxes, scores, thr, static_cast<float>(opts_.nmsThreshold), keep);
+		for (int k : keep) out.push_back(cands[static_cast<std::size_t>(idx[static_cast<std::size_t>(k)])]);
+	}
+	std::sort(out.begin(), out.end(), [](const TDetection& a, const TDetection& b) { return a.score > b.score; });
+	return out;
+}
+}  // namespace mrpt_yesslam

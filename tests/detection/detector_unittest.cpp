@@ -1,0 +1,176 @@
+// Detectors on real images with people (TUM fr3 walking, CC BY 4.0; darknet's person.jpg, public
+// domain) against boxes measured by hand, with real models from ../shared/models (Yolo-Fastest:
+// darknet YOLO licence / public domain; YOLOX-Nano: Apache-2.0).
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/detection/CYoloDnnDetector.h"
+#include "mrpt_yesslam/util/Error.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+
+namespace
+{
+struct HandBox
+{
+	const char* image;
+	std::vector<cv::Rect2f> people;	 // measured by hand on the image
+};
+
+// Boxes measured by hand (pixels, x y w h): feet to head, hand to hand.
+const std::vector<HandBox> kPeople = {
+	{"data/tum_sample_frames/fr3_walking/fr3_walking_xyz_rgb_1341846313.553992.png",
+	 {cv::Rect2f(52, 122, 190, 358), cv::Rect2f(476, 8, 148, 472)}},
+	{"data/tum_sample_frames/fr3_walking/fr3_walking_unknown_rgb_122.png", {cv::Rect2f(66, 55, 186, 425)}},
+	{"data/detector_test_images/person.jpg", {cv::Rect2f(188, 95, 88, 285)}},
+};
+
+std::string describe(const CObjectDetector& det, const std::vector<TDetection>& ds)
+{
+	std::ostringstream ss;
+	for (const auto& d : ds)
+		ss << det.className(d.classId) << " " << d.score << " [" << d.box.x << "," << d.box.y << "," << d.box.width << ","
+		   << d.box.height << "]\n";
+	return ss.str();
+}
+
+// Every hand-measured person is matched by a dynamic detection with IoU >= 0.5.
+void expectFindsPeople(CObjectDetector& det)
+{
+	for (const auto& hb : kPeople)
+	{
+		SCOPED_TRACE(hb.image);
+		const cv::Mat img = cv::imread(sharedFile(hb.image), cv::IMREAD_COLOR);
+		ASSERT_FALSE(img.empty());
+		const auto ds = det.detect(img, 0.0);
+		for (const auto& p : hb.people)
+		{
+			double best = 0;
+			for (const auto& d : ds)
+				if (d.dynamic && det.className(d.classId) == "person") best = std::max(best, boxIoU(d.box, p));
+			EXPECT_GE(best, 0.5) << "person at " << p << " not found; detections:\n" << describe(det, ds);
+		}
+	}
+}
+
+CObjectDetector::TOptions yoloFastest()
+{
+	CObjectDetector::TOptions o;
+	o.backend = "yolo";
+	o.model = sharedFile("models/yolo_fastest_darknet/yolo-fastest-1.1-xl.cfg");
+	o.weights = sharedFile("models/yolo_fastest_darknet/yolo-fastest-1.1-xl.weights");
+	o.names = sharedFile("models/yolo_fastest_darknet/coco.names");
+	return o;
+}
+}  // namespace
+
+TEST(Detector, YoloFastestDarknetFindsThePeople)
+{
+	auto det = createObjectDetector(yoloFastest());
+	auto* yolo = dynamic_cast<CYoloDnnDetector*>(det.get());
+	ASSERT_TRUE(yolo);
+	EXPECT_EQ(yolo->format(), CYoloDnnDetector::Format::Darknet);
+	EXPECT_EQ(yolo->inputSize(), 320);
+	EXPECT_EQ(det->classNames().size(), 80u);
+	expectFindsPeople(*det);
+}
+
+TEST(Detector, YoloxOnnxDecodesToTheSamePeople)
+{
+	CObjectDetector::TOptions o;
+	o.model = sharedFile("models/yolox_nano_onnx/yolox_nano.onnx");
+	o.names = sharedFile("models/yolox_nano_onnx/coco_classes.txt");
+	o.confThreshold = 0.5;
+	auto det = createObjectDetector(o);
+	auto* yolo = dynamic_cast<CYoloDnnDetector*>(det.get());
+	ASSERT_TRUE(yolo);
+	EXPECT_EQ(yolo->format(), CYoloDnnDetector::Format::YoloX);
+	// This export accepts any input size; probing tries 640 first. At its native 416 it finds the
+	// same people.
+	expectFindsPeople(*det);
+	o.inputSize = 416;
+	auto det416 = createObjectDetector(o);
+	EXPECT_EQ(dynamic_cast<CYoloDnnDetector&>(*det416).inputSize(), 416);
+	expectFindsPeople(*det416);
+}
+
+TEST(Detector, ThresholdAndDynamicClasses)
+{
+	auto o = yoloFastest();
+	const cv::Mat img = cv::imread(sharedFile(kPeople[0].image), cv::IMREAD_COLOR);
+	o.confThreshold = 0.9;
+	const auto strict = createObjectDetector(o)->detect(img, 0);
+	for (const auto& d : strict) EXPECT_GE(d.score, 0.9f);
+	o.confThreshold = 0.3;
+	const auto loose = createObjectDetector(o)->detect(img, 0);
+	EXPECT_GT(loose.size(), strict.size()) << "a lower threshold must let more (chairs, screens) through";
+	o.dynamicClasses = "chair";
+	auto det = createObjectDetector(o);
+	for (const auto& d : det->detect(img, 0)) EXPECT_EQ(d.dynamic, det->className(d.classId) == "chair");
+	o.dynamicClasses = "person,unicorn";
+	expectInputError([&] { createObjectDetector(o); }, {"dynamic class 'unicorn'"});
+}
+
+TEST(Detector, BadModelsAndNames)
+{
+	TempDir d("det");
+	auto o = yoloFastest();
+	o.model = d / "missing.cfg";
+	expectInputError([&] { createObjectDetector(o); }, {"missing.cfg", "model file not found"});
+	writeText(d / "junk.onnx", "this is not an onnx model");
+	o = yoloFastest();
+	o.model = d / "junk.onnx";
+	expectInputError([&] { createObjectDetector(o); }, {"junk.onnx", "cannot load model"});
+	writeText(d / "junk.weights", "not weights");
+	o = yoloFastest();
+	o.weights = d / "junk.weights";
+	expectInputError([&] { createObjectDetector(o); }, {"junk.weights"});
+	o = yoloFastest();
+	o.names = sharedFile("models/yolo_fastest_darknet/body.names");
+	expectInputError([&] { createObjectDetector(o); }, {"body.names", "has 1 class names but the model outputs 80 classes"});
+	o = yoloFastest();
+	o.backend = "magic";
+	expectInputError([&] { createObjectDetector(o); }, {"unknown detector backend 'magic'"});
+}
+
+TEST(Detector, DetectionsFileBackend)
+{
+	TempDir d("detfile");
+	writeText(
+		d / "detections.txt",
+		"# timestamp class_id score x y w h instance_id\n"
+		"10.000000 0 0.9 100 50 80 200 3\n10.000000 56 0.7 300 300 40 40 -1\n10.033333 0 0.5 110 50 80 200 3\n");
+	CObjectDetector::TOptions o;
+	o.backend = "file";
+	o.file = d / "detections.txt";
+	o.names = sharedFile("models/yolo_fastest_darknet/coco.names");
+	auto det = createObjectDetector(o);
+	const cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(0));
+	auto ds = det->detect(img, 10.001);
+	ASSERT_EQ(ds.size(), 2u);
+	EXPECT_TRUE(ds[0].dynamic);
+	EXPECT_EQ(ds[0].instanceId, 3);
+	EXPECT_EQ(det->className(ds[1].classId), "chair");
+	EXPECT_FALSE(ds[1].dynamic);
+	EXPECT_TRUE(det->detect(img, 10.0333).empty()) << "0.5 is below the 0.6 threshold";
+	EXPECT_TRUE(det->detect(img, 11.0).empty()) << "no detections that far in time";
+
+	writeText(d / "bad1.txt", "10 0 0.9 100 50 -80 200\n");
+	o.file = d / "bad1.txt";
+	expectInputError([&] { createObjectDetector(o); }, {"bad1.txt", "line 1", "width and height must be positive"});
+	writeText(d / "bad2.txt", "# c\n10 0 0.9 100 50\n");
+	o.file = d / "bad2.txt";
+	expectInputError([&] { createObjectDetector(o); }, {"bad2.txt", "line 2", "found 5 fields"});
+	writeText(d / "bad3.txt", "10 0 1.5 100 50 10 10\n");
+	o.file = d / "bad3.txt";
+	expectInputError([&] { createObjectDetector(o); }, {"bad3.txt", "score must be in [0,1]"});
+	writeText(d / "outside.txt", "10 0 0.9 900 50 10 10\n");
+	o.file = d / "outside.txt";
+	auto det2 = createObjectDetector(o);
+	expectInputError([&] { det2->detect(img, 10.0); }, {"outside.txt", "line 1", "outside the 640x480 image"});
+}
