@@ -55,5 +55,17 @@ void validateRgbdObservation(const mrpt::obs::CObservation3DRangeScan& obs, cons
 		throw InputError(where, "camera intrinsics are not valid (fx, fy must be positive)");
 }
 
+cv::Mat depthInMetres(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	cv::Mat d(static_cast<int>(obs.rangeImage.rows()), static_cast<int>(obs.rangeImage.cols()), CV_32F);
+	const float u = obs.rangeUnits;
+	for (int r = 0; r < d.rows; r++)
+	{
+		float* dst = d.ptr<float>(r);
+		for (int c = 0; c < d.cols; c++) dst[c] = obs.rangeImage(r, c) * u;
+	}
+	return d;
+}
+
 double observationTime(const mrpt::obs::CObservation& obs) { return mrpt::Clock::toDouble(obs.timestamp); }
 }  // namespace mrpt_yesslam

@@ -21,6 +21,9 @@ mrpt::obs::CObservation3DRangeScan::Ptr makeRgbdObservation(
  * finite positive rangeUnits and sane intrinsics. Throws InputError("where: problem"). */
 void validateRgbdObservation(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& where);
 
+/** The depth image in metres (CV_32FC1, 0 where there is no depth). */
+cv::Mat depthInMetres(const mrpt::obs::CObservation3DRangeScan& obs);
+
 /** The timestamp of a frame in seconds (Unix epoch, as in TUM files). */
 double observationTime(const mrpt::obs::CObservation& obs);
 }  // namespace mrpt_yesslam

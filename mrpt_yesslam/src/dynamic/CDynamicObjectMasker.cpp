@@ -1,0 +1,268 @@
+#include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+void CDynamicObjectMasker::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	MRPT_LOAD_CONFIG_VAR(method, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(loDiff, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(upDiff, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(laplacianGain, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(laplacianKernel, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(blurSigma, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(boxMargin, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(maxFillRatio, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(minFillRatio, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(fallbackToBox, bool, c, s);
+	MRPT_LOAD_CONFIG_VAR(dilatePixels, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(maxDepth, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(maxDepthRange, double, c, s);
+}
+
+void CDynamicObjectMasker::TOptions::dumpToTextStream(std::ostream& o) const
+{
+	o << "[DynamicMask]\n";
+	o << "method          = " << method << "  ; edge_fill | fill | box\n";
+	o << "loDiff          = " << loDiff << "  ; m, between neighbours\n";
+	o << "upDiff          = " << upDiff << "  ; m, between neighbours\n";
+	o << "laplacianGain   = " << laplacianGain << "\n";
+	o << "laplacianKernel = " << laplacianKernel << "\n";
+	o << "blurSigma       = " << blurSigma << "  ; px\n";
+	o << "boxMargin       = " << boxMargin << "  ; share of the box size\n";
+	o << "maxFillRatio    = " << maxFillRatio << "\n";
+	o << "minFillRatio    = " << minFillRatio << "\n";
+	o << "fallbackToBox   = " << (fallbackToBox ? "true" : "false") << "\n";
+	o << "dilatePixels    = " << dilatePixels << "\n";
+	o << "maxDepth        = " << maxDepth << "  ; m\n";
+	o << "maxDepthRange   = " << maxDepthRange << "  ; m from the seed depth, 0 = unlimited\n";
+}
+
+std::vector<TConfigKey> CDynamicObjectMasker::TOptions::configKeys()
+{
+	using T = TConfigKey::Type;
+	return {{"method", T::Text},		 {"loDiff", T::Number},			 {"upDiff", T::Number},
+			{"laplacianGain", T::Number}, {"laplacianKernel", T::Integer}, {"blurSigma", T::Number},
+			{"boxMargin", T::Number},	 {"maxFillRatio", T::Number},	 {"minFillRatio", T::Number},
+			{"fallbackToBox", T::Boolean}, {"dilatePixels", T::Integer},	 {"maxDepth", T::Number},
+			{"maxDepthRange", T::Number}};
+}
+
+CDynamicObjectMasker::CDynamicObjectMasker(const TOptions& o) : opts_(o)
+{
+	if (o.method != "edge_fill" && o.method != "fill" && o.method != "box")
+		throw InputError("", "[DynamicMask] method must be edge_fill, fill or box, got '" + o.method + "'");
+	if (!(o.loDiff >= 0) || !(o.upDiff >= 0)) throw InputError("", "[DynamicMask] loDiff and upDiff must be >= 0");
+	if (o.laplacianKernel != 1 && o.laplacianKernel != 3 && o.laplacianKernel != 5 && o.laplacianKernel != 7)
+		throw InputError("", "[DynamicMask] laplacianKernel must be 1, 3, 5 or 7");
+	if (!(o.maxFillRatio > o.minFillRatio)) throw InputError("", "[DynamicMask] maxFillRatio must exceed minFillRatio");
+}
+
+cv::Mat CDynamicObjectMasker::prepare(const cv::Mat& depth) const
+{
+	cv::Mat d;
+	depth.convertTo(d, CV_32F);
+	cv::patchNaNs(d, 0.0);
+	const cv::Mat invalid = (d <= 0) | (d > opts_.maxDepth);
+	d.setTo(0, invalid);
+	if (opts_.method == "edge_fill")
+	{
+		// Eq. 4-5: Laplacian sharpening steepens depth discontinuities, the blur removes the noise the
+		// Laplacian amplified. Missing pixels are barriers again afterwards.
+		cv::Mat lap;
+		cv::Laplacian(d, lap, CV_32F, opts_.laplacianKernel);
+		cv::Mat enhanced = d - opts_.laplacianGain * lap;
+		if (opts_.blurSigma > 0) cv::GaussianBlur(enhanced, enhanced, cv::Size(0, 0), opts_.blurSigma);
+		enhanced.setTo(0, invalid);
+		return enhanced;
+	}
+	return d;
+}
+
+bool CDynamicObjectMasker::fillBox(
+	const cv::Mat& img, const cv::Mat& raw, const cv::Rect& box, cv::Mat& out, cv::Point& seed) const
+{
+	// The fill may leave the box by a margin, never more.
+	const int mx = static_cast<int>(std::round(box.width * opts_.boxMargin));
+	const int my = static_cast<int>(std::round(box.height * opts_.boxMargin));
+	const cv::Rect roi = cv::Rect(box.x - mx, box.y - my, box.width + 2 * mx, box.height + 2 * my) & cv::Rect(0, 0, img.cols, img.rows);
+	const cv::Mat sub = img(roi);
+
+	// Seed: dominant (preferably nearest) depth mode of the box's central part, pixel nearest the centre.
+	const cv::Rect centre(
+		box.x + box.width * 3 / 10, box.y + box.height / 5, std::max(1, box.width * 2 / 5), std::max(1, box.height * 2 / 5));
+	const cv::Rect c = centre & cv::Rect(0, 0, img.cols, img.rows);
+	const double binW = 0.05;
+	std::vector<int> hist(static_cast<std::size_t>(opts_.maxDepth / binW) + 2, 0);
+	int valid = 0;
+	for (int y = c.y; y < c.y + c.height; y++)
+		for (int x = c.x; x < c.x + c.width; x++)
+		{
+			const float v = img.at<float>(y, x);
+			if (v <= 0) continue;
+			hist[std::min(hist.size() - 1, static_cast<std::size_t>(v / binW))]++;
+			valid++;
+		}
+	if (valid == 0) return false;
+	std::vector<int> smooth(hist.size(), 0);
+	for (std::size_t i = 0; i < hist.size(); i++)
+		smooth[i] = hist[i] + (i > 0 ? hist[i - 1] : 0) + (i + 1 < hist.size() ? hist[i + 1] : 0);
+	const std::size_t peak = static_cast<std::size_t>(std::max_element(smooth.begin(), smooth.end()) - smooth.begin());
+	std::size_t mode = peak;
+	for (std::size_t i = 0; i < peak; i++)
+		if (smooth[i] >= smooth[peak] / 2 && (i == 0 || smooth[i] >= smooth[i - 1]) && smooth[i] >= smooth[i + 1])
+		{
+			mode = i;  // a nearer mode almost as strong: the object in front
+			break;
+		}
+	const double modeDepth = (mode + 0.5) * binW;
+	const cv::Point2f mid(box.x + box.width / 2.0f, box.y + box.height / 2.0f);
+	double bestD = 1e18;
+	seed = {-1, -1};
+	for (int y = c.y; y < c.y + c.height; y++)
+		for (int x = c.x; x < c.x + c.width; x++)
+		{
+			const float v = img.at<float>(y, x);
+			if (v <= 0 || std::abs(v - modeDepth) > 1.5 * binW) continue;
+			const double dd = (x - mid.x) * (x - mid.x) + (y - mid.y) * (y - mid.y);
+			if (dd < bestD)
+			{
+				bestD = dd;
+				seed = {x, y};
+			}
+		}
+	if (seed.x < 0) return false;
+
+	// 4-neighbour floating-range fill, mask only; missing depth is pre-marked as a barrier.
+	cv::Mat fm = cv::Mat::zeros(roi.height + 2, roi.width + 2, CV_8U);
+	fm(cv::Rect(1, 1, roi.width, roi.height)).setTo(1, sub <= 0);
+	if (opts_.maxDepthRange > 0)
+	{
+		// A person is less than a metre deep: never follow a surface (floor, desk) farther than this
+		// from the seed's depth. Tested on the raw depth, which sharpening has not moved.
+		const cv::Mat& ref = raw.empty() ? img : raw;
+		const float z0 = ref.at<float>(seed);
+		const cv::Mat rs = ref(roi);
+		fm(cv::Rect(1, 1, roi.width, roi.height)).setTo(1, (rs < z0 - opts_.maxDepthRange) | (rs > z0 + opts_.maxDepthRange));
+	}
+	cv::floodFill(
+		sub, fm, seed - roi.tl(), cv::Scalar(), nullptr, cv::Scalar(opts_.loDiff), cv::Scalar(opts_.upDiff),
+		4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
+	cv::Mat filled = fm(cv::Rect(1, 1, roi.width, roi.height)) == 255;
+	// Sharpening and blur make the object's own outermost pixels differ from their neighbours, so the
+	// fill stops a pixel or two short of the silhouette. Grow it back where the raw depth is
+	// continuous with a filled 4-neighbour (a conditional dilation on the unfiltered depth).
+	if (opts_.method == "edge_fill")
+	{
+		const cv::Mat rawSub = raw(roi);
+		const int steps = 1 + static_cast<int>(std::ceil(2 * opts_.blurSigma));
+		for (int it = 0; it < steps; it++)
+		{
+			cv::Mat grown = filled.clone();
+			for (int y = 0; y < roi.height; y++)
+				for (int x = 0; x < roi.width; x++)
+				{
+					if (filled.at<uchar>(y, x)) continue;
+					const float v = rawSub.at<float>(y, x);
+					if (v <= 0) continue;
+					const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+					for (int k = 0; k < 4; k++)
+					{
+						if (nx[k] < 0 || ny[k] < 0 || nx[k] >= roi.width || ny[k] >= roi.height || !filled.at<uchar>(ny[k], nx[k])) continue;
+						const float q = rawSub.at<float>(ny[k], nx[k]);
+						if (v >= q - opts_.loDiff && v <= q + opts_.upDiff)
+						{
+							grown.at<uchar>(y, x) = 255;
+							break;
+						}
+					}
+				}
+			filled = grown;
+		}
+	}
+	// Close small gaps and add holes the object encloses (missing depth inside a person).
+	cv::morphologyEx(filled, filled, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+	std::vector<std::vector<cv::Point>> contours;
+	cv::findContours(filled.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+	cv::drawContours(filled, contours, -1, cv::Scalar(255), cv::FILLED);
+	const double ratio = cv::countNonZero(filled((box - roi.tl()) & cv::Rect(0, 0, roi.width, roi.height))) /
+		std::max(1.0, static_cast<double>(box.area()));
+	if (ratio > opts_.maxFillRatio || ratio < opts_.minFillRatio) return false;
+	out = cv::Mat::zeros(img.size(), CV_8U);
+	filled.copyTo(out(roi));
+	return true;
+}
+
+TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vector<TDetection>& dets)
+{
+	TDynamicMask r;
+	r.mask = cv::Mat::zeros(depth.size(), CV_8U);
+	r.classLabels = cv::Mat::zeros(depth.size(), CV_16U);
+	r.instanceLabels = cv::Mat::zeros(depth.size(), CV_16U);
+	const cv::Rect image(0, 0, depth.cols, depth.rows);
+	bool anyDynamic = false;
+	for (const auto& d : dets) anyDynamic |= d.dynamic;
+	if (!anyDynamic || depth.empty()) return r;
+	const cv::Mat img = opts_.method == "box" ? cv::Mat() : prepare(depth);
+	cv::Mat raw;
+	if (opts_.method != "box")
+	{
+		depth.convertTo(raw, CV_32F);
+		cv::patchNaNs(raw, 0.0);
+		raw.setTo(0, (raw <= 0) | (raw > opts_.maxDepth));
+	}
+	for (std::size_t i = 0; i < dets.size(); i++)
+	{
+		const auto& d = dets[i];
+		if (!d.dynamic) continue;
+		const cv::Rect box = cv::Rect(cv::Point(static_cast<int>(std::floor(d.box.x)), static_cast<int>(std::floor(d.box.y))),
+									  cv::Point(static_cast<int>(std::ceil(d.box.br().x)), static_cast<int>(std::ceil(d.box.br().y)))) &
+			image;
+		if (box.area() <= 0) continue;
+		TMaskRegion reg;
+		reg.detection = static_cast<int>(i);
+		cv::Mat obj;
+		bool ok = false;
+		if (opts_.method != "box") ok = fillBox(img, raw, box, obj, reg.seed);
+		if (!ok)
+		{
+			if (opts_.method != "box" && !opts_.fallbackToBox)
+			{
+				r.regions.push_back(reg);
+				continue;
+			}
+			obj = cv::Mat::zeros(depth.size(), CV_8U);
+			obj(box).setTo(255);
+			reg.usedBox = true;
+		}
+		reg.pixels = static_cast<std::size_t>(cv::countNonZero(obj));
+		r.mask.setTo(255, obj);
+		r.classLabels.setTo(d.classId + 1, obj);
+		r.instanceLabels.setTo(static_cast<int>(i) + 1, obj);
+		r.regions.push_back(reg);
+	}
+	if (opts_.dilatePixels > 0)
+		cv::dilate(
+			r.mask, r.mask,
+			cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * opts_.dilatePixels + 1, 2 * opts_.dilatePixels + 1)));
+	return r;
+}
+
+std::vector<bool> CDynamicObjectMasker::classifyKeypoints(const std::vector<cv::KeyPoint>& kps, const cv::Mat& mask)
+{
+	std::vector<bool> dyn(kps.size(), false);
+	for (std::size_t i = 0; i < kps.size(); i++)
+	{
+		const int x = static_cast<int>(std::lround(kps[i].pt.x)), y = static_cast<int>(std::lround(kps[i].pt.y));
+		dyn[i] = !mask.empty() && x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uchar>(y, x) != 0;
+	}
+	return dyn;
+}
+}  // namespace mrpt_yesslam
