@@ -138,6 +138,21 @@ TEST(Detector, BadModelsAndNames)
 	expectInputError([&] { createObjectDetector(o); }, {"unknown detector backend 'magic'"});
 }
 
+TEST(Detector, BadDetectionsFilesOfTheCorpus)
+{
+	const std::string bad = std::string(YESSLAM_SOURCE_DIR) + "/tests/data/bad/";
+	CObjectDetector::TOptions o;
+	o.backend = "file";
+	o.file = bad + "detections_negative_size.txt";
+	expectInputError([&] { createObjectDetector(o); }, {"detections_negative_size.txt", "line 2", "must be positive"});
+	o.file = bad + "detections_malformed.txt";
+	expectInputError([&] { createObjectDetector(o); }, {"detections_malformed.txt", "line 1", "found 5 fields"});
+	o.file = bad + "detections_outside_image.txt";
+	auto det = createObjectDetector(o);
+	const cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(0));
+	expectInputError([&] { det->detect(img, 1.0); }, {"detections_outside_image.txt", "line 1", "outside the 640x480 image"});
+}
+
 TEST(Detector, DetectionsFileBackend)
 {
 	TempDir d("detfile");

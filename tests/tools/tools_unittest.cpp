@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
@@ -170,4 +173,48 @@ TEST(Tools, CloudOfRealFramesRendersAndRejectsBadPoses)
 								  d / "x.3Dscene", "--quiet"}),
 		{"tum_fr1_desk_9frames", "no frame has a pose"});
 	EXPECT_FALSE(fs::exists(d / "x.3Dscene"));
+}
+
+TEST(Tools, DetectOnImageAndTumFolder)
+{
+	// Yolo-Fastest (darknet YOLO licence) on darknet's person.jpg (public domain) and on the 9 real
+	// fr1/desk frames (TUM RGB-D, CC BY 4.0), which have depth and so get masks.
+	TempDir d("detect");
+	const std::string m = "models/yolo_fastest_darknet/";
+	const std::vector<std::string> model = {"--model", sharedFile(m + "yolo-fastest-1.1.cfg"), "--weights",
+											sharedFile(m + "yolo-fastest-1.1.weights"), "--names", sharedFile(m + "coco.names"), "--quiet"};
+	auto args = model;
+	for (const auto& a : {std::string("--input"), sharedFile("data/detector_test_images/person.jpg"), std::string("--out"), d / "img",
+						  std::string("--overlay"), std::string("--conf"), std::string("0.5")})
+		args.push_back(a);
+	const auto r = runTool("yesslam-detect", args);
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	std::ifstream f(d / "img/detections.txt");
+	std::string line;
+	int people = 0, lines = 0;
+	while (std::getline(f, line))
+	{
+		if (line.empty() || line[0] == '#') continue;
+		lines++;
+		std::istringstream ss(line);
+		double t, cls, score;
+		ss >> t >> cls >> score;
+		EXPECT_EQ(t, 0.0);
+		EXPECT_GE(score, 0.5);
+		people += cls == 0;
+	}
+	EXPECT_EQ(people, 1) << "one person in person.jpg";
+	EXPECT_GE(lines, 2) << "and the dog and horse";
+	EXPECT_TRUE(fs::exists(d / "img/overlays/0.000000.png"));
+
+	args = model;
+	for (const auto& a : {std::string("--input"), sharedFile("data/tum_fr1_desk_9frames"), std::string("--out"), d / "tum"})
+		args.push_back(a);
+	const auto t = runTool("yesslam-detect", args);
+	ASSERT_EQ(t.exitCode, 0) << t.err;
+	EXPECT_EQ(value(t.out, "frames"), "9");
+	EXPECT_EQ(std::distance(fs::directory_iterator(d / "tum/masks"), fs::directory_iterator()), 9);
+	// No people on the desk: every mask is empty.
+	for (const auto& e : fs::directory_iterator(d / "tum/masks"))
+		EXPECT_EQ(cv::countNonZero(cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE)), 0) << e.path();
 }
