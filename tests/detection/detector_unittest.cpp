@@ -99,6 +99,30 @@ TEST(Detector, YoloxOnnxDecodesToTheSamePeople)
 	expectFindsPeople(*det416);
 }
 
+TEST(Detector, FastestDetAndNanoDetOnnx)
+{
+	// FastestDet (BSD-3) and NanoDet-m (Apache-2.0 derived), decoded from their own output layouts.
+	struct M
+	{
+		const char* model;
+		const char* names;
+		CYoloDnnDetector::Format format;
+	};
+	for (const M& m : {M{"models/fastestdet_onnx/FastestDet.onnx", "models/fastestdet_onnx/coco.names", CYoloDnnDetector::Format::FastestDet},
+					   M{"models/nanodet_m_onnx/nanodet_m_320.onnx", "models/nanodet_m_onnx/coco.names", CYoloDnnDetector::Format::NanoDet},
+					   M{"models/nanodet_m_onnx/nanodet_m_416.onnx", "models/nanodet_m_onnx/coco.names", CYoloDnnDetector::Format::NanoDet}})
+	{
+		SCOPED_TRACE(m.model);
+		CObjectDetector::TOptions o;
+		o.model = sharedFile(m.model);
+		o.names = sharedFile(m.names);
+		o.confThreshold = 0.5;
+		auto det = createObjectDetector(o);
+		EXPECT_EQ(dynamic_cast<CYoloDnnDetector&>(*det).format(), m.format) << det->description();
+		expectFindsPeople(*det);
+	}
+}
+
 TEST(Detector, ThresholdAndDynamicClasses)
 {
 	auto o = yoloFastest();

@@ -64,6 +64,10 @@ std::string CYoloDnnDetector::formatName(Format f)
 			return "yolov8";
 		case Format::YoloX:
 			return "yolox";
+		case Format::FastestDet:
+			return "fastestdet";
+		case Format::NanoDet:
+			return "nanodet";
 	}
 	return "?";
 }
@@ -103,7 +107,8 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 	{
 		static const std::map<std::string, Format> byName = {
 			{"darknet", Format::Darknet}, {"yolov5", Format::YoloV5}, {"yolov7", Format::YoloV5},
-			{"yolov8", Format::YoloV8},	  {"yolox", Format::YoloX}};
+			{"yolov8", Format::YoloV8},	  {"yolox", Format::YoloX},		{"fastestdet", Format::FastestDet},
+			{"nanodet", Format::NanoDet}};
 		const auto it = byName.find(o.format);
 		if (it == byName.end()) throw InputError(o.model, "unknown [Detector] format '" + o.format + "' (auto, darknet, yolov5, yolov7, yolov8, yolox)");
 		format_ = it->second;
@@ -162,11 +167,36 @@ bool CYoloDnnDetector::recognise(const std::vector<cv::Mat>& outs, int size)
 		numClasses_ = outs[0].cols - 5;
 		return true;
 	}
+	const bool auto_ = opts_.format == "auto";
+	// NanoDet: per stride 8/16/32 one (N,C) class map and one (N,32) distance map.
+	if (outs.size() == 6 && (auto_ || format_ == Format::NanoDet))
+	{
+		int classes = -1, dists = 0;
+		for (const auto& m : outs)
+		{
+			const int last = m.size[m.dims - 1];
+			if (last == 32)
+				dists++;
+			else if (classes < 0 || classes == last)
+				classes = last;
+			else
+				return false;
+		}
+		if (dists != 3 || classes < 1) return false;
+		format_ = Format::NanoDet;
+		numClasses_ = classes;
+		return true;
+	}
 	if (outs.size() != 1) return false;
 	const cv::Mat& m = outs[0];
+	if (m.dims == 4 && m.size[0] == 1 && m.size[1] >= 6 && (auto_ || format_ == Format::FastestDet))
+	{
+		format_ = Format::FastestDet;
+		numClasses_ = m.size[1] - 5;
+		return true;
+	}
 	if (m.dims != 3 || m.size[0] != 1) return false;
 	const int a = m.size[1], b = m.size[2];
-	const bool auto_ = opts_.format == "auto";
 	if (auto_)
 	{
 		if (a > b && b >= 6)
@@ -192,6 +222,15 @@ bool CYoloDnnDetector::recognise(const std::vector<cv::Mat>& outs, int size)
 
 cv::Mat CYoloDnnDetector::makeBlob(const cv::Mat& bgr, int size, TFit& fit) const
 {
+	if (format_ == Format::FastestDet)
+	{
+		// FastestDet's reference pre-processing: area resize, BGR, /255.
+		fit.sx = static_cast<double>(size) / bgr.cols;
+		fit.sy = static_cast<double>(size) / bgr.rows;
+		cv::Mat resized;
+		cv::resize(bgr, resized, cv::Size(size, size), 0, 0, cv::INTER_AREA);
+		return cv::dnn::blobFromImage(resized, 1.0 / 255.0, cv::Size(), cv::Scalar(), false, false);
+	}
 	if (format_ == Format::Darknet)
 	{
 		// Darknet models are trained on plainly resized images.
@@ -211,6 +250,15 @@ cv::Mat CYoloDnnDetector::makeBlob(const cv::Mat& bgr, int size, TFit& fit) cons
 	cv::resize(bgr, resized, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
 	resized.copyTo(canvas(cv::Rect(static_cast<int>(fit.dx), static_cast<int>(fit.dy), w, h)));
 	if (format_ == Format::YoloX) return cv::dnn::blobFromImage(canvas, 1.0, cv::Size(), cv::Scalar(), false, false);
+	if (format_ == Format::NanoDet)
+	{
+		// NanoDet: BGR, (x - mean) / std per channel.
+		cv::Mat f;
+		canvas.convertTo(f, CV_32FC3);
+		f -= cv::Scalar(103.53, 116.28, 123.675);
+		cv::divide(f, cv::Scalar(57.375, 57.12, 58.395), f);
+		return cv::dnn::blobFromImage(f, 1.0, cv::Size(), cv::Scalar(), false, false);
+	}
 	return cv::dnn::blobFromImage(canvas, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false);
 }
 
@@ -293,6 +341,71 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 						if (p[4] < thr) continue;
 						add((p[0] + gx) * s, (p[1] + gy) * s, std::exp(p[2]) * s, std::exp(p[3]) * s, p + 5, p[4]);
 					}
+			}
+			break;
+		}
+		case Format::FastestDet:
+		{
+			// One cell per row/col: [obj, dx, dy, w, h, classes]; boxes normalised to the image.
+			const cv::Mat& m = outs[0];
+			const int C = m.size[1], H = m.size[2], W = m.size[3];
+			const float* base = m.ptr<float>();
+			const std::size_t plane = static_cast<std::size_t>(H) * W;
+			std::vector<float> cls(static_cast<std::size_t>(numClasses_));
+			for (int row = 0; row < H; row++)
+				for (int col = 0; col < W; col++)
+				{
+					const std::size_t at = static_cast<std::size_t>(row) * W + col;
+					auto ch = [&](int c) { return base[static_cast<std::size_t>(c) * plane + at]; };
+					const float obj = ch(0);
+					if (obj <= 0) continue;
+					for (int c = 5; c < C; c++) cls[static_cast<std::size_t>(c - 5)] = std::pow(std::max(0.f, ch(c)), 0.4f);
+					const float cx = (col + std::tanh(ch(1))) / W * S, cy = (row + std::tanh(ch(2))) / H * S;
+					const float w = 1.f / (1.f + std::exp(-ch(3))) * S, h = 1.f / (1.f + std::exp(-ch(4))) * S;
+					add(cx, cy, w, h, cls.data(), std::pow(obj, 0.6f));
+				}
+			break;
+		}
+		case Format::NanoDet:
+		{
+			// Pair class and distance maps by their row count, one pair per stride.
+			for (int s : {8, 16, 32})
+			{
+				const int g = size_ / s, n = g * g;
+				const cv::Mat *cm = nullptr, *dm = nullptr;
+				for (const auto& o : outs)
+				{
+					const int last = o.size[o.dims - 1];
+					if (static_cast<int>(o.total()) / last != n) continue;
+					(last == 32 ? dm : cm) = &o;
+				}
+				if (!cm || !dm) continue;
+				const float* cp = cm->ptr<float>();
+				const float* dp = dm->ptr<float>();
+				for (int i = 0; i < n; i++)
+				{
+					const float* cls = cp + static_cast<std::size_t>(i) * numClasses_;
+					const float best = *std::max_element(cls, cls + numClasses_);
+					if (best < thr) continue;
+					// GFL: each side a softmax over 8 bins, its expectation times the stride.
+					float side[4];
+					for (int k = 0; k < 4; k++)
+					{
+						const float* b = dp + static_cast<std::size_t>(i) * 32 + k * 8;
+						const float mx = *std::max_element(b, b + 8);
+						float den = 0, num = 0;
+						for (int j = 0; j < 8; j++)
+						{
+							const float e = std::exp(b[j] - mx);
+							den += e;
+							num += e * j;
+						}
+						side[k] = num / den * s;
+					}
+					const float ax = (i % g) * s + (s - 1) / 2.0f, ay = (i / g) * s + (s - 1) / 2.0f;
+					const float x1 = ax - side[0], y1 = ay - side[1], x2 = ax + side[2], y2 = ay + side[3];
+					add((x1 + x2) / 2, (y1 + y2) / 2, x2 - x1, y2 - y1, cls, 1.0f);
+				}
 			}
 			break;
 		}

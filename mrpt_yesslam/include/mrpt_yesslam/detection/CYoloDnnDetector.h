@@ -1,7 +1,7 @@
 #pragma once
 // YOLO-family detectors through OpenCV DNN on the CPU: Darknet cfg+weights (Yolo-Fastest, YOLOv3/4),
 // and ONNX exports of YOLOv5/YOLOv7 ([1,N,5+C], objectness x class score), YOLOv8 ([1,4+C,N], no
-// objectness) and YOLOX ([1,N,5+C], raw grid offsets). The layout is recognised from the output
+// objectness) and YOLOX ([1,N,5+C], raw grid offsets); also FastestDet and NanoDet-m. The layout is recognised from the output
 // tensor shape (or forced with [Detector] format), the input size from the model.
 #include <opencv2/dnn.hpp>
 
@@ -19,7 +19,9 @@ class CYoloDnnDetector : public CObjectDetector
 		Darknet,
 		YoloV5,	 //!< also YOLOv7 exported without NMS
 		YoloV8,
-		YoloX
+		YoloX,
+		FastestDet,	 //!< [1,5+C,H,W] grid, score = obj^0.6 * cls^0.4
+		NanoDet	 //!< per stride a (N,C) class map and a (N,32) GFL distance map
 	};
 
 	/** Loads the model and names, probes the input size and output layout; throws InputError naming
