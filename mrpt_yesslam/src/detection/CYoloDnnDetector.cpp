@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "mrpt_yesslam/io/TextParsing.h"
@@ -124,6 +125,14 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 	else
 		sizes = {640, 416, 320, 352, 512};
 	std::string lastError = "no size tried";
+	// A wrong size makes OpenCV log several [ERROR] lines before it throws: silence them while probing.
+	const auto logLevel = cv::utils::logging::getLogLevel();
+	cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+	struct RestoreLog
+	{
+		cv::utils::logging::LogLevel l;
+		~RestoreLog() { cv::utils::logging::setLogLevel(l); }
+	} restore{logLevel};
 	for (int s : sizes)
 	{
 		try

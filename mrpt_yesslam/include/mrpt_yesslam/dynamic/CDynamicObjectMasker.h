@@ -41,8 +41,8 @@ struct TMaskRegion
 struct TDynamicMask
 {
 	cv::Mat mask;  //!< CV_8UC1, 255 = dynamic
-	cv::Mat classLabels;  //!< CV_16UC1, classId + 1 of the dynamic object at each pixel, 0 = none
-	cv::Mat instanceLabels;	 //!< CV_16UC1, detection index + 1, 0 = none
+	cv::Mat classLabels;  //!< CV_16UC1, classId + 1 of the dynamic object at each masked pixel, 0 = none
+	cv::Mat instanceLabels;	 //!< CV_16UC1, detection index + 1 at each masked pixel, 0 = none
 	std::vector<TMaskRegion> regions;
 };
 
@@ -59,16 +59,19 @@ class CDynamicObjectMasker
 		double upDiff = 0.06;  //!< fill tolerance away from the camera between neighbours, metres
 		double laplacianGain = 1.0;	 //!< k in f - k * lap(f)
 		int laplacianKernel = 3;  //!< aperture of the Laplacian (1, 3, 5, 7)
-		double blurSigma = 1.0;	 //!< sigma of the Gaussian blur (eq. 5), pixels
+		double blurSigma = 1.0;	 //!< sigma of the Gaussian blur (eq. 5), pixels (at the fill resolution)
 		double boxMargin = 0.05;  //!< the fill may leave the box by this share of its size
 		double maxFillRatio = 0.97;	 //!< a fill covering more of the box than this leaked: use the box
 		double minFillRatio = 0.05;	 //!< a fill covering less of the box than this failed: use the box
 		bool fallbackToBox = true;	//!< on failure use the whole box (false: mask nothing)
-		int dilatePixels = 3;  //!< grow the final mask by this many pixels
+		int dilatePixels = 3;  //!< grow each object's mask by about this many (full-resolution) pixels
 		double maxDepth = 8.0;	//!< depth beyond this is treated as missing, metres
 		/** The fill never includes depth farther than this from the seed's (metres; 0 = no limit).
 		 * Not in the paper: it stops fills that run along the floor or a desk the object touches. */
 		double maxDepthRange = 0.5;
+		/** Fill at 1/downsample of the image side (1 = full resolution). Blur and Laplacian sizes are
+		 * in pixels of that resolution. */
+		int downsample = 2;
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void dumpToTextStream(std::ostream& out) const override;
@@ -92,9 +95,9 @@ class CDynamicObjectMasker
    private:
 	/** The image the fill runs on (enhanced or plain depth, float metres, 0 = missing). */
 	cv::Mat prepare(const cv::Mat& depth) const;
-	/** Fills one box on `img` (`raw` = unfiltered depth, for restoring the silhouette rim);
-	 * returns false when it failed. */
-	bool fillBox(const cv::Mat& img, const cv::Mat& raw, const cv::Rect& box, cv::Mat& out, cv::Point& seed) const;
+	/** Fills one box of `raw` (depth in metres, 0 = missing): `out` is the object's mask over the
+	 * frame rectangle `outRoi`. Returns false when the fill failed. */
+	bool fillBox(const cv::Mat& raw, const cv::Rect& box, cv::Mat& out, cv::Rect& outRoi, cv::Point& seed) const;
 
 	TOptions opts_;
 };
