@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/detection/CAsyncDetector.h"
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
 #include "mrpt_yesslam/detection/CYoloDnnDetector.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -212,4 +213,34 @@ TEST(Detector, DetectionsFileBackend)
 	o.file = d / "outside.txt";
 	auto det2 = createObjectDetector(o);
 	expectInputError([&] { det2->detect(img, 10.0); }, {"outside.txt", "line 1", "outside the 640x480 image"});
+}
+
+TEST(Detector, AsyncGivesTheSameDetectionsAndPropagatesErrors)
+{
+	auto sync = createObjectDetector(yoloFastest());
+	CAsyncDetector async(createObjectDetector(yoloFastest()));
+	for (const auto& hb : kPeople)
+	{
+		const cv::Mat img = cv::imread(sharedFile(hb.image), cv::IMREAD_COLOR);
+		async.submit(img, 0.0);
+		const auto expected = sync->detect(img, 0.0);  // runs while the worker detects
+		const auto got = async.get();
+		ASSERT_EQ(got.size(), expected.size());
+		for (std::size_t i = 0; i < got.size(); i++)
+		{
+			EXPECT_EQ(got[i].classId, expected[i].classId);
+			EXPECT_FLOAT_EQ(got[i].score, expected[i].score);
+			EXPECT_EQ(got[i].box, expected[i].box);
+		}
+	}
+	EXPECT_THROW(async.get(), std::logic_error);
+	// An error inside the worker reaches the caller.
+	TempDir d("async");
+	writeText(d / "dets.txt", "1 0 0.9 5000 5000 10 10\n");
+	CObjectDetector::TOptions o;
+	o.backend = "file";
+	o.file = d / "dets.txt";
+	CAsyncDetector bad(createObjectDetector(o));
+	bad.submit(cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(0)), 1.0);
+	expectInputError([&] { bad.get(); }, {"dets.txt", "outside"});
 }

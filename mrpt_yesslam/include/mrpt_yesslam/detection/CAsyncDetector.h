@@ -1,0 +1,47 @@
+#pragma once
+// Runs a detector on its own thread, so that detection of a frame overlaps the ORB extraction of
+// the same frame in the tracking thread (detection is the slowest stage on a CPU). One frame in
+// flight at a time: submit(), do other work, then get().
+#include <condition_variable>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "mrpt_yesslam/detection/CObjectDetector.h"
+
+namespace mrpt_yesslam
+{
+/** A detector plus a worker thread. */
+class CAsyncDetector
+{
+   public:
+	/** Takes ownership of the detector and starts the worker. */
+	explicit CAsyncDetector(std::unique_ptr<CObjectDetector> detector);
+	/** Stops the worker (waits for a frame in flight). */
+	~CAsyncDetector();
+	CAsyncDetector(const CAsyncDetector&) = delete;
+	CAsyncDetector& operator=(const CAsyncDetector&) = delete;
+
+	/** Starts detection of a frame; the image is shared, not copied, and must not be modified until
+	 * get() returns. Throws std::logic_error if a frame is already in flight. */
+	void submit(const cv::Mat& bgr, double timestamp);
+	/** Waits for the submitted frame's detections; rethrows the detector's exception, if any. */
+	std::vector<TDetection> get();
+	/** The wrapped detector (class names etc.; do not call detect() on it while a frame is in flight). */
+	const CObjectDetector& detector() const { return *det_; }
+
+   private:
+	void loop();
+
+	std::unique_ptr<CObjectDetector> det_;
+	std::mutex m_;
+	std::condition_variable cv_;
+	std::optional<std::pair<cv::Mat, double>> job_;
+	std::optional<std::vector<TDetection>> result_;
+	std::exception_ptr error_;
+	bool inFlight_ = false, stop_ = false;
+	std::thread worker_;
+};
+}  // namespace mrpt_yesslam
