@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/detection/CObjectDetector.h"
+#include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -71,4 +73,32 @@ TEST(Errors, ExceptionSummaryPicksMrptMessage)
 		"Cannot read object");
 	EXPECT_EQ(exceptionSummary("plain message\nsecond"), "plain message");
 	EXPECT_EQ(exceptionSummary(""), "unknown error");
+}
+
+TEST(Config, ShippedDefaultConfigMatchesTheCode)
+{
+	// share/mrpt_yesslam/config/default.ini lists every key with its default: no unknown keys, no
+	// missing ones, and the values it states are the code's defaults.
+	const std::string path = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/default.ini";
+	const auto cfg = loadConfigFile(path);
+	auto check = [&](const std::string& section, const std::vector<TConfigKey>& keys, mrpt::config::CLoadableOptions& loaded,
+					 const mrpt::config::CLoadableOptions& defaults)
+	{
+		SCOPED_TRACE(section);
+		EXPECT_TRUE(validateConfigSection(*cfg, path, section, keys).empty());
+		std::vector<std::string> present;
+		cfg->getAllKeys(section, present);
+		EXPECT_EQ(present.size(), keys.size());
+		loaded.loadFromConfigFile(*cfg, section);
+		std::ostringstream a, b;
+		loaded.dumpToTextStream(a);
+		defaults.dumpToTextStream(b);
+		EXPECT_EQ(a.str(), b.str());
+	};
+	CInputSource::TOptions in;
+	check("Input", CInputSource::TOptions::configKeys(), in, CInputSource::TOptions());
+	CObjectDetector::TOptions det;
+	check("Detector", CObjectDetector::TOptions::configKeys(), det, CObjectDetector::TOptions());
+	CDynamicObjectMasker::TOptions mask;
+	check("DynamicMask", CDynamicObjectMasker::TOptions::configKeys(), mask, CDynamicObjectMasker::TOptions());
 }
