@@ -5,6 +5,7 @@
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
 #include "mrpt_yesslam/io/CInputSource.h"
+#include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -101,4 +102,6 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("Detector", CObjectDetector::TOptions::configKeys(), det, CObjectDetector::TOptions());
 	CDynamicObjectMasker::TOptions mask;
 	check("DynamicMask", CDynamicObjectMasker::TOptions::configKeys(), mask, CDynamicObjectMasker::TOptions());
+	CSemanticKeyFrameSelector::TOptions kf;
+	check("KeyFrames", CSemanticKeyFrameSelector::TOptions::configKeys(), kf, CSemanticKeyFrameSelector::TOptions());
 }
