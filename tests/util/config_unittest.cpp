@@ -4,6 +4,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
+#include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
@@ -102,6 +103,8 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("Detector", CObjectDetector::TOptions::configKeys(), det, CObjectDetector::TOptions());
 	CDynamicObjectMasker::TOptions mask;
 	check("DynamicMask", CDynamicObjectMasker::TOptions::configKeys(), mask, CDynamicObjectMasker::TOptions());
+	COrbExtractor::TOptions orb;
+	check("ORB", COrbExtractor::TOptions::configKeys(), orb, COrbExtractor::TOptions());
 	CSemanticKeyFrameSelector::TOptions kf;
 	check("KeyFrames", CSemanticKeyFrameSelector::TOptions::configKeys(), kf, CSemanticKeyFrameSelector::TOptions());
 }

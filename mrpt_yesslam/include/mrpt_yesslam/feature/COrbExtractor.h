@@ -1,0 +1,64 @@
+#pragma once
+// ORB features spread evenly over the image, as ORB-SLAM does (its quadtree, here a per-level grid
+// with round-robin selection of the strongest corner of each cell), with depth per keypoint from
+// the registered depth image and the dynamic flag of eq. 3 from the dynamic-object mask.
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <opencv2/features2d.hpp>
+#include <vector>
+
+#include "mrpt_yesslam/util/ConfigFile.h"
+
+namespace mrpt_yesslam
+{
+/** The features of one frame. */
+struct TFeatures
+{
+	std::vector<cv::KeyPoint> keypoints;  //!< level-0 pixel coordinates; octave = pyramid level
+	cv::Mat descriptors;  //!< CV_8U, 32 bytes per row
+	std::vector<float> depth;  //!< metres at each keypoint, 0 = no depth
+	std::vector<bool> dynamic;	//!< inside the dynamic mask (eq. 3): not used for pose
+	/** Number of keypoints that are not dynamic (N_sp of the keyframe selection). */
+	std::size_t numStatic() const;
+};
+
+/** Detects and describes ORB features with an even spatial distribution. */
+class COrbExtractor
+{
+   public:
+	/** Section [ORB]. */
+	struct TOptions : public mrpt::config::CLoadableOptions
+	{
+		int numFeatures = 1000;
+		int numLevels = 8;
+		double scaleFactor = 1.2;
+		/** FAST threshold. Low, as ORB-SLAM's retry threshold, so weak texture still yields corners
+		 * in every cell; the strongest corners of each cell are kept first. */
+		int fastThreshold = 7;
+		int cellSize = 32;	//!< grid cell side in pixels of each pyramid level
+		/** Keypoints inside the mask: false = detect and flag them dynamic (eq. 3; N_p counts them);
+		 * true = do not detect there at all, so the feature budget goes to the static scene. */
+		bool excludeMasked = false;
+
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void dumpToTextStream(std::ostream& out) const override;
+		/** The keys loadFromConfigFile reads, for validateConfigSection. */
+		static std::vector<TConfigKey> configKeys();
+	};
+
+	COrbExtractor() : COrbExtractor(TOptions()) {}
+	/** Checks the options; throws InputError for invalid ones. */
+	explicit COrbExtractor(const TOptions& opts);
+
+	/** Extracts features of a BGR or grey image; `depthMetres` (CV_32F, may be empty) gives each
+	 * keypoint's depth, `dynamicMask` (CV_8U, may be empty) the dynamic flags. */
+	TFeatures extract(const cv::Mat& image, const cv::Mat& depthMetres = {}, const cv::Mat& dynamicMask = {}) const;
+
+	const TOptions& options() const { return opts_; }
+
+   private:
+	TOptions opts_;
+	cv::Ptr<cv::ORB> orb_;
+	std::vector<int> perLevel_;	 //!< feature quota of each level
+};
+}  // namespace mrpt_yesslam

@@ -1,0 +1,130 @@
+#include "mrpt_yesslam/feature/COrbExtractor.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <opencv2/imgproc.hpp>
+
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+std::size_t TFeatures::numStatic() const { return static_cast<std::size_t>(std::count(dynamic.begin(), dynamic.end(), false)); }
+
+void COrbExtractor::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	MRPT_LOAD_CONFIG_VAR(numFeatures, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(numLevels, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(scaleFactor, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(fastThreshold, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(cellSize, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(excludeMasked, bool, c, s);
+}
+
+void COrbExtractor::TOptions::dumpToTextStream(std::ostream& o) const
+{
+	o << "[ORB]\n";
+	o << "numFeatures      = " << numFeatures << "\n";
+	o << "numLevels        = " << numLevels << "\n";
+	o << "scaleFactor      = " << scaleFactor << "\n";
+	o << "fastThreshold    = " << fastThreshold << "\n";
+	o << "cellSize         = " << cellSize << "\n";
+	o << "excludeMasked    = " << (excludeMasked ? "true" : "false") << "\n";
+}
+
+std::vector<TConfigKey> COrbExtractor::TOptions::configKeys()
+{
+	using T = TConfigKey::Type;
+	return {{"numFeatures", T::Integer},   {"numLevels", T::Integer}, {"scaleFactor", T::Number},
+			{"fastThreshold", T::Integer}, {"cellSize", T::Integer},
+			{"excludeMasked", T::Boolean}};
+}
+
+COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
+{
+	if (o.numFeatures < 10) throw InputError("", "[ORB] numFeatures must be at least 10");
+	if (o.numLevels < 1 || o.numLevels > 16) throw InputError("", "[ORB] numLevels must be 1..16");
+	if (!(o.scaleFactor > 1.0 && o.scaleFactor < 2.0)) throw InputError("", "[ORB] scaleFactor must be in (1, 2)");
+	if (o.cellSize < 8) throw InputError("", "[ORB] cellSize must be at least 8");
+	if (o.fastThreshold < 1 || o.fastThreshold > 100) throw InputError("", "[ORB] fastThreshold must be 1..100");
+	// Detect generously; the grid then keeps an even subset.
+	orb_ = cv::ORB::create(
+		o.numFeatures * 4, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
+	// ORB-SLAM's quota per level: geometric in the scale, so each level gets features in proportion
+	// to its area.
+	const double f = 1.0 / o.scaleFactor;
+	double per = o.numFeatures * (1 - f) / (1 - std::pow(f, o.numLevels));
+	int sum = 0;
+	for (int l = 0; l < o.numLevels - 1; l++)
+	{
+		perLevel_.push_back(static_cast<int>(std::round(per)));
+		sum += perLevel_.back();
+		per *= f;
+	}
+	perLevel_.push_back(std::max(0, o.numFeatures - sum));
+}
+
+TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, const cv::Mat& mask) const
+{
+	TFeatures out;
+	if (image.empty()) return out;
+	cv::Mat grey;
+	if (image.channels() == 3)
+		cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+	else
+		grey = image;
+	cv::Mat detectMask;
+	if (opts_.excludeMasked && !mask.empty()) cv::bitwise_not(mask, detectMask);
+	std::vector<cv::KeyPoint> all;
+	orb_->detect(grey, all, detectMask);
+
+	// Per level: bucket into cells, then take the strongest remaining corner of every cell in turn
+	// until the level's quota is met.
+	std::vector<cv::KeyPoint> kept;
+	std::map<int, std::vector<cv::KeyPoint>> byLevel;
+	for (const auto& k : all) byLevel[k.octave].push_back(k);
+	for (auto& [level, kps] : byLevel)
+	{
+		if (level < 0 || level >= static_cast<int>(perLevel_.size())) continue;
+		const double scale = std::pow(opts_.scaleFactor, level);
+		const double cell = opts_.cellSize * scale;
+		const int cols = std::max(1, static_cast<int>(std::ceil(grey.cols / cell)));
+		std::map<int, std::vector<cv::KeyPoint>> cells;
+		for (const auto& k : kps)
+			cells[static_cast<int>(k.pt.y / cell) * cols + static_cast<int>(k.pt.x / cell)].push_back(k);
+		for (auto& [id, v] : cells)
+			std::sort(v.begin(), v.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; });
+		const int quota = perLevel_[static_cast<std::size_t>(level)];
+		int taken = 0;
+		for (std::size_t round = 0; taken < quota; round++)
+		{
+			bool any = false;
+			for (auto& [id, v] : cells)
+				if (round < v.size() && taken < quota)
+				{
+					kept.push_back(v[round]);
+					taken++;
+					any = true;
+				}
+			if (!any) break;
+		}
+	}
+	orb_->compute(grey, kept, out.descriptors);
+	out.keypoints = std::move(kept);
+	out.depth.assign(out.keypoints.size(), 0.f);
+	out.dynamic.assign(out.keypoints.size(), false);
+	for (std::size_t i = 0; i < out.keypoints.size(); i++)
+	{
+		const int x = static_cast<int>(std::lround(out.keypoints[i].pt.x)), y = static_cast<int>(std::lround(out.keypoints[i].pt.y));
+		if (!depth.empty() && x >= 0 && y >= 0 && x < depth.cols && y < depth.rows)
+		{
+			const float z = depth.at<float>(y, x);
+			out.depth[i] = std::isfinite(z) && z > 0 ? z : 0.f;
+		}
+		if (!mask.empty() && x >= 0 && y >= 0 && x < mask.cols && y < mask.rows) out.dynamic[i] = mask.at<uchar>(y, x) != 0;
+	}
+	return out;
+}
+}  // namespace mrpt_yesslam

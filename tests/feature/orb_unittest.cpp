@@ -1,0 +1,94 @@
+// ORB extraction on a real TUM fr1/desk frame (CC BY 4.0): budget, even spread, depth, mask.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/feature/COrbExtractor.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+
+namespace
+{
+// Share of the keypoints that fall into the fullest of 8x6 image cells, and cells with none.
+std::pair<double, int> spread(const std::vector<cv::KeyPoint>& kps, cv::Size img)
+{
+	std::vector<int> cells(48, 0);
+	for (const auto& k : kps)
+		cells[static_cast<std::size_t>(std::min(5, static_cast<int>(k.pt.y * 6 / img.height)) * 8 + std::min(7, static_cast<int>(k.pt.x * 8 / img.width)))]++;
+	return {static_cast<double>(*std::max_element(cells.begin(), cells.end())) / static_cast<double>(kps.size()),
+			static_cast<int>(std::count(cells.begin(), cells.end(), 0))};
+}
+}  // namespace
+
+TEST(OrbExtractor, BudgetSpreadAndDepthOnARealFrame)
+{
+	const std::string dir = sharedFile("data/tum_fr1_desk_9frames");
+	const cv::Mat img = cv::imread(dir + "/rgb/1305031453.359684.png", cv::IMREAD_COLOR);
+	const cv::Mat raw = cv::imread(dir + "/depth/1305031453.374112.png", cv::IMREAD_UNCHANGED);
+	ASSERT_FALSE(img.empty());
+	cv::Mat depth;
+	raw.convertTo(depth, CV_32F, 1.0 / 5000);
+	COrbExtractor ex;
+	const auto f = ex.extract(img, depth);
+	EXPECT_GE(f.keypoints.size(), 900u);
+	EXPECT_LE(f.keypoints.size(), 1000u);
+	EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
+	EXPECT_EQ(f.descriptors.cols, 32);
+	EXPECT_EQ(f.numStatic(), f.keypoints.size());
+	// Spread: no cell holds more than 6% of the features, and plain OpenCV ORB clusters more.
+	const auto ours = spread(f.keypoints, img.size());
+	std::vector<cv::KeyPoint> plain;
+	cv::ORB::create(1000)->detect(img, plain);
+	const auto theirs = spread(plain, img.size());
+	EXPECT_LT(ours.first, 0.08);
+	EXPECT_LT(ours.first, 0.75 * theirs.first) << "fullest cell: ours " << ours.first << ", plain ORB " << theirs.first;
+	EXPECT_LE(ours.second, theirs.second) << "empty cells: ours " << ours.second << ", plain ORB " << theirs.second;
+	// Several pyramid levels are used.
+	std::set<int> levels;
+	for (const auto& k : f.keypoints) levels.insert(k.octave);
+	EXPECT_GE(levels.size(), 5u);
+	// Depth is the registered depth at the keypoint's pixel; most desk keypoints have one.
+	std::size_t withDepth = 0;
+	for (std::size_t i = 0; i < f.keypoints.size(); i++)
+	{
+		const cv::Point p(static_cast<int>(std::lround(f.keypoints[i].pt.x)), static_cast<int>(std::lround(f.keypoints[i].pt.y)));
+		if (p.x < depth.cols && p.y < depth.rows)
+		{
+			EXPECT_FLOAT_EQ(f.depth[i], depth.at<float>(p));
+		}
+		withDepth += f.depth[i] > 0;
+	}
+	EXPECT_GT(withDepth, f.keypoints.size() * 6 / 10);
+}
+
+TEST(OrbExtractor, DynamicMaskFlagsOrExcludes)
+{
+	const cv::Mat img = cv::imread(sharedFile("data/tum_fr1_desk_9frames/rgb/1305031453.359684.png"), cv::IMREAD_COLOR);
+	cv::Mat mask = cv::Mat::zeros(img.size(), CV_8U);
+	mask(cv::Rect(0, 0, 320, 480)).setTo(255);
+	COrbExtractor::TOptions o;
+	const auto flagged = COrbExtractor(o).extract(img, {}, mask);
+	std::size_t left = 0;
+	for (std::size_t i = 0; i < flagged.keypoints.size(); i++)
+	{
+		const bool inMask = std::lround(flagged.keypoints[i].pt.x) < 320;
+		EXPECT_EQ(flagged.dynamic[i], inMask);
+		left += inMask;
+	}
+	EXPECT_GT(left, 200u);
+	EXPECT_EQ(flagged.numStatic(), flagged.keypoints.size() - left);
+	// Excluding the mask gives the whole budget to the static half.
+	o.excludeMasked = true;
+	const auto excluded = COrbExtractor(o).extract(img, {}, mask);
+	for (const auto& k : excluded.keypoints) EXPECT_GE(std::lround(k.pt.x), 320 - 1);
+	EXPECT_GT(excluded.keypoints.size(), flagged.numStatic() * 3 / 2);
+}
+
+TEST(OrbExtractor, BadOptions)
+{
+	COrbExtractor::TOptions o;
+	o.scaleFactor = 1.0;
+	expectInputError([&] { COrbExtractor e(o); }, {"scaleFactor"});
+}
