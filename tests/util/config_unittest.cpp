@@ -7,6 +7,7 @@
 #include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
+#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -105,6 +106,8 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("DynamicMask", CDynamicObjectMasker::TOptions::configKeys(), mask, CDynamicObjectMasker::TOptions());
 	COrbExtractor::TOptions orb;
 	check("ORB", COrbExtractor::TOptions::configKeys(), orb, COrbExtractor::TOptions());
+	CPoseOptimizer::TOptions trk;
+	check("Tracking", CPoseOptimizer::TOptions::configKeys(), trk, CPoseOptimizer::TOptions());
 	CSemanticKeyFrameSelector::TOptions kf;
 	check("KeyFrames", CSemanticKeyFrameSelector::TOptions::configKeys(), kf, CSemanticKeyFrameSelector::TOptions());
 }

@@ -1,0 +1,86 @@
+#pragma once
+// Camera pose from static features only (paper eq. 7): PnP with RANSAC (OpenCV) to initialise or
+// recover, then Ceres minimising the robust (Huber) reprojection error, in rounds that re-classify
+// outliers by a chi-square test as ORB-SLAM2's pose optimisation does.
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/img/TCamera.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "mrpt_yesslam/util/ConfigFile.h"
+
+namespace mrpt_yesslam
+{
+/** A 3D map point seen at a pixel. */
+struct TPoseObservation
+{
+	Eigen::Vector3d world;	//!< point in the world frame, metres
+	Eigen::Vector2d pixel;	//!< undistorted pixel
+	double sigma = 1.0;	 //!< pixel noise std (ORB: scale factor ^ octave)
+};
+
+/** Outcome of a pose estimate. */
+struct TPoseEstimate
+{
+	bool ok = false;
+	mrpt::poses::CPose3D cameraInWorld;	 //!< T_w_c (camera pose in the world, z forward)
+	std::vector<bool> inlier;  //!< per observation
+	std::size_t numInliers = 0;
+	double rmsPixels = 0;  //!< reprojection RMS over inliers
+};
+
+/** Reprojection residual of one observation for a world-to-camera pose (angle-axis, translation);
+ * exposed so that tests can check its derivatives with ceres::GradientChecker. */
+struct TReprojectionResidual
+{
+	TReprojectionResidual(const TPoseObservation& o, double fx, double fy, double cx, double cy)
+		: X(o.world), uv(o.pixel), invSigma(1.0 / o.sigma), fx(fx), fy(fy), cx(cx), cy(cy)
+	{
+	}
+	template <typename T>
+	bool operator()(const T* const rvec, const T* const t, T* r) const;
+
+	Eigen::Vector3d X;
+	Eigen::Vector2d uv;
+	double invSigma, fx, fy, cx, cy;
+};
+
+/** Pose estimation from 3D-2D correspondences. */
+class CPoseOptimizer
+{
+   public:
+	/** Section [Tracking] (the pose part). */
+	struct TOptions : public mrpt::config::CLoadableOptions
+	{
+		double chi2Threshold = 5.991;  //!< 2-DoF chi-square at 95% (ORB-SLAM2)
+		int rounds = 4;	 //!< optimise, re-classify, repeat
+		int iterationsPerRound = 10;
+		int ransacIterations = 200;
+		double ransacPixels = 4.0;	//!< PnP RANSAC inlier threshold
+		std::size_t minInliers = 10;  //!< fewer: the estimate is not trusted (ok = false)
+
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void dumpToTextStream(std::ostream& out) const override;
+		/** The keys loadFromConfigFile reads, for validateConfigSection. */
+		static std::vector<TConfigKey> configKeys();
+	};
+
+	CPoseOptimizer() : CPoseOptimizer(TOptions()) {}
+	explicit CPoseOptimizer(const TOptions& opts) : opts_(opts) {}
+
+	/** PnP + RANSAC from scratch (no prior pose), for initialisation and relocalisation. */
+	TPoseEstimate solvePnPRansac(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K) const;
+
+	/** Eq. 7: refines `initial` (T_w_c) with Huber reprojection error over rounds of outlier
+	 * re-classification. */
+	TPoseEstimate refine(
+		const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial) const;
+
+	const TOptions& options() const { return opts_; }
+
+   private:
+	TOptions opts_;
+};
+}  // namespace mrpt_yesslam

@@ -1,0 +1,192 @@
+#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+
+namespace mrpt_yesslam
+{
+template <typename T>
+bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T* r) const
+{
+	const T Xw[3] = {T(X.x()), T(X.y()), T(X.z())};
+	T Xc[3];
+	ceres::AngleAxisRotatePoint(rvec, Xw, Xc);
+	Xc[0] += t[0];
+	Xc[1] += t[1];
+	Xc[2] += t[2];
+	if (Xc[2] <= T(1e-6))
+	{
+		// Behind the camera: a large constant residual keeps the problem well defined.
+		r[0] = T(1e3);
+		r[1] = T(1e3);
+		return true;
+	}
+	r[0] = (T(fx) * Xc[0] / Xc[2] + T(cx) - T(uv.x())) * T(invSigma);
+	r[1] = (T(fy) * Xc[1] / Xc[2] + T(cy) - T(uv.y())) * T(invSigma);
+	return true;
+}
+
+template bool TReprojectionResidual::operator()<double>(const double* const, const double* const, double*) const;
+
+void CPoseOptimizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	MRPT_LOAD_CONFIG_VAR(chi2Threshold, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(iterationsPerRound, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(ransacIterations, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(ransacPixels, double, c, s);
+	minInliers = static_cast<std::size_t>(c.read_int(s, "minInliers", static_cast<int>(minInliers)));
+}
+
+void CPoseOptimizer::TOptions::dumpToTextStream(std::ostream& o) const
+{
+	o << "[Tracking]\n";
+	o << "chi2Threshold      = " << chi2Threshold << "\n";
+	o << "rounds             = " << rounds << "\n";
+	o << "iterationsPerRound = " << iterationsPerRound << "\n";
+	o << "ransacIterations   = " << ransacIterations << "\n";
+	o << "ransacPixels       = " << ransacPixels << "\n";
+	o << "minInliers         = " << minInliers << "\n";
+}
+
+std::vector<TConfigKey> CPoseOptimizer::TOptions::configKeys()
+{
+	using T = TConfigKey::Type;
+	return {{"chi2Threshold", T::Number},	 {"rounds", T::Integer},		 {"iterationsPerRound", T::Integer},
+			{"ransacIterations", T::Integer}, {"ransacPixels", T::Number}, {"minInliers", T::Integer}};
+}
+
+namespace
+{
+// T_c_w as (angle-axis, translation) <-> MRPT's camera-in-world pose.
+void toParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
+{
+	const mrpt::poses::CPose3D Tcw = -Twc;
+	const auto R = Tcw.getRotationMatrix();
+	double Rm[9];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) Rm[j * 3 + i] = R(i, j);	// column-major for ceres
+	ceres::RotationMatrixToAngleAxis(Rm, rvec);
+	t[0] = Tcw.x();
+	t[1] = Tcw.y();
+	t[2] = Tcw.z();
+}
+
+mrpt::poses::CPose3D fromParams(const double rvec[3], const double t[3])
+{
+	double Rm[9];
+	ceres::AngleAxisToRotationMatrix(rvec, Rm);
+	mrpt::math::CMatrixDouble33 R;
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) R(i, j) = Rm[j * 3 + i];
+	mrpt::math::CVectorFixedDouble<3> tv;
+	tv[0] = t[0];
+	tv[1] = t[1];
+	tv[2] = t[2];
+	const mrpt::poses::CPose3D Tcw(R, tv);
+	return -Tcw;
+}
+
+// Chi-square of each observation (squared whitened residual) at a pose.
+std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const double rv[3], const double t[3])
+{
+	std::vector<double> c(obs.size());
+	for (std::size_t i = 0; i < obs.size(); i++)
+	{
+		TReprojectionResidual f(obs[i], K.fx(), K.fy(), K.cx(), K.cy());
+		double r[2];
+		f(rv, t, r);
+		c[i] = r[0] * r[0] + r[1] * r[1];
+	}
+	return c;
+}
+}  // namespace
+
+TPoseEstimate CPoseOptimizer::refine(
+	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial) const
+{
+	TPoseEstimate out;
+	out.inlier.assign(obs.size(), true);
+	if (obs.size() < 4) return out;
+	double rv[3], t[3];
+	toParams(initial, rv, t);
+	for (int round = 0; round < std::max(1, opts_.rounds); round++)
+	{
+		ceres::Problem problem;
+		std::size_t used = 0;
+		for (std::size_t i = 0; i < obs.size(); i++)
+		{
+			if (!out.inlier[i]) continue;
+			auto* cost = new ceres::AutoDiffCostFunction<TReprojectionResidual, 2, 3, 3>(
+				new TReprojectionResidual(obs[i], K.fx(), K.fy(), K.cx(), K.cy()));
+			// Huber with the chi-square threshold as its corner, as ORB-SLAM2 (sqrt(5.991) pixels).
+			problem.AddResidualBlock(cost, new ceres::HuberLoss(std::sqrt(opts_.chi2Threshold)), rv, t);
+			used++;
+		}
+		if (used < 4) break;
+		ceres::Solver::Options so;
+		so.linear_solver_type = ceres::DENSE_QR;
+		so.max_num_iterations = opts_.iterationsPerRound;
+		so.num_threads = 1;
+		so.logging_type = ceres::SILENT;
+		ceres::Solver::Summary sum;
+		ceres::Solve(so, &problem, &sum);
+		// Re-classify every observation, so that inliers wrongly rejected early can come back.
+		const auto c = chi2All(obs, K, rv, t);
+		for (std::size_t i = 0; i < obs.size(); i++) out.inlier[i] = c[i] <= opts_.chi2Threshold;
+	}
+	const auto c = chi2All(obs, K, rv, t);
+	double se = 0;
+	for (std::size_t i = 0; i < obs.size(); i++)
+		if (out.inlier[i])
+		{
+			out.numInliers++;
+			se += c[i] * obs[i].sigma * obs[i].sigma;
+		}
+	out.rmsPixels = out.numInliers ? std::sqrt(se / static_cast<double>(out.numInliers)) : 0;
+	out.cameraInWorld = fromParams(rv, t);
+	out.ok = out.numInliers >= opts_.minInliers;
+	return out;
+}
+
+TPoseEstimate CPoseOptimizer::solvePnPRansac(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K) const
+{
+	TPoseEstimate out;
+	out.inlier.assign(obs.size(), false);
+	if (obs.size() < 6) return out;
+	std::vector<cv::Point3d> P;
+	std::vector<cv::Point2d> p;
+	for (const auto& o : obs)
+	{
+		P.emplace_back(o.world.x(), o.world.y(), o.world.z());
+		p.emplace_back(o.pixel.x(), o.pixel.y());
+	}
+	const cv::Matx33d Km(K.fx(), 0, K.cx(), 0, K.fy(), K.cy(), 0, 0, 1);
+	cv::Mat rvec, tvec;
+	std::vector<int> inl;
+	bool ok = false;
+	try
+	{
+		ok = cv::solvePnPRansac(
+			P, p, Km, cv::noArray(), rvec, tvec, false, opts_.ransacIterations, static_cast<float>(opts_.ransacPixels), 0.99, inl,
+			cv::SOLVEPNP_EPNP);
+	}
+	catch (const cv::Exception&)
+	{
+		ok = false;	 // degenerate configurations make OpenCV throw: no pose, not a crash
+	}
+	if (!ok || inl.size() < opts_.minInliers) return out;
+	for (int i : inl) out.inlier[static_cast<std::size_t>(i)] = true;
+	out.numInliers = inl.size();
+	const double rv[3] = {rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)};
+	const double t[3] = {tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)};
+	out.cameraInWorld = fromParams(rv, t);
+	out.ok = true;
+	return out;
+}
+}  // namespace mrpt_yesslam
