@@ -1,0 +1,59 @@
+#pragma once
+// yesslam-sim's engine: renders a dynamic office sequence (colour, depth with Kinect-like noise,
+// class and instance labels), the camera's ground truth, per-object boxes and visibility, and
+// simulated detector output, and writes them as a TUM folder, an MRPT rawlog and a .3Dscene.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mrpt_yesslam
+{
+/** A named scenario modelled on a TUM fr3 sequence. */
+struct TSimPreset
+{
+	std::string name, description;
+	std::string motion;	 //!< xyz | rpy | halfsphere | static | loop
+	int walking = 0, sitting = 0;  //!< default people
+	std::size_t frames = 600;
+};
+
+/** The presets, in the order --list-presets prints them. */
+const std::vector<TSimPreset>& simPresets();
+
+/** Everything yesslam-sim can be told. */
+struct TSimOptions
+{
+	std::string preset = "walking_xyz";
+	std::string outDir;
+	uint32_t seed = 1;
+	std::size_t frames = 0;	 //!< 0 = the preset's
+	int people = -1;  //!< -1 = the preset's; walking presets add walkers, sitting presets sitters
+	std::string trajectoryFile;	 //!< replay a TUM trajectory (its stamps and motion) instead of the preset's motion
+	std::string texturesDir;  //!< photos instead of procedural textures
+	std::string detNoise = "yolo";	//!< none | yolo
+	bool noise = true;	//!< depth and colour sensor noise
+	bool motionBlur = false;
+	bool autoExposure = false;
+	bool movingChair = false;  //!< a chair pushed across the room (not a person)
+	bool writeRawlog = true;
+	std::string commandLine;  //!< recorded in meta.json
+};
+
+/** What a run produced. */
+struct TSimSummary
+{
+	std::size_t frames = 0;
+	double meanDynamicShare = 0, maxDynamicShare = 0;  //!< share of pixels on moving objects
+	std::size_t detections = 0;
+	double seconds = 0;
+	bool interrupted = false;
+};
+
+/** Runs a simulation; throws InputError for bad options (unknown preset, unwritable folder,
+ * unreadable trajectory). `progress(done,total)` after each frame; `cancel()` stops early and
+ * keeps what was written. */
+TSimSummary runSimulation(
+	const TSimOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress = {},
+	const std::function<bool()>& cancel = {});
+}  // namespace mrpt_yesslam

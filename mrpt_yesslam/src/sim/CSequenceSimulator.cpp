@@ -1,0 +1,539 @@
+#include "mrpt_yesslam/sim/CSequenceSimulator.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/math/CMatrixDynamic.h>
+#include <mrpt/opengl/CFBORender.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <cstdlib>
+#include <random>
+
+#include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/io/CRawlogWriter.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
+#include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/sim/CSimWorld.h"
+#include "mrpt_yesslam/sim/SimTextures.h"
+#include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace fs = std::filesystem;
+using mrpt::poses::CPose3D;
+
+namespace mrpt_yesslam
+{
+const std::vector<TSimPreset>& simPresets()
+{
+	static const std::vector<TSimPreset> p = {
+		{"walking_xyz", "two people walk through the view, one close; camera translates along x, y, z (fr3/walking_xyz)", "xyz", 2, 0, 900},
+		{"walking_static", "two people walk through the view; camera still up to millimetre jitter (fr3/walking_static)", "static", 2, 0, 900},
+		{"walking_rpy", "two people walk through the view; camera rotates in roll, pitch, yaw (fr3/walking_rpy)", "rpy", 2, 0, 900},
+		{"walking_halfsphere", "two people walk through the view; camera moves on a half sphere (fr3/walking_halfsphere)", "halfsphere", 2, 0, 900},
+		{"sitting_static", "two people sit at desks, moving head and arms; camera still (fr3/sitting_static)", "static", 0, 2, 600},
+		{"sitting_xyz", "two people sit at desks; camera translates along x, y, z (fr3/sitting_xyz)", "xyz", 0, 2, 900},
+		{"sitting_halfsphere", "two people sit at desks; camera moves on a half sphere (fr3/sitting_halfsphere)", "halfsphere", 0, 2, 900},
+		{"static_office", "the office without people; camera translates along x, y, z (a static reference)", "xyz", 0, 0, 600},
+		{"office_loop", "one person walks; camera goes round a loop and is back at its start after 24 s (loop closure)", "loop", 1, 0, 900},
+	};
+	return p;
+}
+
+namespace
+{
+// Camera at the near end of the room looking along +x, 8 degrees down; optical frame z forward,
+// x right, y down (as TUM and MRPT's 6-DoF camera).
+CPose3D basePose()
+{
+	mrpt::math::CMatrixDouble33 R;
+	const double a = -8.0 * M_PI / 180;	 // rotation about the camera x axis: negative looks down
+	const Eigen::Vector3d xc(0, -1, 0), yc0(0, 0, -1), zc0(1, 0, 0);
+	const Eigen::Vector3d zc = std::cos(a) * zc0 - std::sin(a) * yc0;
+	const Eigen::Vector3d yc = zc.cross(xc);
+	for (int i = 0; i < 3; i++)
+	{
+		R(i, 0) = xc[i];
+		R(i, 1) = yc[i];
+		R(i, 2) = zc[i];
+	}
+	mrpt::math::CVectorFixedDouble<3> t;
+	t[0] = 1.8;	 // the far wall 4.2 m away: within a Kinect's range
+	t[1] = 2.5;
+	t[2] = 1.3;
+	return CPose3D(R, t);
+}
+
+// Motion of the camera relative to the base pose, in the camera frame, at time t.
+CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
+{
+	const double s = 2 * M_PI;
+	if (motion == "xyz")
+		return CPose3D(0.28 * std::sin(s * t / 7.0), 0.16 * std::sin(s * t / 5.3), 0.25 * std::sin(s * t / 9.1), 0, 0, 0);
+	if (motion == "rpy")
+		return CPose3D(
+			0.03 * std::sin(s * t / 6), 0.02 * std::sin(s * t / 7), 0, 0.35 * std::sin(s * t / 8), 0.2 * std::sin(s * t / 6.5),
+			0.25 * std::sin(s * t / 10));
+	if (motion == "halfsphere")
+	{
+		// On a sphere of radius 1 m around a point 2 m ahead, always looking at it.
+		const double az = 0.9 * std::sin(s * t / 14), el = 0.35 * (1 - std::cos(s * t / 11));
+		const Eigen::Vector3d c(0, 0, 2.0);
+		const Eigen::Vector3d p = c + Eigen::Vector3d(std::sin(az) * std::cos(el), -std::sin(el), -std::cos(az) * std::cos(el));
+		const Eigen::Vector3d z = (c - p).normalized(), x = Eigen::Vector3d(0, 1, 0).cross(z).normalized(), y = z.cross(x);
+		mrpt::math::CMatrixDouble33 R;
+		for (int i = 0; i < 3; i++)
+		{
+			R(i, 0) = x[i];
+			R(i, 1) = y[i];
+			R(i, 2) = z[i];
+		}
+		mrpt::math::CVectorFixedDouble<3> tv;
+		for (int i = 0; i < 3; i++) tv[i] = p[i] - (c - Eigen::Vector3d(0, 0, 1.0))[i];
+		return CPose3D(R, tv);
+	}
+	if (motion == "loop")
+	{
+		// Round a 1.6 x 1.0 m ellipse in 24 s, turning to look at the room's sides, back at the start.
+		const double ph = s * t / 24.0;
+		return CPose3D(0.8 * std::sin(ph), 0, 0.5 * (1 - std::cos(ph)), 0, 0, 0) + CPose3D(0, 0, 0, 0.5 * std::sin(ph), 0, 0);
+	}
+	// static: millimetre jitter, as a camera on a tripod on a shaking floor.
+	const double k = seed * 0.37;
+	return CPose3D(
+		0.001 * std::sin(17.3 * t + k), 0.001 * std::sin(13.1 * t + 2 * k), 0.001 * std::sin(11.7 * t + 3 * k),
+		0.0005 * std::sin(9.1 * t), 0.0005 * std::sin(7.3 * t), 0.0005 * std::sin(5.9 * t));
+}
+
+// Kinect-like depth noise (Khoshelham & Elberink 2012): sigma_z = 1.425e-3 z^2, disparity quantised
+// to 1/8 pixel, no depth nearer than 0.5 m or beyond 4.5 m, missing depth at depth edges and in
+// small holes.
+void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam)
+{
+	std::normal_distribution<float> n(0, 1);
+	std::uniform_real_distribution<float> u(0, 1);
+	const float fb = static_cast<float>(cam.intrinsics.fx() * 0.075);	// focal length x baseline
+	cv::Mat src = z.clone();
+	for (int y = 0; y < z.rows; y++)
+		for (int x = 0; x < z.cols; x++)
+		{
+			float v = src.at<float>(y, x);
+			if (v <= 0) continue;
+			if (v < 0.5f || v > 4.5f)
+			{
+				z.at<float>(y, x) = 0;
+				continue;
+			}
+			// Depth edge: a neighbour differs by more than 8 %: the sensor often sees nothing there.
+			bool edge = false;
+			for (int dy = -1; dy <= 1 && !edge; dy++)
+				for (int dx = -1; dx <= 1 && !edge; dx++)
+				{
+					const int yy = y + dy, xx = x + dx;
+					if (yy < 0 || xx < 0 || yy >= z.rows || xx >= z.cols) continue;
+					const float w = src.at<float>(yy, xx);
+					edge = w > 0 && std::abs(w - v) > 0.08f * v;
+				}
+			if (edge && u(rng) < 0.7f)
+			{
+				z.at<float>(y, x) = 0;
+				continue;
+			}
+			v += 1.425e-3f * v * v * n(rng);
+			const float disp = std::round(fb / v * 8.0f) / 8.0f;
+			z.at<float>(y, x) = disp > 0 ? fb / disp : 0;
+		}
+	// Small holes.
+	std::uniform_int_distribution<int> px(0, z.cols - 1), py(0, z.rows - 1), rad(1, 4);
+	for (int i = 0; i < 40; i++) cv::circle(z, {px(rng), py(rng)}, rad(rng), cv::Scalar(0), cv::FILLED);
+}
+
+// Pixels covered by an object's boxes if nothing occluded them (its faces rasterised).
+std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc, const TRgbdCamera& cam, cv::Mat& scratch)
+{
+	scratch.setTo(0);
+	const CPose3D Tcw = -Twc;
+	const auto& K = cam.intrinsics;
+	static const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {3, 0, 4, 7}};
+	for (const auto& [pose, b] : world.worldBoxes(idx))
+	{
+		cv::Point pts[8];
+		bool front[8];
+		for (int c = 0; c < 8; c++)
+		{
+			const mrpt::math::TPoint3D local((c == 1 || c == 2 || c == 5 || c == 6 ? 0.5 : -0.5) * b.sx,
+											 (c == 2 || c == 3 || c == 6 || c == 7 ? 0.5 : -0.5) * b.sy, (c >= 4 ? 0.5 : -0.5) * b.sz);
+			const auto pc = Tcw.composePoint(pose.composePoint(local));
+			front[c] = pc.z > 0.05;
+			pts[c] = front[c] ? cv::Point(static_cast<int>(K.fx() * pc.x / pc.z + K.cx()), static_cast<int>(K.fy() * pc.y / pc.z + K.cy()))
+							  : cv::Point();
+		}
+		for (const auto& f : faces)
+		{
+			if (!(front[f[0]] && front[f[1]] && front[f[2]] && front[f[3]])) continue;
+			const cv::Point poly[4] = {pts[f[0]], pts[f[1]], pts[f[2]], pts[f[3]]};
+			cv::fillConvexPoly(scratch, poly, 4, cv::Scalar(255));
+		}
+	}
+	return static_cast<std::size_t>(cv::countNonZero(scratch));
+}
+
+std::string stampText(double t)
+{
+	char b[64];
+	std::snprintf(b, sizeof(b), "%.6f", t);
+	return b;
+}
+
+void writePng(const std::string& path, const cv::Mat& img)
+{
+	std::vector<uchar> buf;
+	if (!cv::imencode(".png", img, buf, {cv::IMWRITE_PNG_COMPRESSION, 1})) throw InputError(path, "cannot encode PNG");
+	writeFileAtomically(path, std::string(buf.begin(), buf.end()));
+}
+
+std::string jsonEscape(const std::string& s)
+{
+	std::string o;
+	for (char c : s)
+	{
+		if (c == '"' || c == '\\')
+			o += '\\', o += c;
+		else if (static_cast<unsigned char>(c) < 0x20)
+			o += ' ';
+		else
+			o += c;
+	}
+	return o;
+}
+}  // namespace
+
+TSimSummary runSimulation(
+	const TSimOptions& o, const std::function<void(std::size_t, std::size_t)>& progress, const std::function<bool()>& cancel)
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	const auto& presets = simPresets();
+	const auto pit = std::find_if(presets.begin(), presets.end(), [&](const TSimPreset& p) { return p.name == o.preset; });
+	if (pit == presets.end())
+	{
+		std::string names;
+		for (const auto& p : presets) names += (names.empty() ? "" : ", ") + p.name;
+		throw InputError("", "unknown preset '" + o.preset + "' (known: " + names + ")");
+	}
+	const TSimPreset& preset = *pit;
+	if (o.detNoise != "none" && o.detNoise != "yolo") throw InputError("", "--det-noise must be none or yolo, got '" + o.detNoise + "'");
+	if (o.outDir.empty()) throw InputError("", "no output folder given (--out)");
+
+	// Frame stamps and camera poses: the preset's motion at 30 Hz, or a replayed TUM trajectory.
+	std::vector<double> stamps;
+	std::vector<CPose3D> poses;
+	const CPose3D base = basePose();
+	const double epoch = 1341846313.0;
+	if (!o.trajectoryFile.empty())
+	{
+		const TTrajectory traj = readTumTrajectory(o.trajectoryFile);
+		if (traj.size() < 2) throw InputError(o.trajectoryFile, "trajectory needs at least 2 poses");
+		const CPose3D g0inv = -traj.front().asPose();
+		const std::size_t n = o.frames ? std::min(o.frames, traj.size()) : traj.size();
+		for (std::size_t k = 0; k < n; k++)
+		{
+			stamps.push_back(traj[k].t);
+			poses.push_back(base + (g0inv + traj[k].asPose()));
+		}
+	}
+	else
+	{
+		const std::size_t n = o.frames ? o.frames : preset.frames;
+		for (std::size_t k = 0; k < n; k++)
+		{
+			const double t = k / 30.0;
+			stamps.push_back(epoch + t);
+			poses.push_back(base + presetMotion(preset.motion, t, o.seed));
+		}
+	}
+
+	std::error_code ec;
+	fs::create_directories(fs::path(o.outDir), ec);
+	if (ec || !fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create output folder");
+	for (const char* sub : {"rgb", "depth", "labels/class", "labels/instance", "sequence_Images"})
+	{
+		fs::create_directories(fs::path(o.outDir) / sub, ec);
+		if (ec) throw InputError((fs::path(o.outDir) / sub).string(), "cannot create folder (" + ec.message() + ")");
+	}
+	const fs::path out(o.outDir);
+
+	// The world and its people.
+	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
+	CSimWorld world(o.seed, photos);
+	std::mt19937 layout(o.seed * 2654435761u + 11);
+	std::uniform_real_distribution<double> u(0, 1);
+	const int walkers = preset.walking > 0 ? (o.people >= 0 ? o.people : preset.walking) : 0;
+	const int sitters = preset.sitting > 0 ? (o.people >= 0 ? o.people : preset.sitting) : 0;
+	using P2 = mrpt::math::TPoint2D;
+	for (int k = 0; k < walkers; k++)
+	{
+		if (k == 0)	 // comes close to the camera: covers much of the image for a while
+			world.addWalkingPerson({P2(4.4, 1.3), P2(2.55, 2.35), P2(4.4, 3.7)}, 0.8, 0.0);
+		else if (k == 1)
+			world.addWalkingPerson({P2(3.5, 0.7), P2(3.6, 4.3)}, 1.1, 1.0);
+		else
+		{
+			const double x = 3.0 + 1.3 * u(layout);
+			world.addWalkingPerson({P2(x, 0.6 + 0.4 * u(layout)), P2(x + 0.3 * (u(layout) - 0.5), 4.4)}, 0.8 + 0.5 * u(layout), 6 * u(layout));
+		}
+	}
+	const CPose3D seats[3] = {CPose3D(4.5, 1.6, 0, M_PI, 0, 0), CPose3D(4.5, 3.4, 0, M_PI * 0.92, 0, 0), CPose3D(3.4, 3.95, 0, -M_PI / 2, 0, 0)};
+	for (int k = 0; k < sitters; k++) world.addSittingPerson(seats[k % 3] + CPose3D(0.1 * (k / 3), 0, 0, 0, 0, 0), 2.0 * k);
+	if (o.movingChair) world.addMovingChair({P2(3.0, 1.2), P2(3.2, 3.8)}, 0.35);
+	world.buildScenes();
+
+	TRgbdCamera cam = tumCameraByName("fr3");
+	mrpt::opengl::CFBORender fbo(cam.intrinsics.ncols, cam.intrinsics.nrows);
+	auto& glcam = fbo.getCamera(world.colourScene());
+	glcam.set6DOFMode(true);
+	glcam.setProjectiveFromPinhole(cam.intrinsics);
+
+	std::unique_ptr<CRawlogWriter> rawlog;
+	if (o.writeRawlog) rawlog = std::make_unique<CRawlogWriter>((out / "sequence.rawlog").string());
+	std::string rgbTxt = "# color images\n# file: yesslam-sim " + o.preset + "\n# timestamp filename\n";
+	std::string depthTxt = "# depth maps\n# file: yesslam-sim " + o.preset + "\n# timestamp filename\n";
+	std::string assoc, objectsTxt = "# timestamp instance_id class_id visible_pixels visible_fraction x y w h moving\n";
+	std::vector<TDetectionRecord> dets;
+	TTrajectory gt;
+	std::vector<double> shares;
+	TSimSummary sum;
+	cv::Mat scratch(cam.intrinsics.nrows, cam.intrinsics.ncols, CV_8U);
+	const auto& objs = world.objects();
+
+	for (std::size_t k = 0; k < stamps.size(); k++)
+	{
+		if (cancel && cancel())
+		{
+			sum.interrupted = true;
+			break;
+		}
+		const double t = stamps[k] - stamps[0];
+		world.setTime(t);
+		glcam.setPose(poses[k]);
+		mrpt::img::CImage rgbImg, labelImg;
+		mrpt::math::CMatrixFloat depthM;
+		auto tp = std::chrono::steady_clock::now();
+		const bool prof = std::getenv("YESSLAM_SIM_PROFILE") != nullptr;
+		auto lap = [&](const char* what)
+		{
+			if (!prof) return;
+			const auto now = std::chrono::steady_clock::now();
+			std::fprintf(stderr, "%s %.1f ms\n", what, std::chrono::duration<double, std::milli>(now - tp).count());
+			tp = now;
+		};
+		fbo.render_RGBD(world.colourScene(), rgbImg, depthM);
+		lap("render colour+depth");
+		fbo.render_RGB(world.labelScene(), labelImg);
+		lap("render labels");
+		cv::Mat rgb = rgbImg.asCvMatRef().clone();
+		if (rgb.channels() == 4) cv::cvtColor(rgb, rgb, cv::COLOR_BGRA2BGR);
+		cv::Mat z(depthM.rows(), depthM.cols(), CV_32F);
+		for (int r = 0; r < z.rows; r++)
+			for (int c = 0; c < z.cols; c++) z.at<float>(r, c) = depthM(r, c);
+		const cv::Mat lab = labelImg.asCvMatRef();
+
+		// Labels: instance id from the flat colour (B = 0x40 marks an object, R + 256 G its id).
+		cv::Mat inst = cv::Mat::zeros(lab.size(), CV_16U), cls = cv::Mat::zeros(lab.size(), CV_16U);
+		std::vector<std::size_t> visible(objs.size() + 1, 0);
+		std::vector<cv::Rect> bbox(objs.size() + 1);
+		std::size_t dynamicPx = 0;
+		for (int r = 0; r < lab.rows; r++)
+			for (int c = 0; c < lab.cols; c++)
+			{
+				const cv::Vec3b p = lab.at<cv::Vec3b>(r, c);	// BGR
+				if (p[0] != 0x40) continue;
+				const int id = p[2] + 256 * p[1];
+				const int idx = world.indexOfId(id);
+				if (idx < 0) continue;
+				inst.at<uint16_t>(r, c) = static_cast<uint16_t>(id);
+				if (objs[static_cast<std::size_t>(idx)].classId >= 0)
+					cls.at<uint16_t>(r, c) = static_cast<uint16_t>(objs[static_cast<std::size_t>(idx)].classId + 1);
+				const std::size_t ui = static_cast<std::size_t>(id);
+				bbox[ui] = visible[ui]++ ? (bbox[ui] | cv::Rect(c, r, 1, 1)) : cv::Rect(c, r, 1, 1);
+				dynamicPx += objs[static_cast<std::size_t>(idx)].moves;
+			}
+		lap("decode labels");
+		const double share = static_cast<double>(dynamicPx) / (lab.rows * lab.cols);
+		shares.push_back(share);
+
+		// Sensor effects, each from a per-frame seed so that runs are byte-identical.
+		std::mt19937 rng(o.seed * 1000003u + static_cast<uint32_t>(k));
+		if (o.noise) addDepthNoise(z, rng, cam);
+		lap("depth noise");
+		cv::Mat depth16;
+		z.convertTo(depth16, CV_16U, 5000.0);
+		if (o.noise)
+		{
+			cv::Mat n(rgb.size(), CV_16SC3);
+			cv::theRNG().state = o.seed * 7777u + k;
+			cv::randn(n, cv::Scalar::all(0), cv::Scalar::all(2.5));
+			cv::Mat r16;
+			rgb.convertTo(r16, CV_16SC3);
+			r16 += n;
+			r16.convertTo(rgb, CV_8UC3);
+		}
+		if (o.autoExposure) rgb.convertTo(rgb, -1, 1.0 + 0.15 * std::sin(t * 2 * M_PI / 6.0), 0);
+		if (o.motionBlur && k > 0)
+		{
+			// Blur along the image motion of the centre pixel between frames.
+			const auto pc = (-poses[k]).composePoint(poses[k - 1].composePoint(mrpt::math::TPoint3D(0, 0, 2)));
+			const double dx = cam.intrinsics.fx() * pc.x / pc.z, dy = cam.intrinsics.fy() * pc.y / pc.z;
+			const int len = std::min(15, static_cast<int>(std::hypot(dx, dy)));
+			if (len >= 2)
+			{
+				cv::Mat kernel = cv::Mat::zeros(len, len, CV_32F);
+				cv::line(kernel, {0, 0}, {len - 1, static_cast<int>(std::abs(dy) / std::max(1e-9, std::hypot(dx, dy)) * (len - 1))}, 1.0);
+				kernel /= std::max(1.0, cv::sum(kernel)[0]);
+				cv::filter2D(rgb, rgb, -1, kernel);
+			}
+		}
+
+		// Objects: visible box, visible fraction, and simulated detections.
+		std::uniform_real_distribution<double> uu(0, 1);
+		std::normal_distribution<double> nn(0, 1);
+		for (std::size_t i = 0; i < objs.size(); i++)
+		{
+			const auto& ob = objs[i];
+			const std::size_t id = static_cast<std::size_t>(ob.id);
+			if (ob.classId < 0 || visible[id] == 0) continue;
+			const std::size_t full = unoccludedPixels(world, static_cast<int>(i), poses[k], cam, scratch);
+			const double frac = full > 0 ? std::min(1.0, static_cast<double>(visible[id]) / static_cast<double>(full)) : 1.0;
+			const cv::Rect b = bbox[id];
+			char line[256];
+			std::snprintf(line, sizeof(line), "%s %d %d %zu %.3f %d %d %d %d %d\n", stampText(stamps[k]).c_str(), ob.id, ob.classId,
+						  visible[id], frac, b.x, b.y, b.width, b.height, ob.moves ? 1 : 0);
+			objectsTxt += line;
+			TDetectionRecord r;
+			r.t = stamps[k];
+			r.det.classId = ob.classId;
+			r.det.instanceId = ob.id;
+			if (o.detNoise == "none")
+			{
+				if (visible[id] < 20) continue;
+				r.det.score = 1.0f;
+				r.det.box = cv::Rect2f(b);
+			}
+			else
+			{
+				// Like a real detector: small or mostly hidden objects are missed, boxes jitter by a
+				// few percent of their size, scores spread over [0.6, 1).
+				const double size = std::sqrt(static_cast<double>(b.area()));
+				const double pDetect = 0.97 * std::clamp((frac - 0.15) / 0.2, 0.0, 1.0) * std::clamp((size - 12) / 25, 0.0, 1.0);
+				if (uu(rng) >= pDetect) continue;
+				const double jx = 0.03 * b.width, jy = 0.03 * b.height;
+				const double x0 = b.x + jx * nn(rng), y0 = b.y + jy * nn(rng);
+				const double x1 = b.x + b.width + jx * nn(rng), y1 = b.y + b.height + jy * nn(rng);
+				r.det.score = static_cast<float>(std::min(0.995, 0.6 + 0.4 * std::pow(uu(rng), 0.35) * (0.7 + 0.3 * frac)));
+				r.det.box = cv::Rect2f(cv::Point2f(static_cast<float>(x0), static_cast<float>(y0)), cv::Point2f(static_cast<float>(x1), static_cast<float>(y1))) &
+					cv::Rect2f(0, 0, static_cast<float>(lab.cols), static_cast<float>(lab.rows));
+				if (r.det.box.area() < 4) continue;
+			}
+			dets.push_back(r);
+			sum.detections++;
+		}
+		if (o.detNoise == "yolo" && uu(rng) < 0.03)
+		{
+			// An occasional false positive, with the low score such boxes usually have.
+			TDetectionRecord r;
+			r.t = stamps[k];
+			r.det.classId = uu(rng) < 0.5 ? 0 : 56;
+			r.det.score = static_cast<float>(0.6 + 0.12 * uu(rng));
+			r.det.box = cv::Rect2f(static_cast<float>(uu(rng) * 500), static_cast<float>(uu(rng) * 350), static_cast<float>(40 + uu(rng) * 100),
+								   static_cast<float>(60 + uu(rng) * 100));
+			r.det.instanceId = -1;
+			dets.push_back(r);
+			sum.detections++;
+		}
+
+		lap("objects+detections");
+		const std::string name = stampText(stamps[k]) + ".png";
+		writePng((out / "rgb" / name).string(), rgb);
+		writePng((out / "depth" / name).string(), depth16);
+		writePng((out / "labels/class" / name).string(), cls);
+		writePng((out / "labels/instance" / name).string(), inst);
+		rgbTxt += stampText(stamps[k]) + " rgb/" + name + "\n";
+		depthTxt += stampText(stamps[k]) + " depth/" + name + "\n";
+		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(stamps[k]) + " depth/" + name + "\n";
+		gt.push_back(TStampedPose::fromPose(stamps[k], poses[k]));
+		lap("png");
+		if (rawlog)
+		{
+			// Colour images are external (MRPT's "<rawlog>_Images/" convention), hard links to the PNGs
+			// in rgb/: no second copy on disk and no second encoding.
+			auto obs = makeRgbdObservation(stamps[k], rgb, depth16, cam, "RGBD_SIM");
+			const fs::path link = out / "sequence_Images" / name;
+			fs::remove(link, ec);
+			fs::create_hard_link(out / "rgb" / name, link, ec);
+			if (ec) fs::copy_file(out / "rgb" / name, link, fs::copy_options::overwrite_existing, ec);
+			if (ec) throw InputError(link.string(), "cannot write image (" + ec.message() + ")");
+			mrpt::img::CImage ext;
+			ext.setExternalStorage(name);
+			obs->intensityImage = ext;
+			rawlog->write(*obs);
+		}
+		lap("rawlog");
+		sum.frames++;
+		if (progress) progress(sum.frames, stamps.size());
+	}
+
+	// The lists and files that make the folder a TUM sequence, then the rest.
+	writeFileAtomically((out / "rgb.txt").string(), rgbTxt);
+	writeFileAtomically((out / "depth.txt").string(), depthTxt);
+	writeFileAtomically((out / "associations.txt").string(), assoc);
+	writeTumTrajectory((out / "groundtruth.txt").string(), gt, "ground truth trajectory\nfile: yesslam-sim " + o.preset + "\ntimestamp tx ty tz qx qy qz qw");
+	writeFileAtomically(
+		(out / "calibration.txt").string(),
+		"# TUM fr3 intrinsics (no distortion): fx fy cx cy width height depth_scale\n535.4 539.2 320.1 247.6 640 480 5000\n");
+	writeDetectionsFile((out / "detections.txt").string(), dets);
+	writeFileAtomically((out / "objects.txt").string(), objectsTxt);
+	if (rawlog)
+	{
+		rawlog->commit();
+		writeTumTrajectory((out / "sequence_groundtruth.txt").string(), gt, "ground truth of sequence.rawlog");
+	}
+	saveSceneAtomically(*world.staticScene(), (out / "scene.3Dscene").string());
+
+	double mean = 0, mx = 0;
+	for (double s : shares)
+	{
+		mean += s;
+		mx = std::max(mx, s);
+	}
+	mean = shares.empty() ? 0 : mean / static_cast<double>(shares.size());
+	sum.meanDynamicShare = mean;
+	sum.maxDynamicShare = mx;
+	std::string meta = "{\n  \"tool\": \"yesslam-sim\",\n";
+	meta += "  \"command\": \"" + jsonEscape(o.commandLine) + "\",\n";
+	meta += "  \"preset\": \"" + o.preset + "\",\n  \"seed\": " + std::to_string(o.seed) + ",\n";
+	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
+		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
+	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
+	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";
+	meta += "  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, \"depth_scale\": 5000},\n";
+	meta += "  \"labels\": {\"class_png\": \"COCO class id + 1 (0 = room structure or nothing)\", \"instance_png\": \"instance id (objects.txt), 0 = nothing\"},\n";
+	char b[64];
+	std::snprintf(b, sizeof(b), "%.5f", mean);
+	meta += std::string("  \"dynamic_share_mean\": ") + b + ",\n";
+	std::snprintf(b, sizeof(b), "%.5f", mx);
+	meta += std::string("  \"dynamic_share_max\": ") + b + ",\n  \"dynamic_share_per_frame\": [";
+	for (std::size_t i = 0; i < shares.size(); i++)
+	{
+		std::snprintf(b, sizeof(b), "%s%.4f", i ? ", " : "", shares[i]);
+		meta += b;
+	}
+	meta += "]\n}\n";
+	writeFileAtomically((out / "meta.json").string(), meta);
+	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return sum;
+}
+}  // namespace mrpt_yesslam
