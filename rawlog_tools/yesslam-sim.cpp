@@ -45,6 +45,7 @@ int main(int argc, char** argv)
 			cl.flag("auto-exposure", "vary image brightness slowly, like auto exposure", &o.autoExposure);
 			cl.flag("moving-chair", "also push a chair across the room (a dynamic object that is not a person)", &o.movingChair);
 			cl.flag("no-rawlog", "do not write sequence.rawlog", &noRawlog);
+			cl.flag("overlays", "also write labels/overlay/: colour images with labels tinted and object boxes drawn", &o.overlays);
 			cl.flag("list-presets", "print the presets and exit", &list);
 			cl.flag("quiet", "no progress bar", &quiet);
 			if (!cl.parse(argc, argv)) return 0;

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <cstdlib>
 #include <random>
 
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
@@ -278,7 +277,7 @@ TSimSummary runSimulation(
 	for (int k = 0; k < walkers; k++)
 	{
 		if (k == 0)	 // comes close to the camera: covers much of the image for a while
-			world.addWalkingPerson({P2(4.4, 1.3), P2(2.55, 2.35), P2(4.4, 3.7)}, 0.8, 0.0);
+			world.addWalkingPerson({P2(4.4, 1.2), P2(2.95, 2.3), P2(4.4, 3.8)}, 0.8, 0.0);
 		else if (k == 1)
 			world.addWalkingPerson({P2(3.5, 0.7), P2(3.6, 4.3)}, 1.1, 1.0);
 		else
@@ -322,19 +321,8 @@ TSimSummary runSimulation(
 		glcam.setPose(poses[k]);
 		mrpt::img::CImage rgbImg, labelImg;
 		mrpt::math::CMatrixFloat depthM;
-		auto tp = std::chrono::steady_clock::now();
-		const bool prof = std::getenv("YESSLAM_SIM_PROFILE") != nullptr;
-		auto lap = [&](const char* what)
-		{
-			if (!prof) return;
-			const auto now = std::chrono::steady_clock::now();
-			std::fprintf(stderr, "%s %.1f ms\n", what, std::chrono::duration<double, std::milli>(now - tp).count());
-			tp = now;
-		};
 		fbo.render_RGBD(world.colourScene(), rgbImg, depthM);
-		lap("render colour+depth");
 		fbo.render_RGB(world.labelScene(), labelImg);
-		lap("render labels");
 		cv::Mat rgb = rgbImg.asCvMatRef().clone();
 		if (rgb.channels() == 4) cv::cvtColor(rgb, rgb, cv::COLOR_BGRA2BGR);
 		cv::Mat z(depthM.rows(), depthM.cols(), CV_32F);
@@ -362,14 +350,12 @@ TSimSummary runSimulation(
 				bbox[ui] = visible[ui]++ ? (bbox[ui] | cv::Rect(c, r, 1, 1)) : cv::Rect(c, r, 1, 1);
 				dynamicPx += objs[static_cast<std::size_t>(idx)].moves;
 			}
-		lap("decode labels");
 		const double share = static_cast<double>(dynamicPx) / (lab.rows * lab.cols);
 		shares.push_back(share);
 
 		// Sensor effects, each from a per-frame seed so that runs are byte-identical.
 		std::mt19937 rng(o.seed * 1000003u + static_cast<uint32_t>(k));
 		if (o.noise) addDepthNoise(z, rng, cam);
-		lap("depth noise");
 		cv::Mat depth16;
 		z.convertTo(depth16, CV_16U, 5000.0);
 		if (o.noise)
@@ -419,7 +405,7 @@ TSimSummary runSimulation(
 			r.det.instanceId = ob.id;
 			if (o.detNoise == "none")
 			{
-				if (visible[id] < 20) continue;
+				// Exact: every object with a visible pixel, the box of its visible pixels.
 				r.det.score = 1.0f;
 				r.det.box = cv::Rect2f(b);
 			}
@@ -455,8 +441,30 @@ TSimSummary runSimulation(
 			sum.detections++;
 		}
 
-		lap("objects+detections");
 		const std::string name = stampText(stamps[k]) + ".png";
+		if (o.overlays)
+		{
+			// Colour image with each labelled object tinted by its instance and people outlined.
+			cv::Mat ov = rgb.clone();
+			for (int r = 0; r < ov.rows; r++)
+				for (int c = 0; c < ov.cols; c++)
+				{
+					const int id = inst.at<uint16_t>(r, c);
+					if (id == 0 || cls.at<uint16_t>(r, c) == 0) continue;
+					const cv::Vec3b tint(static_cast<uchar>((id * 67) % 256), static_cast<uchar>((id * 131) % 256), static_cast<uchar>((id * 29 + 128) % 256));
+					ov.at<cv::Vec3b>(r, c) = ov.at<cv::Vec3b>(r, c) / 2 + tint / 2;
+				}
+			for (std::size_t i = 0; i < objs.size(); i++)
+			{
+				const std::size_t id = static_cast<std::size_t>(objs[i].id);
+				if (objs[i].classId < 0 || visible[id] == 0) continue;
+				const cv::Scalar col = objs[i].moves ? cv::Scalar(0, 0, 255) : cv::Scalar(0, 200, 0);
+				cv::rectangle(ov, bbox[id], col, objs[i].moves ? 2 : 1);
+				cv::putText(ov, objs[i].name, bbox[id].tl() + cv::Point(2, 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, col, 1, cv::LINE_AA);
+			}
+			fs::create_directories(out / "labels/overlay", ec);
+			writePng((out / "labels/overlay" / name).string(), ov);
+		}
 		writePng((out / "rgb" / name).string(), rgb);
 		writePng((out / "depth" / name).string(), depth16);
 		writePng((out / "labels/class" / name).string(), cls);
@@ -465,7 +473,6 @@ TSimSummary runSimulation(
 		depthTxt += stampText(stamps[k]) + " depth/" + name + "\n";
 		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(stamps[k]) + " depth/" + name + "\n";
 		gt.push_back(TStampedPose::fromPose(stamps[k], poses[k]));
-		lap("png");
 		if (rawlog)
 		{
 			// Colour images are external (MRPT's "<rawlog>_Images/" convention), hard links to the PNGs
@@ -481,7 +488,6 @@ TSimSummary runSimulation(
 			obs->intensityImage = ext;
 			rawlog->write(*obs);
 		}
-		lap("rawlog");
 		sum.frames++;
 		if (progress) progress(sum.frames, stamps.size());
 	}

@@ -37,6 +37,7 @@ struct TSimOptions
 	bool autoExposure = false;
 	bool movingChair = false;  //!< a chair pushed across the room (not a person)
 	bool writeRawlog = true;
+	bool overlays = false;	//!< also write labels/overlay/ (colour with labels and boxes drawn)
 	std::string commandLine;  //!< recorded in meta.json
 };
 

@@ -1,0 +1,235 @@
+// yesslam-sim's ground truth must be consistent, its labels must agree with its depth, its
+// simulated detector must see what it claims, its output must be byte-deterministic, and the
+// walking presets must be as dynamic as TUM's walking sequences.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/io/CRawlogSource.h"
+#include "mrpt_yesslam/io/CTumFolderSource.h"
+#include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/sim/CSequenceSimulator.h"
+#include "mrpt_yesslam/util/Error.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string slurp(const fs::path& p)
+{
+	std::ifstream f(p, std::ios::binary);
+	std::stringstream ss;
+	ss << f.rdbuf();
+	return ss.str();
+}
+
+TSimOptions quick(const std::string& dir, const std::string& preset, std::size_t frames)
+{
+	TSimOptions o;
+	o.preset = preset;
+	o.outDir = dir;
+	o.frames = frames;
+	return o;
+}
+
+struct Frame
+{
+	cv::Mat rgb, depth, inst, cls;
+	mrpt::poses::CPose3D pose;
+};
+
+std::vector<Frame> loadFrames(const std::string& dir)
+{
+	const auto gt = readTumTrajectory(dir + "/groundtruth.txt");
+	std::vector<Frame> out;
+	for (const auto& e : readTumFileList(dir + "/rgb.txt"))
+	{
+		Frame f;
+		const std::string name = fs::path(e.file).filename().string();
+		f.rgb = cv::imread(dir + "/rgb/" + name, cv::IMREAD_COLOR);
+		cv::Mat d16 = cv::imread(dir + "/depth/" + name, cv::IMREAD_UNCHANGED);
+		d16.convertTo(f.depth, CV_32F, 1.0 / 5000);
+		f.inst = cv::imread(dir + "/labels/instance/" + name, cv::IMREAD_UNCHANGED);
+		f.cls = cv::imread(dir + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
+		f.pose = gt[out.size()].asPose();
+		out.push_back(f);
+	}
+	return out;
+}
+}  // namespace
+
+TEST(Simulator, GroundTruthIsConsistentAcrossFrames)
+{
+	// Warp frame k into frame k+5 with the true poses and depths (no noise): static pixels land on
+	// the same depth and colour, pixels of walking people do not.
+	TempDir d("sim_gt");
+	auto o = quick(d.path(), "walking_xyz", 16);
+	o.noise = false;
+	o.writeRawlog = false;
+	runSimulation(o);
+	const auto frames = loadFrames(d.path());
+	ASSERT_EQ(frames.size(), 16u);
+	const double fx = 535.4, fy = 539.2, cx = 320.1, cy = 247.6;
+	std::size_t staticN = 0, staticDepthOk = 0, staticColourOk = 0, dynN = 0, dynOff = 0;
+	for (std::size_t k = 0; k + 5 < frames.size(); k += 5)
+	{
+		const Frame &a = frames[k], &b = frames[k + 5];
+		const auto rel = -b.pose + a.pose;	// frame a's camera in frame b's
+		for (int v = 4; v < 480; v += 4)
+			for (int u = 4; u < 640; u += 4)
+			{
+				const float z = a.depth.at<float>(v, u);
+				if (z <= 0) continue;
+				const auto p = rel.composePoint(mrpt::math::TPoint3D((u - cx) * z / fx, (v - cy) * z / fy, z));
+				if (p.z <= 0.1) continue;
+				const int ub = static_cast<int>(std::lround(fx * p.x / p.z + cx)), vb = static_cast<int>(std::lround(fy * p.y / p.z + cy));
+				if (ub < 1 || vb < 1 || ub >= 639 || vb >= 479) continue;
+				const float zb = b.depth.at<float>(vb, ub);
+				if (zb <= 0) continue;
+				const bool moving = a.cls.at<uint16_t>(v, u) == 1;	// person (COCO 0) + 1
+				const bool agrees = std::abs(zb - p.z) < 0.01 + 0.01 * p.z;
+				if (moving)
+				{
+					dynN++;
+					dynOff += !agrees;
+				}
+				else if (b.cls.at<uint16_t>(vb, ub) != 1)	 // not hidden behind a person in b
+				{
+					staticN++;
+					staticDepthOk += agrees;
+					const cv::Vec3b ca = a.rgb.at<cv::Vec3b>(v, u), cb = b.rgb.at<cv::Vec3b>(vb, ub);
+					staticColourOk += std::abs(ca[0] - cb[0]) + std::abs(ca[1] - cb[1]) + std::abs(ca[2] - cb[2]) < 90;
+				}
+			}
+	}
+	ASSERT_GT(staticN, 10000u);
+	ASSERT_GT(dynN, 500u);
+	EXPECT_GT(staticDepthOk, staticN * 95 / 100) << "static depth inconsistent with the poses";
+	EXPECT_GT(staticColourOk, staticN * 80 / 100) << "static colour inconsistent with the poses";
+	EXPECT_GT(dynOff, dynN * 50 / 100) << "people did not move relative to the room";
+}
+
+TEST(Simulator, LabelEdgesAreDepthEdges)
+{
+	TempDir d("sim_edges");
+	auto o = quick(d.path(), "walking_static", 3);
+	o.noise = false;
+	o.writeRawlog = false;
+	runSimulation(o);
+	const auto frames = loadFrames(d.path());
+	std::size_t personEdges = 0, personEdgesWithJump = 0;
+	for (const auto& f : frames)
+		for (int v = 1; v < 479; v++)
+			for (int u = 1; u < 639; u++)
+			{
+				const uint16_t a = f.inst.at<uint16_t>(v, u), b = f.inst.at<uint16_t>(v, u + 1);
+				if (a == b) continue;
+				const bool person = f.cls.at<uint16_t>(v, u) == 1 || f.cls.at<uint16_t>(v, u + 1) == 1;
+				if (!person) continue;
+				const float za = f.depth.at<float>(v, u), zb = f.depth.at<float>(v, u + 1);
+				if (za <= 0 || zb <= 0) continue;
+				personEdges++;
+				personEdgesWithJump += std::abs(za - zb) > 0.05;
+			}
+	// People stand free in the room: their outline is a depth discontinuity almost everywhere (not
+	// where the feet touch the floor).
+	ASSERT_GT(personEdges, 200u);
+	EXPECT_GT(personEdgesWithJump, personEdges * 85 / 100);
+}
+
+TEST(Simulator, ExactDetectorSeesEveryVisiblePerson)
+{
+	TempDir d("sim_det");
+	auto o = quick(d.path(), "walking_xyz", 12);
+	o.detNoise = "none";
+	o.writeRawlog = false;
+	runSimulation(o);
+	// objects.txt: timestamp instance class visible_pixels visible_fraction x y w h moving
+	std::ifstream f(d / "objects.txt");
+	std::string line;
+	std::map<std::pair<std::string, int>, bool> people;
+	while (std::getline(f, line))
+	{
+		if (line.empty() || line[0] == '#') continue;
+		std::istringstream ss(line);
+		std::string t;
+		int id, cls, px;
+		double frac;
+		ss >> t >> id >> cls >> px >> frac;
+		if (cls == 0 && frac > 0.3) people[{t, id}] = false;
+	}
+	ASSERT_GT(people.size(), 5u);
+	for (const auto& r : parseDetectionsText(slurp(d / "detections.txt"), "detections.txt"))
+	{
+		const auto it = people.find({[&] {
+										 char b[64];
+										 std::snprintf(b, sizeof(b), "%.6f", r.t);
+										 return std::string(b);
+									 }(),
+									 r.det.instanceId});
+		if (it != people.end()) it->second = true;
+	}
+	for (const auto& [key, found] : people) EXPECT_TRUE(found) << "person " << key.second << " at " << key.first << " not detected";
+
+	// The TUM folder reads back with our own source: calibration.txt gives the fr3 camera.
+	CTumFolderSource src(d.path());
+	EXPECT_EQ(src.sizeHint(), 12u);
+	EXPECT_DOUBLE_EQ(src.camera().intrinsics.fx(), 535.4);
+}
+
+TEST(Simulator, SameArgumentsGiveByteIdenticalOutput)
+{
+	TempDir a("sim_a"), b("sim_b");
+	for (const auto* d : {&a, &b}) runSimulation(quick(d->path(), "sitting_xyz", 4));
+	std::size_t files = 0;
+	for (const auto& e : fs::recursive_directory_iterator(a.path()))
+	{
+		if (!e.is_regular_file()) continue;
+		const auto rel = fs::relative(e.path(), a.path());
+		ASSERT_TRUE(fs::exists(b.path() / rel)) << rel;
+		EXPECT_EQ(slurp(e.path()), slurp(b.path() / rel)) << rel << " differs";
+		files++;
+	}
+	EXPECT_GT(files, 25u);
+	// The rawlog with its external images reads back.
+	CRawlogSource src(a / "sequence.rawlog");
+	int n = 0;
+	while (src.next()) n++;
+	EXPECT_EQ(n, 4);
+}
+
+TEST(Simulator, WalkingPresetIsAsDynamicAsTumWalking)
+{
+	TempDir d("sim_share");
+	auto o = quick(d.path(), "walking_xyz", 120);
+	o.writeRawlog = false;
+	const auto s = runSimulation(o);
+	EXPECT_GT(s.meanDynamicShare, 0.10);
+	EXPECT_GT(s.maxDynamicShare, 0.40);
+	// Nobody in the static office.
+	TempDir e("sim_static");
+	auto st = quick(e.path(), "static_office", 5);
+	st.writeRawlog = false;
+	EXPECT_EQ(runSimulation(st).maxDynamicShare, 0.0);
+}
+
+TEST(Simulator, BadOptions)
+{
+	TempDir d("sim_bad");
+	expectInputError([&] { runSimulation(quick(d / "x", "walking_fast", 2)); }, {"unknown preset 'walking_fast'", "walking_xyz"});
+	writeText(d / "traj.txt", "1 2 3\n");
+	auto o = quick(d / "y", "walking_xyz", 2);
+	o.trajectoryFile = d / "traj.txt";
+	expectInputError([&] { runSimulation(o); }, {"traj.txt", "line 1", "expected 8"});
+	writeText(d / "file", "");
+	expectInputError([&] { runSimulation(quick(d / "file/sub", "walking_xyz", 2)); }, {"cannot create output folder"});
+}
