@@ -222,6 +222,28 @@ TEST(Simulator, WalkingPresetIsAsDynamicAsTumWalking)
 	EXPECT_EQ(runSimulation(st).maxDynamicShare, 0.0);
 }
 
+TEST(Simulator, ReplaysARealTumTrajectory)
+{
+	// The real fr3/walking_xyz ground truth (TUM RGB-D, CC BY 4.0): stamps kept, relative motion kept.
+	const std::string file = sharedFile("data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt");
+	TempDir d("sim_traj");
+	auto o = quick(d.path(), "walking_xyz", 5);
+	o.trajectoryFile = file;
+	o.writeRawlog = false;
+	o.noise = false;
+	runSimulation(o);
+	const auto src = readTumTrajectory(file);
+	const auto out = readTumTrajectory(d / "groundtruth.txt");
+	ASSERT_EQ(out.size(), 5u);
+	for (std::size_t k = 0; k < 5; k++)
+	{
+		EXPECT_NEAR(out[k].t, src[k].t, 1e-6);
+		const auto relSrc = -src[0].asPose() + src[k].asPose();
+		const auto relOut = -out[0].asPose() + out[k].asPose();
+		EXPECT_LT((relSrc.translation() - relOut.translation()).norm(), 1e-6);
+	}
+}
+
 TEST(Simulator, BadOptions)
 {
 	TempDir d("sim_bad");
