@@ -89,6 +89,8 @@ std::vector<BadCase> cases()
 		rawlog("EmptyRawlog", "empty.rawlog", {"empty.rawlog", "empty"}),
 		rawlog("TextRawlog", "text.rawlog", {"text.rawlog", "corrupt or truncated rawlog at entry 1"}),
 		rawlog("TruncatedRawlog", "truncated.rawlog", {"truncated.rawlog", "corrupt or truncated rawlog at entry 2"}),
+		// Found by fuzz_rawlog: a range image of absurd size made MRPT's deserialiser crash.
+		rawlog("RawlogHugeImage", "rawlog_huge_image.rawlog", {"rawlog_huge_image.rawlog", "corrupt or truncated rawlog", "bad_alloc"}),
 	};
 }
 

@@ -6,12 +6,33 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <new>
+
+#include <mrpt/core/aligned_allocator.h>
 
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace fs = std::filesystem;
+
+// Guard for corrupt rawlogs (found by fuzz_rawlog; reproducer in tests/fuzz/corpus/rawlog and
+// tests/data/bad/rawlog_huge_image.rawlog). MRPT 2.5 deserialises a range image by allocating
+// whatever size the file states through mrpt::aligned_malloc, which returns nullptr when that
+// fails; the vector then writes through the null pointer and the process dies with SIGSEGV inside
+// MRPT. Defining the function here interposes it (libmrpt-obs calls it through the PLT) with one
+// that behaves like operator new: it throws std::bad_alloc, which CRawlogSource turns into
+// "corrupt or truncated rawlog". Memory still comes from ::aligned_alloc, so MRPT's
+// aligned_free (::free) releases it as before.
+void* mrpt::aligned_malloc(size_t size, size_t alignment)
+{
+	if (alignment < sizeof(void*)) alignment = sizeof(void*);
+	if (size % alignment != 0) size = (size / alignment + 1) * alignment;
+	void* p = ::aligned_alloc(alignment, size == 0 ? alignment : size);
+	if (!p) throw std::bad_alloc();
+	return p;
+}
 
 namespace mrpt_yesslam
 {
