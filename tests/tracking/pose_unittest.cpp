@@ -116,8 +116,10 @@ TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
 	ceres::NumericDiffOptions nd;
 	const std::vector<const ceres::Manifold*>* noManifold = nullptr;
 	ceres::GradientChecker checker(&cost, noManifold, nd);
-	ceres::GradientChecker::ProbeResults res;
-	EXPECT_TRUE(checker.Probe(params.data(), 1e-6, &res)) << res.error_log;
+	// No ProbeResults: it holds Eigen matrices allocated inside libceres, and Debian's Ceres is built
+	// with other Eigen alignment settings than MRPT's targets give us; freeing them here is a
+	// heap-buffer-overflow under ASan. Let Ceres keep its results to itself.
+	EXPECT_TRUE(checker.Probe(params.data(), 1e-6, nullptr));
 	// And the residual itself: zero at the true projection.
 	TReprojectionResidual f(o, K.fx(), K.fy(), K.cx(), K.cy());
 	const double zero[3] = {0, 0, 0};

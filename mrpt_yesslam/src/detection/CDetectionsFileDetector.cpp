@@ -29,7 +29,10 @@ std::vector<TDetectionRecord> parseDetectionsText(const std::string& text, const
 		if (v[1] < 0 || v[1] != std::floor(v[1]) || v[1] > 1e6) throw InputError(name, where + "class_id must be a non-negative integer");
 		if (v[2] < 0 || v[2] > 1) throw InputError(name, where + "score must be in [0,1]");
 		if (v[5] <= 0 || v[6] <= 0) throw InputError(name, where + "box width and height must be positive");
-		if (f.size() == 8 && v[7] != std::floor(v[7])) throw InputError(name, where + "instance_id must be an integer");
+		for (int k = 3; k < 7; k++)
+			if (std::abs(v[k]) > 1e6) throw InputError(name, where + "box coordinates must be within +-1e6 pixels");
+		if (f.size() == 8 && (v[7] != std::floor(v[7]) || v[7] < -1 || v[7] > 2147483647.0))
+			throw InputError(name, where + "instance_id must be an integer from -1 to 2^31-1");
 		TDetectionRecord r;
 		r.t = v[0];
 		r.line = i + 1;
