@@ -24,12 +24,12 @@ namespace fs = std::filesystem;
 // MRPT. Defining the function here interposes it (libmrpt-obs calls it through the PLT) with one
 // that behaves like operator new: it throws std::bad_alloc, which CRawlogSource turns into
 // "corrupt or truncated rawlog". Memory still comes from ::aligned_alloc, so MRPT's
-// aligned_free (::free) releases it as before. Single blocks above 1 GiB are refused too: a
+// aligned_free (::free) releases it as before. Single blocks above 512 MiB are refused too: a
 // corrupt size that the machine could satisfy would otherwise eat gigabytes (zero-filled) before
 // the read fails (fuzz_rawlog's out-of-memory reproducer); no image or cloud we read comes near it.
 void* mrpt::aligned_malloc(size_t size, size_t alignment)
 {
-	constexpr size_t kMaxBlock = size_t(1) << 30;
+	constexpr size_t kMaxBlock = size_t(1) << 29;
 	if (size > kMaxBlock) throw std::bad_alloc();
 	if (alignment < sizeof(void*)) alignment = sizeof(void*);
 	if (size % alignment != 0) size = (size / alignment + 1) * alignment;
