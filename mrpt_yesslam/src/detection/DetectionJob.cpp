@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/eval/TrajectoryEvaluator.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -17,21 +18,6 @@ namespace mrpt_yesslam
 {
 namespace
 {
-double median(std::vector<double> v)
-{
-	if (v.empty()) return 0;
-	std::sort(v.begin(), v.end());
-	const std::size_t m = v.size() / 2;
-	return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-void writePng(const std::string& path, const cv::Mat& img)
-{
-	std::vector<uchar> buf;
-	if (!cv::imencode(".png", img, buf)) throw InputError(path, "cannot encode PNG");
-	writeFileAtomically(path, std::string(buf.begin(), buf.end()));
-}
-
 bool isImageFile(const std::string& p)
 {
 	std::string e = fs::path(p).extension().string();
@@ -103,13 +89,13 @@ TDetectJobSummary runDetectionJob(
 			mask = masker.compute(depth, dets).mask;
 			tMask.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2).count());
 			fs::create_directories(fs::path(o.outDir) / "masks");
-			writePng((fs::path(o.outDir) / "masks" / stampName(stamp)).string(), mask);
+			writePngAtomically((fs::path(o.outDir) / "masks" / stampName(stamp)).string(), mask);
 			sum.masks++;
 		}
 		if (o.overlay)
 		{
 			fs::create_directories(fs::path(o.outDir) / "overlays");
-			writePng((fs::path(o.outDir) / "overlays" / stampName(stamp)).string(), drawDetectionOverlay(bgr, dets, *detector, mask));
+			writePngAtomically((fs::path(o.outDir) / "overlays" / stampName(stamp)).string(), drawDetectionOverlay(bgr, dets, *detector, mask));
 		}
 		for (const auto& d : dets)
 		{
@@ -146,8 +132,8 @@ TDetectJobSummary runDetectionJob(
 	}
 	sum.detectionsFile = (fs::path(o.outDir) / "detections.txt").string();
 	writeDetectionsFile(sum.detectionsFile, records);
-	sum.detectMsMedian = median(tDet);
-	sum.maskMsMedian = median(tMask);
+	sum.detectMsMedian = TErrorStats::of(tDet).median;
+	sum.maskMsMedian = TErrorStats::of(tMask).median;
 	return sum;
 }
 }  // namespace mrpt_yesslam

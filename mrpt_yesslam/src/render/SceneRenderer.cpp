@@ -161,9 +161,7 @@ double renderSceneFileToPng(const std::string& scenePath, const std::string& png
 	mrpt::opengl::COpenGLScene scene;
 	loadScene(scenePath, scene);
 	const mrpt::img::CImage img = renderScene(scene, opts);
-	std::vector<uchar> png;
-	if (!cv::imencode(".png", img.asCvMatRef(), png)) throw InputError(pngPath, "cannot encode PNG");
-	writeFileAtomically(pngPath, std::string(png.begin(), png.end()));
+	writePngAtomically(pngPath, img.asCvMatRef());
 	return nonBackgroundShare(img, opts.background);
 }
 }  // namespace mrpt_yesslam

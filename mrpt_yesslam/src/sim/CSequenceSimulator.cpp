@@ -189,13 +189,6 @@ std::string stampText(double t)
 	return b;
 }
 
-void writePng(const std::string& path, const cv::Mat& img)
-{
-	std::vector<uchar> buf;
-	if (!cv::imencode(".png", img, buf, {cv::IMWRITE_PNG_COMPRESSION, 1})) throw InputError(path, "cannot encode PNG");
-	writeFileAtomically(path, std::string(buf.begin(), buf.end()));
-}
-
 std::string jsonEscape(const std::string& s)
 {
 	std::string o;
@@ -463,12 +456,12 @@ TSimSummary runSimulation(
 				cv::putText(ov, objs[i].name, bbox[id].tl() + cv::Point(2, 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, col, 1, cv::LINE_AA);
 			}
 			fs::create_directories(out / "labels/overlay", ec);
-			writePng((out / "labels/overlay" / name).string(), ov);
+			writePngAtomically((out / "labels/overlay" / name).string(), ov);
 		}
-		writePng((out / "rgb" / name).string(), rgb);
-		writePng((out / "depth" / name).string(), depth16);
-		writePng((out / "labels/class" / name).string(), cls);
-		writePng((out / "labels/instance" / name).string(), inst);
+		writePngAtomically((out / "rgb" / name).string(), rgb);
+		writePngAtomically((out / "depth" / name).string(), depth16);
+		writePngAtomically((out / "labels/class" / name).string(), cls);
+		writePngAtomically((out / "labels/instance" / name).string(), inst);
 		rgbTxt += stampText(stamps[k]) + " rgb/" + name + "\n";
 		depthTxt += stampText(stamps[k]) + " depth/" + name + "\n";
 		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(stamps[k]) + " depth/" + name + "\n";

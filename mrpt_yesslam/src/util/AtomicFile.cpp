@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "mrpt_yesslam/util/Error.h"
 
@@ -45,5 +46,13 @@ void writeFileAtomically(const std::string& path, const std::string& content)
 			f.flush();
 			if (!f) throw InputError(path, "write failed (disk full?)");
 		});
+}
+
+void writePngAtomically(const std::string& path, const cv::Mat& img, int compression)
+{
+	std::vector<uchar> buf;
+	if (img.empty() || !cv::imencode(".png", img, buf, {cv::IMWRITE_PNG_COMPRESSION, compression}))
+		throw InputError(path, "cannot encode PNG");
+	writeFileAtomically(path, std::string(buf.begin(), buf.end()));
 }
 }  // namespace mrpt_yesslam

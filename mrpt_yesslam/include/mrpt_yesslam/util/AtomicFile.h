@@ -2,6 +2,7 @@
 // Atomic output: everything we write goes to "<path>.tmp.<pid>" first and is renamed into place,
 // so an interrupted run never leaves a half-written file under the final name.
 #include <functional>
+#include <opencv2/core.hpp>
 #include <string>
 
 namespace mrpt_yesslam
@@ -12,6 +13,9 @@ void writeFileAtomically(const std::string& path, const std::string& content);
 /** Calls `writer(tmpPath)` to produce the file, then renames it to `path`; on any failure the
  * temporary file is removed and the error (an InputError naming `path`) propagates. */
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& writer);
+
+/** Encodes `img` as PNG (zlib level `compression`, 0-9) and writes it atomically. */
+void writePngAtomically(const std::string& path, const cv::Mat& img, int compression = 1);
 
 /** The temporary name used for `path` by this process. */
 std::string temporaryPathFor(const std::string& path);
