@@ -61,10 +61,7 @@ std::vector<TConfigKey> CPoseOptimizer::TOptions::configKeys()
 			{"ransacIterations", T::Integer}, {"ransacPixels", T::Number}, {"minInliers", T::Integer}};
 }
 
-namespace
-{
-// T_c_w as (angle-axis, translation) <-> MRPT's camera-in-world pose.
-void toParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
+void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
 {
 	const mrpt::poses::CPose3D Tcw = -Twc;
 	const auto R = Tcw.getRotationMatrix();
@@ -77,7 +74,7 @@ void toParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
 	t[2] = Tcw.z();
 }
 
-mrpt::poses::CPose3D fromParams(const double rvec[3], const double t[3])
+mrpt::poses::CPose3D cameraPoseFromParams(const double rvec[3], const double t[3])
 {
 	double Rm[9];
 	ceres::AngleAxisToRotationMatrix(rvec, Rm);
@@ -92,6 +89,8 @@ mrpt::poses::CPose3D fromParams(const double rvec[3], const double t[3])
 	return -Tcw;
 }
 
+namespace
+{
 // Chi-square of each observation (squared whitened residual) at a pose.
 std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const double rv[3], const double t[3])
 {
@@ -114,7 +113,7 @@ TPoseEstimate CPoseOptimizer::refine(
 	out.inlier.assign(obs.size(), true);
 	if (obs.size() < 4) return out;
 	double rv[3], t[3];
-	toParams(initial, rv, t);
+	cameraPoseToParams(initial, rv, t);
 	for (int round = 0; round < std::max(1, opts_.rounds); round++)
 	{
 		ceres::Problem problem;
@@ -149,7 +148,7 @@ TPoseEstimate CPoseOptimizer::refine(
 			se += c[i] * obs[i].sigma * obs[i].sigma;
 		}
 	out.rmsPixels = out.numInliers ? std::sqrt(se / static_cast<double>(out.numInliers)) : 0;
-	out.cameraInWorld = fromParams(rv, t);
+	out.cameraInWorld = cameraPoseFromParams(rv, t);
 	out.ok = out.numInliers >= opts_.minInliers;
 	return out;
 }
@@ -185,7 +184,7 @@ TPoseEstimate CPoseOptimizer::solvePnPRansac(const std::vector<TPoseObservation>
 	out.numInliers = inl.size();
 	const double rv[3] = {rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)};
 	const double t[3] = {tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)};
-	out.cameraInWorld = fromParams(rv, t);
+	out.cameraInWorld = cameraPoseFromParams(rv, t);
 	out.ok = true;
 	return out;
 }

@@ -47,6 +47,12 @@ struct TReprojectionResidual
 	double invSigma, fx, fy, cx, cy;
 };
 
+/** T_w_c (MRPT camera-in-world pose) -> world-to-camera angle-axis and translation, the
+ * parameters our Ceres problems optimise. */
+void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3]);
+/** The inverse of cameraPoseToParams. */
+mrpt::poses::CPose3D cameraPoseFromParams(const double rvec[3], const double t[3]);
+
 /** Pose estimation from 3D-2D correspondences. */
 class CPoseOptimizer
 {

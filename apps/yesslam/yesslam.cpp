@@ -1,0 +1,91 @@
+// yesslam: RGB-D SLAM for dynamic scenes (YES-SLAM) over a rawlog or a TUM RGB-D folder.
+#include <cstdio>
+
+#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/util/CommandLine.h"
+#include "mrpt_yesslam/util/ProgressBar.h"
+
+using namespace mrpt_yesslam;
+
+int main(int argc, char** argv)
+{
+	return runTool(
+		"yesslam",
+		[&]() -> int
+		{
+			TSlamJobOptions o;
+			std::string config, detector = "auto", policy, camera;
+			bool noDynamic = false, sequential = false, quiet = false;
+			CommandLine cl(
+				"yesslam",
+				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
+				"[--no-dynamic-filter] [--max-frames N] [--gt GT.txt]",
+				"RGB-D SLAM for scenes with moving people (the YES-SLAM method): detects people, cuts them out of\n"
+				"the depth image with an edge-enhanced flood fill, tracks ORB features of the static scene only,\n"
+				"selects keyframes semantically and refines a local map with bundle adjustment (Ceres).\n"
+				"PATH is a .rawlog (CObservation3DRangeScan frames) or a TUM RGB-D folder (rgb.txt, depth.txt).\n"
+				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame), keyframes.txt, map.3Dscene\n"
+				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
+				"(frames, tracking rate, keyframes, per-stage median and p95 ms), config_used.ini, and with ground\n"
+				"truth (--gt, or groundtruth.txt found beside the input) eval.json; ATE and RPE are printed.\n"
+				"Ctrl-C stops the run and saves everything up to that frame.",
+				{"yesslam --input sim_walking --out run1   (a yesslam-sim folder: uses its detections.txt)",
+				 "yesslam --input rgbd_dataset_freiburg3_walking_xyz --config share/mrpt_yesslam/config/tum_fr3.ini "
+				 "--out run2 --detector yolo",
+				 "yesslam --input walking.rawlog --out run3 --no-dynamic-filter   (the ORB-SLAM2-like baseline)"});
+			cl.text("input", "PATH", ".rawlog or TUM RGB-D folder", &o.input, true);
+			cl.text("out", "DIR", "output folder (created if missing)", &o.outDir, true);
+			cl.text("config", "FILE", "INI/YAML config (sections as share/mrpt_yesslam/config/default.ini); options here win", &config);
+			cl.text(
+				"detector", "B",
+				"auto (detections.txt beside the input, else yolo if a model is configured, else hog), yolo, file, hog, none",
+				&detector);
+			cl.flag("no-dynamic-filter", "use every feature, people included (the baseline the method is compared with)", &noDynamic);
+			cl.text("policy", "P", "keyframe policy: semantic (the paper's Algorithm 1) or orbslam (ORB-SLAM2's rules)", &policy);
+			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);
+			cl.text("gt", "FILE", "ground-truth trajectory (TUM format) to evaluate against", &o.groundTruth);
+			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &camera);
+			cl.flag("sequential", "run local mapping in the tracking thread ([System] parallel=false): deterministic", &sequential);
+			cl.flag("quiet", "no progress line", &quiet);
+			if (!cl.parse(argc, argv)) return 0;
+			if (!config.empty()) o.slam.loadFromFile(config);
+			if (cl.given("detector") || config.empty()) o.slam.detector.backend = detector;
+			if (noDynamic) o.slam.system.dynamicFilter = false;
+			if (!policy.empty()) o.slam.keyFrames.policy = policy;
+			if (!camera.empty()) o.slam.input.camera = camera;
+			if (sequential) o.slam.system.parallel = false;
+
+			installInterruptHandler();
+			ProgressBar bar("yesslam", 0, !quiet);
+			const TSlamJobSummary s = runSlamJob(
+				o,
+				[&](std::size_t done, std::size_t total, const std::string& status)
+				{
+					bar.setTotal(total);
+					bar.update(done, status);
+				},
+				[] { return interruptRequested(); });
+			bar.finish();
+			const auto& st = s.stats;
+			std::printf("detector:        %s\n", s.detector.c_str());
+			std::printf("frames:          %zu\n", st.frames);
+			std::printf(
+				"tracked:         %zu (%.1f%%), relocalisations %zu\n", st.trackedFrames,
+				st.frames ? 100.0 * static_cast<double>(st.trackedFrames) / static_cast<double>(st.frames) : 0.0, st.relocalisations);
+			std::printf("keyframes:       %zu (%zu forced), map points %zu\n", st.keyFrames, st.forcedKeyFrames, st.mapPoints);
+			std::printf("outputs:         %s/{trajectory.txt,keyframes.txt,map.3Dscene,stats.json,config_used.ini}\n", o.outDir.c_str());
+			if (s.evaluated)
+			{
+				std::printf("ground truth:    %s\n", s.groundTruth.c_str());
+				std::fputs(formatEvalKeyValues(s.eval).c_str(), stdout);
+			}
+			else if (!s.evalProblem.empty())
+				std::fprintf(stderr, "yesslam: warning: no evaluation against %s: %s\n", s.groundTruth.c_str(), s.evalProblem.c_str());
+			if (s.interrupted)
+			{
+				std::fprintf(stderr, "yesslam: interrupted; results cover the first %zu frames\n", st.frames);
+				return 130;
+			}
+			return 0;
+		});
+}

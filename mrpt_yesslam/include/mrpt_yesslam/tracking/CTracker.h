@@ -1,0 +1,86 @@
+#pragma once
+// Frame-to-map tracking (paper section 2.2, as ORB-SLAM2's Tracking): a constant-velocity motion
+// model predicts the pose; the last frame's points (its map points, plus temporary points from its
+// depth, as ORB-SLAM2's RGB-D "visual odometry" points) are matched by projection and the pose is
+// refined (eq. 7); then the local map (the reference keyframe and its covisible keyframes) is
+// searched by projection and the pose refined again on map points only. PnP + RANSAC recovers when
+// the prediction fails; when everything fails, the frame is relocalised against the keyframes.
+// Only static features (outside the dynamic mask, eq. 3) are ever matched.
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/feature/COrbMatcher.h"
+#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+
+namespace mrpt_yesslam
+{
+/** Tracks frames against a CSparseMap. */
+class CTracker
+{
+   public:
+	/** Section [Tracking]: the pose optimiser's keys plus these. */
+	struct TOptions : public mrpt::config::CLoadableOptions
+	{
+		CPoseOptimizer::TOptions pose;
+		double maxDepth = 4.0;	//!< keypoints farther than this are not used (Kinect noise grows with z^2), m
+		double motionRadius = 15;  //!< pixel search radius around motion-model projections (ORB-SLAM2: 15)
+		double localRadius = 4;	 //!< pixel search radius for the local map
+		int maxHamming = 100;  //!< ORB-SLAM2's TH_HIGH
+		double ratio = 0.9;	 //!< nearest/second-nearest ratio for projection search (ORB-SLAM2: 0.9)
+		std::size_t localKeyFrames = 10;  //!< covisible keyframes forming the local map
+		std::size_t minTrackedInliers = 20;	 //!< fewer inliers after the local map: tracking failed
+		std::size_t relocKeyFrames = 60;  //!< newest keyframes tried by relocalisation (0 = all)
+
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void dumpToTextStream(std::ostream& out) const override;
+		/** The keys loadFromConfigFile reads (with the pose optimiser's), for validateConfigSection. */
+		static std::vector<TConfigKey> configKeys();
+	};
+
+	/** How one frame went. */
+	struct TResult
+	{
+		bool ok = false;
+		bool relocalised = false;
+		bool recoveredByPnP = false;  //!< the motion model failed, PnP on the last frame's points worked
+		std::size_t motionMatches = 0, localMatches = 0, inliers = 0;
+	};
+
+	CTracker(const TOptions& opts, CSparseMap& map);
+
+	/** Tracks `f` (features filled in): sets pose, tracked, mapPoints and numInliers. Never throws
+	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
+	TResult track(TFrame& f);
+	/** Starts the map's first keyframe from this frame (pose as given) and makes it the reference. */
+	void setReferenceKeyFrame(std::size_t kf) { refKf_ = kf; }
+	std::optional<std::size_t> referenceKeyFrame() const { return refKf_; }
+	/** The frame tracking saw last, for the next prediction. */
+	void setLastFrame(const std::shared_ptr<const TFrame>& f);
+	const TOptions& options() const { return opts_; }
+
+   private:
+	/** Pose from matched observations; refines from `guess`. */
+	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
+	/** The last frame's map points and temporary depth points. */
+	TLocalMapPoints lastFramePoints() const;
+	bool relocalise(TFrame& f, TResult& r);
+	/** Local-map search and refinement from `guess`; on success fills the frame. */
+	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResult& r);
+
+	TOptions opts_;
+	CSparseMap& map_;
+	CPoseOptimizer optimizer_;
+	COrbMatcher matcher_;
+	std::shared_ptr<const TFrame> last_;
+	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
+	std::optional<std::size_t> refKf_;
+};
+
+/** Observations for the pose optimiser from matches (sigma = scale factor ^ octave). */
+std::vector<TPoseObservation> makePoseObservations(
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor = 1.2);
+}  // namespace mrpt_yesslam

@@ -1,0 +1,143 @@
+#include "mrpt_yesslam/feature/COrbMatcher.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace mrpt_yesslam
+{
+int orbDistance(const unsigned char* a, const unsigned char* b)
+{
+	int d = 0;
+	for (int k = 0; k < 4; k++)
+	{
+		std::uint64_t x, y;
+		std::memcpy(&x, a + 8 * k, 8);
+		std::memcpy(&y, b + 8 * k, 8);
+		d += __builtin_popcountll(x ^ y);
+	}
+	return d;
+}
+
+namespace
+{
+// Keeps, for every keypoint, only its best match (a point set may contain near-duplicates).
+std::vector<TMatch> uniquePerKeypoint(std::vector<TMatch> m, std::size_t numKeypoints)
+{
+	std::vector<int> best(numKeypoints, -1);
+	for (std::size_t i = 0; i < m.size(); i++)
+	{
+		int& b = best[m[i].keypoint];
+		if (b < 0 || m[i].distance < m[static_cast<std::size_t>(b)].distance) b = static_cast<int>(i);
+	}
+	std::vector<TMatch> out;
+	for (int b : best)
+		if (b >= 0) out.push_back(m[static_cast<std::size_t>(b)]);
+	return out;
+}
+}  // namespace
+
+std::vector<TMatch> COrbMatcher::searchByProjection(
+	const TFrame& frame, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius,
+	std::vector<std::size_t>* inView, bool skipMatched, double scaleFactor) const
+{
+	std::vector<TMatch> found;
+	if (inView) inView->clear();
+	const auto& kps = frame.features.keypoints;
+	if (kps.empty() || points.ids.empty()) return found;
+	// A coarse grid of keypoint indices, so each projection looks at a few cells only.
+	const int cell = 16;
+	const int W = static_cast<int>(frame.camera.ncols), H = static_cast<int>(frame.camera.nrows);
+	const int gw = std::max(1, (W + cell - 1) / cell), gh = std::max(1, (H + cell - 1) / cell);
+	std::vector<std::vector<int>> grid(static_cast<std::size_t>(gw * gh));
+	for (std::size_t i = 0; i < kps.size(); i++)
+	{
+		if (frame.features.dynamic[i]) continue;
+		if (skipMatched && i < frame.mapPoints.size() && frame.mapPoints[i] >= 0) continue;
+		const int gx = std::clamp(static_cast<int>(kps[i].pt.x) / cell, 0, gw - 1);
+		const int gy = std::clamp(static_cast<int>(kps[i].pt.y) / cell, 0, gh - 1);
+		grid[static_cast<std::size_t>(gy * gw + gx)].push_back(static_cast<int>(i));
+	}
+	const mrpt::poses::CPose3D Tcw = -Twc;
+	const auto& K = frame.camera;
+	std::vector<double> levelScale(16, 1.0);
+	for (std::size_t l = 1; l < levelScale.size(); l++) levelScale[l] = levelScale[l - 1] * scaleFactor;
+	for (std::size_t j = 0; j < points.ids.size(); j++)
+	{
+		double x, y, z;
+		const auto& P = points.positions[j];
+		Tcw.composePoint(P.x, P.y, P.z, x, y, z);
+		if (z < 0.05) continue;
+		const double u = K.fx() * x / z + K.cx(), v = K.fy() * y / z + K.cy();
+		if (u < 0 || v < 0 || u >= W || v >= H) continue;
+		if (inView) inView->push_back(j);
+		const unsigned char* d = points.descriptors.ptr<unsigned char>(static_cast<int>(j));
+		int best = std::numeric_limits<int>::max(), second = best, bestIdx = -1;
+		const double rMax = radius * levelScale.back();
+		const int x0 = std::max(0, static_cast<int>((u - rMax) / cell)), x1 = std::min(gw - 1, static_cast<int>((u + rMax) / cell));
+		const int y0 = std::max(0, static_cast<int>((v - rMax) / cell)), y1 = std::min(gh - 1, static_cast<int>((v + rMax) / cell));
+		for (int gy = y0; gy <= y1; gy++)
+			for (int gx = x0; gx <= x1; gx++)
+				for (int i : grid[static_cast<std::size_t>(gy * gw + gx)])
+				{
+					const auto& kp = kps[static_cast<std::size_t>(i)];
+					// ORB-SLAM scales the window with the keypoint's pyramid level.
+					const double r = radius * levelScale[static_cast<std::size_t>(std::clamp(kp.octave, 0, 15))];
+					const double du = kp.pt.x - u, dv = kp.pt.y - v;
+					if (du * du + dv * dv > r * r) continue;
+					const int dist = orbDistance(d, frame.features.descriptors.ptr<unsigned char>(i));
+					if (dist < best)
+					{
+						second = best;
+						best = dist;
+						bestIdx = i;
+					}
+					else if (dist < second)
+						second = dist;
+				}
+		if (bestIdx < 0 || best > maxDist_) continue;
+		if (second != std::numeric_limits<int>::max() && best > ratio_ * second) continue;
+		found.push_back({static_cast<std::size_t>(bestIdx), j, best});
+	}
+	return uniquePerKeypoint(std::move(found), kps.size());
+}
+
+std::vector<TMatch> COrbMatcher::matchBruteForce(const TFrame& frame, const cv::Mat& pointDescriptors) const
+{
+	std::vector<TMatch> found;
+	const auto& F = frame.features;
+	if (pointDescriptors.empty() || F.descriptors.empty()) return found;
+	for (std::size_t i = 0; i < F.keypoints.size(); i++)
+	{
+		if (F.dynamic[i]) continue;
+		const unsigned char* d = F.descriptors.ptr<unsigned char>(static_cast<int>(i));
+		int best = std::numeric_limits<int>::max(), second = best, bestIdx = -1;
+		for (int j = 0; j < pointDescriptors.rows; j++)
+		{
+			const int dist = orbDistance(d, pointDescriptors.ptr<unsigned char>(j));
+			if (dist < best)
+			{
+				second = best;
+				best = dist;
+				bestIdx = j;
+			}
+			else if (dist < second)
+				second = dist;
+		}
+		if (bestIdx < 0 || best > maxDist_) continue;
+		if (second != std::numeric_limits<int>::max() && best > ratio_ * second) continue;
+		found.push_back({i, static_cast<std::size_t>(bestIdx), best});
+	}
+	// One keypoint per point as well.
+	std::vector<int> bestForPoint(static_cast<std::size_t>(pointDescriptors.rows), -1);
+	for (std::size_t k = 0; k < found.size(); k++)
+	{
+		int& b = bestForPoint[found[k].point];
+		if (b < 0 || found[k].distance < found[static_cast<std::size_t>(b)].distance) b = static_cast<int>(k);
+	}
+	std::vector<TMatch> out;
+	for (int b : bestForPoint)
+		if (b >= 0) out.push_back(found[static_cast<std::size_t>(b)]);
+	return out;
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,138 @@
+#include "mrpt_yesslam/mapping/CLocalMapper.h"
+
+#include <ceres/ceres.h>
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <array>
+#include <cmath>
+
+#include "mrpt_yesslam/mapping/BundleCosts.h"
+#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+
+namespace mrpt_yesslam
+{
+void CLocalMapper::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	MRPT_LOAD_CONFIG_VAR(bundleAdjustment, bool, c, s);
+	covisibleKeyFrames = static_cast<std::size_t>(c.read_int(s, "covisibleKeyFrames", static_cast<int>(covisibleKeyFrames)));
+	maxFixedKeyFrames = static_cast<std::size_t>(c.read_int(s, "maxFixedKeyFrames", static_cast<int>(maxFixedKeyFrames)));
+	MRPT_LOAD_CONFIG_VAR(iterations, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(bf, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(cullFoundRatio, double, c, s);
+	cullMinObservations = static_cast<std::size_t>(c.read_int(s, "cullMinObservations", static_cast<int>(cullMinObservations)));
+	MRPT_LOAD_CONFIG_VAR(scaleFactor, double, c, s);
+}
+
+void CLocalMapper::TOptions::dumpToTextStream(std::ostream& o) const
+{
+	o << "[LocalMapping]\n";
+	o << "bundleAdjustment    = " << (bundleAdjustment ? "true" : "false") << "\n";
+	o << "covisibleKeyFrames  = " << covisibleKeyFrames << "\n";
+	o << "maxFixedKeyFrames   = " << maxFixedKeyFrames << "\n";
+	o << "iterations          = " << iterations << "\n";
+	o << "bf                  = " << bf << "\n";
+	o << "cullFoundRatio      = " << cullFoundRatio << "\n";
+	o << "cullMinObservations = " << cullMinObservations << "\n";
+	o << "scaleFactor         = " << scaleFactor << "\n";
+}
+
+std::vector<TConfigKey> CLocalMapper::TOptions::configKeys()
+{
+	using T = TConfigKey::Type;
+	return {{"bundleAdjustment", T::Boolean}, {"covisibleKeyFrames", T::Integer}, {"maxFixedKeyFrames", T::Integer},
+			{"iterations", T::Integer},		  {"bf", T::Number},				   {"cullFoundRatio", T::Number},
+			{"cullMinObservations", T::Integer}, {"scaleFactor", T::Number}};
+}
+
+TBundleStats CLocalMapper::step(std::size_t kf)
+{
+	map_.cullRecentPoints(kf, opts_.cullFoundRatio, opts_.cullMinObservations);
+	if (!opts_.bundleAdjustment) return {};
+	return bundleAdjust(kf);
+}
+
+TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
+{
+	TBundleStats st;
+	const TBundleWindow w = map_.bundleWindow(kf, opts_.covisibleKeyFrames, opts_.maxFixedKeyFrames);
+	if (w.keyFrames.empty() || w.points.empty()) return st;
+	st.keyFrames = w.keyFrames.size();
+	st.fixedKeyFrames = w.fixedKeyFrames.size();
+	st.points = w.points.size();
+
+	std::map<std::size_t, std::array<double, 6>> poseParams;
+	for (const auto& [k, p] : w.poses)
+	{
+		auto& a = poseParams[k];
+		cameraPoseToParams(p, a.data(), a.data() + 3);
+	}
+	std::vector<std::array<double, 3>> X(w.points.size());
+	for (std::size_t i = 0; i < X.size(); i++) X[i] = {w.positions[i].x, w.positions[i].y, w.positions[i].z};
+
+	struct Obs
+	{
+		std::size_t point, kf;
+		TStereoReprojectionCost cost;
+		bool hasDepth;
+	};
+	std::vector<Obs> all;
+	ceres::Problem problem;
+	for (std::size_t i = 0; i < w.points.size(); i++)
+		for (const auto& [k, kp] : w.observations[i])
+		{
+			const auto& f = *w.frames.at(k);
+			const auto& key = f.features.keypoints[kp];
+			const double z = f.features.depth[kp];
+			const bool hasDepth = z > 0;
+			const double sigma = std::pow(opts_.scaleFactor, std::max(0, key.octave));
+			const auto& K = f.camera;
+			TStereoReprojectionCost c(
+				key.pt.x, key.pt.y, hasDepth ? key.pt.x - opts_.bf / z : -1.0, sigma, K.fx(), K.fy(), K.cx(), K.cy(), opts_.bf);
+			all.push_back({i, k, c, hasDepth});
+			auto* cost = new ceres::AutoDiffCostFunction<TStereoReprojectionCost, 3, 3, 3, 3>(new TStereoReprojectionCost(c));
+			// Huber corner at the chi-square 95% threshold, as ORB-SLAM2 (3 DoF: 7.815, 2 DoF: 5.991).
+			auto* loss = new ceres::HuberLoss(std::sqrt(hasDepth ? 7.815 : 5.991));
+			auto& pp = poseParams.at(k);
+			problem.AddResidualBlock(cost, loss, pp.data(), pp.data() + 3, X[i].data());
+		}
+	st.observations = all.size();
+	for (std::size_t k : w.fixedKeyFrames)
+	{
+		auto& pp = poseParams.at(k);
+		problem.SetParameterBlockConstant(pp.data());
+		problem.SetParameterBlockConstant(pp.data() + 3);
+	}
+	ceres::Solver::Options so;
+	so.linear_solver_type = ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ? ceres::SPARSE_SCHUR
+																									  : ceres::DENSE_SCHUR;
+	so.max_num_iterations = opts_.iterations;
+	so.num_threads = 1;
+	so.logging_type = ceres::SILENT;
+	ceres::Solver::Summary sum;
+	ceres::Solve(so, &problem, &sum);
+	st.initialCost = sum.initial_cost;
+	st.finalCost = sum.final_cost;
+
+	// Observations that are still outliers after the solve are removed from the map (ORB-SLAM2).
+	std::vector<std::pair<TPointId, std::size_t>> outliers;
+	for (const auto& o : all)
+	{
+		const auto& pp = poseParams.at(o.kf);
+		double r[3];
+		o.cost(pp.data(), pp.data() + 3, X[o.point].data(), r);
+		const double chi2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+		if (chi2 > (o.hasDepth ? 7.815 : 5.991)) outliers.emplace_back(w.points[o.point], o.kf);
+	}
+	st.outliers = outliers.size();
+	std::map<std::size_t, mrpt::poses::CPose3D> poses;
+	for (std::size_t k : w.keyFrames)
+	{
+		const auto& pp = poseParams.at(k);
+		poses[k] = cameraPoseFromParams(pp.data(), pp.data() + 3);
+	}
+	std::vector<mrpt::math::TPoint3D> positions;
+	for (const auto& x : X) positions.push_back({x[0], x[1], x[2]});
+	map_.applyBundle(poses, w.points, positions, outliers);
+	return st;
+}
+}  // namespace mrpt_yesslam

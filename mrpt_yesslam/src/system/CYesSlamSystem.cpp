@@ -1,0 +1,423 @@
+#include "mrpt_yesslam/system/CYesSlamSystem.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+void TYesSlamOptions::TSystem::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	MRPT_LOAD_CONFIG_VAR(parallel, bool, c, s);
+	MRPT_LOAD_CONFIG_VAR(dynamicFilter, bool, c, s);
+	minInitPoints = static_cast<std::size_t>(c.read_int(s, "minInitPoints", static_cast<int>(minInitPoints)));
+	frameBuffer = static_cast<std::size_t>(c.read_int(s, "frameBuffer", static_cast<int>(frameBuffer)));
+}
+
+void TYesSlamOptions::TSystem::dumpToTextStream(std::ostream& o) const
+{
+	o << "[System]\n";
+	o << "parallel      = " << (parallel ? "true" : "false") << "\n";
+	o << "dynamicFilter = " << (dynamicFilter ? "true" : "false") << "\n";
+	o << "minInitPoints = " << minInitPoints << "\n";
+	o << "frameBuffer   = " << frameBuffer << "\n";
+}
+
+std::vector<TConfigKey> TYesSlamOptions::TSystem::configKeys()
+{
+	using T = TConfigKey::Type;
+	return {{"parallel", T::Boolean}, {"dynamicFilter", T::Boolean}, {"minInitPoints", T::Integer}, {"frameBuffer", T::Integer}};
+}
+
+void TYesSlamOptions::loadFromFile(const std::string& path)
+{
+	loadOptionsFromFile(path, "Input", input, CInputSource::TOptions::configKeys());
+	loadOptionsFromFile(path, "Detector", detector, CObjectDetector::TOptions::configKeys());
+	loadOptionsFromFile(path, "DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
+	loadOptionsFromFile(path, "ORB", orb, COrbExtractor::TOptions::configKeys());
+	loadOptionsFromFile(path, "Tracking", tracking, CTracker::TOptions::configKeys());
+	loadOptionsFromFile(path, "KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
+	loadOptionsFromFile(path, "LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
+	loadOptionsFromFile(path, "System", system, TSystem::configKeys());
+}
+
+std::string TYesSlamOptions::dump() const
+{
+	std::ostringstream o;
+	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
+			 &input, &detector, &masker, &orb, &tracking, &keyFrames, &mapping, &system})
+	{
+		p->dumpToTextStream(o);
+		o << "\n";
+	}
+	return o.str();
+}
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double percentile(std::vector<double> v, double q)
+{
+	if (v.empty()) return 0;
+	std::sort(v.begin(), v.end());
+	const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5));
+	return v[i];
+}
+}  // namespace
+
+CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
+	: opts_(opts),
+	  detector_(createObjectDetector(opts.detector)),
+	  masker_(opts.masker),
+	  extractor_(opts.orb),
+	  tracker_(opts.tracking, map_),
+	  inserter_(opts.keyFrames),
+	  mapper_(opts.mapping, map_)
+{
+	if (opts_.system.parallel) worker_ = std::thread([this] { mappingLoop(); });
+}
+
+CYesSlamSystem::~CYesSlamSystem()
+{
+	{
+		std::lock_guard<std::mutex> lk(qMtx_);
+		stop_ = true;
+	}
+	qCv_.notify_all();
+	if (worker_.joinable()) worker_.join();
+}
+
+void CYesSlamSystem::mappingLoop()
+{
+	for (;;)
+	{
+		std::size_t kf;
+		{
+			std::unique_lock<std::mutex> lk(qMtx_);
+			qCv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
+			if (queue_.empty()) return;	 // stopping, nothing left
+			// Only the newest keyframe matters when mapping falls behind (ORB-SLAM2 aborts its BA
+			// for a new keyframe too); culling still looks at every young point.
+			kf = queue_.back();
+			queue_.clear();
+			busy_ = true;
+		}
+		const auto t0 = Clock::now();
+		mapper_.step(kf);
+		{
+			std::lock_guard<std::mutex> sl(statsMtx_);
+			stats_.stageMs["mapping"].push_back(msSince(t0));
+		}
+		{
+			std::lock_guard<std::mutex> lk(qMtx_);
+			busy_ = false;
+		}
+		qDone_.notify_all();
+	}
+}
+
+void CYesSlamSystem::waitForMapping()
+{
+	std::unique_lock<std::mutex> lk(qMtx_);
+	qDone_.wait(lk, [&] { return queue_.empty() && !busy_; });
+}
+
+TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	cv::Mat bgr = obs.intensityImage.asCvMatRef();
+	if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);
+	return processFrame(bgr, depthInMetres(obs), observationTime(obs), obs.cameraParamsIntensity);
+}
+
+double CYesSlamSystem::motionToReference(const TFrame& f) const
+{
+	// Eq. 12-16 on the 3D points the frame shares with the reference keyframe, each measured by
+	// its own depth; the tracked relative pose when too few points are shared.
+	const auto ref = tracker_.referenceKeyFrame();
+	if (!ref) return 0;
+	const CKeyFrame kf = map_.keyFrame(*ref);
+	std::map<TPointId, std::size_t> refKp;
+	for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
+		if (kf.mapPoints[i] >= 0) refKp[kf.mapPoints[i]] = i;
+	std::vector<Eigen::Vector3d> cur, prev;
+	for (std::size_t i = 0; i < f.size(); i++)
+	{
+		if (f.mapPoints[i] < 0 || f.features.depth[i] <= 0) continue;
+		const auto it = refKp.find(f.mapPoints[i]);
+		if (it == refKp.end() || kf.frame->features.depth[it->second] <= 0) continue;
+		const cv::Point3d a = f.backProject(i), b = kf.frame->backProject(it->second);
+		cur.emplace_back(a.x, a.y, a.z);
+		prev.emplace_back(b.x, b.y, b.z);
+	}
+	Eigen::Matrix3d R;
+	Eigen::Vector3d t;
+	if (cur.size() >= 10 && rigidMotionFromPoints(cur, prev, R, t)) return motionAmplitude(R, t);
+	const mrpt::poses::CPose3D rel = f.pose - kf.pose;
+	const auto Rm = rel.getRotationMatrix();
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) R(i, j) = Rm(i, j);
+	return motionAmplitude(R, Eigen::Vector3d(rel.x(), rel.y(), rel.z()));
+}
+
+void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
+{
+	const std::size_t kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
+	tracker_.setReferenceKeyFrame(kf);
+	inserter_.keyFrameInserted(f->id);
+	{
+		std::lock_guard<std::mutex> sl(statsMtx_);
+		stats_.keyFrames++;
+		if (forced) stats_.forcedKeyFrames++;
+	}
+	if (opts_.system.parallel)
+	{
+		{
+			std::lock_guard<std::mutex> lk(qMtx_);
+			queue_.push_back(kf);
+		}
+		qCv_.notify_one();
+		return;
+	}
+	const auto t0 = Clock::now();
+	mapper_.step(kf);
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	stats_.stageMs["mapping"].push_back(msSince(t0));
+}
+
+TFrameReport CYesSlamSystem::processFrame(
+	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera)
+{
+	TFrameReport rep;
+	auto f = std::make_shared<TFrame>();
+	f->id = nextFrameId_++;
+	f->timestamp = timestamp;
+	f->camera = camera;
+	f->camera.ncols = static_cast<uint32_t>(bgr.cols);
+	f->camera.nrows = static_cast<uint32_t>(bgr.rows);
+	rep.frameId = f->id;
+	std::map<std::string, double> ms;
+
+	auto t0 = Clock::now();
+	if (detector_) f->detections = detector_->detect(bgr, timestamp);
+	ms["detect"] = msSince(t0);
+	t0 = Clock::now();
+	cv::Mat mask;
+	const bool anyDynamic = std::any_of(f->detections.begin(), f->detections.end(), [](const TDetection& d) { return d.dynamic; });
+	if (opts_.system.dynamicFilter && anyDynamic)
+	{
+		mask = masker_.compute(depth, f->detections).mask;
+		f->numDynamicMasked = static_cast<std::size_t>(cv::countNonZero(mask));
+	}
+	ms["mask"] = msSince(t0);
+	t0 = Clock::now();
+	f->features = extractor_.extract(bgr, depth, mask);
+	// Depth and mask are looked up at the raw keypoint; tracking works in undistorted pixels.
+	const auto& d = camera.dist;
+	if (d[0] != 0 || d[1] != 0 || d[2] != 0 || d[3] != 0 || d[4] != 0)
+	{
+		std::vector<cv::Point2f> raw, und;
+		for (const auto& k : f->features.keypoints) raw.push_back(k.pt);
+		if (!raw.empty())
+		{
+			const cv::Matx33d K(camera.fx(), 0, camera.cx(), 0, camera.fy(), camera.cy(), 0, 0, 1);
+			const cv::Matx<double, 1, 5> D(d[0], d[1], d[2], d[3], d[4]);
+			cv::undistortPoints(raw, und, K, D, cv::noArray(), K);
+			for (std::size_t i = 0; i < und.size(); i++) f->features.keypoints[i].pt = und[i];
+		}
+	}
+	for (const auto& k : f->features.keypoints)
+	{
+		const cv::Point p(std::clamp(cvRound(k.pt.x), 0, bgr.cols - 1), std::clamp(cvRound(k.pt.y), 0, bgr.rows - 1));
+		f->colors.push_back(bgr.at<cv::Vec3b>(p));
+	}
+	f->mapPoints.assign(f->size(), -1);
+	ms["orb"] = msSince(t0);
+
+	rep.features = f->size();
+	rep.staticFeatures = f->features.numStatic();
+	rep.detections = f->detections.size();
+	rep.dynamicDetections = static_cast<std::size_t>(
+		std::count_if(f->detections.begin(), f->detections.end(), [](const TDetection& x) { return x.dynamic; }));
+
+	t0 = Clock::now();
+	std::optional<CKeyFrameInserter::TDecision> decision;
+	bool initialising = false;
+	if (map_.numKeyFrames() == 0)
+	{
+		std::size_t usable = 0;
+		for (std::size_t i = 0; i < f->size(); i++) usable += f->usable(i, opts_.tracking.maxDepth);
+		if (usable >= opts_.system.minInitPoints)
+		{
+			f->pose = mrpt::poses::CPose3D();  // the first keyframe defines the world frame
+			f->tracked = true;
+			f->numInliers = usable;
+			initialising = true;
+			rep.initialised = true;
+		}
+	}
+	else
+	{
+		const auto r = tracker_.track(*f);
+		rep.relocalised = r.relocalised;
+	}
+	ms["track"] = msSince(t0);
+
+	t0 = Clock::now();
+	std::shared_ptr<const TFrame> frame = f;
+	recent_.push_back(frame);
+	while (recent_.size() > std::max<std::size_t>(1, opts_.system.frameBuffer)) recent_.pop_front();
+	if (initialising)
+	{
+		insertKeyFrame(frame, false);
+		inserter_.addFrame(*frame, {frame->id, 0}, 0);	// the selector's first reference; no new keyframe
+		rep.keyFrame = true;
+	}
+	else if (frame->tracked)
+	{
+		const auto ref = tracker_.referenceKeyFrame();
+		CKeyFrameInserter::TReference refInfo;
+		if (ref)
+		{
+			const TLocalMapPoints p = map_.keyFramePoints(*ref);
+			refInfo.points = p.ids.size();
+		}
+		const double D = opts_.keyFrames.policy == "semantic" ? motionToReference(*frame) : 0.0;
+		decision = inserter_.addFrame(*frame, refInfo, D);
+	}
+	if (decision)
+	{
+		const auto it = std::find_if(recent_.begin(), recent_.end(), [&](const auto& x) { return x->id == decision->frameId; });
+		if (it != recent_.end() && (*it)->tracked)
+		{
+			insertKeyFrame(*it, decision->forced);
+			rep.keyFrame = (*it)->id == frame->id;
+		}
+	}
+	ms["keyframe"] = msSince(t0);
+	tracker_.setLastFrame(frame);
+
+	TFrameRecord rec;
+	rec.t = frame->timestamp;
+	rec.tracked = frame->tracked;
+	if (const auto ref = tracker_.referenceKeyFrame())
+	{
+		rec.hasRef = true;
+		rec.refKf = *ref;
+		rec.relative = frame->pose - map_.keyFramePose(*ref);
+	}
+	else
+		rec.relative = frame->pose;
+	records_.push_back(rec);
+
+	rep.tracked = frame->tracked;
+	rep.inliers = frame->numInliers;
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	stats_.frames++;
+	if (frame->tracked)
+		stats_.trackedFrames++;
+	else
+		stats_.lostFrames++;
+	if (rep.relocalised) stats_.relocalisations++;
+	for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
+	return rep;
+}
+
+TTrajectory CYesSlamSystem::trajectory() const
+{
+	TTrajectory out;
+	const auto poses = map_.keyFramePoses();
+	for (const auto& r : records_)
+	{
+		const mrpt::poses::CPose3D p = r.hasRef && r.refKf < poses.size() ? poses[r.refKf] + r.relative : r.relative;
+		out.push_back(TStampedPose::fromPose(r.t, p));
+	}
+	return out;
+}
+
+TTrajectory CYesSlamSystem::keyFrameTrajectory() const
+{
+	TTrajectory out;
+	const auto poses = map_.keyFramePoses();
+	const auto times = map_.keyFrameTimes();
+	for (std::size_t i = 0; i < poses.size(); i++) out.push_back(TStampedPose::fromPose(times[i], poses[i]));
+	return out;
+}
+
+mrpt::opengl::COpenGLScene::Ptr CYesSlamSystem::buildScene() const
+{
+	auto scene = mrpt::opengl::COpenGLScene::Create();
+	auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+	cloud->setPointSize(3.0f);
+	for (const auto& p : map_.points())
+		cloud->push_back(
+			static_cast<float>(p.position.x), static_cast<float>(p.position.y), static_cast<float>(p.position.z),
+			p.color[2] / 255.f, p.color[1] / 255.f, p.color[0] / 255.f);
+	scene->insert(cloud);
+	for (const auto& kf : map_.keyFramePoses())
+	{
+		// A small frustum per keyframe (near 0.02 m, far 0.12 m, the TUM field of view).
+		auto fr = mrpt::opengl::CFrustum::Create(0.02f, 0.12f, 62.f, 48.f, 1.5f, true, false);
+		fr->setColor_u8(0, 90, 220);
+		fr->setPose(kf);
+		scene->insert(fr);
+	}
+	auto path = mrpt::opengl::CSetOfLines::Create();
+	path->setColor_u8(220, 30, 30);
+	path->setLineWidth(2.0f);
+	const auto traj = trajectory();
+	for (std::size_t i = 1; i < traj.size(); i++)
+		path->appendLine(traj[i - 1].tx, traj[i - 1].ty, traj[i - 1].tz, traj[i].tx, traj[i].ty, traj[i].tz);
+	if (!path->empty()) scene->insert(path);
+	return scene;
+}
+
+TSlamStats CYesSlamSystem::stats() const
+{
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	TSlamStats s = stats_;
+	s.mapPoints = map_.numPoints();
+	return s;
+}
+
+std::string CYesSlamSystem::statsJson() const
+{
+	const TSlamStats s = stats();
+	std::ostringstream o;
+	char buf[256];
+	o << "{\n";
+	o << "  \"frames\": " << s.frames << ",\n";
+	o << "  \"tracked_frames\": " << s.trackedFrames << ",\n";
+	std::snprintf(buf, sizeof(buf), "%.4f", s.frames ? static_cast<double>(s.trackedFrames) / static_cast<double>(s.frames) : 0.0);
+	o << "  \"tracking_rate\": " << buf << ",\n";
+	o << "  \"relocalisations\": " << s.relocalisations << ",\n";
+	o << "  \"keyframes\": " << s.keyFrames << ",\n";
+	o << "  \"forced_keyframes\": " << s.forcedKeyFrames << ",\n";
+	o << "  \"map_points\": " << s.mapPoints << ",\n";
+	o << "  \"keyframe_policy\": \"" << opts_.keyFrames.policy << "\",\n";
+	o << "  \"dynamic_filter\": " << (opts_.system.dynamicFilter ? "true" : "false") << ",\n";
+	o << "  \"stages_ms\": {";
+	bool first = true;
+	for (const auto& [name, v] : s.stageMs)
+	{
+		std::snprintf(buf, sizeof(buf), "\"median\": %.3f, \"p95\": %.3f, \"count\": %zu", percentile(v, 0.5), percentile(v, 0.95), v.size());
+		o << (first ? "\n" : ",\n") << "    \"" << name << "\": {" << buf << "}";
+		first = false;
+	}
+	o << "\n  }\n}\n";
+	return o.str();
+}
+}  // namespace mrpt_yesslam

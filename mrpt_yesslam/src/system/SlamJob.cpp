@@ -1,0 +1,119 @@
+#include "mrpt_yesslam/system/SlamJob.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace mrpt_yesslam
+{
+void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
+{
+	const fs::path in(input);
+	const fs::path beside = fs::is_directory(in) ? in / "detections.txt" : in.parent_path() / "detections.txt";
+	if (det.backend == "auto")
+	{
+		if (!det.file.empty() || fs::exists(beside))
+			det.backend = "file";
+		else if (!det.model.empty())
+			det.backend = "yolo";
+		else
+			det.backend = "hog";
+	}
+	if (det.backend == "file" && det.file.empty())
+	{
+		if (!fs::exists(beside))
+			throw InputError(beside.string(), "not found: the file detector needs [Detector] file or a detections.txt beside the input");
+		det.file = beside.string();
+	}
+	if (det.backend == "yolo" && det.model.empty())
+		throw InputError("", "the yolo detector needs [Detector] model (and names); or use --detector file, hog or none");
+}
+
+namespace
+{
+void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum)
+{
+	const fs::path d(dir);
+	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
+	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
+	saveSceneAtomically(*sys.buildScene(), (d / "map.3Dscene").string());
+	writeFileAtomically((d / "stats.json").string(), sys.statsJson());
+	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
+	sum.stats = sys.stats();
+}
+}  // namespace
+
+TSlamJobSummary runSlamJob(
+	const TSlamJobOptions& o, const std::function<void(std::size_t, std::size_t, const std::string&)>& progress,
+	const std::function<bool()>& cancel)
+{
+	TSlamJobSummary sum;
+	TYesSlamOptions opts = o.slam;
+	resolveDetector(opts.detector, o.input);
+	auto src = openInputSource(o.input, opts.input);
+	sum.groundTruth = o.groundTruth.empty() ? findGroundTruthFor(o.input) : o.groundTruth;
+	TTrajectory gt;
+	if (!sum.groundTruth.empty()) gt = readTumTrajectory(sum.groundTruth);	// bad ground truth: fail before the long run
+	std::error_code ec;
+	fs::create_directories(o.outDir, ec);
+	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder");
+
+	CYesSlamSystem sys(opts);
+	sum.detector = sys.detector()->description();
+	const auto t0 = std::chrono::steady_clock::now();
+	std::size_t done = 0;
+	try
+	{
+		while (!(o.maxFrames && done >= o.maxFrames))
+		{
+			if (cancel && cancel())
+			{
+				sum.interrupted = true;
+				break;
+			}
+			auto obs = src->next();
+			if (!obs) break;
+			const TFrameReport r = sys.processFrame(*obs);
+			done++;
+			if (progress)
+			{
+				const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+				char buf[160];
+				std::snprintf(
+					buf, sizeof(buf), "%.1f fps  %s  kf %zu  inliers %zu", s > 0 ? static_cast<double>(done) / s : 0.0,
+					r.tracked ? "tracking" : (r.frameId == 0 ? "initialising" : "LOST"), sys.map().numKeyFrames(), r.inliers);
+				progress(done, src->sizeHint(), buf);
+			}
+		}
+	}
+	catch (const InputError&)
+	{
+		sys.waitForMapping();
+		writeOutputs(sys, o.outDir, sum);
+		throw;
+	}
+	sys.waitForMapping();
+	writeOutputs(sys, o.outDir, sum);
+	if (!gt.empty() && sum.stats.frames > 0)
+	{
+		try
+		{
+			TEvalOptions eo;
+			sum.eval = evaluateTrajectories(gt, sys.trajectory(), eo, sum.groundTruth, "trajectory.txt");
+			sum.evaluated = true;
+			writeFileAtomically((fs::path(o.outDir) / "eval.json").string(), formatEvalJson(sum.eval));
+		}
+		catch (const std::exception& e)
+		{
+			sum.evalProblem = e.what();
+		}
+	}
+	return sum;
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,235 @@
+#include "mrpt_yesslam/tracking/CTracker.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace mrpt_yesslam
+{
+void CTracker::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	pose.loadFromConfigFile(c, s);
+	MRPT_LOAD_CONFIG_VAR(maxDepth, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(motionRadius, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(localRadius, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(maxHamming, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(ratio, double, c, s);
+	localKeyFrames = static_cast<std::size_t>(c.read_int(s, "localKeyFrames", static_cast<int>(localKeyFrames)));
+	minTrackedInliers = static_cast<std::size_t>(c.read_int(s, "minTrackedInliers", static_cast<int>(minTrackedInliers)));
+	relocKeyFrames = static_cast<std::size_t>(c.read_int(s, "relocKeyFrames", static_cast<int>(relocKeyFrames)));
+}
+
+void CTracker::TOptions::dumpToTextStream(std::ostream& o) const
+{
+	pose.dumpToTextStream(o);
+	o << "maxDepth           = " << maxDepth << "\n";
+	o << "motionRadius       = " << motionRadius << "\n";
+	o << "localRadius        = " << localRadius << "\n";
+	o << "maxHamming         = " << maxHamming << "\n";
+	o << "ratio              = " << ratio << "\n";
+	o << "localKeyFrames     = " << localKeyFrames << "\n";
+	o << "minTrackedInliers  = " << minTrackedInliers << "\n";
+	o << "relocKeyFrames     = " << relocKeyFrames << "\n";
+}
+
+std::vector<TConfigKey> CTracker::TOptions::configKeys()
+{
+	using T = TConfigKey::Type;
+	auto k = CPoseOptimizer::TOptions::configKeys();
+	for (const auto& e : std::vector<TConfigKey>{
+			 {"maxDepth", T::Number},
+			 {"motionRadius", T::Number},
+			 {"localRadius", T::Number},
+			 {"maxHamming", T::Integer},
+			 {"ratio", T::Number},
+			 {"localKeyFrames", T::Integer},
+			 {"minTrackedInliers", T::Integer},
+			 {"relocKeyFrames", T::Integer}})
+		k.push_back(e);
+	return k;
+}
+
+std::vector<TPoseObservation> makePoseObservations(
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor)
+{
+	std::vector<TPoseObservation> obs;
+	obs.reserve(m.size());
+	for (const auto& x : m)
+	{
+		TPoseObservation o;
+		const auto& P = pts.positions[x.point];
+		o.world = {P.x, P.y, P.z};
+		const auto& kp = f.features.keypoints[x.keypoint];
+		o.pixel = {kp.pt.x, kp.pt.y};
+		o.sigma = std::pow(scaleFactor, std::max(0, kp.octave));
+		obs.push_back(o);
+	}
+	return obs;
+}
+
+CTracker::CTracker(const TOptions& opts, CSparseMap& map)
+	: opts_(opts), map_(map), optimizer_(opts.pose), matcher_(opts.maxHamming, opts.ratio)
+{
+}
+
+void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
+{
+	if (last_ && last_->tracked && f->tracked)
+		velocity_ = f->pose - last_->pose;	// T_{k-1,k} = T_w_{k-1}^-1 T_w_k
+	else if (!f->tracked)
+		velocity_.reset();	// a guessed pose must not feed the next guess
+	last_ = f;
+}
+
+TPoseEstimate CTracker::refineWith(
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const
+{
+	return optimizer_.refine(makePoseObservations(f, m, pts), f.camera, guess);
+}
+
+TLocalMapPoints CTracker::lastFramePoints() const
+{
+	TLocalMapPoints out;
+	if (!last_) return out;
+	std::vector<TPointId> ids;
+	std::vector<std::size_t> temporary;
+	for (std::size_t i = 0; i < last_->size(); i++)
+	{
+		if (i < last_->mapPoints.size() && last_->mapPoints[i] >= 0)
+			ids.push_back(last_->mapPoints[i]);
+		else if (last_->usable(i, opts_.maxDepth))
+			temporary.push_back(i);
+	}
+	out = map_.pointsById(ids);
+	for (std::size_t i : temporary)
+	{
+		const cv::Point3d pc = last_->backProject(i);
+		double gx, gy, gz;
+		last_->pose.composePoint(pc.x, pc.y, pc.z, gx, gy, gz);
+		out.ids.push_back(-1);
+		out.positions.push_back({gx, gy, gz});
+		out.descriptors.push_back(last_->features.descriptors.row(static_cast<int>(i)));
+	}
+	return out;
+}
+
+bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResult& r)
+{
+	if (!refKf_) return false;
+	const TLocalMapPoints local = map_.localPoints(*refKf_, opts_.localKeyFrames);
+	std::vector<std::size_t> inView;
+	const auto m = matcher_.searchByProjection(f, guess, local, opts_.localRadius, &inView);
+	r.localMatches = m.size();
+	const TPoseEstimate e = refineWith(f, m, local, guess);
+	if (!e.ok || e.numInliers < opts_.minTrackedInliers) return false;
+	f.pose = e.cameraInWorld;
+	f.mapPoints.assign(f.size(), -1);
+	std::vector<TPointId> visible, found;
+	for (std::size_t j : inView) visible.push_back(local.ids[j]);
+	for (std::size_t k = 0; k < m.size(); k++)
+		if (e.inlier[k])
+		{
+			f.mapPoints[m[k].keypoint] = local.ids[m[k].point];
+			found.push_back(local.ids[m[k].point]);
+		}
+	map_.countTracking(visible, found);
+	f.numInliers = e.numInliers;
+	r.inliers = e.numInliers;
+	return true;
+}
+
+bool CTracker::relocalise(TFrame& f, TResult& r)
+{
+	const std::size_t n = map_.numKeyFrames();
+	const std::size_t first = opts_.relocKeyFrames == 0 || n <= opts_.relocKeyFrames ? 0 : n - opts_.relocKeyFrames;
+	// Newest first: after a short loss the camera is most likely where it just was.
+	for (std::size_t k = n; k-- > first;)
+	{
+		const TLocalMapPoints pts = map_.keyFramePoints(k);
+		const auto m = matcher_.matchBruteForce(f, pts.descriptors);
+		if (m.size() < 15) continue;
+		const auto obs = makePoseObservations(f, m, pts);
+		const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
+		if (!pnp.ok) continue;
+		const auto prevRef = refKf_;
+		refKf_ = k;
+		if (trackLocalMap(f, pnp.cameraInWorld, r))
+		{
+			r.relocalised = true;
+			return true;
+		}
+		refKf_ = prevRef;
+	}
+	return false;
+}
+
+CTracker::TResult CTracker::track(TFrame& f)
+{
+	TResult r;
+	f.tracked = false;
+	f.numInliers = 0;
+	f.mapPoints.assign(f.size(), -1);
+	const mrpt::poses::CPose3D lastPose = last_ ? last_->pose : mrpt::poses::CPose3D();
+	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
+	f.pose = predicted;
+	if (!refKf_) return r;
+
+	// 1. Motion model against the last frame's points (map points and temporary depth points).
+	std::optional<mrpt::poses::CPose3D> guess;
+	TLocalMapPoints pts;
+	std::vector<TMatch> used;
+	TPoseEstimate e;
+	if (last_ && last_->tracked)
+	{
+		pts = lastFramePoints();
+		used = matcher_.searchByProjection(f, predicted, pts, opts_.motionRadius);
+		if (used.size() < 2 * opts_.minTrackedInliers)	// a poor prediction (sudden motion): search wider
+			used = matcher_.searchByProjection(f, predicted, pts, 2 * opts_.motionRadius);
+		r.motionMatches = used.size();
+		e = refineWith(f, used, pts, predicted);
+		if (!e.ok)
+		{
+			// The prediction was too far off for projection search: match by descriptor, PnP.
+			used = matcher_.matchBruteForce(f, pts.descriptors);
+			const auto obs = makePoseObservations(f, used, pts);
+			const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
+			if (pnp.ok)
+			{
+				e = optimizer_.refine(obs, f.camera, pnp.cameraInWorld);
+				r.recoveredByPnP = e.ok;
+			}
+		}
+		if (e.ok) guess = e.cameraInWorld;
+	}
+	// 2. The local map, from the motion-model pose (or the prediction, when there is none).
+	if (trackLocalMap(f, guess ? *guess : predicted, r))
+	{
+		f.tracked = true;
+		r.ok = true;
+		return r;
+	}
+	// 3. The local map did not confirm it (the view has left the mapped part faster than keyframes
+	// came): keep the last-frame pose when it had enough support; the new keyframe that the system
+	// then inserts restores the map around it.
+	if (guess && e.numInliers >= opts_.minTrackedInliers)
+	{
+		f.pose = *guess;
+		f.tracked = true;
+		f.numInliers = e.numInliers;
+		for (std::size_t k = 0; k < used.size(); k++)
+			if (e.inlier[k] && pts.ids[used[k].point] >= 0) f.mapPoints[used[k].keypoint] = pts.ids[used[k].point];
+		r.inliers = e.numInliers;
+		r.ok = true;
+		return r;
+	}
+	if (relocalise(f, r))
+	{
+		f.tracked = true;
+		r.ok = true;
+		return r;
+	}
+	f.pose = guess ? *guess : predicted;
+	return r;
+}
+}  // namespace mrpt_yesslam
