@@ -7,6 +7,7 @@
 #include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
+#include "mrpt_yesslam/system/CYesSlamSystem.h"
 #include "mrpt_yesslam/tracking/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -106,8 +107,12 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("DynamicMask", CDynamicObjectMasker::TOptions::configKeys(), mask, CDynamicObjectMasker::TOptions());
 	COrbExtractor::TOptions orb;
 	check("ORB", COrbExtractor::TOptions::configKeys(), orb, COrbExtractor::TOptions());
-	CPoseOptimizer::TOptions trk;
-	check("Tracking", CPoseOptimizer::TOptions::configKeys(), trk, CPoseOptimizer::TOptions());
-	CSemanticKeyFrameSelector::TOptions kf;
-	check("KeyFrames", CSemanticKeyFrameSelector::TOptions::configKeys(), kf, CSemanticKeyFrameSelector::TOptions());
+	CTracker::TOptions trk;
+	check("Tracking", CTracker::TOptions::configKeys(), trk, CTracker::TOptions());
+	CKeyFrameInserter::TOptions kf;
+	check("KeyFrames", CKeyFrameInserter::TOptions::configKeys(), kf, CKeyFrameInserter::TOptions());
+	CLocalMapper::TOptions lm;
+	check("LocalMapping", CLocalMapper::TOptions::configKeys(), lm, CLocalMapper::TOptions());
+	TYesSlamOptions::TSystem sys;
+	check("System", TYesSlamOptions::TSystem::configKeys(), sys, TYesSlamOptions::TSystem());
 }

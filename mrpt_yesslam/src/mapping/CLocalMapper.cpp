@@ -17,7 +17,7 @@ void CLocalMapper::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
 	covisibleKeyFrames = static_cast<std::size_t>(c.read_int(s, "covisibleKeyFrames", static_cast<int>(covisibleKeyFrames)));
 	maxFixedKeyFrames = static_cast<std::size_t>(c.read_int(s, "maxFixedKeyFrames", static_cast<int>(maxFixedKeyFrames)));
 	MRPT_LOAD_CONFIG_VAR(iterations, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(bf, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(depthNoise, double, c, s);
 	MRPT_LOAD_CONFIG_VAR(cullFoundRatio, double, c, s);
 	cullMinObservations = static_cast<std::size_t>(c.read_int(s, "cullMinObservations", static_cast<int>(cullMinObservations)));
 	MRPT_LOAD_CONFIG_VAR(scaleFactor, double, c, s);
@@ -30,7 +30,7 @@ void CLocalMapper::TOptions::dumpToTextStream(std::ostream& o) const
 	o << "covisibleKeyFrames  = " << covisibleKeyFrames << "\n";
 	o << "maxFixedKeyFrames   = " << maxFixedKeyFrames << "\n";
 	o << "iterations          = " << iterations << "\n";
-	o << "bf                  = " << bf << "\n";
+	o << "depthNoise          = " << depthNoise << "\n";
 	o << "cullFoundRatio      = " << cullFoundRatio << "\n";
 	o << "cullMinObservations = " << cullMinObservations << "\n";
 	o << "scaleFactor         = " << scaleFactor << "\n";
@@ -40,7 +40,7 @@ std::vector<TConfigKey> CLocalMapper::TOptions::configKeys()
 {
 	using T = TConfigKey::Type;
 	return {{"bundleAdjustment", T::Boolean}, {"covisibleKeyFrames", T::Integer}, {"maxFixedKeyFrames", T::Integer},
-			{"iterations", T::Integer},		  {"bf", T::Number},				   {"cullFoundRatio", T::Number},
+			{"iterations", T::Integer},		  {"depthNoise", T::Number},				   {"cullFoundRatio", T::Number},
 			{"cullMinObservations", T::Integer}, {"scaleFactor", T::Number}};
 }
 
@@ -72,7 +72,7 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 	struct Obs
 	{
 		std::size_t point, kf;
-		TStereoReprojectionCost cost;
+		TRgbdReprojectionCost cost;
 		bool hasDepth;
 	};
 	std::vector<Obs> all;
@@ -86,12 +86,13 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 			const bool hasDepth = z > 0;
 			const double sigma = std::pow(opts_.scaleFactor, std::max(0, key.octave));
 			const auto& K = f.camera;
-			TStereoReprojectionCost c(
-				key.pt.x, key.pt.y, hasDepth ? key.pt.x - opts_.bf / z : -1.0, sigma, K.fx(), K.fy(), K.cx(), K.cy(), opts_.bf);
-			all.push_back({i, k, c, hasDepth});
-			auto* cost = new ceres::AutoDiffCostFunction<TStereoReprojectionCost, 3, 3, 3, 3>(new TStereoReprojectionCost(c));
+			const bool useDepth = hasDepth && opts_.depthNoise > 0;
+			TRgbdReprojectionCost c(
+				key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, useDepth ? opts_.depthNoise * z * z : 0.0, K.fx(), K.fy(), K.cx(), K.cy());
+			all.push_back({i, k, c, useDepth});
+			auto* cost = new ceres::AutoDiffCostFunction<TRgbdReprojectionCost, 3, 3, 3, 3>(new TRgbdReprojectionCost(c));
 			// Huber corner at the chi-square 95% threshold, as ORB-SLAM2 (3 DoF: 7.815, 2 DoF: 5.991).
-			auto* loss = new ceres::HuberLoss(std::sqrt(hasDepth ? 7.815 : 5.991));
+			auto* loss = new ceres::HuberLoss(std::sqrt(useDepth ? 7.815 : 5.991));
 			auto& pp = poseParams.at(k);
 			problem.AddResidualBlock(cost, loss, pp.data(), pp.data() + 3, X[i].data());
 		}

@@ -99,6 +99,7 @@ TSlamJobSummary runSlamJob(
 		throw;
 	}
 	sys.waitForMapping();
+	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	writeOutputs(sys, o.outDir, sum);
 	if (!gt.empty() && sum.stats.frames > 0)
 	{

@@ -30,6 +30,7 @@ struct TSlamJobSummary
 	TEvalReport eval;
 	std::string evalProblem;  //!< why there is no evaluation although ground truth exists
 	std::string detector;  //!< the detector used, in words
+	double seconds = 0;	 //!< wall time of the frame loop
 };
 
 /** Picks the detector for "auto": the file backend when a detections.txt lies beside the input
