@@ -218,3 +218,39 @@ TEST(Tools, DetectOnImageAndTumFolder)
 	for (const auto& e : fs::directory_iterator(d / "tum/masks"))
 		EXPECT_EQ(cv::countNonZero(cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE)), 0) << e.path();
 }
+
+TEST(Tools, SlamAppOnRealFramesAndItsErrors)
+{
+	// yesslam on the 9 real fr1/desk frames (TUM RGB-D, CC BY 4.0): the ground truth beside the input
+	// is found and evaluated; then the CLI's one-line errors.
+	TempDir d("slam_app");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	const auto r = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--sequential", "--quiet"});
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	EXPECT_EQ(value(r.out, "frames"), "9");
+	EXPECT_EQ(value(r.out, "tracked").substr(0, 9), "9 (100.0%");
+	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.01);
+	EXPECT_EQ(value(r.out, "ate_pairs"), "9");
+	for (const char* f : {"trajectory.txt", "keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini", "eval.json"})
+		EXPECT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
+
+	const auto help = runTool("yesslam", {"--help"});
+	EXPECT_EQ(help.exitCode, 0);
+	for (const char* opt : {"--input", "--out", "--config", "--detector", "--no-dynamic-filter", "--max-frames", "--gt", "--policy"})
+		EXPECT_NE(help.out.find(opt), std::string::npos) << opt;
+
+	auto fails = [&](const std::vector<std::string>& args, const std::vector<std::string>& fragments)
+	{
+		const auto e = runTool("yesslam", args);
+		EXPECT_EQ(e.exitCode, 1) << e.err;
+		EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << e.err;
+		for (const auto& f : fragments) EXPECT_NE(e.err.find(f), std::string::npos) << f << " in: " << e.err;
+	};
+	fails({"--input", d / "missing", "--out", d / "x"}, {"yesslam: error", "missing"});
+	fails({"--input", desk, "--out", d / "x", "--detector", "yolo"}, {"model"});
+	fails({"--input", desk, "--out", d / "x", "--max-frames", "many"}, {"--max-frames"});
+	fails({"--input", desk, "--out", d / "x", "--policy", "often", "--detector", "none"}, {"policy", "often"});
+	writeText(d / "bad.ini", "[Tracking]\nmaxDepth = far\n");
+	fails({"--input", desk, "--out", d / "x", "--config", d / "bad.ini"}, {"bad.ini", "maxDepth"});
+	fails({"--input", desk, "--out", d / "x", "--gt", d / "bad.ini", "--detector", "none"}, {"bad.ini"});
+}

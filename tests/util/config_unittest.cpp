@@ -116,3 +116,26 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	TYesSlamOptions::TSystem sys;
 	check("System", TYesSlamOptions::TSystem::configKeys(), sys, TYesSlamOptions::TSystem());
 }
+
+TEST(Config, ShippedSequenceConfigsHaveOnlyKnownKeys)
+{
+	// tum_fr1/2/3.ini and sim.ini: every key is one the code reads, with a value of the right type.
+	for (const char* name : {"tum_fr1.ini", "tum_fr2.ini", "tum_fr3.ini", "sim.ini"})
+	{
+		SCOPED_TRACE(name);
+		const std::string path = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/" + name;
+		const auto cfg = loadConfigFile(path);
+		const std::vector<std::pair<std::string, std::vector<TConfigKey>>> sections = {
+			{"Input", CInputSource::TOptions::configKeys()},		 {"Detector", CObjectDetector::TOptions::configKeys()},
+			{"DynamicMask", CDynamicObjectMasker::TOptions::configKeys()}, {"ORB", COrbExtractor::TOptions::configKeys()},
+			{"Tracking", CTracker::TOptions::configKeys()},		 {"KeyFrames", CKeyFrameInserter::TOptions::configKeys()},
+			{"LocalMapping", CLocalMapper::TOptions::configKeys()},	 {"System", TYesSlamOptions::TSystem::configKeys()}};
+		std::vector<std::string> all;
+		cfg->getAllSections(all);
+		for (const auto& s : all)
+			EXPECT_TRUE(std::any_of(sections.begin(), sections.end(), [&](const auto& x) { return x.first == s; })) << s;
+		for (const auto& [section, keys] : sections) EXPECT_TRUE(validateConfigSection(*cfg, path, section, keys).empty()) << section;
+		TYesSlamOptions o;
+		EXPECT_NO_THROW(o.loadFromFile(path));
+	}
+}
