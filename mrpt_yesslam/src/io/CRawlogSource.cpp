@@ -27,10 +27,47 @@ namespace fs = std::filesystem;
 // aligned_free (::free) releases it as before. Single blocks above 512 MiB are refused too: a
 // corrupt size that the machine could satisfy would otherwise eat gigabytes (zero-filled) before
 // the read fails (fuzz_rawlog's out-of-memory reproducer); no image or cloud we read comes near it.
+namespace
+{
+// Bytes the current thread may still allocate while MRPT deserialises one rawlog entry; null when
+// no entry is being read (no limit). See readObject().
+thread_local std::size_t* g_allocationBudget = nullptr;
+
+void chargeAllocation(std::size_t n)
+{
+	if (!g_allocationBudget) return;
+	if (n > *g_allocationBudget) throw std::bad_alloc();
+	*g_allocationBudget -= n;
+}
+}  // namespace
+
+// The second guard (fuzz_rawlog's "timeout" findings, now in tests/fuzz/corpus/rawlog): a corrupt
+// count in a CActionCollection makes MRPT resize a std::deque to billions of elements, allocated
+// in 512-byte nodes through plain operator new, so no single block is large: it took 1-4 minutes
+// and ~14 GB before failing. Our executables replace the global operator new (ASan and UBSan
+// builds included: memory still comes from malloc and goes back to free) so that, while one
+// rawlog entry is being read, allocations are charged to a budget; over it, std::bad_alloc, and
+// CRawlogSource reports the corrupt entry at once. Outside readObject() nothing changes.
+void* operator new(std::size_t n)
+{
+	chargeAllocation(n);
+	if (n == 0) n = 1;
+	for (;;)
+	{
+		if (void* p = std::malloc(n)) return p;
+		const std::new_handler h = std::get_new_handler();
+		if (!h) throw std::bad_alloc();
+		h();
+	}
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
 void* mrpt::aligned_malloc(size_t size, size_t alignment)
 {
 	constexpr size_t kMaxBlock = size_t(1) << 29;
 	if (size > kMaxBlock) throw std::bad_alloc();
+	chargeAllocation(size);
 	if (alignment < sizeof(void*)) alignment = sizeof(void*);
 	if (size % alignment != 0) size = (size / alignment + 1) * alignment;
 	void* p = ::aligned_alloc(alignment, size == 0 ? alignment : size);
@@ -68,6 +105,14 @@ mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 	// gzeof() only turns true after a failed read, so the end is recognised afterwards: an
 	// exception with no byte consumed is the clean end of the file; anything else is damage.
 	const uint64_t before = file_->getPosition();
+	// One entry (an RGB-D frame: images, depth, maybe a point cloud: a few MB, ~100 MB at 4K with
+	// clouds) never needs 256 MiB.
+	std::size_t budget = std::size_t(1) << 28;
+	struct TBudgetScope
+	{
+		explicit TBudgetScope(std::size_t* b) { g_allocationBudget = b; }
+		~TBudgetScope() { g_allocationBudget = nullptr; }
+	} scope(&budget);
 	try
 	{
 		auto arch = mrpt::serialization::archiveFrom(*file_);
@@ -77,6 +122,7 @@ mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 	}
 	catch (const std::exception& e)
 	{
+		g_allocationBudget = nullptr;  // the message below must not fail for lack of budget
 		if (file_->getPosition() == before) return nullptr;
 		throw InputError(
 			path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" + exceptionSummary(e.what()) + ")");
