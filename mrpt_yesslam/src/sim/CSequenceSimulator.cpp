@@ -21,6 +21,7 @@
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include "mrpt_yesslam/sim/SimTextures.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/CAsyncPngWriter.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace fs = std::filesystem;
@@ -307,6 +308,7 @@ TSimSummary runSimulation(
 	cv::Mat scratch(cam.intrinsics.nrows, cam.intrinsics.ncols, CV_8U);
 	const auto& objs = world.objects();
 
+	CAsyncPngWriter pngs(2, 16);
 	for (std::size_t k = 0; k < stamps.size(); k++)
 	{
 		if (cancel && cancel())
@@ -461,26 +463,32 @@ TSimSummary runSimulation(
 				cv::putText(ov, objs[i].name, bbox[id].tl() + cv::Point(2, 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, col, 1, cv::LINE_AA);
 			}
 			fs::create_directories(out / "labels/overlay", ec);
-			writePngAtomically((out / "labels/overlay" / name).string(), ov);
+			pngs.write((out / "labels/overlay" / name).string(), ov);
 		}
-		writePngAtomically((out / "rgb" / name).string(), rgb);
-		writePngAtomically((out / "depth" / name).string(), depth16);
-		writePngAtomically((out / "labels/class" / name).string(), cls);
-		writePngAtomically((out / "labels/instance" / name).string(), inst);
+		// Colour images of the rawlog are external (MRPT's "<rawlog>_Images/" convention), hard links
+		// to the PNGs in rgb/: no second copy on disk and no second encoding.
+		std::function<void()> linkForRawlog;
+		if (rawlog)
+			linkForRawlog = [out, name]
+			{
+				std::error_code lec;
+				const fs::path link = out / "sequence_Images" / name;
+				fs::remove(link, lec);
+				fs::create_hard_link(out / "rgb" / name, link, lec);
+				if (lec) fs::copy_file(out / "rgb" / name, link, fs::copy_options::overwrite_existing, lec);
+				if (lec) throw InputError(link.string(), "cannot write image (" + lec.message() + ")");
+			};
+		pngs.write((out / "rgb" / name).string(), rgb, linkForRawlog);
+		pngs.write((out / "depth" / name).string(), depth16);
+		pngs.write((out / "labels/class" / name).string(), cls);
+		pngs.write((out / "labels/instance" / name).string(), inst);
 		rgbTxt += stampText(stamps[k]) + " rgb/" + name + "\n";
 		depthTxt += stampText(stamps[k]) + " depth/" + name + "\n";
 		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(stamps[k]) + " depth/" + name + "\n";
 		gt.push_back(TStampedPose::fromPose(stamps[k], poses[k]));
 		if (rawlog)
 		{
-			// Colour images are external (MRPT's "<rawlog>_Images/" convention), hard links to the PNGs
-			// in rgb/: no second copy on disk and no second encoding.
 			auto obs = makeRgbdObservation(stamps[k], rgb, depth16, cam, "RGBD_SIM");
-			const fs::path link = out / "sequence_Images" / name;
-			fs::remove(link, ec);
-			fs::create_hard_link(out / "rgb" / name, link, ec);
-			if (ec) fs::copy_file(out / "rgb" / name, link, fs::copy_options::overwrite_existing, ec);
-			if (ec) throw InputError(link.string(), "cannot write image (" + ec.message() + ")");
 			mrpt::img::CImage ext;
 			ext.setExternalStorage(name);
 			obs->intensityImage = ext;
@@ -490,6 +498,7 @@ TSimSummary runSimulation(
 		if (progress) progress(sum.frames, stamps.size());
 	}
 
+	pngs.finish();
 	// The lists and files that make the folder a TUM sequence, then the rest.
 	writeFileAtomically((out / "rgb.txt").string(), rgbTxt);
 	writeFileAtomically((out / "depth.txt").string(), depthTxt);
