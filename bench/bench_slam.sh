@@ -11,15 +11,17 @@ FRAMES="${1:-600}"; RUNS="${2:-3}"; shift 2 || true
 PRESETS=("$@"); [ ${#PRESETS[@]} -gt 0 ] || PRESETS=(static_office walking_xyz walking_static walking_rpy walking_halfsphere)
 SHARED="$ROOT/../shared"
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
-OUT="$ROOT/bench_out/slam"; mkdir -p "$OUT"
+OUT="$ROOT/bench_out/slam"; mkdir -p "$OUT/runs"
+# Peak memory through GNU time (Debian package "time") when it is there.
+TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 field() { awk -v k="$1:" '$1==k {print $2}' "$2"; }
 kf() { awk -F'[:,]' '/"keyframes"/ {gsub(/ /,"",$2); print $2}' "$1"; }
 rate() { awk -F'[:,]' '/"tracking_rate"/ {gsub(/ /,"",$2); print $2}' "$1"; }
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo
-echo "| preset | frames | ATE RMSE filtered (m) | ATE RMSE unfiltered (m) | ratio | tracking rate | keyframes semantic | keyframes orbslam | fps |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| preset | frames | ATE RMSE filtered (m) | ATE RMSE unfiltered (m) | ratio | tracking rate | keyframes semantic | keyframes orbslam | fps | max RSS (MB) |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 for p in "${PRESETS[@]}"; do
   seq="$OUT/$p"
   if [ ! -f "$seq/meta.json" ]; then
@@ -30,7 +32,8 @@ for p in "${PRESETS[@]}"; do
   for mode in filtered unfiltered; do
     flag=(); [ $mode = unfiltered ] && flag=(--no-dynamic-filter)
     for i in $(seq "$RUNS"); do
-      "$BIN/yesslam" --input "$seq" --out "$OUT/runs/$p-$mode-$i" --quiet "${flag[@]}" > "$OUT/runs/$p-$mode-$i.log" 2>&1 || true
+      "${TIMECMD[@]}" "$BIN/yesslam" --input "$seq" --out "$OUT/runs/$p-$mode-$i" --quiet "${flag[@]}" \
+        > "$OUT/runs/$p-$mode-$i.log" 2>&1 || true
     done
   done
   "$BIN/yesslam" --input "$seq" --out "$OUT/runs/$p-orbslam" --quiet --policy orbslam > "$OUT/runs/$p-orbslam.log" 2>&1 || true
@@ -39,6 +42,7 @@ for p in "${PRESETS[@]}"; do
   r=$(for i in $(seq "$RUNS"); do rate "$OUT/runs/$p-filtered-$i/stats.json"; done | median)
   ks=$(kf "$OUT/runs/$p-filtered-1/stats.json"); ko=$(kf "$OUT/runs/$p-orbslam/stats.json")
   fps=$(for i in $(seq "$RUNS"); do awk '/^fps:/ {print $2}' "$OUT/runs/$p-filtered-$i.log"; done | median)
+  rss=$(for i in $(seq "$RUNS"); do awk '/^maxrss_kb:/ {print int($2/1024)}' "$OUT/runs/$p-filtered-$i.log"; done | median)
   ratio=$(awk -v a="$u" -v b="$f" 'BEGIN {printf "%.1f", (b > 0) ? a / b : 0}')
-  printf "| %s | %s | %.4f | %.4f | %s | %.1f%% | %s | %s | %s |\n" "$p" "$FRAMES" "$f" "$u" "$ratio" "$(awk -v x="$r" 'BEGIN{print 100*x}')" "$ks" "$ko" "$fps"
+  printf "| %s | %s | %.4f | %.4f | %s | %.1f%% | %s | %s | %s | %s |\n" "$p" "$FRAMES" "$f" "$u" "$ratio" "$(awk -v x="$r" 'BEGIN{print 100*x}')" "$ks" "$ko" "$fps" "$rss"
 done
