@@ -2,6 +2,10 @@
 // simulated detector must see what it claims, its output must be byte-deterministic, and the
 // walking presets must be as dynamic as TUM's walking sequences.
 #include <gtest/gtest.h>
+#include "mrpt_yesslam/io/RgbdCamera.h"
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CBox.h>
+#include <mrpt/opengl/CFBORender.h>
 
 #include <algorithm>
 
@@ -118,6 +122,37 @@ TEST(Simulator, GroundTruthIsConsistentAcrossFrames)
 	EXPECT_GT(staticDepthOk, staticN * 95 / 100) << "static depth inconsistent with the poses";
 	EXPECT_GT(staticColourOk, staticN * 80 / 100) << "static colour inconsistent with the poses";
 	EXPECT_GT(dynOff, dynN * 50 / 100) << "people did not move relative to the room";
+}
+
+TEST(Simulator, RenderedPixelsFollowTheCalibration)
+{
+	// A box at 2 m whose edges project to fractional pixel positions e around 300 (bottom/right)
+	// and 100 (top/left): pixel 300 / 100 must be covered exactly when the edge passes its centre.
+	const mrpt::img::TCamera K = tumCameraByName("fr3").intrinsics;
+	mrpt::opengl::CFBORender fbo(static_cast<int>(K.ncols), static_cast<int>(K.nrows));
+	mrpt::img::CImage rgb;
+	mrpt::math::CMatrixFloat d;
+	for (double e : {-0.3, -0.1, 0.1, 0.3})
+	{
+		const double z = 2.0;
+		auto x = [&](double u) { return (u - K.cx()) * z / K.fx(); };
+		auto y = [&](double v) { return (v - K.cy()) * z / K.fy(); };
+		auto s = mrpt::opengl::COpenGLScene::Create();
+		s->getViewport()->setViewportClipDistances(0.2f, 10.0f);
+		s->insert(mrpt::opengl::CBox::Create(
+			mrpt::math::TPoint3D(x(100 + e), y(100 + e), z), mrpt::math::TPoint3D(x(300 + e), y(300 + e), z + 1e-4), false));
+		auto& cam = fbo.getCamera(*s);
+		cam.set6DOFMode(true);
+		cam.setProjectiveFromPinhole(openGlIntrinsics(K));
+		cam.setPose(mrpt::poses::CPose3D());
+		fbo.render_RGBD(*s, rgb, d);
+		auto covered = [&](int v, int u) { return d(v, u) > 0 && d(v, u) < 2.5; };
+		SCOPED_TRACE(e);
+		EXPECT_EQ(covered(300, 200), e > 0) << "bottom edge";
+		EXPECT_EQ(covered(200, 300), e > 0) << "right edge";
+		EXPECT_EQ(covered(100, 200), e < 0) << "top edge";
+		EXPECT_EQ(covered(200, 100), e < 0) << "left edge";
+	}
 }
 
 TEST(Simulator, DepthIsMetric)

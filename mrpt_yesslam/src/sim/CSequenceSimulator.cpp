@@ -206,6 +206,18 @@ std::string jsonEscape(const std::string& s)
 }
 }  // namespace
 
+mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K)
+{
+	// CFBORender samples pixel k at image coordinate k + 0.5 (OpenGL's pixel centres), while TUM
+	// and our tracking put pixel centres at integers: rendered with the true cx, cy every image
+	// came out half a pixel off its own calibration (tests/sim measures box edges placed at
+	// fractional pixel positions), which bent the map wherever depth and pixels were combined.
+	mrpt::img::TCamera g = K;
+	g.cx(K.cx() + 0.5);
+	g.cy(K.cy() + 0.5);
+	return g;
+}
+
 TSimSummary runSimulation(
 	const TSimOptions& o, const std::function<void(std::size_t, std::size_t)>& progress, const std::function<bool()>& cancel)
 {
@@ -294,7 +306,7 @@ TSimSummary runSimulation(
 	mrpt::opengl::CFBORender fbo(cam.intrinsics.ncols, cam.intrinsics.nrows);
 	auto& glcam = fbo.getCamera(world.colourScene());
 	glcam.set6DOFMode(true);
-	glcam.setProjectiveFromPinhole(cam.intrinsics);
+	glcam.setProjectiveFromPinhole(openGlIntrinsics(cam.intrinsics));
 
 	std::unique_ptr<CRawlogWriter> rawlog;
 	if (o.writeRawlog) rawlog = std::make_unique<CRawlogWriter>((out / "sequence.rawlog").string());

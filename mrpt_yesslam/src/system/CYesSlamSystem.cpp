@@ -275,6 +275,19 @@ TFrameReport CYesSlamSystem::processFrame(
 		rep.relocalised = r.relocalised;
 	}
 	ms["track"] = msSince(t0);
+	// The trajectory stores the pose relative to the reference keyframe as tracking saw it, before
+	// this frame's keyframe (if any) goes through local BA, as ORB-SLAM2 does.
+	TFrameRecord rec;
+	rec.t = f->timestamp;
+	rec.tracked = f->tracked;
+	if (const auto ref = tracker_.referenceKeyFrame())
+	{
+		rec.hasRef = true;
+		rec.refKf = *ref;
+		rec.relative = f->pose - map_.keyFramePose(*ref);
+	}
+	else
+		rec.relative = f->pose;
 
 	t0 = Clock::now();
 	std::shared_ptr<const TFrame> frame = f;
@@ -310,17 +323,6 @@ TFrameReport CYesSlamSystem::processFrame(
 	ms["keyframe"] = msSince(t0);
 	tracker_.setLastFrame(frame);
 
-	TFrameRecord rec;
-	rec.t = frame->timestamp;
-	rec.tracked = frame->tracked;
-	if (const auto ref = tracker_.referenceKeyFrame())
-	{
-		rec.hasRef = true;
-		rec.refKf = *ref;
-		rec.relative = frame->pose - map_.keyFramePose(*ref);
-	}
-	else
-		rec.relative = frame->pose;
 	records_.push_back(rec);
 
 	rep.tracked = frame->tracked;

@@ -1,4 +1,5 @@
 #pragma once
+#include <mrpt/img/TCamera.h>
 // yesslam-sim's engine: renders a dynamic office sequence (colour, depth with Kinect-like noise,
 // class and instance labels), the camera's ground truth, per-object boxes and visibility, and
 // simulated detector output, and writes them as a TUM folder, an MRPT rawlog and a .3Dscene.
@@ -54,6 +55,10 @@ struct TSimSummary
 /** Runs a simulation; throws InputError for bad options (unknown preset, unwritable folder,
  * unreadable trajectory). `progress(done,total)` after each frame; `cancel()` stops early and
  * keeps what was written. */
+/** The intrinsics to give CFBORender so that its images follow `K` with pixel centres at integer
+ * coordinates (TUM's convention); CFBORender samples pixel k at k + 0.5. */
+mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K);
+
 TSimSummary runSimulation(
 	const TSimOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress = {},
 	const std::function<bool()>& cancel = {});
