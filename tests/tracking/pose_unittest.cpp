@@ -110,7 +110,9 @@ TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
 	o.world = Eigen::Vector3d(0.3, -0.2, 2.5);
 	o.pixel = Eigen::Vector2d(350, 200);
 	o.sigma = 1.44;
-	ceres::AutoDiffCostFunction<TReprojectionResidual, 2, 3, 3> cost(new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy()));
+	o.depth = 2.45;	 // the RGB-D depth term as well
+	o.sigmaZ = 0.015;
+	ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3> cost(new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy()));
 	double rv[3] = {0.1, -0.2, 0.05}, t[3] = {0.02, 0.1, -0.3};
 	std::vector<double*> params = {rv, t};
 	ceres::NumericDiffOptions nd;
@@ -123,7 +125,7 @@ TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
 	// And the residual itself: zero at the true projection.
 	TReprojectionResidual f(o, K.fx(), K.fy(), K.cx(), K.cy());
 	const double zero[3] = {0, 0, 0};
-	double r[2];
+	double r[3];
 	TPoseObservation exact = o;
 	exact.pixel = Eigen::Vector2d(K.fx() * 0.3 / 2.5 + K.cx(), K.fy() * -0.2 / 2.5 + K.cy());
 	TReprojectionResidual g(exact, K.fx(), K.fy(), K.cx(), K.cy());

@@ -66,6 +66,29 @@ COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 	perLevel_.push_back(std::max(0, o.numFeatures - sum));
 }
 
+namespace
+{
+// Corners very often sit on depth discontinuities (an object's silhouette against what is behind
+// it), where the depth under the keypoint may belong to either side, and a corner found at a
+// coarse pyramid level is not exactly where the pixel is. A 3D point from such a depth is wrong by
+// up to the depth step, which pose estimation from nearby views cannot see and so absorbs as a
+// bias. The depth is kept only when the 5x5 neighbourhood is one surface (within 3% + 1 cm);
+// the keypoint stays, without depth (as ORB-SLAM2 keeps keypoints without a stereo match).
+bool depthIsSmoothAround(const cv::Mat& depth, int x, int y, float z)
+{
+	const float tol = 0.03f * z + 0.01f;
+	for (int dy = -2; dy <= 2; dy++)
+		for (int dx = -2; dx <= 2; dx++)
+		{
+			const int xx = x + dx, yy = y + dy;
+			if (xx < 0 || yy < 0 || xx >= depth.cols || yy >= depth.rows) continue;
+			const float w = depth.at<float>(yy, xx);
+			if (!(w > 0) || std::abs(w - z) > tol) return false;
+		}
+	return true;
+}
+}  // namespace
+
 TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, const cv::Mat& mask) const
 {
 	TFeatures out;
@@ -112,6 +135,18 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 		}
 	}
 	orb_->compute(grey, kept, out.descriptors);
+	// OpenCV's ORB reports a level-L corner at x_L * s (s = scaleFactor^L), but the pyramid is made
+	// by resizing about pixel centres, so level pixel x_L lies at (x_L + 0.5) s - 0.5 in the image:
+	// every keypoint of level L sat 0.5 (s - 1) pixels up and to the left (1.3 px at level 7).
+	// Matching the same level across frames hides that; back-projecting depth and matching across
+	// levels does not (it cost millimetres of trajectory jitter on simulated data). Corrected after
+	// compute(), which must see the coordinates OpenCV produced.
+	for (auto& k : kept)
+	{
+		const float off = 0.5f * (static_cast<float>(std::pow(opts_.scaleFactor, k.octave)) - 1.f);
+		k.pt.x += off;
+		k.pt.y += off;
+	}
 	out.keypoints = std::move(kept);
 	out.depth.assign(out.keypoints.size(), 0.f);
 	out.dynamic.assign(out.keypoints.size(), false);
@@ -121,7 +156,7 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 		if (!depth.empty() && x >= 0 && y >= 0 && x < depth.cols && y < depth.rows)
 		{
 			const float z = depth.at<float>(y, x);
-			out.depth[i] = std::isfinite(z) && z > 0 ? z : 0.f;
+			out.depth[i] = std::isfinite(z) && z > 0 && depthIsSmoothAround(depth, x, y, z) ? z : 0.f;
 		}
 		if (!mask.empty() && x >= 0 && y >= 0 && x < mask.cols && y < mask.rows) out.dynamic[i] = mask.at<uchar>(y, x) != 0;
 	}

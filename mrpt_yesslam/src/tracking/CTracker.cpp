@@ -51,7 +51,7 @@ std::vector<TConfigKey> CTracker::TOptions::configKeys()
 }
 
 std::vector<TPoseObservation> makePoseObservations(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor)
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, double depthNoise)
 {
 	std::vector<TPoseObservation> obs;
 	obs.reserve(m.size());
@@ -63,6 +63,12 @@ std::vector<TPoseObservation> makePoseObservations(
 		const auto& kp = f.features.keypoints[x.keypoint];
 		o.pixel = {kp.pt.x, kp.pt.y};
 		o.sigma = std::pow(scaleFactor, std::max(0, kp.octave));
+		const double z = x.keypoint < f.features.depth.size() ? f.features.depth[x.keypoint] : 0.0;
+		if (depthNoise > 0 && z > 0)
+		{
+			o.depth = z;
+			o.sigmaZ = depthNoise * z * z;
+		}
 		obs.push_back(o);
 	}
 	return obs;
@@ -85,7 +91,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 TPoseEstimate CTracker::refineWith(
 	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const
 {
-	return optimizer_.refine(makePoseObservations(f, m, pts), f.camera, guess);
+	return optimizer_.refine(makePoseObservations(f, m, pts, 1.2, opts_.pose.depthNoise), f.camera, guess);
 }
 
 TLocalMapPoints CTracker::lastFramePoints() const
@@ -149,7 +155,7 @@ bool CTracker::relocalise(TFrame& f, TResult& r)
 		const TLocalMapPoints pts = map_.keyFramePoints(k);
 		const auto m = matcher_.matchBruteForce(f, pts.descriptors);
 		if (m.size() < 15) continue;
-		const auto obs = makePoseObservations(f, m, pts);
+		const auto obs = makePoseObservations(f, m, pts, 1.2, opts_.pose.depthNoise);
 		const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
 		if (!pnp.ok) continue;
 		const auto prevRef = refKf_;
@@ -192,7 +198,7 @@ CTracker::TResult CTracker::track(TFrame& f)
 		{
 			// The prediction was too far off for projection search: match by descriptor, PnP.
 			used = matcher_.matchBruteForce(f, pts.descriptors);
-			const auto obs = makePoseObservations(f, used, pts);
+			const auto obs = makePoseObservations(f, used, pts, 1.2, opts_.pose.depthNoise);
 			const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
 			if (pnp.ok)
 			{

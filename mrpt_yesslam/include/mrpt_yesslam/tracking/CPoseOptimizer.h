@@ -19,6 +19,8 @@ struct TPoseObservation
 	Eigen::Vector3d world;	//!< point in the world frame, metres
 	Eigen::Vector2d pixel;	//!< undistorted pixel
 	double sigma = 1.0;	 //!< pixel noise std (ORB: scale factor ^ octave)
+	double depth = 0;  //!< measured depth at the pixel, metres (0 = none: reprojection only)
+	double sigmaZ = 0;	//!< depth noise std, metres (0 = depth not used)
 };
 
 /** Outcome of a pose estimate. */
@@ -31,12 +33,14 @@ struct TPoseEstimate
 	double rmsPixels = 0;  //!< reprojection RMS over inliers
 };
 
-/** Reprojection residual of one observation for a world-to-camera pose (angle-axis, translation);
- * exposed so that tests can check its derivatives with ceres::GradientChecker. */
+/** Residual of one observation for a world-to-camera pose (angle-axis, translation): pixel
+ * reprojection (u, v) / sigma (eq. 7) and, for RGB-D observations, (z - depth) / sigmaZ (zero
+ * without depth); exposed so that tests can check its derivatives with ceres::GradientChecker. */
 struct TReprojectionResidual
 {
 	TReprojectionResidual(const TPoseObservation& o, double fx, double fy, double cx, double cy)
-		: X(o.world), uv(o.pixel), invSigma(1.0 / o.sigma), fx(fx), fy(fy), cx(cx), cy(cy)
+		: X(o.world), uv(o.pixel), invSigma(1.0 / o.sigma), depth(o.sigmaZ > 0 ? o.depth : 0.0),
+		  invSigmaZ(o.sigmaZ > 0 ? 1.0 / o.sigmaZ : 0.0), fx(fx), fy(fy), cx(cx), cy(cy)
 	{
 	}
 	template <typename T>
@@ -44,7 +48,7 @@ struct TReprojectionResidual
 
 	Eigen::Vector3d X;
 	Eigen::Vector2d uv;
-	double invSigma, fx, fy, cx, cy;
+	double invSigma, depth, invSigmaZ, fx, fy, cx, cy;
 };
 
 /** T_w_c (MRPT camera-in-world pose) -> world-to-camera angle-axis and translation, the
@@ -60,7 +64,9 @@ class CPoseOptimizer
 	/** Section [Tracking] (the pose part). */
 	struct TOptions : public mrpt::config::CLoadableOptions
 	{
-		double chi2Threshold = 5.991;  //!< 2-DoF chi-square at 95% (ORB-SLAM2)
+		double chi2Threshold = 5.991;  //!< 2-DoF chi-square at 95% (ORB-SLAM2); 7.815 (3-DoF) with depth
+		/** Depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only, as eq. 7. */
+		double depthNoise = 0.0025;
 		int rounds = 4;	 //!< optimise, re-classify, repeat
 		int iterationsPerRound = 10;
 		int ransacIterations = 200;

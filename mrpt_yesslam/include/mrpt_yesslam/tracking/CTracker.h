@@ -80,7 +80,8 @@ class CTracker
 	std::optional<std::size_t> refKf_;
 };
 
-/** Observations for the pose optimiser from matches (sigma = scale factor ^ octave). */
+/** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with
+ * depthNoise > 0 the keypoint's depth too, sigma_z = depthNoise z^2). */
 std::vector<TPoseObservation> makePoseObservations(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor = 1.2);
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor = 1.2, double depthNoise = 0);
 }  // namespace mrpt_yesslam
