@@ -48,6 +48,11 @@ void chargeAllocation(std::size_t n)
 // builds included: memory still comes from malloc and goes back to free) so that, while one
 // rawlog entry is being read, allocations are charged to a budget; over it, std::bad_alloc, and
 // CRawlogSource reports the corrupt entry at once. Outside readObject() nothing changes.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+// Our delete frees what our new mallocs; GCC cannot see that pairing across the definitions.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
 void* operator new(std::size_t n)
 {
 	chargeAllocation(n);
@@ -60,8 +65,32 @@ void* operator new(std::size_t n)
 		h();
 	}
 }
+// Every other non-aligned form goes through the same malloc/free pair, so that no pointer is ever
+// released by a different allocator than the one that made it (ASan checks exactly that; libstdc++
+// frees std::stable_sort's nothrow buffers with plain delete, for instance). The aligned forms are
+// left to the runtime: they pair among themselves.
+void* operator new[](std::size_t n) { return ::operator new(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept
+{
+	try
+	{
+		return ::operator new(n);
+	}
+	catch (...)
+	{
+		return nullptr;
+	}
+}
+void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return ::operator new(n, t); }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 void* mrpt::aligned_malloc(size_t size, size_t alignment)
 {
