@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config          # compiler and build system
   libmrpt-dev                               # MRPT 2.5: observations, rawlogs, poses, opengl scenes
   libopencv-dev                             # OpenCV 4.6: images, ORB, DNN
+  libjpeg62-turbo-dev                       # jpeglib.h: we guard MRPT's JPEG decoding (already an OpenCV dependency)
   libceres-dev libeigen3-dev                # optimisation, linear algebra
   liboctomap-dev                            # semantic OctoMap
   libopenni2-dev                            # live RGB-D cameras

@@ -7,6 +7,12 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstdlib>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include <dlfcn.h>
+#include <jpeglib.h>
 #include <filesystem>
 #include <new>
 
@@ -102,6 +108,29 @@ void* mrpt::aligned_malloc(size_t size, size_t alignment)
 	void* p = ::aligned_alloc(alignment, size == 0 ? alignment : size);
 	if (!p) throw std::bad_alloc();
 	return p;
+}
+
+// Third guard (fuzz_rawlog, 2026-11-22; reproducer tests/fuzz/corpus/rawlog/crash-7ecb39ac...): a
+// rawlog whose colour image is stored as a corrupt JPEG reaches libjpeg through MRPT's
+// CImage::loadFromStreamAsJPEG, which keeps libjpeg's default error handler: it prints "Not a
+// JPEG file" and calls exit(1), so the tool died without naming the file and without saving.
+// We interpose jpeg_std_error (MRPT's libmrpt-img calls it through the PLT) and make the handler
+// throw instead, which CRawlogSource reports as a corrupt entry. Callers that install their own
+// handler afterwards (OpenCV's imread does) are unaffected. On x86-64 libjpeg has unwind tables,
+// so the exception crosses its frames; the half-read decompressor is leaked, once per bad file.
+extern "C" struct jpeg_error_mgr* jpeg_std_error(struct jpeg_error_mgr* err)
+{
+	using Fn = struct jpeg_error_mgr* (*)(struct jpeg_error_mgr*);
+	static const Fn real = reinterpret_cast<Fn>(dlsym(RTLD_NEXT, "jpeg_std_error"));
+	if (!real) throw std::runtime_error("libjpeg's jpeg_std_error not found");
+	struct jpeg_error_mgr* e = real(err);
+	e->error_exit = [](j_common_ptr cinfo)
+	{
+		char msg[JMSG_LENGTH_MAX] = "";
+		(*cinfo->err->format_message)(cinfo, msg);
+		throw std::runtime_error(std::string("corrupt JPEG image: ") + msg);
+	};
+	return e;
 }
 
 namespace mrpt_yesslam
