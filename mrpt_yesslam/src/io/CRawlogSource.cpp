@@ -115,9 +115,9 @@ void* mrpt::aligned_malloc(size_t size, size_t alignment)
 // CImage::loadFromStreamAsJPEG, which keeps libjpeg's default error handler: it prints "Not a
 // JPEG file" and calls exit(1), so the tool died without naming the file and without saving.
 // We interpose jpeg_std_error (MRPT's libmrpt-img calls it through the PLT) and make the handler
-// throw instead, which CRawlogSource reports as a corrupt entry. Callers that install their own
-// handler afterwards (OpenCV's imread does) are unaffected. On x86-64 libjpeg has unwind tables,
-// so the exception crosses its frames; the half-read decompressor is leaked, once per bad file.
+// throw instead (after freeing the decoder's memory), which CRawlogSource reports as a corrupt
+// entry. Callers that install their own handler afterwards (OpenCV's imread does) are unaffected.
+// On x86-64 libjpeg has unwind tables, so the exception crosses its frames.
 extern "C" struct jpeg_error_mgr* jpeg_std_error(struct jpeg_error_mgr* err)
 {
 	using Fn = struct jpeg_error_mgr* (*)(struct jpeg_error_mgr*);
@@ -128,6 +128,11 @@ extern "C" struct jpeg_error_mgr* jpeg_std_error(struct jpeg_error_mgr* err)
 	{
 		char msg[JMSG_LENGTH_MAX] = "";
 		(*cinfo->err->format_message)(cinfo, msg);
+		// MRPT will not get to free the decoder: free its memory pools here. Looked up like the real
+		// jpeg_std_error, so that we need no link dependency on libjpeg of our own.
+		using Destroy = void (*)(j_common_ptr);
+		static const Destroy destroy = reinterpret_cast<Destroy>(dlsym(RTLD_DEFAULT, "jpeg_destroy"));
+		if (destroy) destroy(cinfo);
 		throw std::runtime_error(std::string("corrupt JPEG image: ") + msg);
 	};
 	return e;
