@@ -7,6 +7,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -192,11 +193,28 @@ mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 	}
 }
 
+namespace
+{
+// MRPT deserialises these flags by reading a raw byte into a bool; a corrupt file can leave any
+// value in it, and reading such a bool is undefined behaviour (fuzz_rawlog, UBSan: "load of value
+// 19, which is not a valid value for type 'bool'"; reproducer crash-b44054a7...). Normalised from
+// the byte before anything reads them.
+void normaliseBool(bool& b)
+{
+	unsigned char raw = 0;
+	std::memcpy(&raw, &b, 1);
+	b = raw != 0;
+}
+}  // namespace
+
 void CRawlogSource::enqueue(const mrpt::serialization::CSerializable::Ptr& o)
 {
 	if (!o) return;
 	if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
 	{
+		for (bool* b : {&scan->hasPoints3D, &scan->hasRangeImage, &scan->range_is_depth, &scan->hasIntensityImage,
+						&scan->hasConfidenceImage})
+			normaliseBool(*b);
 		if (opts_.sensorLabel.empty() || scan->sensorLabel == opts_.sensorLabel)
 			pending_.push_back(scan);
 		else
