@@ -7,6 +7,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstdlib>
+#include <exception>
 #include <cstring>
 #include <cstdio>
 #include <stdexcept>
@@ -42,7 +43,10 @@ thread_local std::size_t* g_allocationBudget = nullptr;
 
 void chargeAllocation(std::size_t n)
 {
-	if (!g_allocationBudget) return;
+	// Never while unwinding: MRPT's destructors allocate (a half-read range scan resizes its
+	// images when destroyed), and a throw from a destructor terminates the program (fuzz_rawlog,
+	// crash-58254d49...).
+	if (!g_allocationBudget || std::uncaught_exceptions() > 0) return;
 	if (n > *g_allocationBudget) throw std::bad_alloc();
 	*g_allocationBudget -= n;
 }
