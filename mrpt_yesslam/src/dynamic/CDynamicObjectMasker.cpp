@@ -168,25 +168,47 @@ bool CDynamicObjectMasker::fillBox(
 		4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
 	cv::Mat filled = fm(cv::Rect(1, 1, roi.width, roi.height)) == 255;
 	// Sharpening and blur make the object's own outermost pixels differ from their neighbours, so the
-	// fill stops a pixel or two short of the silhouette. Grow it back where the raw depth is
-	// continuous with the filled 4-neighbours (a conditional dilation on the unfiltered depth,
-	// vectorised: the nearest and farthest filled neighbour bound the accepted depth).
+	// fill stops a pixel or two short of the silhouette. Grow it back, one 4-neighbour layer at a
+	// time, where the raw depth is continuous with a filled neighbour (a conditional dilation on the
+	// unfiltered depth). Only the frontier is visited: a whole-image morphological version cost half
+	// of the masker's time.
 	if (opts_.method == "edge_fill")
 	{
 		const cv::Mat rawSub = raw(roi);
-		const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
 		const int steps = 1 + static_cast<int>(std::ceil(2 * opts_.blurSigma));
-		cv::Mat hi, lo, far, near, cand;
-		for (int it = 0; it < steps; it++)
+		const float lo = static_cast<float>(opts_.loDiff), up = static_cast<float>(opts_.upDiff);
+		std::vector<cv::Point> frontier, next;
+		for (int y = 0; y < filled.rows; y++)
 		{
-			hi = cv::Mat::zeros(rawSub.size(), CV_32F);
-			rawSub.copyTo(hi, filled);
-			lo = cv::Mat(rawSub.size(), CV_32F, cv::Scalar(1e9));
-			rawSub.copyTo(lo, filled);
-			cv::dilate(hi, far, cross);
-			cv::erode(lo, near, cross);
-			cand = (rawSub > 0) & (rawSub >= near - opts_.loDiff) & (rawSub <= far + opts_.upDiff);
-			filled |= cand;
+			const uchar* row = filled.ptr<uchar>(y);
+			for (int x = 0; x < filled.cols; x++)
+				if (row[x] &&
+					((x > 0 && !row[x - 1]) || (x + 1 < filled.cols && !row[x + 1]) ||
+					 (y > 0 && !filled.at<uchar>(y - 1, x)) || (y + 1 < filled.rows && !filled.at<uchar>(y + 1, x))))
+					frontier.emplace_back(x, y);
+		}
+		static const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+		for (int it = 0; it < steps && !frontier.empty(); it++)
+		{
+			next.clear();
+			for (const auto& p : frontier)
+			{
+				const float zp = rawSub.at<float>(p);
+				for (int k = 0; k < 4; k++)
+				{
+					const int x = p.x + dx[k], y = p.y + dy[k];
+					if (x < 0 || y < 0 || x >= filled.cols || y >= filled.rows) continue;
+					uchar& m = filled.at<uchar>(y, x);
+					if (m) continue;
+					const float z = rawSub.at<float>(y, x);
+					if (z > 0 && z >= zp - lo && z <= zp + up)
+					{
+						m = 255;
+						next.emplace_back(x, y);
+					}
+				}
+			}
+			frontier.swap(next);
 		}
 	}
 	// Close small gaps and add holes the object encloses (missing depth inside a person).
