@@ -5,6 +5,9 @@
 // (eq. 3) against the keypoints that truly lie on people.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
@@ -20,16 +23,33 @@ int main(int argc, char** argv)
 {
 	if (argc < 2)
 	{
-		std::fprintf(stderr, "usage: bench_masking SIM_FOLDER [SIM_FOLDER...]\n");
+		std::fprintf(stderr, "usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--dump DIR] SIM_FOLDER [SIM_FOLDER...]\n");
 		return 1;
 	}
+	std::size_t maxFrames = 0;	// 0 = all
+	double tolerance = CDynamicObjectMasker::TOptions().loDiff;
+	std::string dumpDir;  // --dump: per-frame pictures of where each method errs
+	int dilate = CDynamicObjectMasker::TOptions().dilatePixels;
 	std::printf(
 		"%-22s %-10s %8s %8s %10s %10s %10s %10s %9s\n", "sequence", "method", "mask IoU", "IoU box", "kp prec", "kp recall", "rec. box",
 		"static kept", "ms/frame");
 	for (int a = 1; a < argc; a++)
 	{
 		const std::string dir = argv[a];
-		const auto list = readTumFileList(dir + "/rgb.txt");
+		if ((dir == "--frames" || dir == "--dilate" || dir == "--dump" || dir == "--tolerance") && a + 1 < argc)
+		{
+			if (dir == "--tolerance")
+				tolerance = std::stod(argv[++a]);
+			else if (dir == "--dump")
+				dumpDir = argv[++a];
+			else if (dir == "--frames")
+				maxFrames = std::stoul(argv[++a]);
+			else
+				dilate = std::stoi(argv[++a]);
+			continue;
+		}
+		auto list = readTumFileList(dir + "/rgb.txt");
+		if (maxFrames && list.size() > maxFrames) list.resize(maxFrames);
 		CObjectDetector::TOptions dopt;
 		dopt.backend = "file";
 		dopt.file = dir + "/detections.txt";
@@ -39,6 +59,10 @@ int main(int argc, char** argv)
 		{
 			CDynamicObjectMasker::TOptions mo;
 			mo.method = method;
+			mo.dilatePixels = dilate;
+			mo.loDiff = mo.upDiff = tolerance;
+			if (const char* g = std::getenv("MASK_GAIN")) mo.laplacianGain = std::atof(g);
+			if (const char* g = std::getenv("MASK_BLUR")) mo.blurSigma = std::atof(g);
 			CDynamicObjectMasker masker(mo);
 			// "box" figures count only true person pixels / keypoints inside a detected dynamic box:
 			// what the masker can reach, apart from the detector's misses.
@@ -66,6 +90,18 @@ int main(int argc, char** argv)
 				interB += cv::countNonZero(truth & m.mask & inBox);
 				uniB += cv::countNonZero((truth & inBox) | m.mask);
 				const auto f = orb.extract(rgb, depth, m.mask);
+				if (!dumpDir.empty())
+				{
+					// Green: person masked; red: person missed; blue: background masked; boxes in yellow.
+					cv::Mat v = rgb / 3;
+					v.setTo(cv::Scalar(0, 200, 0), truth & m.mask);
+					v.setTo(cv::Scalar(0, 0, 255), truth & ~m.mask);
+					v.setTo(cv::Scalar(255, 0, 0), ~truth & m.mask);
+					for (const auto& d : dets)
+						if (d.dynamic) cv::rectangle(v, cv::Rect(d.box), cv::Scalar(0, 255, 255), 1);
+					std::filesystem::create_directories(dumpDir);
+					cv::imwrite(dumpDir + "/" + method + "_" + name, v);
+				}
 				for (std::size_t i = 0; i < f.keypoints.size(); i++)
 				{
 					const cv::Point p(static_cast<int>(std::lround(f.keypoints[i].pt.x)), static_cast<int>(std::lround(f.keypoints[i].pt.y)));

@@ -10,6 +10,7 @@ BIN="$ROOT/build/rawlog_tools"
 FRAMES="${1:-600}"; RUNS="${2:-3}"; shift 2 || true
 PRESETS=("$@"); [ ${#PRESETS[@]} -gt 0 ] || PRESETS=(static_office walking_xyz walking_static walking_rpy walking_halfsphere)
 SHARED="$ROOT/../shared"
+CFG="$ROOT/share/mrpt_yesslam/config/sim.ini"  # the shipped configuration for yesslam-sim sequences
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
 OUT="$ROOT/bench_out/slam"; mkdir -p "$OUT/runs"
 # Peak memory through GNU time (Debian package "time") when it is there.
@@ -32,11 +33,11 @@ for p in "${PRESETS[@]}"; do
   for mode in filtered unfiltered; do
     flag=(); [ $mode = unfiltered ] && flag=(--no-dynamic-filter)
     for i in $(seq "$RUNS"); do
-      "${TIMECMD[@]}" "$BIN/yesslam" --input "$seq" --out "$OUT/runs/$p-$mode-$i" --quiet "${flag[@]}" \
+      "${TIMECMD[@]}" "$BIN/yesslam" --input "$seq" --config "$CFG" --out "$OUT/runs/$p-$mode-$i" --quiet "${flag[@]}" \
         > "$OUT/runs/$p-$mode-$i.log" 2>&1 || true
     done
   done
-  "$BIN/yesslam" --input "$seq" --out "$OUT/runs/$p-orbslam" --quiet --policy orbslam > "$OUT/runs/$p-orbslam.log" 2>&1 || true
+  "$BIN/yesslam" --input "$seq" --config "$CFG" --out "$OUT/runs/$p-orbslam" --quiet --policy orbslam > "$OUT/runs/$p-orbslam.log" 2>&1 || true
   f=$(for i in $(seq "$RUNS"); do field ate_rmse "$OUT/runs/$p-filtered-$i.log"; done | median)
   u=$(for i in $(seq "$RUNS"); do field ate_rmse "$OUT/runs/$p-unfiltered-$i.log"; done | median)
   r=$(for i in $(seq "$RUNS"); do rate "$OUT/runs/$p-filtered-$i/stats.json"; done | median)

@@ -21,11 +21,11 @@ TRAJ="$SHARED/data/tum_eval_trajectories"
 
 echo; echo "== 1. The main job: SLAM on a walking sequence (people crossing an office), against exact ground truth =="
 "$BIN/yesslam-sim" --preset walking_xyz --frames 150 --out "$OUT/sim_walking_xyz" --overlays --quiet
-"$BIN/yesslam" --input "$OUT/sim_walking_xyz" --out "$OUT/slam_walking_xyz" --detector file --quiet
+"$BIN/yesslam" --input "$OUT/sim_walking_xyz" --config "$ROOT/share/mrpt_yesslam/config/sim.ini" --out "$OUT/slam_walking_xyz" --detector file --quiet
 "$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/map.png" --azimuth -60 --elevation 35
 
 echo; echo "== 2. The same run without dynamic filtering (people's features used, as ORB-SLAM2 would) =="
-"$BIN/yesslam" --input "$OUT/sim_walking_xyz" --out "$OUT/slam_walking_xyz_unfiltered" --detector file --no-dynamic-filter --quiet \
+"$BIN/yesslam" --input "$OUT/sim_walking_xyz" --config "$ROOT/share/mrpt_yesslam/config/sim.ini" --out "$OUT/slam_walking_xyz_unfiltered" --detector file --no-dynamic-filter --quiet \
   | grep -E '^(ate_rmse|rpe_trans_rmse|tracked):'
 
 echo; echo "== 3. Real Kinect frames (TUM fr1/desk): SLAM, rawlog conversion, frames at ground-truth poses -> 3D scene =="

@@ -35,7 +35,7 @@ TEST(Tracker, RealFr1DeskFramesMatchMotionCapture)
 	{
 		const TFrameReport r = sys.processFrame(*obs);
 		EXPECT_TRUE(r.tracked) << "frame " << n;
-		if (n > 0) EXPECT_GT(r.inliers, 100u) << "frame " << n;
+		if (n > 0) { EXPECT_GT(r.inliers, 100u) << "frame " << n; }
 		n++;
 	}
 	ASSERT_EQ(n, 9u);

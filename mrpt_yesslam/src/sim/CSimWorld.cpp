@@ -190,7 +190,10 @@ void CSimWorld::addWalkingPerson(const std::vector<mrpt::math::TPoint2D>& path, 
 	const int skin = texture({150, 170, 210}, 64);
 	o.boxes = {box(0, 0, 1.15, 0.22, 0.38, 0.55, shirt), box(0, 0, 1.6, 0.2, 0.18, 0.24, skin),
 			   box(0, 0.1, 0.44, 0.13, 0.13, 0.88, trousers), box(0, -0.1, 0.44, 0.13, 0.13, 0.88, trousers),
-			   box(0, 0.25, 1.1, 0.09, 0.09, 0.62, shirt), box(0, -0.25, 1.1, 0.09, 0.09, 0.62, shirt)};
+			   box(0, 0.235, 1.1, 0.09, 0.09, 0.62, shirt), box(0, -0.235, 1.1, 0.09, 0.09, 0.62, shirt),
+			   // The neck, and arms that touch the torso: head and arms of a real person are connected
+			   // to the body, which is what a depth flood fill from the torso relies on.
+			   box(0, 0, 1.45, 0.1, 0.1, 0.12, skin)};
 	for (int k = 0; k < 4; k++) o.boxes[static_cast<std::size_t>(2 + k)].limb = k;
 	TSimPerson p;
 	p.object = addObject(o);
@@ -212,7 +215,8 @@ void CSimWorld::addSittingPerson(const mrpt::poses::CPose3D& seat, double phase)
 	o.boxes = {box(0, 0, 0.78, 0.22, 0.38, 0.55, shirt),		 box(0, 0, 1.2, 0.2, 0.18, 0.24, skin),
 			   box(0.22, 0.1, 0.5, 0.45, 0.13, 0.13, trousers), box(0.22, -0.1, 0.5, 0.45, 0.13, 0.13, trousers),
 			   box(0.45, 0.1, 0.25, 0.12, 0.12, 0.45, trousers), box(0.45, -0.1, 0.25, 0.12, 0.12, 0.45, trousers),
-			   box(0.2, 0.25, 0.85, 0.5, 0.09, 0.09, shirt),	 box(0.2, -0.25, 0.85, 0.5, 0.09, 0.09, shirt)};
+			   box(0.2, 0.235, 0.85, 0.5, 0.09, 0.09, shirt),	 box(0.2, -0.235, 0.85, 0.5, 0.09, 0.09, shirt),
+			   box(0, 0, 1.08, 0.1, 0.1, 0.1, skin)};  // neck
 	o.boxes[1].limb = 10;  // head nods
 	o.boxes[6].limb = 11;  // arms move
 	o.boxes[7].limb = 12;
@@ -279,7 +283,7 @@ void CSimWorld::animatePerson(const TSimPerson& p, double t, TSimObject& o) cons
 		o.boxes[1].local = CPose3D(0, 0, 1.05, 0, 0, 0) + CPose3D(0, 0, 0, 0.3 * std::sin(0.4 * t), nod, 0) + CPose3D(0, 0, 0.15, 0, 0, 0);
 		for (int k = 0; k < 2; k++)
 		{
-			const double side = k == 0 ? 0.25 : -0.25;
+			const double side = k == 0 ? 0.235 : -0.235;
 			const double a = 0.25 * std::sin(1.7 * t + p.phase + k * 1.3);
 			o.boxes[static_cast<std::size_t>(6 + k)].local =
 				CPose3D(0, side, 1.0, 0, 0.6 + a, 0) + CPose3D(0.25, 0, 0, 0, 0, 0);
@@ -298,7 +302,7 @@ void CSimWorld::animatePerson(const TSimPerson& p, double t, TSimObject& o) cons
 	{
 		const double side = k == 0 ? 0.1 : -0.1;
 		o.boxes[static_cast<std::size_t>(2 + k)].local = CPose3D(0, side, 0.88, 0, legs[k], 0) + CPose3D(0, 0, -0.44, 0, 0, 0);
-		const double aside = k == 0 ? 0.25 : -0.25;
+		const double aside = k == 0 ? 0.235 : -0.235;
 		o.boxes[static_cast<std::size_t>(4 + k)].local = CPose3D(0, aside, 1.4, 0, arms[k], 0) + CPose3D(0, 0, -0.31, 0, 0, 0);
 	}
 }
