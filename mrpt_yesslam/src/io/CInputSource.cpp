@@ -18,11 +18,14 @@ void CInputSource::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
 	MRPT_LOAD_CONFIG_VAR(camera, string, c, s);
 	MRPT_LOAD_CONFIG_VAR(maxDiff, double, c, s);
 	MRPT_LOAD_CONFIG_VAR(sensorLabel, string, c, s);
+	MRPT_LOAD_CONFIG_VAR(prefetch, int, c, s);
+	if (prefetch < 0 || prefetch > 64) throw InputError("", "[Input] prefetch must be 0..64, got " + std::to_string(prefetch));
 }
 
 std::vector<TConfigKey> CInputSource::TOptions::configKeys()
 {
-	return {{"camera", TConfigKey::Type::Text}, {"maxDiff", TConfigKey::Type::Number}, {"sensorLabel", TConfigKey::Type::Text}};
+	return {{"camera", TConfigKey::Type::Text}, {"maxDiff", TConfigKey::Type::Number}, {"sensorLabel", TConfigKey::Type::Text},
+			{"prefetch", TConfigKey::Type::Integer}};
 }
 
 void CInputSource::TOptions::dumpToTextStream(std::ostream& out) const
@@ -31,6 +34,7 @@ void CInputSource::TOptions::dumpToTextStream(std::ostream& out) const
 	out << "camera      = " << camera << "  ; TUM: fr1|fr2|fr3|camera file; empty = calibration.txt or folder name\n";
 	out << "maxDiff     = " << maxDiff << "  ; TUM rgb/depth pairing window, s\n";
 	out << "sensorLabel = " << sensorLabel << "  ; rawlog: only this sensor (empty = all)\n";
+	out << "prefetch    = " << prefetch << "  ; frames decoded ahead on a reader thread (0 = none)\n";
 }
 
 std::unique_ptr<CInputSource> openInputSource(const std::string& path, const CInputSource::TOptions& opts)

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -56,7 +57,8 @@ TSlamJobSummary runSlamJob(
 	TSlamJobSummary sum;
 	TYesSlamOptions opts = o.slam;
 	resolveDetector(opts.detector, o.input);
-	auto src = openInputSource(o.input, opts.input);
+	std::unique_ptr<CInputSource> src = openInputSource(o.input, opts.input);
+	if (opts.input.prefetch > 0) src = std::make_unique<CPrefetchingSource>(std::move(src), static_cast<std::size_t>(opts.input.prefetch));
 	sum.groundTruth = o.groundTruth.empty() ? findGroundTruthFor(o.input) : o.groundTruth;
 	TTrajectory gt;
 	if (!sum.groundTruth.empty()) gt = readTumTrajectory(sum.groundTruth);	// bad ground truth: fail before the long run

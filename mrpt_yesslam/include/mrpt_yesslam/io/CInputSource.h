@@ -25,6 +25,9 @@ class CInputSource
 		double maxDiff = 0.02;
 		/** Rawlogs: only frames with this sensor label (empty = all 3D range scans). */
 		std::string sensorLabel;
+		/** Frames decoded ahead on a reader thread by the SLAM app (CPrefetchingSource); 0 = read
+		 * in the processing thread. */
+		int prefetch = 4;
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		/** The keys loadFromConfigFile reads, with their types, for validateConfigSection. */
