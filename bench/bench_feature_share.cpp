@@ -8,7 +8,9 @@
 // --core: count only the middle of each box (mostly the person) for the inputs after it.
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -25,7 +27,7 @@ int main(int argc, char** argv)
 		std::fprintf(stderr, "usage: bench_feature_share (IMAGE DETECTIONS.txt | SIM_FOLDER) ...\n");
 		return 1;
 	}
-	std::printf("%-40s %7s %12s %14s %8s\n", "input", "frames", "box pixels", "box keypoints", "ratio");
+	std::printf("%-40s %7s %12s %14s %8s %14s\n", "input", "frames", "box pixels", "box keypoints", "ratio", "textured cells");
 	COrbExtractor orb;
 	bool core = false;
 	for (int a = 1; a < argc; a++)
@@ -53,7 +55,7 @@ int main(int argc, char** argv)
 		dopt.backend = "file";
 		dopt.file = detFile;
 		auto det = createObjectDetector(dopt);
-		double pix = 0, kp = 0;
+		double pix = 0, kp = 0, textured = 0;
 		for (const auto& [file, t] : frames)
 		{
 			const cv::Mat rgb = cv::imread(file, cv::IMREAD_COLOR);
@@ -67,6 +69,28 @@ int main(int argc, char** argv)
 					inBox(cv::Rect(core ? c : d.box) & cv::Rect(0, 0, rgb.cols, rgb.rows)).setTo(255);
 				}
 			const auto f = orb.extract(rgb);
+			// Texture statistics independent of the feature budget: the share of 32x32 cells outside the
+			// boxes with a FAST corner of threshold 20 (a clear corner). Real offices have blank walls,
+			// floor and ceiling; procedural clutter can make every cell textured.
+			cv::Mat grey;
+			cv::cvtColor(rgb, grey, cv::COLOR_BGR2GRAY);
+			std::vector<cv::KeyPoint> fast;
+			cv::FAST(grey, fast, 20, true);
+			cv::Mat hit = cv::Mat::zeros(rgb.rows / 32, rgb.cols / 32, CV_8U);
+			for (const auto& k : fast)
+			{
+				const int cx = static_cast<int>(k.pt.x) / 32, cy = static_cast<int>(k.pt.y) / 32;
+				if (cx < hit.cols && cy < hit.rows) hit.at<uchar>(cy, cx) = 1;
+			}
+			std::size_t cells = 0, hits = 0;
+			for (int cy = 0; cy < hit.rows; cy++)
+				for (int cx = 0; cx < hit.cols; cx++)
+				{
+					if (cv::countNonZero(inBox(cv::Rect(cx * 32, cy * 32, 32, 32))) > 0) continue;
+					cells++;
+					hits += hit.at<uchar>(cy, cx);
+				}
+			textured += cells ? static_cast<double>(hits) / static_cast<double>(cells) : 0.0;
 			std::size_t n = 0;
 			for (const auto& k : f.keypoints)
 				n += inBox.at<uchar>(std::min(static_cast<int>(k.pt.y), rgb.rows - 1), std::min(static_cast<int>(k.pt.x), rgb.cols - 1)) != 0;
@@ -74,8 +98,8 @@ int main(int argc, char** argv)
 			kp += f.keypoints.empty() ? 0.0 : static_cast<double>(n) / static_cast<double>(f.keypoints.size());
 		}
 		const double nf = static_cast<double>(frames.size());
-		std::printf("%-40s %7zu %11.1f%% %13.1f%% %8.2f\n", in.substr(in.size() > 40 ? in.size() - 40 : 0).c_str(), frames.size(),
-					100 * pix / nf, 100 * kp / nf, pix > 0 ? kp / pix : 0.0);
+		std::printf("%-40s %7zu %11.1f%% %13.1f%% %8.2f %13.1f%%\n", in.substr(in.size() > 40 ? in.size() - 40 : 0).c_str(),
+					frames.size(), 100 * pix / nf, 100 * kp / nf, pix > 0 ? kp / pix : 0.0, 100 * textured / nf);
 	}
 	return 0;
 }
