@@ -6,9 +6,10 @@
 //   - projection: ours (COrbMatcher::searchByProjection), keypoint k back-projected with its depth
 //     and projected with a constant-velocity pose prediction, compared within 15 px.
 // A match is correct when the keypoint of frame k, moved with the true poses and its true depth,
-// lands within 3 px of the matched keypoint. Reported: correct matches per pair, precision and time.
+// lands within 3 px (of the matched keypoint's pyramid level) of it. Reported: correct matches per pair, precision and time.
 // usage: bench_matching SIM_FOLDER [GAP=1] [PAIRS=60]
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -122,7 +123,8 @@ int main(int argc, char** argv)
 			if (pc.z <= 0) return false;
 			const double u = b.camera.fx() * pc.x / pc.z + b.camera.cx(), v = b.camera.fy() * pc.y / pc.z + b.camera.cy();
 			const cv::Point2f& q = b.features.keypoints[ib].pt;
-			return (u - q.x) * (u - q.x) + (v - q.y) * (v - q.y) < 9.0;
+			const double tol = 3.0 * std::pow(1.2, b.features.keypoints[ib].octave);  // pixels of its pyramid level
+			return (u - q.x) * (u - q.x) + (v - q.y) * (v - q.y) < tol * tol;
 		};
 		auto score = [&](const std::string& name, const std::vector<std::pair<std::size_t, std::size_t>>& m, double ms)
 		{
