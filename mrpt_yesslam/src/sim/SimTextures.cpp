@@ -10,7 +10,7 @@
 
 namespace mrpt_yesslam
 {
-cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base)
+cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base, double density)
 {
 	std::mt19937 rng(seed);
 	std::uniform_int_distribution<int> pos(0, size - 1), col(0, 255), small(2, std::max(3, size / 10));
@@ -23,7 +23,7 @@ cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base)
 		const double k = 0.4 + 1.2 * u(rng);
 		return cv::Scalar(std::min(255.0, base[0] * k), std::min(255.0, base[1] * k), std::min(255.0, base[2] * k));
 	};
-	const int shapes = size * size / 400;
+	const int shapes = static_cast<int>(density * size * size / 400);
 	for (int i = 0; i < shapes; i++)
 	{
 		const cv::Point p(pos(rng), pos(rng));
@@ -36,8 +36,14 @@ cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base)
 				cv::circle(t, p, small(rng) / 2 + 1, colour(), u(rng) < 0.5 ? cv::FILLED : 1, cv::LINE_AA);
 				break;
 			case 2:
-				cv::line(t, p, cv::Point(pos(rng), pos(rng)), colour(), 1, cv::LINE_AA);
+			{
+				// Short strokes (cables, edges, handwriting), not lines across the whole surface: those
+				// made every wall a web of corners.
+				const int reach = std::max(4, size / 8);
+				std::uniform_int_distribution<int> d(-reach, reach);
+				cv::line(t, p, p + cv::Point(d(rng), d(rng)), colour(), 1, cv::LINE_AA);
 				break;
+			}
 			case 3:
 			{
 				std::string s;

@@ -81,7 +81,7 @@ class CSimWorld
 
    private:
 	int addObject(TSimObject o);
-	int texture(const cv::Scalar& base, int size = 256);
+	int texture(const cv::Scalar& base, int size = 256, double density = 1.0);
 	mrpt::opengl::CSetOfObjects::Ptr buildObject(const TSimObject& o, bool labels) const;
 	/** Box poses of a person at time t (animation). */
 	void animatePerson(const TSimPerson& p, double t, TSimObject& o) const;

@@ -8,8 +8,9 @@
 
 namespace mrpt_yesslam
 {
-/** A BGR texture of side `size`, deterministic in `seed`, around a base colour. */
-cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base);
+/** A BGR texture of side `size`, deterministic in `seed`, around a base colour; `density` scales
+ * the number of shapes (1 = printed matter everywhere, ~0.2 = a painted wall with a few marks). */
+cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base, double density = 1.0);
 
 /** Loads every .png/.jpg of a folder (sorted by name) as textures of side `size`; throws
  * InputError when the folder has none. */
