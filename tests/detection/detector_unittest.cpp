@@ -100,6 +100,72 @@ TEST(Detector, YoloxOnnxDecodesToTheSamePeople)
 	expectFindsPeople(*det416);
 }
 
+// No YOLOv5/v7/v8 export is available here, so their decoders are checked on a real network's
+// output rewritten into their layouts: YOLOX-Nano's raw grid output on the three real images,
+// decoded to pixels, becomes a YOLOv5/v7 tensor [1, N, 5 + C] (centre, size, objectness, class
+// scores) and a YOLOv8 tensor [1, 4 + C, N] (centre, size, objectness x class score). Each must
+// decode to the boxes and scores of the YOLOX decoder, i.e. to the hand-measured people.
+TEST(Detector, YoloV5V7AndV8LayoutsDecodeARealNetworksOutput)
+{
+	CObjectDetector::TOptions o;
+	o.model = sharedFile("models/yolox_nano_onnx/yolox_nano.onnx");
+	o.names = sharedFile("models/yolox_nano_onnx/coco_classes.txt");
+	o.inputSize = 416;
+	CYoloDnnDetector yolox(o);
+	ASSERT_EQ(yolox.format(), CYoloDnnDetector::Format::YoloX);
+	const int S = yolox.inputSize(), C = 80;
+	const float thr = 0.5f, nms = static_cast<float>(o.nmsThreshold);
+	for (const auto& hb : kPeople)
+	{
+		SCOPED_TRACE(hb.image);
+		const cv::Mat img = cv::imread(sharedFile(hb.image), cv::IMREAD_COLOR);
+		CYoloDnnDetector::TFit fit;
+		const auto outs = yolox.rawOutputs(img, fit);
+		ASSERT_EQ(outs.size(), 1u);
+		const auto ref = CYoloDnnDetector::decode(outs, CYoloDnnDetector::Format::YoloX, S, C, fit, thr, nms);
+		ASSERT_FALSE(ref.empty());
+		const cv::Mat raw = outs[0].reshape(1, outs[0].size[1]);
+		const int n = raw.rows;
+		ASSERT_EQ(raw.cols, 5 + C);
+		cv::Mat v5(n, 5 + C, CV_32F), v8(4 + C, n, CV_32F);
+		int r = 0;
+		for (int stride : {8, 16, 32})
+			for (int gy = 0; gy < S / stride; gy++)
+				for (int gx = 0; gx < S / stride; gx++, r++)
+				{
+					const float* p = raw.ptr<float>(r);
+					const float box[4] = {(p[0] + gx) * stride, (p[1] + gy) * stride, std::exp(p[2]) * stride, std::exp(p[3]) * stride};
+					for (int k = 0; k < 4; k++) v5.at<float>(r, k) = v8.at<float>(k, r) = box[k];
+					v5.at<float>(r, 4) = p[4];
+					for (int c = 0; c < C; c++)
+					{
+						v5.at<float>(r, 5 + c) = p[5 + c];
+						v8.at<float>(4 + c, r) = p[4] * p[5 + c];
+					}
+				}
+		ASSERT_EQ(r, n);
+		const int s5[3] = {1, n, 5 + C}, s8[3] = {1, 4 + C, n};
+		for (const auto& [format, tensor] :
+			 {std::make_pair(CYoloDnnDetector::Format::YoloV5, cv::Mat(3, s5, CV_32F, v5.data)),
+			  std::make_pair(CYoloDnnDetector::Format::YoloV8, cv::Mat(3, s8, CV_32F, v8.data))})
+		{
+			SCOPED_TRACE(CYoloDnnDetector::formatName(format));
+			const auto got = CYoloDnnDetector::decode({tensor}, format, S, C, fit, thr, nms);
+			ASSERT_EQ(got.size(), ref.size());
+			for (std::size_t i = 0; i < got.size(); i++)
+			{
+				EXPECT_EQ(got[i].classId, ref[i].classId);
+				EXPECT_NEAR(got[i].score, ref[i].score, 1e-5);
+				EXPECT_GT(boxIoU(got[i].box, ref[i].box), 0.999);
+			}
+			std::size_t people = 0;
+			for (const auto& p : hb.people)
+				for (const auto& d : got) people += d.classId == 0 && boxIoU(d.box, p) >= 0.5;
+			EXPECT_GE(people, hb.people.size()) << "the hand-measured people";
+		}
+	}
+}
+
 TEST(Detector, FastestDetAndNanoDetOnnx)
 {
 	// FastestDet (BSD-3) and NanoDet-m (Apache-2.0 derived), decoded from their own output layouts.

@@ -279,17 +279,24 @@ std::vector<cv::Mat> CYoloDnnDetector::forward(const cv::Mat& blob)
 	return outs;
 }
 
+std::vector<cv::Mat> CYoloDnnDetector::rawOutputs(const cv::Mat& bgr, TFit& fit) { return forward(makeBlob(bgr, size_, fit)); }
+
 std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 {
 	TFit fit;
 	const auto outs = forward(makeBlob(bgr, size_, fit));
-	const float thr = static_cast<float>(opts_.confThreshold);
+	return decode(outs, format_, size_, numClasses_, fit, static_cast<float>(opts_.confThreshold), static_cast<float>(opts_.nmsThreshold));
+}
+
+std::vector<TDetection> CYoloDnnDetector::decode(
+	const std::vector<cv::Mat>& outs, Format format, int inputSize, int numClasses, const TFit& fit, float thr, float nms)
+{
 	std::vector<TDetection> cands;
 	// Adds a candidate from a box centre/size in network-input pixels.
 	auto add = [&](float cx, float cy, float w, float h, const float* cls, float obj)
 	{
 		int best = 0;
-		for (int c = 1; c < numClasses_; c++)
+		for (int c = 1; c < numClasses; c++)
 			if (cls[c] > cls[best]) best = c;
 		const float score = obj * cls[best];
 		if (!(score >= thr)) return;
@@ -301,8 +308,8 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 			static_cast<float>(w / fit.sx), static_cast<float>(h / fit.sy));
 		cands.push_back(d);
 	};
-	const float S = static_cast<float>(size_);
-	switch (format_)
+	const float S = static_cast<float>(inputSize);
+	switch (format)
 	{
 		case Format::Darknet:
 			// Region layer rows: normalised cx cy w h, objectness, class scores already times objectness.
@@ -342,7 +349,7 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 			int r = 0;
 			for (int s : {8, 16, 32})
 			{
-				const int g = size_ / s;
+				const int g = inputSize / s;
 				for (int gy = 0; gy < g; gy++)
 					for (int gx = 0; gx < g; gx++, r++)
 					{
@@ -360,7 +367,7 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 			const int C = m.size[1], H = m.size[2], W = m.size[3];
 			const float* base = m.ptr<float>();
 			const std::size_t plane = static_cast<std::size_t>(H) * W;
-			std::vector<float> cls(static_cast<std::size_t>(numClasses_));
+			std::vector<float> cls(static_cast<std::size_t>(numClasses));
 			for (int row = 0; row < H; row++)
 				for (int col = 0; col < W; col++)
 				{
@@ -380,7 +387,7 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 			// Pair class and distance maps by their row count, one pair per stride.
 			for (int s : {8, 16, 32})
 			{
-				const int g = size_ / s, n = g * g;
+				const int g = inputSize / s, n = g * g;
 				const cv::Mat *cm = nullptr, *dm = nullptr;
 				for (const auto& o : outs)
 				{
@@ -393,8 +400,8 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 				const float* dp = dm->ptr<float>();
 				for (int i = 0; i < n; i++)
 				{
-					const float* cls = cp + static_cast<std::size_t>(i) * numClasses_;
-					const float best = *std::max_element(cls, cls + numClasses_);
+					const float* cls = cp + static_cast<std::size_t>(i) * numClasses;
+					const float best = *std::max_element(cls, cls + numClasses);
 					if (best < thr) continue;
 					// GFL: each side a softmax over 8 bins, its expectation times the stride.
 					float side[4];
@@ -433,7 +440,7 @@ std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 			scores.push_back(cands[static_cast<std::size_t>(i)].score);
 		}
 		std::vector<int> keep;
-		cv::dnn::NMSBoxes(boxes, scores, thr, static_cast<float>(opts_.nmsThreshold), keep);
+		cv::dnn::NMSBoxes(boxes, scores, thr, nms, keep);
 		for (int k : keep) out.push_back(cands[static_cast<std::size_t>(idx[static_cast<std::size_t>(k)])]);
 	}
 	std::sort(out.begin(), out.end(), [](const TDetection& a, const TDetection& b) { return a.score > b.score; });

@@ -33,15 +33,24 @@ class CYoloDnnDetector : public CObjectDetector
 	/** Name of a format, as in the config ("darknet", "yolov5", ...). */
 	static std::string formatName(Format f);
 
-   protected:
-	std::vector<TDetection> detectImpl(const cv::Mat& bgr, double timestamp) override;
-
-   private:
 	/** How the image was fitted into the network input: input = image * scale + offset. */
 	struct TFit
 	{
 		double sx = 1, sy = 1, dx = 0, dy = 0;
 	};
+	/** The network's raw outputs for an image, and how the image was fitted into its input. */
+	std::vector<cv::Mat> rawOutputs(const cv::Mat& bgr, TFit& fit);
+	/** Decodes raw outputs of a network of the given layout (input side `inputSize`, `numClasses`
+	 * classes) into boxes in image pixels, with the confidence threshold and class-wise NMS. Static
+	 * so that every layout can be checked on any tensor of its shape. */
+	static std::vector<TDetection> decode(
+		const std::vector<cv::Mat>& outs, Format format, int inputSize, int numClasses, const TFit& fit, float confThreshold,
+		float nmsThreshold);
+
+   protected:
+	std::vector<TDetection> detectImpl(const cv::Mat& bgr, double timestamp) override;
+
+   private:
 	cv::Mat makeBlob(const cv::Mat& bgr, int size, TFit& fit) const;
 	std::vector<cv::Mat> forward(const cv::Mat& blob);
 	/** Decides the format and class count from output shapes; false if unknown. */
