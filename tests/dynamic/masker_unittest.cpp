@@ -89,7 +89,7 @@ TEST(Masker, PersonInFrontOfWallIoUAbove90Percent)
 	// Non-dynamic detections are ignored.
 	auto chair = personBox(person, 0.04f);
 	chair.dynamic = false;
-	EXPECT_EQ(cv::countNonZero(edge.compute(depth, {chair}).mask), 0);
+	EXPECT_EQ(cv::countNonZero(CDynamicObjectMasker(o).compute(depth, {chair}).mask), 0);
 }
 
 TEST(Masker, FallsBackToTheBoxWhenTheFillFails)
@@ -151,6 +151,46 @@ TEST(Masker, RealDeskMonitorWithHandPlacedBox)
 	EXPECT_LT(farMasked, 0.1 * far) << "background behind the monitor was masked";
 	EXPECT_LT(cv::countNonZero(r.mask(box)), 0.8 * box.area()) << "no better than the whole box";
 	cv::imwrite(::testing::TempDir() + "/masker_monitor.png", r.mask);
+}
+
+// A detector that misses the person for a few frames: the masker keeps masking it from its last
+// box for holdFrames frames, then stops; a new detection replaces the held box; holdFrames = 0
+// masks only what is detected.
+TEST(Masker, MissedDetectionsAreHeldForHoldFrames)
+{
+	const cv::Mat person = personShape();
+	const cv::Mat depth = noisyDepth(person, 1.0, 3.0, 2);
+	const TDetection det = personBox(person, 0.04f);
+	CDynamicObjectMasker::TOptions o;
+	o.holdFrames = 3;
+	CDynamicObjectMasker masker(o);
+	const auto first = masker.compute(depth, {det});
+	const double base = iou(first.mask, person);
+	ASSERT_GE(base, 0.85);
+	for (int missed = 1; missed <= 3; missed++)
+	{
+		const auto r = masker.compute(depth, {});
+		ASSERT_EQ(r.regions.size(), 1u) << "missed frame " << missed;
+		EXPECT_TRUE(r.regions[0].held);
+		EXPECT_EQ(r.regions[0].detection, -1);
+		EXPECT_GE(iou(r.mask, person), base - 0.05) << "a held box still cuts the person out (missed frame " << missed << ")";
+	}
+	EXPECT_EQ(cv::countNonZero(masker.compute(depth, {}).mask), 0) << "held no longer than holdFrames";
+
+	// Detected again after one miss: one region, from the new detection, not a held duplicate.
+	masker.compute(depth, {det});
+	masker.compute(depth, {});
+	const auto again = masker.compute(depth, {det});
+	ASSERT_EQ(again.regions.size(), 1u);
+	EXPECT_FALSE(again.regions[0].held);
+
+	o.holdFrames = 0;
+	CDynamicObjectMasker noHold(o);
+	noHold.compute(depth, {det});
+	EXPECT_EQ(cv::countNonZero(noHold.compute(depth, {}).mask), 0);
+	// reset() forgets what was held.
+	masker.reset();
+	EXPECT_EQ(cv::countNonZero(masker.compute(depth, {}).mask), 0);
 }
 
 TEST(Masker, KeypointClassificationEq3)

@@ -26,6 +26,8 @@ void CDynamicObjectMasker::TOptions::loadFromConfigFile(const mrpt::config::CCon
 	MRPT_LOAD_CONFIG_VAR(maxDepth, double, c, s);
 	MRPT_LOAD_CONFIG_VAR(maxDepthRange, double, c, s);
 	MRPT_LOAD_CONFIG_VAR(downsample, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(holdFrames, int, c, s);
+	MRPT_LOAD_CONFIG_VAR(holdGrow, double, c, s);
 }
 
 void CDynamicObjectMasker::TOptions::dumpToTextStream(std::ostream& o) const
@@ -45,6 +47,8 @@ void CDynamicObjectMasker::TOptions::dumpToTextStream(std::ostream& o) const
 	o << "maxDepth        = " << maxDepth << "  ; m\n";
 	o << "maxDepthRange   = " << maxDepthRange << "  ; m from the seed depth, 0 = unlimited\n";
 	o << "downsample      = " << downsample << "  ; fill at 1/N resolution (1 or 2)\n";
+	o << "holdFrames      = " << holdFrames << "  ; mask missed dynamic objects this many frames (0 = off)\n";
+	o << "holdGrow        = " << holdGrow << "  ; held boxes grow by this share per frame\n";
 }
 
 std::vector<TConfigKey> CDynamicObjectMasker::TOptions::configKeys()
@@ -54,7 +58,8 @@ std::vector<TConfigKey> CDynamicObjectMasker::TOptions::configKeys()
 			{"laplacianGain", T::Number}, {"laplacianKernel", T::Integer}, {"blurSigma", T::Number},
 			{"boxMargin", T::Number},	 {"maxFillRatio", T::Number},	 {"minFillRatio", T::Number},
 			{"fallbackToBox", T::Boolean}, {"dilatePixels", T::Integer},	 {"maxDepth", T::Number},
-			{"maxDepthRange", T::Number}, {"downsample", T::Integer}};
+			{"maxDepthRange", T::Number}, {"downsample", T::Integer},	 {"holdFrames", T::Integer},
+			{"holdGrow", T::Number}};
 }
 
 CDynamicObjectMasker::CDynamicObjectMasker(const TOptions& o) : opts_(o)
@@ -66,6 +71,8 @@ CDynamicObjectMasker::CDynamicObjectMasker(const TOptions& o) : opts_(o)
 		throw InputError("", "[DynamicMask] laplacianKernel must be 1, 3, 5 or 7");
 	if (o.downsample < 1 || o.downsample > 4) throw InputError("", "[DynamicMask] downsample must be 1..4");
 	if (!(o.maxFillRatio > o.minFillRatio)) throw InputError("", "[DynamicMask] maxFillRatio must exceed minFillRatio");
+	if (o.holdFrames < 0 || o.holdFrames > 300) throw InputError("", "[DynamicMask] holdFrames must be 0..300");
+	if (!(o.holdGrow >= 0 && o.holdGrow <= 1)) throw InputError("", "[DynamicMask] holdGrow must be in [0, 1]");
 }
 
 cv::Mat CDynamicObjectMasker::prepare(const cv::Mat& depth) const
@@ -224,8 +231,35 @@ bool CDynamicObjectMasker::fillBox(
 	return true;
 }
 
-TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vector<TDetection>& dets)
+std::vector<TDetection> CDynamicObjectMasker::withHeld(const std::vector<TDetection>& dets, std::vector<bool>& held)
 {
+	std::vector<TDetection> all = dets;
+	held.assign(dets.size(), false);
+	if (opts_.holdFrames <= 0) return all;
+	std::vector<THeld> next;
+	for (const auto& h : held_)
+	{
+		// Seen again (the same class overlapping its last box): the new detection replaces it.
+		const bool seen = std::any_of(
+			dets.begin(), dets.end(), [&](const TDetection& d) { return d.dynamic && d.classId == h.det.classId && boxIoU(d.box, h.det.box) >= 0.3; });
+		if (seen || h.age >= opts_.holdFrames) continue;
+		TDetection g = h.det;
+		const float k = static_cast<float>(opts_.holdGrow * (h.age + 1));
+		g.box = cv::Rect2f(g.box.x - k * g.box.width, g.box.y - k * g.box.height, g.box.width * (1 + 2 * k), g.box.height * (1 + 2 * k));
+		all.push_back(g);
+		held.push_back(true);
+		next.push_back({h.det, h.age + 1});
+	}
+	for (const auto& d : dets)
+		if (d.dynamic) next.push_back({d, 0});
+	held_ = std::move(next);
+	return all;
+}
+
+TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vector<TDetection>& given)
+{
+	std::vector<bool> held;
+	const std::vector<TDetection> dets = withHeld(given, held);
 	TDynamicMask r;
 	r.mask = cv::Mat::zeros(depth.size(), CV_8U);
 	r.classLabels = cv::Mat::zeros(depth.size(), CV_16U);
@@ -275,7 +309,8 @@ TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vect
 			image;
 		if (box.area() <= 0) continue;
 		TMaskRegion reg;
-		reg.detection = static_cast<int>(i);
+		reg.detection = held[i] ? -1 : static_cast<int>(i);
+		reg.held = held[i];
 		cv::Mat obj;
 		cv::Rect at;
 		bool ok = false;

@@ -18,6 +18,12 @@
 //   the whole box is used, configurably.
 // - Beyond the paper: the fill stays within maxDepthRange of the seed depth, so it cannot run along
 //   the floor under a person's feet (or a desk under a monitor) to the edges of the box.
+// - Beyond the paper: detectors flicker (a person missed for one frame). A frame whose features on
+//   a person are all used can become a keyframe and put the person into the map, which then drags
+//   the camera along with the person for many frames (measured on yesslam-sim walking_static: one
+//   missed detection, 14 cm of error). So a dynamic object seen in the last frames but missed now
+//   is still masked from its last box, grown, for up to holdFrames frames, as detection-based
+//   dynamic SLAM systems with missed-detection compensation do (e.g. Detect-SLAM's propagation).
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <opencv2/core.hpp>
@@ -34,6 +40,7 @@ struct TMaskRegion
 	int detection = -1;	 //!< index into the detections given
 	std::size_t pixels = 0;	 //!< pixels marked dynamic for it
 	bool usedBox = false;  //!< fell back to (or was configured to use) the whole box
+	bool held = false;	//!< not detected in this frame: held from an earlier one (detection = -1)
 	cv::Point seed{-1, -1};	 //!< fill seed, (-1,-1) without a fill
 };
 
@@ -76,6 +83,11 @@ class CDynamicObjectMasker
 		/** Fill at 1/downsample of the image side (1 = full resolution). Blur and Laplacian sizes are
 		 * in pixels of that resolution. */
 		int downsample = 2;
+		/** A dynamic object missed by the detector is still masked for up to this many frames after
+		 * its last detection (0 = off). Assumes consecutive frames of one camera. */
+		int holdFrames = 5;
+		/** Each frame a held box grows by this share of its size on every side. */
+		double holdGrow = 0.05;
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void dumpToTextStream(std::ostream& out) const override;
@@ -88,15 +100,26 @@ class CDynamicObjectMasker
 	explicit CDynamicObjectMasker(const TOptions& opts);
 
 	/** Masks the dynamic detections of one frame; `depthMetres` is CV_32FC1 (0 = no depth), the
-	 * image size. Non-dynamic detections are ignored. */
+	 * image size. Non-dynamic detections are ignored. Frames must come in order (see holdFrames). */
 	TDynamicMask compute(const cv::Mat& depthMetres, const std::vector<TDetection>& detections);
 
 	/** Eq. 3: true for keypoints inside the mask (dynamic, to be dropped). */
 	static std::vector<bool> classifyKeypoints(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask);
 
 	const TOptions& options() const { return opts_; }
+	/** Forgets held detections (call between unrelated sequences or images). */
+	void reset() { held_.clear(); }
 
    private:
+	/** A dynamic detection of an earlier frame, `age` frames ago. */
+	struct THeld
+	{
+		TDetection det;
+		int age = 0;
+	};
+	/** The detections to mask this frame: those given, then held ones (flagged in `held`). */
+	std::vector<TDetection> withHeld(const std::vector<TDetection>& dets, std::vector<bool>& held);
+
 	/** The image the fill runs on (enhanced or plain depth, float metres, 0 = missing). */
 	cv::Mat prepare(const cv::Mat& depth) const;
 	/** Fills one box of `raw` (depth in metres, 0 = missing): `out` is the object's mask over the
@@ -104,5 +127,6 @@ class CDynamicObjectMasker
 	bool fillBox(const cv::Mat& raw, const cv::Rect& box, cv::Mat& out, cv::Rect& outRoi, cv::Point& seed) const;
 
 	TOptions opts_;
+	std::vector<THeld> held_;
 };
 }  // namespace mrpt_yesslam
