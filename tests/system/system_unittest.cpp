@@ -174,3 +174,24 @@ TEST(System, MaxFramesAndMissingInputs)
 	o.slam.detector.backend = "yolo";
 	expectInputError([&] { runSlamJob(o); }, {"model"});
 }
+
+// A sequence whose depth is zero everywhere (a sensor that gives no depth): the run ends normally
+// with nothing tracked and says so, never a crash.
+TEST(System, SequenceWithoutAnyDepth)
+{
+	TempDir d("nodepth");
+	auto frames = makeSyntheticFrames(12, 640, 480);
+	for (auto& f : frames) f.depth.setTo(0);
+	writeTumFolder(d / "seq", frames);
+	TSlamJobOptions o;
+	o.input = d / "seq";
+	o.outDir = d / "run";
+	o.slam.detector.backend = "none";
+	o.slam.system.parallel = false;
+	const auto s = runSlamJob(o);
+	EXPECT_EQ(s.stats.frames, 12u);
+	EXPECT_EQ(s.stats.trackedFrames, 0u);
+	EXPECT_EQ(s.stats.keyFrames, 0u);
+	EXPECT_TRUE(fs::exists(d / "run/stats.json"));
+	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
+}

@@ -63,3 +63,38 @@ TEST(Tracker, RecoversAfterAFrameWithoutFeatures)
 	EXPECT_EQ(sys.trajectory().size(), 10u);
 	EXPECT_EQ(sys.stats().lostFrames, 1u);
 }
+
+// A person filling the whole image (a detection box over every pixel): every feature is masked, the
+// frame cannot be tracked, and the system goes on with the motion model; the held box (holdFrames)
+// masks the next frame too; then tracking resumes on the real frames.
+TEST(Tracker, KeepsGoingWhenAPersonCoversTheWholeImage)
+{
+	const std::string dir = sharedFile("data/tum_fr1_desk_9frames");
+	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
+	TYesSlamOptions o = realOptions();
+	auto src = openInputSource(dir, o.input);
+	std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> frames;
+	while (auto obs = src->next()) frames.push_back(obs);
+	ASSERT_EQ(frames.size(), 9u);
+	TempDir d("cover");
+	char line[128];
+	std::snprintf(line, sizeof(line), "%.6f 0 0.95 0 0 640 480\n", observationTime(*frames[4]));
+	writeText(d / "detections.txt", std::string("# timestamp class_id score x y w h\n") + line);
+	o.detector.backend = "file";
+	o.detector.file = d / "detections.txt";
+	o.masker.holdFrames = 1;
+	o.masker.method = "box";  // the whole image is masked (a fill would keep what lies behind the seed's depth)
+	CYesSlamSystem sys(o);
+	for (std::size_t i = 0; i < 9; i++)
+	{
+		const TFrameReport r = sys.processFrame(*frames[i]);
+		if (i == 4 || i == 5)
+			EXPECT_FALSE(r.tracked) << "frame " << i << " has no static feature";
+		else
+			EXPECT_TRUE(r.tracked) << "frame " << i;
+	}
+	EXPECT_EQ(sys.trajectory().size(), 9u);
+	EXPECT_EQ(sys.stats().lostFrames, 2u);
+	// The two blind frames got the constant-velocity pose: the whole run stays within a few cm.
+	EXPECT_LT(computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse, 0.03);
+}

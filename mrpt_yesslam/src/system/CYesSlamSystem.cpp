@@ -216,11 +216,13 @@ TFrameReport CYesSlamSystem::processFrame(
 	ms["detect"] = msSince(t0);
 	t0 = Clock::now();
 	cv::Mat mask;
-	const bool anyDynamic = std::any_of(f->detections.begin(), f->detections.end(), [](const TDetection& d) { return d.dynamic; });
-	if (opts_.system.dynamicFilter && anyDynamic)
+	if (opts_.system.dynamicFilter)
 	{
+		// Also without a dynamic detection in this frame: the masker holds objects the detector has
+		// just missed ([DynamicMask] holdFrames).
 		mask = masker_.compute(depth, f->detections).mask;
 		f->numDynamicMasked = static_cast<std::size_t>(cv::countNonZero(mask));
+		if (f->numDynamicMasked == 0) mask.release();
 	}
 	ms["mask"] = msSince(t0);
 	t0 = Clock::now();
