@@ -3,6 +3,9 @@
 // person mask of each method (whole box, plain depth flood fill, edge-enhanced flood fill) is
 // compared with the true person pixels (labels/class == person), and ORB keypoints are classified
 // (eq. 3) against the keypoints that truly lie on people.
+// usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--dump DIR] SIM_FOLDER...
+// The environment variables MASK_GAIN and MASK_BLUR override laplacianGain and blurSigma of the
+// edge-enhanced fill, for sweeping the paper's enhancement.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
