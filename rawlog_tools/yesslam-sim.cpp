@@ -18,7 +18,7 @@ int main(int argc, char** argv)
 			TSimOptions o;
 			std::size_t seed = o.seed, frames = 0;
 			double people = -1;
-			bool list = false, noNoise = false, noRawlog = false, quiet = false;
+			bool list = false, noNoise = false, noRawlog = false, quiet = false, verbose = false;
 			CommandLine cl(
 				"yesslam-sim",
 				"yesslam-sim --preset NAME --out DIR [--seed S] [--frames N] [--people K] [--trajectory FILE] "
@@ -48,6 +48,7 @@ int main(int argc, char** argv)
 			cl.flag("overlays", "also write labels/overlay/: colour images with labels tinted and object boxes drawn", &o.overlays);
 			cl.flag("list-presets", "print the presets and exit", &list);
 			cl.flag("quiet", "no progress bar", &quiet);
+			cl.flag("verbose", "also print the time per frame of each stage (rendering, labels, noise, encoding, ...)", &verbose);
 			if (!cl.parse(argc, argv)) return 0;
 			if (list)
 			{
@@ -80,6 +81,9 @@ int main(int argc, char** argv)
 			std::printf("dynamic pixels:     %.1f %% mean, %.1f %% max\n", 100 * s.meanDynamicShare, 100 * s.maxDynamicShare);
 			std::printf("detections:         %zu\n", s.detections);
 			std::printf("time:               %.1f s (%.1f frames/s)\n", s.seconds, s.seconds > 0 ? s.frames / s.seconds : 0.0);
+			if (verbose)
+				for (const auto& [stage, sec] : s.stageSeconds)
+					std::printf("  %-24s %7.1f ms/frame\n", stage.c_str(), s.frames ? 1000 * sec / s.frames : 0.0);
 			std::printf("output:             %s (TUM folder; sequence.rawlog, scene.3Dscene, meta.json)\n", o.outDir.c_str());
 			if (s.interrupted)
 			{

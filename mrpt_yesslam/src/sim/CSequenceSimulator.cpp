@@ -257,6 +257,35 @@ std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc
 	return static_cast<std::size_t>(cv::countNonZero(scratch));
 }
 
+// Wall time per stage, summed over the run, in first-seen order (yesslam-sim prints it, the
+// benchmark reads it): tells whether rendering, our own per-pixel work or encoding is the limit.
+class TStageClock
+{
+   public:
+	explicit TStageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
+	/** Charges the time since the previous lap to `stage`. */
+	void lap(const std::string& stage)
+	{
+		const auto now = std::chrono::steady_clock::now();
+		add(stage, std::chrono::duration<double>(now - last_).count());
+		last_ = now;
+	}
+	void add(const std::string& stage, double sec)
+	{
+		for (auto& [n, v] : out_)
+			if (n == stage)
+			{
+				v += sec;
+				return;
+			}
+		out_.emplace_back(stage, sec);
+	}
+
+   private:
+	std::vector<std::pair<std::string, double>>& out_;
+	std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 std::string stampText(double t)
 {
 	char b[64];
@@ -296,6 +325,8 @@ TSimSummary runSimulation(
 	const TSimOptions& o, const std::function<void(std::size_t, std::size_t)>& progress, const std::function<bool()>& cancel)
 {
 	const auto t0 = std::chrono::steady_clock::now();
+	TSimSummary sum;
+	TStageClock clock(sum.stageSeconds);
 	const auto& presets = simPresets();
 	const auto pit = std::find_if(presets.begin(), presets.end(), [&](const TSimPreset& p) { return p.name == o.preset; });
 	if (pit == presets.end())
@@ -390,11 +421,11 @@ TSimSummary runSimulation(
 	std::vector<TDetectionRecord> dets;
 	TTrajectory gt;
 	std::vector<double> shares;
-	TSimSummary sum;
 	cv::Mat scratch(cam.intrinsics.nrows, cam.intrinsics.ncols, CV_8U);
 	const auto& objs = world.objects();
 
 	CAsyncPngWriter pngs(2, 16);
+	clock.lap("setup");
 	for (std::size_t k = 0; k < stamps.size(); k++)
 	{
 		if (cancel && cancel())
@@ -408,7 +439,9 @@ TSimSummary runSimulation(
 		mrpt::img::CImage rgbImg, labelImg;
 		mrpt::math::CMatrixFloat depthM;
 		fbo.render_RGBD(world.colourScene(), rgbImg, depthM);
+		clock.lap("render colour+depth");
 		fbo.render_RGB(world.labelScene(), labelImg);
+		clock.lap("render labels");
 		cv::Mat rgb = rgbImg.asCvMatRef().clone();
 		if (rgb.channels() == 4) cv::cvtColor(rgb, rgb, cv::COLOR_BGRA2BGR);
 		cv::Mat z(depthM.rows(), depthM.cols(), CV_32F);
@@ -438,8 +471,10 @@ TSimSummary runSimulation(
 			}
 		const double share = static_cast<double>(dynamicPx) / (lab.rows * lab.cols);
 		shares.push_back(share);
+		clock.lap("labels");
 
 		exactDepth(world, poses[k], cam.intrinsics, inst, z);
+		clock.lap("exact depth");
 
 		// Sensor effects, each from a per-frame seed so that runs are byte-identical.
 		std::mt19937 rng(o.seed * 1000003u + static_cast<uint32_t>(k));
@@ -471,6 +506,8 @@ TSimSummary runSimulation(
 				cv::filter2D(rgb, rgb, -1, kernel);
 			}
 		}
+
+		clock.lap("sensor noise");
 
 		// Objects: visible box, visible fraction, and simulated detections.
 		std::uniform_real_distribution<double> uu(0, 1);
@@ -529,6 +566,7 @@ TSimSummary runSimulation(
 			sum.detections++;
 		}
 
+		clock.lap("objects+detections");
 		const std::string name = stampText(stamps[k]) + ".png";
 		if (o.overlays)
 		{
@@ -566,6 +604,7 @@ TSimSummary runSimulation(
 				if (lec) fs::copy_file(out / "rgb" / name, link, fs::copy_options::overwrite_existing, lec);
 				if (lec) throw InputError(link.string(), "cannot write image (" + lec.message() + ")");
 			};
+		clock.lap("overlays");
 		pngs.write((out / "rgb" / name).string(), rgb, linkForRawlog);
 		pngs.write((out / "depth" / name).string(), depth16);
 		pngs.write((out / "labels/class" / name).string(), cls);
@@ -574,6 +613,7 @@ TSimSummary runSimulation(
 		depthTxt += stampText(stamps[k]) + " depth/" + name + "\n";
 		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(stamps[k]) + " depth/" + name + "\n";
 		gt.push_back(TStampedPose::fromPose(stamps[k], poses[k]));
+		clock.lap("png queue wait");
 		if (rawlog)
 		{
 			auto obs = makeRgbdObservation(stamps[k], rgb, depth16, cam, "RGBD_SIM");
@@ -582,11 +622,13 @@ TSimSummary runSimulation(
 			obs->intensityImage = ext;
 			rawlog->write(*obs);
 		}
+		clock.lap("rawlog");
 		sum.frames++;
 		if (progress) progress(sum.frames, stamps.size());
 	}
 
 	pngs.finish();
+	clock.lap("png queue wait");
 	// The lists and files that make the folder a TUM sequence, then the rest.
 	writeFileAtomically((out / "rgb.txt").string(), rgbTxt);
 	writeFileAtomically((out / "depth.txt").string(), depthTxt);
@@ -634,6 +676,8 @@ TSimSummary runSimulation(
 	}
 	meta += "]\n}\n";
 	writeFileAtomically((out / "meta.json").string(), meta);
+	clock.lap("finish");
+	clock.add("png encode (threads)", pngs.busySeconds());
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return sum;
 }

@@ -34,7 +34,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
 	}
 }
 
-void writeFileAtomically(const std::string& path, const std::string& content)
+void writeFileAtomically(const std::string& path, const void* data, std::size_t size)
 {
 	writeFileAtomically(
 		path,
@@ -42,17 +42,19 @@ void writeFileAtomically(const std::string& path, const std::string& content)
 		{
 			std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
 			if (!f) throw InputError(path, std::string("cannot open for writing (") + std::strerror(errno) + ")");
-			f.write(content.data(), static_cast<std::streamsize>(content.size()));
+			f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
 			f.flush();
 			if (!f) throw InputError(path, "write failed (disk full?)");
 		});
 }
 
+void writeFileAtomically(const std::string& path, const std::string& content) { writeFileAtomically(path, content.data(), content.size()); }
+
 void writePngAtomically(const std::string& path, const cv::Mat& img, int compression)
 {
 	std::vector<uchar> buf;
-	if (img.empty() || !cv::imencode(".png", img, buf, {cv::IMWRITE_PNG_COMPRESSION, compression}))
-		throw InputError(path, "cannot encode PNG");
-	writeFileAtomically(path, std::string(buf.begin(), buf.end()));
+	const std::vector<int> params = compression < 0 ? std::vector<int>() : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, compression};
+	if (img.empty() || !cv::imencode(".png", img, buf, params)) throw InputError(path, "cannot encode PNG");
+	writeFileAtomically(path, buf.data(), buf.size());
 }
 }  // namespace mrpt_yesslam

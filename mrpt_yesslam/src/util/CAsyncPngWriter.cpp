@@ -2,6 +2,8 @@
 
 #include "mrpt_yesslam/util/AtomicFile.h"
 
+#include <chrono>
+
 namespace mrpt_yesslam
 {
 CAsyncPngWriter::CAsyncPngWriter(std::size_t threads, std::size_t maxQueued) : maxQueued_(std::max<std::size_t>(1, maxQueued))
@@ -34,6 +36,7 @@ void CAsyncPngWriter::loop()
 		}
 		space_.notify_one();
 		std::exception_ptr err;
+		const auto t0 = std::chrono::steady_clock::now();
 		try
 		{
 			writePngAtomically(job.path, job.img, job.compression);
@@ -47,6 +50,7 @@ void CAsyncPngWriter::loop()
 			std::lock_guard<std::mutex> lk(mtx_);
 			if (err && !error_) error_ = err;
 			busy_--;
+			busySeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		}
 		idle_.notify_all();
 	}
@@ -78,5 +82,11 @@ void CAsyncPngWriter::finish()
 	std::unique_lock<std::mutex> lk(mtx_);
 	idle_.wait(lk, [&] { return jobs_.empty() && busy_ == 0; });
 	rethrow();
+}
+
+double CAsyncPngWriter::busySeconds()
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	return busySeconds_;
 }
 }  // namespace mrpt_yesslam

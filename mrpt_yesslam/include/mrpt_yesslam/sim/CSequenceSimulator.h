@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mrpt_yesslam
@@ -50,6 +51,9 @@ struct TSimSummary
 	std::size_t detections = 0;
 	double seconds = 0;
 	bool interrupted = false;
+	/** Seconds spent per stage (setup, render, labels, depth, noise, objects, rawlog, png, finish),
+	 * in pipeline order; png is the writer threads' time, which overlaps the others. */
+	std::vector<std::pair<std::string, double>> stageSeconds;
 };
 
 /** Runs a simulation; throws InputError for bad options (unknown preset, unwritable folder,

@@ -10,12 +10,18 @@ namespace mrpt_yesslam
 /** Writes `content` to `path` atomically; throws InputError naming `path` on failure. */
 void writeFileAtomically(const std::string& path, const std::string& content);
 
+/** Writes `size` bytes at `data` to `path` atomically (no copy into a string first). */
+void writeFileAtomically(const std::string& path, const void* data, std::size_t size);
+
 /** Calls `writer(tmpPath)` to produce the file, then renames it to `path`; on any failure the
  * temporary file is removed and the error (an InputError naming `path`) propagates. */
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string& tmpPath)>& writer);
 
-/** Encodes `img` as PNG (zlib level `compression`, 0-9) and writes it atomically. */
-void writePngAtomically(const std::string& path, const cv::Mat& img, int compression = 1);
+/** Encodes `img` as PNG and writes it atomically. `compression` -1 (the default) is OpenCV's
+ * speed-tuned encoding (SUB filter, zlib level 1, RLE strategy): on noisy 640x480 colour it is
+ * 2.3x faster than an explicit level 1 (which makes libpng try every row filter) and smaller.
+ * 0-9 picks a zlib level with libpng's adaptive filters. */
+void writePngAtomically(const std::string& path, const cv::Mat& img, int compression = -1);
 
 /** The temporary name used for `path` by this process. */
 std::string temporaryPathFor(const std::string& path);

@@ -28,9 +28,11 @@ class CAsyncPngWriter
 
 	/** Queues `img` (shared, not copied: the caller must not modify it afterwards) for `path`;
 	 * `after` runs in the worker once the file is in place. Rethrows an earlier write's error. */
-	void write(const std::string& path, const cv::Mat& img, std::function<void()> after = {}, int compression = 1);
+	void write(const std::string& path, const cv::Mat& img, std::function<void()> after = {}, int compression = -1);
 	/** Waits until every queued file is written; rethrows the first error (an InputError). */
 	void finish();
+	/** Seconds the workers have spent encoding and writing so far (summed over workers). */
+	double busySeconds();
 
    private:
 	struct TJob
@@ -38,7 +40,7 @@ class CAsyncPngWriter
 		std::string path;
 		cv::Mat img;
 		std::function<void()> after;
-		int compression = 1;
+		int compression = -1;
 	};
 	void loop();
 	void rethrow();
@@ -47,6 +49,7 @@ class CAsyncPngWriter
 	std::condition_variable cv_, space_, idle_;
 	std::deque<TJob> jobs_;
 	std::size_t maxQueued_, busy_ = 0;
+	double busySeconds_ = 0;
 	bool stop_ = false;
 	std::exception_ptr error_;
 	std::vector<std::thread> workers_;
