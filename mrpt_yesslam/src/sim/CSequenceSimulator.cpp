@@ -2,7 +2,7 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/math/CMatrixDynamic.h>
-#include <mrpt/opengl/CFBORender.h>
+#include <mrpt/opengl/COpenGLScene.h>
 
 #include <algorithm>
 #include <chrono>
@@ -153,78 +153,6 @@ void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam)
 	// Small holes.
 	std::uniform_int_distribution<int> px(0, z.cols - 1), py(0, z.rows - 1), rad(1, 4);
 	for (int i = 0; i < 40; i++) cv::circle(z, {px(rng), py(rng)}, rad(rng), cv::Scalar(0), cv::FILLED);
-}
-
-// Replaces the rendered depth with the exact one. CFBORender's depth (MRPT 2.5) is a sawtooth around
-// the truth: within +-0.4% at 2-6 m even with a tight clip range (a plane at 2.028 m reads
-// 2.033 m, one at 2.024 m reads 2.020 m), systematic per depth, so it biased every pose estimated
-// from it by millimetres. The label image says which object each pixel sees and the world is
-// made of boxes: intersecting the pixel's ray with that object's boxes gives the depth exactly.
-// Pixels whose ray misses (a silhouette sample) keep the rendered value.
-void exactDepth(const CSimWorld& world, const CPose3D& Twc, const mrpt::img::TCamera& K, const cv::Mat& inst, cv::Mat& z)
-{
-	struct TLocalBox
-	{
-		double R[9], o[3], h[3];  // camera-to-box rotation (row-major), camera origin in the box, half sizes
-	};
-	// Boxes by instance id, built on first use (ids are 16-bit label values).
-	std::vector<std::vector<TLocalBox>> cache(65536);
-	std::vector<bool> built(65536, false);
-	auto boxesOf = [&](int id) -> const std::vector<TLocalBox>&
-	{
-		auto& v = cache[static_cast<std::size_t>(id)];
-		if (built[static_cast<std::size_t>(id)]) return v;
-		built[static_cast<std::size_t>(id)] = true;
-		const int idx = world.indexOfId(id);
-		if (idx >= 0)
-			for (const auto& [pose, b] : world.worldBoxes(idx))
-			{
-				const CPose3D Tbc = (-pose) + Twc;	// camera in the box frame
-				const auto Rm = Tbc.getRotationMatrix();
-				TLocalBox lb;
-				for (int i = 0; i < 3; i++)
-					for (int j = 0; j < 3; j++) lb.R[3 * i + j] = Rm(i, j);
-				lb.o[0] = Tbc.x();
-				lb.o[1] = Tbc.y();
-				lb.o[2] = Tbc.z();
-				lb.h[0] = b.sx / 2;
-				lb.h[1] = b.sy / 2;
-				lb.h[2] = b.sz / 2;
-				v.push_back(lb);
-			}
-		return v;
-	};
-	for (int r = 0; r < z.rows; r++)
-		for (int c = 0; c < z.cols; c++)
-		{
-			const int id = inst.at<uint16_t>(r, c);
-			if (id == 0 || !(z.at<float>(r, c) > 0)) continue;
-			const double dc[3] = {(c - K.cx()) / K.fx(), (r - K.cy()) / K.fy(), 1.0};	// camera ray, z = 1
-			double best = std::numeric_limits<double>::infinity();
-			for (const auto& b : boxesOf(id))
-			{
-				double tmin = 0.0, tmax = best;
-				bool hit = true;
-				for (int a = 0; a < 3 && hit; a++)
-				{
-					const double d = b.R[3 * a] * dc[0] + b.R[3 * a + 1] * dc[1] + b.R[3 * a + 2] * dc[2];
-					if (std::abs(d) < 1e-12)
-					{
-						hit = std::abs(b.o[a]) <= b.h[a];
-						continue;
-					}
-					double t0 = (-b.h[a] - b.o[a]) / d, t1 = (b.h[a] - b.o[a]) / d;
-					if (t0 > t1) std::swap(t0, t1);
-					tmin = std::max(tmin, t0);
-					tmax = std::min(tmax, t1);
-					hit = tmin <= tmax;
-				}
-				if (hit && tmin > 0) best = tmin;	// the ray has z = 1: t is the depth
-			}
-			// Accept only what agrees with the renderer to 2% (the right surface was hit).
-			const float rendered = z.at<float>(r, c);
-			if (std::isfinite(best) && std::abs(best - rendered) < 0.02 * rendered) z.at<float>(r, c) = static_cast<float>(best);
-		}
 }
 
 // Pixels covered by an object's boxes if nothing occluded them (its faces rasterised).
@@ -400,18 +328,8 @@ TSimSummary runSimulation(
 	const CPose3D seats[3] = {CPose3D(4.5, 1.6, 0, M_PI, 0, 0), CPose3D(4.5, 3.4, 0, M_PI * 0.92, 0, 0), CPose3D(3.4, 3.95, 0, -M_PI / 2, 0, 0)};
 	for (int k = 0; k < sitters; k++) world.addSittingPerson(seats[k % 3] + CPose3D(0.1 * (k / 3), 0, 0, 0, 0, 0), 2.0 * k);
 	if (o.movingChair) world.addMovingChair({P2(3.0, 1.2), P2(3.2, 3.8)}, 0.35);
-	world.buildScenes();
-	// MRPT's default clip range (0.01 m .. 10 km) leaves the depth buffer so little precision that
-	// render_RGBD's depth came out 2.3% too far at 2-6 m (measured on planes at known depth): a
-	// scale error in every sequence. With 0.2 .. 10 m (the room's diagonal is under 9 m) the depth
-	// error is 0.2% rms with 0.05% mean, below the Kinect noise we add on top.
-	for (auto* sc : {&world.colourScene(), &world.labelScene()}) sc->getViewport()->setViewportClipDistances(0.2f, 10.0f);
-
 	TRgbdCamera cam = tumCameraByName("fr3");
-	mrpt::opengl::CFBORender fbo(cam.intrinsics.ncols, cam.intrinsics.nrows);
-	auto& glcam = fbo.getCamera(world.colourScene());
-	glcam.set6DOFMode(true);
-	glcam.setProjectiveFromPinhole(openGlIntrinsics(cam.intrinsics));
+	const CBoxRaycaster renderer;
 
 	std::unique_ptr<CRawlogWriter> rawlog;
 	if (o.writeRawlog) rawlog = std::make_unique<CRawlogWriter>((out / "sequence.rawlog").string());
@@ -435,46 +353,40 @@ TSimSummary runSimulation(
 		}
 		const double t = stamps[k] - stamps[0];
 		world.setTime(t);
-		glcam.setPose(poses[k]);
-		mrpt::img::CImage rgbImg, labelImg;
-		mrpt::math::CMatrixFloat depthM;
-		fbo.render_RGBD(world.colourScene(), rgbImg, depthM);
-		clock.lap("render colour+depth");
-		fbo.render_RGB(world.labelScene(), labelImg);
-		clock.lap("render labels");
-		cv::Mat rgb = rgbImg.asCvMatRef().clone();
-		if (rgb.channels() == 4) cv::cvtColor(rgb, rgb, cv::COLOR_BGRA2BGR);
-		cv::Mat z(depthM.rows(), depthM.cols(), CV_32F);
-		for (int r = 0; r < z.rows; r++)
-			for (int c = 0; c < z.cols; c++) z.at<float>(r, c) = depthM(r, c);
-		const cv::Mat lab = labelImg.asCvMatRef();
+		cv::Mat rgb, z, inst;
+		renderer.render(world.rayBoxes(), poses[k], cam.intrinsics, rgb, z, inst);
+		clock.lap("render");
 
-		// Labels: instance id from the flat colour (B = 0x40 marks an object, R + 256 G its id).
-		cv::Mat inst = cv::Mat::zeros(lab.size(), CV_16U), cls = cv::Mat::zeros(lab.size(), CV_16U);
+		// Class labels, visible pixels and box of every instance, share of moving pixels.
+		cv::Mat cls = cv::Mat::zeros(inst.size(), CV_16U);
 		std::vector<std::size_t> visible(objs.size() + 1, 0);
-		std::vector<cv::Rect> bbox(objs.size() + 1);
+		std::vector<int> x0(objs.size() + 1, inst.cols), y0(objs.size() + 1, inst.rows), x1(objs.size() + 1, -1), y1(objs.size() + 1, -1);
 		std::size_t dynamicPx = 0;
-		for (int r = 0; r < lab.rows; r++)
-			for (int c = 0; c < lab.cols; c++)
+		for (int r = 0; r < inst.rows; r++)
+		{
+			const uint16_t* pi = inst.ptr<uint16_t>(r);
+			uint16_t* pc = cls.ptr<uint16_t>(r);
+			for (int c = 0; c < inst.cols; c++)
 			{
-				const cv::Vec3b p = lab.at<cv::Vec3b>(r, c);	// BGR
-				if (p[0] != 0x40) continue;
-				const int id = p[2] + 256 * p[1];
-				const int idx = world.indexOfId(id);
+				const int idx = world.indexOfId(pi[c]);
 				if (idx < 0) continue;
-				inst.at<uint16_t>(r, c) = static_cast<uint16_t>(id);
-				if (objs[static_cast<std::size_t>(idx)].classId >= 0)
-					cls.at<uint16_t>(r, c) = static_cast<uint16_t>(objs[static_cast<std::size_t>(idx)].classId + 1);
-				const std::size_t ui = static_cast<std::size_t>(id);
-				bbox[ui] = visible[ui]++ ? (bbox[ui] | cv::Rect(c, r, 1, 1)) : cv::Rect(c, r, 1, 1);
-				dynamicPx += objs[static_cast<std::size_t>(idx)].moves;
+				const auto& ob = objs[static_cast<std::size_t>(idx)];
+				if (ob.classId >= 0) pc[c] = static_cast<uint16_t>(ob.classId + 1);
+				const std::size_t ui = pi[c];
+				visible[ui]++;
+				x0[ui] = std::min(x0[ui], c);
+				x1[ui] = std::max(x1[ui], c);
+				y0[ui] = std::min(y0[ui], r);
+				y1[ui] = std::max(y1[ui], r);
+				dynamicPx += ob.moves;
 			}
-		const double share = static_cast<double>(dynamicPx) / (lab.rows * lab.cols);
+		}
+		std::vector<cv::Rect> bbox(objs.size() + 1);
+		for (std::size_t i = 0; i < bbox.size(); i++)
+			if (visible[i]) bbox[i] = cv::Rect(x0[i], y0[i], x1[i] - x0[i] + 1, y1[i] - y0[i] + 1);
+		const double share = static_cast<double>(dynamicPx) / (inst.rows * inst.cols);
 		shares.push_back(share);
 		clock.lap("labels");
-
-		exactDepth(world, poses[k], cam.intrinsics, inst, z);
-		clock.lap("exact depth");
 
 		// Sensor effects, each from a per-frame seed so that runs are byte-identical.
 		std::mt19937 rng(o.seed * 1000003u + static_cast<uint32_t>(k));
@@ -546,7 +458,7 @@ TSimSummary runSimulation(
 				const double x1 = b.x + b.width + jx * nn(rng), y1 = b.y + b.height + jy * nn(rng);
 				r.det.score = static_cast<float>(std::min(0.995, 0.6 + 0.4 * std::pow(uu(rng), 0.35) * (0.7 + 0.3 * frac)));
 				r.det.box = cv::Rect2f(cv::Point2f(static_cast<float>(x0), static_cast<float>(y0)), cv::Point2f(static_cast<float>(x1), static_cast<float>(y1))) &
-					cv::Rect2f(0, 0, static_cast<float>(lab.cols), static_cast<float>(lab.rows));
+					cv::Rect2f(0, 0, static_cast<float>(inst.cols), static_cast<float>(inst.rows));
 				if (r.det.box.area() < 4) continue;
 			}
 			dets.push_back(r);
@@ -644,7 +556,7 @@ TSimSummary runSimulation(
 		rawlog->commit();
 		writeTumTrajectory((out / "sequence_groundtruth.txt").string(), gt, "ground truth of sequence.rawlog");
 	}
-	saveSceneAtomically(*world.staticScene(), (out / "scene.3Dscene").string());
+	saveSceneAtomically(*world.scene(), (out / "scene.3Dscene").string());
 
 	double mean = 0, mx = 0;
 	for (double s : shares)

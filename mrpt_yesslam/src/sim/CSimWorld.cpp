@@ -1,7 +1,6 @@
 #include "mrpt_yesslam/sim/CSimWorld.h"
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/opengl/CBox.h>
 #include <mrpt/opengl/COpenGLViewport.h>
 #include <mrpt/opengl/CSetOfTexturedTriangles.h>
 
@@ -318,56 +317,17 @@ void CSimWorld::animatePerson(const TSimPerson& p, double t, TSimObject& o) cons
 	}
 }
 
-mrpt::opengl::CSetOfObjects::Ptr CSimWorld::buildObject(const TSimObject& o, bool labels) const
+mrpt::opengl::CSetOfObjects::Ptr CSimWorld::buildObject(const TSimObject& o) const
 {
 	auto set = mrpt::opengl::CSetOfObjects::Create();
 	set->setPose(o.pose);
 	for (const auto& b : o.boxes)
 	{
-		if (labels)
-		{
-			auto c = mrpt::opengl::CBox::Create(
-				mrpt::math::TPoint3D(-b.sx / 2, -b.sy / 2, -b.sz / 2), mrpt::math::TPoint3D(b.sx / 2, b.sy / 2, b.sz / 2));
-			c->setColor_u8(static_cast<uint8_t>(o.id & 255), static_cast<uint8_t>((o.id >> 8) & 255), 0x40, 255);
-			// MRPT 2.5's unlit triangle shader renders black here; full ambient light with no diffuse or
-			// specular term gives the flat colour instead (see the label viewport in buildScenes()).
-			c->setPose(b.local);
-			set->insert(c);
-		}
-		else
-		{
-			auto c = texturedBox(b.sx, b.sy, b.sz, textures_[static_cast<std::size_t>(b.texture)]);
-			c->setPose(b.local);
-			set->insert(c);
-		}
+		auto c = texturedBox(b.sx, b.sy, b.sz, textures_[static_cast<std::size_t>(b.texture)]);
+		c->setPose(b.local);
+		set->insert(c);
 	}
 	return set;
-}
-
-void CSimWorld::buildScenes()
-{
-	colour_ = mrpt::opengl::COpenGLScene::Create();
-	// Indoor light: bright ambient so that no face is black, some diffuse for shading.
-	auto& cl = colour_->getViewport()->lightParameters();
-	cl.ambient = mrpt::img::TColorf(0.55f, 0.55f, 0.55f, 1);
-	cl.diffuse = mrpt::img::TColorf(0.6f, 0.6f, 0.6f, 1);
-	cl.specular = mrpt::img::TColorf(0.05f, 0.05f, 0.05f, 1);
-	label_ = mrpt::opengl::COpenGLScene::Create();
-	label_->getViewport()->setCustomBackgroundColor(mrpt::img::TColorf(0, 0, 0));
-	auto& lights = label_->getViewport()->lightParameters();
-	lights.ambient = mrpt::img::TColorf(1, 1, 1, 1);
-	lights.diffuse = mrpt::img::TColorf(0, 0, 0, 1);
-	lights.specular = mrpt::img::TColorf(0, 0, 0, 1);
-	colourObjs_.clear();
-	labelObjs_.clear();
-	setTime(0);
-	for (const auto& o : objects_)
-	{
-		colourObjs_.push_back(buildObject(o, false));
-		labelObjs_.push_back(buildObject(o, true));
-		colour_->insert(colourObjs_.back());
-		label_->insert(labelObjs_.back());
-	}
 }
 
 void CSimWorld::setTime(double t)
@@ -380,24 +340,38 @@ void CSimWorld::setTime(double t)
 		alongPath(chairPaths_[k].first, chairPaths_[k].second * t, x, y, yaw);
 		objects_[static_cast<std::size_t>(chairObjects_[k])].pose = CPose3D(x, y, 0, yaw, 0, 0);
 	}
-	if (colourObjs_.empty()) return;
-	for (std::size_t i = 0; i < objects_.size(); i++)
-	{
-		if (!objects_[i].moves) continue;
-		for (auto* set : {&colourObjs_[i], &labelObjs_[i]})
-		{
-			(*set)->setPose(objects_[i].pose);
-			std::size_t k = 0;
-			for (auto& child : **set) child->setPose(objects_[i].boxes[k++].local);
-		}
-	}
 }
 
-mrpt::opengl::COpenGLScene::Ptr CSimWorld::staticScene() const
+std::vector<TRayBox> CSimWorld::rayBoxes() const
+{
+	std::vector<TRayBox> out;
+	for (const auto& o : objects_)
+		for (const auto& b : o.boxes)
+		{
+			TRayBox r;
+			r.pose = o.pose + b.local;
+			r.sx = b.sx;
+			r.sy = b.sy;
+			r.sz = b.sz;
+			r.texture = &textures_[static_cast<std::size_t>(b.texture)];
+			r.id = static_cast<uint16_t>(o.id);
+			out.push_back(r);
+		}
+	return out;
+}
+
+mrpt::opengl::COpenGLScene::Ptr CSimWorld::scene(bool withMoving) const
 {
 	auto s = mrpt::opengl::COpenGLScene::Create();
-	for (std::size_t i = 0; i < objects_.size(); i++)
-		if (!objects_[i].moves) s->insert(buildObject(objects_[i], false));
+	// The light the ray caster uses, so that the scene looks in a viewer as in the images.
+	const CBoxRaycaster::TOptions light;
+	auto& lp = s->getViewport()->lightParameters();
+	lp.ambient = mrpt::img::TColorf(light.ambient, light.ambient, light.ambient, 1);
+	lp.diffuse = mrpt::img::TColorf(light.diffuse, light.diffuse, light.diffuse, 1);
+	lp.specular = mrpt::img::TColorf(0, 0, 0, 1);
+	lp.direction = mrpt::math::TVector3Df(light.lightDir[0], light.lightDir[1], light.lightDir[2]);
+	for (const auto& o : objects_)
+		if (withMoving || !o.moves) s->insert(buildObject(o));
 	return s;
 }
 

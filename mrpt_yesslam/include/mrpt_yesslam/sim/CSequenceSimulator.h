@@ -56,12 +56,13 @@ struct TSimSummary
 	std::vector<std::pair<std::string, double>> stageSeconds;
 };
 
-/** Runs a simulation; throws InputError for bad options (unknown preset, unwritable folder,
- * unreadable trajectory). `progress(done,total)` after each frame; `cancel()` stops early and
- * keeps what was written. */
 /** The intrinsics to give CFBORender so that its images follow `K` with pixel centres at integer
  * coordinates (TUM's convention); CFBORender samples pixel k at k + 0.5. */
 mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K);
+
+/** Runs a simulation; throws InputError for bad options (unknown preset, unwritable folder,
+ * unreadable trajectory). `progress(done,total)` after each frame; `cancel()` stops early and
+ * keeps what was written. */
 
 TSimSummary runSimulation(
 	const TSimOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress = {},

@@ -1,13 +1,14 @@
 #pragma once
 // The simulated office for yesslam-sim: a 6 x 5 x 3 m room with desks, monitors, keyboards, mice,
 // chairs, cups, books, bottles, plants and shelves (COCO classes) placed from a seed, and people
-// (walking with a gait, or sitting and moving slightly). Every object is a set of oriented boxes,
-// so the same geometry is built twice: textured and lit for the colour image, flat-coloured and
-// unlit (colour = instance id) for the label image. We render with MRPT's CFBORender because it
-// gives colour and metric depth headless in ~25 ms; writing our own rasteriser would buy nothing.
+// (walking with a gait, or sitting and moving slightly). Every object is a set of textured,
+// oriented boxes: CBoxRaycaster renders them (colour, exact depth and instance ids in one pass;
+// see there why not CFBORender), and scene() gives the same world as an MRPT scene for viewing.
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/poses/CPose3D.h>
+
+#include "mrpt_yesslam/sim/CBoxRaycaster.h"
 
 #include <opencv2/core.hpp>
 #include <string>
@@ -61,15 +62,14 @@ class CSimWorld
 	/** Adds a chair that is pushed along `path` (a non-person dynamic object). */
 	void addMovingChair(const std::vector<mrpt::math::TPoint2D>& path, double speed);
 
-	/** Builds the MRPT scenes (call after adding people). */
-	void buildScenes();
 	/** Moves the dynamic objects to time `t` (seconds from the start). */
 	void setTime(double t);
 
-	mrpt::opengl::COpenGLScene& colourScene() { return *colour_; }
-	mrpt::opengl::COpenGLScene& labelScene() { return *label_; }
-	/** The static world only (for scene.3Dscene). */
-	mrpt::opengl::COpenGLScene::Ptr staticScene() const;
+	/** Every box at the current time, for CBoxRaycaster (textures point into this world). */
+	std::vector<TRayBox> rayBoxes() const;
+	/** The world as an MRPT scene, lit as the ray caster lights it: the static objects (what
+	 * scene.3Dscene holds) or also the moving ones at the current time. */
+	mrpt::opengl::COpenGLScene::Ptr scene(bool withMoving = false) const;
 
 	const std::vector<TSimObject>& objects() const { return objects_; }
 	/** Object index by instance id (-1 if none). */
@@ -82,7 +82,7 @@ class CSimWorld
    private:
 	int addObject(TSimObject o);
 	int texture(const cv::Scalar& base, int size = 256, double density = 1.0);
-	mrpt::opengl::CSetOfObjects::Ptr buildObject(const TSimObject& o, bool labels) const;
+	mrpt::opengl::CSetOfObjects::Ptr buildObject(const TSimObject& o) const;
 	/** Box poses of a person at time t (animation). */
 	void animatePerson(const TSimPerson& p, double t, TSimObject& o) const;
 
@@ -94,8 +94,6 @@ class CSimWorld
 	std::vector<TSimPerson> people_;
 	std::vector<std::pair<std::vector<mrpt::math::TPoint2D>, double>> chairPaths_;	// (path, speed) by object
 	std::vector<int> chairObjects_;
-	mrpt::opengl::COpenGLScene::Ptr colour_, label_;
-	std::vector<mrpt::opengl::CSetOfObjects::Ptr> colourObjs_, labelObjs_;
 	double t_ = 0;
 };
 }  // namespace mrpt_yesslam
