@@ -117,39 +117,38 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 // small holes.
 void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam)
 {
-	std::normal_distribution<float> n(0, 1);
-	std::uniform_real_distribution<float> u(0, 1);
 	const float fb = static_cast<float>(cam.intrinsics.fx() * 0.075);	// focal length x baseline
-	cv::Mat src = z.clone();
+	// Depth edge: a valid neighbour (3x3) differs by more than 8 %: the sensor often sees nothing
+	// there. Largest and smallest valid neighbour by dilation and erosion (missing depth counts
+	// as +inf for the smallest; pixels outside the image are ignored by both).
+	cv::Mat mx, mn, zInf = z.clone();
+	zInf.setTo(std::numeric_limits<float>::infinity(), z <= 0);
+	cv::dilate(z, mx, cv::Mat());
+	cv::erode(zInf, mn, cv::Mat());
+	// Per-pixel random numbers drawn in bulk (OpenCV's generator, seeded from the frame's).
+	cv::RNG cvRng(rng());
+	cv::Mat gauss(z.size(), CV_32F), unif(z.size(), CV_32F);
+	cvRng.fill(gauss, cv::RNG::NORMAL, 0.0, 1.0);
+	cvRng.fill(unif, cv::RNG::UNIFORM, 0.0, 1.0);
 	for (int y = 0; y < z.rows; y++)
+	{
+		float* pz = z.ptr<float>(y);
+		const float *pmx = mx.ptr<float>(y), *pmn = mn.ptr<float>(y), *pg = gauss.ptr<float>(y), *pu = unif.ptr<float>(y);
 		for (int x = 0; x < z.cols; x++)
 		{
-			float v = src.at<float>(y, x);
+			float v = pz[x];
 			if (v <= 0) continue;
-			if (v < 0.5f || v > 4.5f)
+			const bool edge = pmx[x] > 1.08f * v || pmn[x] < 0.92f * v;
+			if (v < 0.5f || v > 4.5f || (edge && pu[x] < 0.7f))
 			{
-				z.at<float>(y, x) = 0;
+				pz[x] = 0;
 				continue;
 			}
-			// Depth edge: a neighbour differs by more than 8 %: the sensor often sees nothing there.
-			bool edge = false;
-			for (int dy = -1; dy <= 1 && !edge; dy++)
-				for (int dx = -1; dx <= 1 && !edge; dx++)
-				{
-					const int yy = y + dy, xx = x + dx;
-					if (yy < 0 || xx < 0 || yy >= z.rows || xx >= z.cols) continue;
-					const float w = src.at<float>(yy, xx);
-					edge = w > 0 && std::abs(w - v) > 0.08f * v;
-				}
-			if (edge && u(rng) < 0.7f)
-			{
-				z.at<float>(y, x) = 0;
-				continue;
-			}
-			v += 1.425e-3f * v * v * n(rng);
-			const float disp = std::round(fb / v * 8.0f) / 8.0f;
-			z.at<float>(y, x) = disp > 0 ? fb / disp : 0;
+			v += 1.425e-3f * v * v * pg[x];
+			const float disp = std::nearbyint(fb / v * 8.0f) / 8.0f;
+			pz[x] = disp > 0 ? fb / disp : 0;
 		}
+	}
 	// Small holes.
 	std::uniform_int_distribution<int> px(0, z.cols - 1), py(0, z.rows - 1), rad(1, 4);
 	for (int i = 0; i < 40; i++) cv::circle(z, {px(rng), py(rng)}, rad(rng), cv::Scalar(0), cv::FILLED);
