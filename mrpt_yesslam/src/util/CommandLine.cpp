@@ -137,7 +137,8 @@ std::string CommandLine::help() const
 			left += "\n" + std::string(26, ' ');
 		std::string text = o.help;
 		if (o.required) text += " (required)";
-		if (!o.defaultText.empty()) text += " [default: " + o.defaultText + "]";
+		// A help text that states its own default (a computed one) keeps it alone.
+		if (!o.defaultText.empty() && o.help.find("[default:") == std::string::npos) text += " [default: " + o.defaultText + "]";
 		h += left + text + "\n";
 	}
 	h += "  --help                  Show this help and exit.\n";
