@@ -5,82 +5,59 @@
 namespace mrpt_yesslam
 {
 CPrefetchingSource::CPrefetchingSource(std::unique_ptr<CInputSource> source, std::size_t depth)
-	: source_(std::move(source)), depth_(std::max<std::size_t>(1, depth)), sizeHint_(source_->sizeHint()), path_(source_->path())
+	: source_(std::move(source)), sizeHint_(source_->sizeHint()), path_(source_->path())
 {
-	reader_ = std::thread([this] { run(); });
+	for (std::size_t i = 0; i < std::max<std::size_t>(1, depth); i++) readAhead();
 }
 
-CPrefetchingSource::~CPrefetchingSource()
+mrpt::obs::CObservation3DRangeScan::Ptr CPrefetchingSource::readOne()
 {
+	if (sourceEnded_) return nullptr;
+	try
 	{
-		std::lock_guard<std::mutex> lk(mutex_);
-		stop_ = true;
+		auto obs = source_->next();
+		skipped_ = source_->skipped();
+		sourceEnded_ = obs == nullptr;
+		return obs;
 	}
-	changed_.notify_all();
-	reader_.join();
+	catch (...)
+	{
+		// Not read again after an error: a source is left at its end once it has thrown.
+		skipped_ = source_->skipped();
+		sourceEnded_ = true;
+		throw;
+	}
 }
 
-void CPrefetchingSource::run()
+void CPrefetchingSource::readAhead()
 {
-	for (;;)
-	{
-		{
-			std::unique_lock<std::mutex> lk(mutex_);
-			changed_.wait(lk, [&] { return stop_ || queue_.size() < depth_; });
-			if (stop_) return;
-		}
-		mrpt::obs::CObservation3DRangeScan::Ptr obs;
-		std::exception_ptr err;
-		try
-		{
-			obs = source_->next();
-		}
-		catch (...)
-		{
-			err = std::current_exception();
-		}
-		const bool more = obs != nullptr;
-		{
-			std::lock_guard<std::mutex> lk(mutex_);
-			skipped_ = source_->skipped();
-			if (more)
-				queue_.push_back(std::move(obs));
-			else
-			{
-				error_ = err;
-				finished_ = true;
-			}
-		}
-		changed_.notify_all();
-		if (!more) return;
-	}
+	ahead_.push_back(reader_.submit([this] { return readOne(); }));
 }
 
 mrpt::obs::CObservation3DRangeScan::Ptr CPrefetchingSource::next()
 {
-	std::unique_lock<std::mutex> lk(mutex_);
-	changed_.wait(lk, [&] { return !queue_.empty() || finished_; });
-	if (!queue_.empty())
+	if (delivered_ || ahead_.empty()) return nullptr;
+	auto pending = std::move(ahead_.front());
+	ahead_.pop_front();
+	mrpt::obs::CObservation3DRangeScan::Ptr obs;
+	try
 	{
-		auto obs = std::move(queue_.front());
-		queue_.pop_front();
-		lk.unlock();
-		changed_.notify_all();
-		return obs;
+		obs = pending.get();
 	}
-	if (error_)
+	catch (...)
 	{
 		// Once: later calls report the end of the stream, as a source that threw would be left.
-		auto e = error_;
-		error_ = nullptr;
-		std::rethrow_exception(e);
+		delivered_ = true;
+		ahead_.clear();
+		throw;
 	}
-	return nullptr;
-}
-
-std::size_t CPrefetchingSource::skipped() const
-{
-	std::lock_guard<std::mutex> lk(mutex_);
-	return skipped_;
+	if (!obs)
+	{
+		delivered_ = true;
+		ahead_.clear();
+		return nullptr;
+	}
+	readAhead();
+	return obs;
 }
 }  // namespace mrpt_yesslam

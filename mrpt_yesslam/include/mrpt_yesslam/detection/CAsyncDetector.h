@@ -2,14 +2,11 @@
 // Runs a detector on its own thread, so that detection of a frame overlaps the ORB extraction of
 // the same frame in the tracking thread (detection is the slowest stage on a CPU). One frame in
 // flight at a time: submit(), do other work, then get().
-#include <condition_variable>
-#include <exception>
+#include <future>
 #include <memory>
-#include <mutex>
-#include <optional>
-#include <thread>
 
 #include "mrpt_yesslam/detection/CObjectDetector.h"
+#include "mrpt_yesslam/util/CWorkerPool.h"
 
 namespace mrpt_yesslam
 {
@@ -20,7 +17,7 @@ class CAsyncDetector
 	/** Takes ownership of the detector and starts the worker. */
 	explicit CAsyncDetector(std::unique_ptr<CObjectDetector> detector);
 	/** Stops the worker (waits for a frame in flight). */
-	~CAsyncDetector();
+	~CAsyncDetector() = default;
 	CAsyncDetector(const CAsyncDetector&) = delete;
 	CAsyncDetector& operator=(const CAsyncDetector&) = delete;
 
@@ -33,15 +30,8 @@ class CAsyncDetector
 	const CObjectDetector& detector() const { return *det_; }
 
    private:
-	void loop();
-
 	std::unique_ptr<CObjectDetector> det_;
-	std::mutex m_;
-	std::condition_variable cv_;
-	std::optional<std::pair<cv::Mat, double>> job_;
-	std::optional<std::vector<TDetection>> result_;
-	std::exception_ptr error_;
-	bool inFlight_ = false, stop_ = false;
-	std::thread worker_;
+	std::future<std::vector<TDetection>> pending_;
+	CWorkerPool worker_{1};	 //!< last: stopped before the detector it runs is destroyed
 };
 }  // namespace mrpt_yesslam

@@ -3,15 +3,14 @@
 // while the renderer waited; with the writes in the background the next frame renders meanwhile.
 // Files are still written atomically (writePngAtomically) and are byte-identical to synchronous
 // writes; the queue is bounded so memory stays flat when the disk is slow.
-#include <condition_variable>
+#include <atomic>
 #include <deque>
-#include <exception>
 #include <functional>
-#include <mutex>
+#include <future>
 #include <opencv2/core.hpp>
 #include <string>
-#include <thread>
-#include <vector>
+
+#include "mrpt_yesslam/util/CWorkerPool.h"
 
 namespace mrpt_yesslam
 {
@@ -27,31 +26,17 @@ class CAsyncPngWriter
 	CAsyncPngWriter& operator=(const CAsyncPngWriter&) = delete;
 
 	/** Queues `img` (shared, not copied: the caller must not modify it afterwards) for `path`;
-	 * `after` runs in the worker once the file is in place. Rethrows an earlier write's error. */
+	 * `after` runs in the worker once the file is in place. Rethrows the error of an earlier write
+	 * (once the writes queued before it are done). */
 	void write(const std::string& path, const cv::Mat& img, std::function<void()> after = {}, int compression = -1);
 	/** Waits until every queued file is written; rethrows the first error (an InputError). */
 	void finish();
 	/** Seconds the workers have spent encoding and writing so far (summed over workers). */
-	double busySeconds();
+	double busySeconds() const { return static_cast<double>(busyNs_.load()) * 1e-9; }
 
    private:
-	struct TJob
-	{
-		std::string path;
-		cv::Mat img;
-		std::function<void()> after;
-		int compression = -1;
-	};
-	void loop();
-	void rethrow();
-
-	std::mutex mtx_;
-	std::condition_variable cv_, space_, idle_;
-	std::deque<TJob> jobs_;
-	std::size_t maxQueued_, busy_ = 0;
-	double busySeconds_ = 0;
-	bool stop_ = false;
-	std::exception_ptr error_;
-	std::vector<std::thread> workers_;
+	std::atomic<long long> busyNs_{0};
+	std::deque<std::future<void>> pending_;	 //!< in submission order
+	CWorkerPool pool_;	//!< last: its workers stop before the members they use go
 };
 }  // namespace mrpt_yesslam

@@ -1,0 +1,55 @@
+#pragma once
+// Worker threads running submitted tasks in submission order, each task's result or exception
+// handed back through a std::future. The one threading mechanism behind reading input ahead
+// (CPrefetchingSource: one worker, so reads stay in order), detecting asynchronously
+// (CAsyncDetector) and writing PNGs in the background (CAsyncPngWriter), so that queueing, waking,
+// stopping and passing exceptions to the consumer are written and tested once.
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace mrpt_yesslam
+{
+/** A fixed set of worker threads with a FIFO task queue; submit() returns the task's future. */
+class CWorkerPool
+{
+   public:
+	/** Starts `threads` workers (at least one); submit() blocks while `maxQueued` tasks wait to
+	 * start (0 = no limit), so a fast producer cannot fill memory. */
+	explicit CWorkerPool(std::size_t threads = 1, std::size_t maxQueued = 0);
+	/** Drops the tasks that have not started (their futures then report broken_promise) and
+	 * waits for the running ones. */
+	~CWorkerPool();
+	CWorkerPool(const CWorkerPool&) = delete;
+	CWorkerPool& operator=(const CWorkerPool&) = delete;
+
+	/** Queues `f()`; its return value, or what it throws, comes out of the future's get(). */
+	template <typename F>
+	auto submit(F&& f) -> std::future<std::invoke_result_t<std::decay_t<F>>>
+	{
+		using R = std::invoke_result_t<std::decay_t<F>>;
+		// std::function needs a copyable callable; the task itself is move-only.
+		auto task = std::make_shared<std::packaged_task<R()>>(std::forward<F>(f));
+		auto future = task->get_future();
+		enqueue([task] { (*task)(); });
+		return future;
+	}
+
+   private:
+	void enqueue(std::function<void()> job);
+	void loop();
+
+	std::mutex mutex_;
+	std::condition_variable work_, space_;
+	std::deque<std::function<void()>> jobs_;
+	const std::size_t maxQueued_;
+	bool stop_ = false;
+	std::vector<std::thread> threads_;
+};
+}  // namespace mrpt_yesslam
