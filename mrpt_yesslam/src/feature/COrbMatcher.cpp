@@ -21,13 +21,14 @@ int orbDistance(const unsigned char* a, const unsigned char* b)
 
 namespace
 {
-// Keeps, for every keypoint, only its best match (a point set may contain near-duplicates).
-std::vector<TMatch> uniquePerKeypoint(std::vector<TMatch> m, std::size_t numKeypoints)
+// Keeps, of the matches sharing a keypoint (or a point: `key` picks which), only the closest: a
+// point set may contain near-duplicates, and one keypoint observes one point.
+std::vector<TMatch> uniqueBy(const std::vector<TMatch>& m, std::size_t n, std::size_t TMatch::*key)
 {
-	std::vector<int> best(numKeypoints, -1);
+	std::vector<int> best(n, -1);
 	for (std::size_t i = 0; i < m.size(); i++)
 	{
-		int& b = best[m[i].keypoint];
+		int& b = best[m[i].*key];
 		if (b < 0 || m[i].distance < m[static_cast<std::size_t>(b)].distance) b = static_cast<int>(i);
 	}
 	std::vector<TMatch> out;
@@ -35,6 +36,28 @@ std::vector<TMatch> uniquePerKeypoint(std::vector<TMatch> m, std::size_t numKeyp
 		if (b >= 0) out.push_back(m[static_cast<std::size_t>(b)]);
 	return out;
 }
+
+// The two smallest distances seen and the index of the smallest, for Lowe's ratio test.
+struct TBestTwo
+{
+	int best = std::numeric_limits<int>::max(), second = std::numeric_limits<int>::max(), index = -1;
+	void add(int dist, int idx)
+	{
+		if (dist < best)
+		{
+			second = best;
+			best = dist;
+			index = idx;
+		}
+		else if (dist < second)
+			second = dist;
+	}
+	/** A match within `maxDist` and clearly better than the runner-up (if any). */
+	bool accepted(int maxDist, double ratio) const
+	{
+		return index >= 0 && best <= maxDist && (second == std::numeric_limits<int>::max() || best <= ratio * second);
+	}
+};
 }  // namespace
 
 std::vector<TMatch> COrbMatcher::searchByProjection(
@@ -72,7 +95,7 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 		if (u < 0 || v < 0 || u >= W || v >= H) continue;
 		if (inView) inView->push_back(j);
 		const unsigned char* d = points.descriptors.ptr<unsigned char>(static_cast<int>(j));
-		int best = std::numeric_limits<int>::max(), second = best, bestIdx = -1;
+		TBestTwo two;
 		const double rMax = radius * levelScale.back();
 		const int x0 = std::max(0, static_cast<int>((u - rMax) / cell)), x1 = std::min(gw - 1, static_cast<int>((u + rMax) / cell));
 		const int y0 = std::max(0, static_cast<int>((v - rMax) / cell)), y1 = std::min(gh - 1, static_cast<int>((v + rMax) / cell));
@@ -85,21 +108,11 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 					const double r = radius * levelScale[static_cast<std::size_t>(std::clamp(kp.octave, 0, 15))];
 					const double du = kp.pt.x - u, dv = kp.pt.y - v;
 					if (du * du + dv * dv > r * r) continue;
-					const int dist = orbDistance(d, frame.features.descriptors.ptr<unsigned char>(i));
-					if (dist < best)
-					{
-						second = best;
-						best = dist;
-						bestIdx = i;
-					}
-					else if (dist < second)
-						second = dist;
+					two.add(orbDistance(d, frame.features.descriptors.ptr<unsigned char>(i)), i);
 				}
-		if (bestIdx < 0 || best > maxDist_) continue;
-		if (second != std::numeric_limits<int>::max() && best > ratio_ * second) continue;
-		found.push_back({static_cast<std::size_t>(bestIdx), j, best});
+		if (two.accepted(maxDist_, ratio_)) found.push_back({static_cast<std::size_t>(two.index), j, two.best});
 	}
-	return uniquePerKeypoint(std::move(found), kps.size());
+	return uniqueBy(found, kps.size(), &TMatch::keypoint);
 }
 
 std::vector<TMatch> COrbMatcher::matchBruteForce(const TFrame& frame, const cv::Mat& pointDescriptors) const
@@ -111,33 +124,11 @@ std::vector<TMatch> COrbMatcher::matchBruteForce(const TFrame& frame, const cv::
 	{
 		if (F.dynamic[i]) continue;
 		const unsigned char* d = F.descriptors.ptr<unsigned char>(static_cast<int>(i));
-		int best = std::numeric_limits<int>::max(), second = best, bestIdx = -1;
-		for (int j = 0; j < pointDescriptors.rows; j++)
-		{
-			const int dist = orbDistance(d, pointDescriptors.ptr<unsigned char>(j));
-			if (dist < best)
-			{
-				second = best;
-				best = dist;
-				bestIdx = j;
-			}
-			else if (dist < second)
-				second = dist;
-		}
-		if (bestIdx < 0 || best > maxDist_) continue;
-		if (second != std::numeric_limits<int>::max() && best > ratio_ * second) continue;
-		found.push_back({i, static_cast<std::size_t>(bestIdx), best});
+		TBestTwo two;
+		for (int j = 0; j < pointDescriptors.rows; j++) two.add(orbDistance(d, pointDescriptors.ptr<unsigned char>(j)), j);
+		if (two.accepted(maxDist_, ratio_)) found.push_back({i, static_cast<std::size_t>(two.index), two.best});
 	}
 	// One keypoint per point as well.
-	std::vector<int> bestForPoint(static_cast<std::size_t>(pointDescriptors.rows), -1);
-	for (std::size_t k = 0; k < found.size(); k++)
-	{
-		int& b = bestForPoint[found[k].point];
-		if (b < 0 || found[k].distance < found[static_cast<std::size_t>(b)].distance) b = static_cast<int>(k);
-	}
-	std::vector<TMatch> out;
-	for (int b : bestForPoint)
-		if (b >= 0) out.push_back(found[static_cast<std::size_t>(b)]);
-	return out;
+	return uniqueBy(found, static_cast<std::size_t>(pointDescriptors.rows), &TMatch::point);
 }
 }  // namespace mrpt_yesslam
