@@ -3,9 +3,9 @@
 // person mask of each method (whole box, plain depth flood fill, edge-enhanced flood fill) is
 // compared with the true person pixels (labels/class == person), and ORB keypoints are classified
 // (eq. 3) against the keypoints that truly lie on people.
-// usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--dump DIR] SIM_FOLDER...
-// The environment variables MASK_GAIN and MASK_BLUR override laplacianGain and blurSigma of the
-// edge-enhanced fill, for sweeping the paper's enhancement.
+// usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--gain G] [--blur SIGMA] [--dump DIR] SIM_FOLDER...
+// Options apply to the folders after them. --gain and --blur set laplacianGain and blurSigma of
+// the edge-enhanced fill, for sweeping the paper's enhancement.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -26,22 +26,28 @@ int main(int argc, char** argv)
 {
 	if (argc < 2)
 	{
-		std::fprintf(stderr, "usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--dump DIR] SIM_FOLDER [SIM_FOLDER...]\n");
+		std::fprintf(
+			stderr, "usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--gain G] [--blur SIGMA] [--dump DIR] SIM_FOLDER [SIM_FOLDER...]\n");
 		return 1;
 	}
 	std::size_t maxFrames = 0;	// 0 = all
 	double tolerance = CDynamicObjectMasker::TOptions().loDiff;
 	std::string dumpDir;  // --dump: per-frame pictures of where each method errs
 	int dilate = CDynamicObjectMasker::TOptions().dilatePixels;
+	double gain = CDynamicObjectMasker::TOptions().laplacianGain, blur = CDynamicObjectMasker::TOptions().blurSigma;
 	std::printf(
 		"%-22s %-10s %8s %8s %10s %10s %10s %10s %9s\n", "sequence", "method", "mask IoU", "IoU box", "kp prec", "kp recall", "rec. box",
 		"static kept", "ms/frame");
 	for (int a = 1; a < argc; a++)
 	{
 		const std::string dir = argv[a];
-		if ((dir == "--frames" || dir == "--dilate" || dir == "--dump" || dir == "--tolerance") && a + 1 < argc)
+		if ((dir == "--frames" || dir == "--dilate" || dir == "--dump" || dir == "--tolerance" || dir == "--gain" || dir == "--blur") && a + 1 < argc)
 		{
-			if (dir == "--tolerance")
+			if (dir == "--gain")
+				gain = std::stod(argv[++a]);
+			else if (dir == "--blur")
+				blur = std::stod(argv[++a]);
+			else if (dir == "--tolerance")
 				tolerance = std::stod(argv[++a]);
 			else if (dir == "--dump")
 				dumpDir = argv[++a];
@@ -64,8 +70,8 @@ int main(int argc, char** argv)
 			mo.method = method;
 			mo.dilatePixels = dilate;
 			mo.loDiff = mo.upDiff = tolerance;
-			if (const char* g = std::getenv("MASK_GAIN")) mo.laplacianGain = std::atof(g);
-			if (const char* g = std::getenv("MASK_BLUR")) mo.blurSigma = std::atof(g);
+			mo.laplacianGain = gain;
+			mo.blurSigma = blur;
 			CDynamicObjectMasker masker(mo);
 			// "box" figures count only true person pixels / keypoints inside a detected dynamic box:
 			// what the masker can reach, apart from the detector's misses.

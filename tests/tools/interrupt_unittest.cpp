@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <thread>
@@ -22,6 +23,70 @@
 using namespace yesslam_test;
 namespace fs = std::filesystem;
 
+namespace
+{
+// rgb.txt and depth.txt listing the same two files `n` times at 30 Hz: minutes of work for a tool
+// from two files on disk.
+void writeRepeatedLists(const std::string& folder, const std::string& rgbFile, const std::string& depthFile, int n, double depthDelay)
+{
+	std::ostringstream rgb, depth;
+	char buf[128];
+	for (int k = 0; k < n; k++)
+	{
+		std::snprintf(buf, sizeof(buf), "%.6f %s\n", 1000.0 + k / 30.0, rgbFile.c_str());
+		rgb << buf;
+		std::snprintf(buf, sizeof(buf), "%.6f %s\n", 1000.0 + depthDelay + k / 30.0, depthFile.c_str());
+		depth << buf;
+	}
+	writeText(folder + "/rgb.txt", rgb.str());
+	writeText(folder + "/depth.txt", depth.str());
+}
+
+/** What an interrupted tool left: its exit code (or -1 if a signal killed it) and its stdout. */
+struct TInterrupted
+{
+	int exitCode = -1;
+	std::string out;
+	bool ready = false;	 //!< `ready()` turned true before the deadline (else it was interrupted anyway)
+	/** The "frames: N" of its summary, -1 without one. */
+	long frames() const
+	{
+		const auto p = out.find("frames:");
+		return p == std::string::npos ? -1 : std::stol(out.substr(p + 7));
+	}
+};
+
+// Runs one of our tools with `args`, waits (at most 60 s) until `ready()`, presses Ctrl-C (SIGINT)
+// and waits for it to end.
+TInterrupted interruptWhen(const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready)
+{
+	TempDir tmp("sigint_log");
+	const std::string log = tmp / "stdout.txt", path = std::string(YESSLAM_TOOLS_DIR) + "/" + tool;
+	std::vector<char*> argv{const_cast<char*>(path.c_str())};
+	for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+	argv.push_back(nullptr);
+	TInterrupted r;
+	const pid_t pid = fork();
+	if (pid < 0) return r;
+	if (pid == 0)
+	{
+		const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+		dup2(fd, 1);
+		execv(path.c_str(), argv.data());
+		_exit(127);
+	}
+	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+	while (std::chrono::steady_clock::now() < deadline && !(r.ready = ready()))
+		std::this_thread::sleep_for(std::chrono::milliseconds(50));
+	kill(pid, SIGINT);
+	int status = 0;
+	if (waitpid(pid, &status, 0) == pid && WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
+	std::ifstream f(log);
+	r.out.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+	return r;
+}
+}  // namespace
+
 TEST(Interrupt, Tum2RawlogSavesCompleteFramesOnSigint)
 {
 	TempDir d("sigint");
@@ -29,53 +94,25 @@ TEST(Interrupt, Tum2RawlogSavesCompleteFramesOnSigint)
 	const auto frames = makeSyntheticFrames(1, 640, 480);
 	const std::string folder = d / "seq";
 	writeTumFolder(folder, frames);
-	std::ostringstream rgb, depth;
-	char buf[128];
-	for (int k = 0; k < 3000; k++)
-	{
-		std::snprintf(buf, sizeof(buf), "%.6f rgb/1000.000000.png\n", 1000.0 + k / 30.0);
-		rgb << buf;
-		std::snprintf(buf, sizeof(buf), "%.6f depth/1000.004000.png\n", 1000.004 + k / 30.0);
-		depth << buf;
-	}
-	writeText(folder + "/rgb.txt", rgb.str());
-	writeText(folder + "/depth.txt", depth.str());
+	writeRepeatedLists(folder, "rgb/1000.000000.png", "depth/1000.004000.png", 3000, 0.004);
 
-	const std::string out = d / "seq.rawlog", log = d / "stdout.txt";
-	const std::string tool = std::string(YESSLAM_TOOLS_DIR) + "/tum2rawlog";
-	const pid_t pid = fork();
-	ASSERT_GE(pid, 0);
-	if (pid == 0)
-	{
-		const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-		dup2(fd, 1);
-		execl(tool.c_str(), tool.c_str(), "--input", folder.c_str(), "--output", out.c_str(), "--quiet", nullptr);
-		_exit(127);
-	}
-	// Wait until the temporary rawlog has real content, then press Ctrl-C.
-	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-	bool started = false;
-	while (std::chrono::steady_clock::now() < deadline && !started)
-	{
-		for (const auto& e : fs::directory_iterator(d.path()))
-			if (e.path().string().find("seq.rawlog.tmp.") != std::string::npos && fs::file_size(e.path()) > 2'000'000)
-				started = true;
-		std::this_thread::sleep_for(std::chrono::milliseconds(50));
-	}
-	ASSERT_TRUE(started) << "conversion did not start";
-	ASSERT_EQ(kill(pid, SIGINT), 0);
-	int status = 0;
-	ASSERT_EQ(waitpid(pid, &status, 0), pid);
-	ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-	EXPECT_EQ(WEXITSTATUS(status), 130);
+	// Ctrl-C once the temporary rawlog has real content.
+	const std::string out = d / "seq.rawlog";
+	const auto r = interruptWhen(
+		"tum2rawlog", {"--input", folder, "--output", out, "--quiet"},
+		[&]
+		{
+			for (const auto& e : fs::directory_iterator(d.path()))
+				if (e.path().string().find("seq.rawlog.tmp.") != std::string::npos && fs::file_size(e.path()) > 2'000'000) return true;
+			return false;
+		});
+	ASSERT_TRUE(r.ready) << "conversion did not start";
+	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
 
 	// The rawlog is in place, every frame in it is complete, and the count matches the summary.
 	ASSERT_TRUE(fs::exists(out));
-	std::ifstream f(log);
-	std::string summary((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-	const auto p = summary.find("frames:");
-	ASSERT_NE(p, std::string::npos) << summary;
-	const long reported = std::stol(summary.substr(p + 7));
+	const long reported = r.frames();
+	ASSERT_GE(reported, 0) << r.out;
 	mrpt_yesslam::CRawlogSource src(out);
 	long n = 0;
 	while (auto obs = src.next())
@@ -112,40 +149,17 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	fs::copy_file(src + "/" + rgbFile, folder + "/rgb/0.png");
 	fs::copy_file(src + "/" + depthFile, folder + "/depth/0.png");
 	fs::copy_file(src + "/calibration.txt", folder + "/calibration.txt");
-	std::ostringstream rgb, depth;
-	char buf[128];
-	for (int k = 0; k < 3000; k++)
-	{
-		std::snprintf(buf, sizeof(buf), "%.6f rgb/0.png\n", 1000.0 + k / 30.0);
-		rgb << buf;
-		std::snprintf(buf, sizeof(buf), "%.6f depth/0.png\n", 1000.001 + k / 30.0);
-		depth << buf;
-	}
-	writeText(folder + "/rgb.txt", rgb.str());
-	writeText(folder + "/depth.txt", depth.str());
+	writeRepeatedLists(folder, "rgb/0.png", "depth/0.png", 3000, 0.001);
 
-	const std::string out = d / "run", log = d / "stdout.txt";
-	const std::string tool = std::string(YESSLAM_TOOLS_DIR) + "/yesslam";
-	const pid_t pid = fork();
-	ASSERT_GE(pid, 0);
-	if (pid == 0)
-	{
-		const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-		dup2(fd, 1);
-		execl(tool.c_str(), tool.c_str(), "--input", folder.c_str(), "--out", out.c_str(), "--detector", "none", "--quiet", nullptr);
-		_exit(127);
-	}
-	std::this_thread::sleep_for(std::chrono::seconds(5));
-	ASSERT_EQ(kill(pid, SIGINT), 0);
-	int status = 0;
-	ASSERT_EQ(waitpid(pid, &status, 0), pid);
-	ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-	EXPECT_EQ(WEXITSTATUS(status), 130);
-	std::ifstream f(log);
-	const std::string summary((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-	const auto p = summary.find("frames:");
-	ASSERT_NE(p, std::string::npos) << summary;
-	const long reported = std::stol(summary.substr(p + 7));
+	// Ctrl-C after 5 s of work.
+	const std::string out = d / "run";
+	const auto start = std::chrono::steady_clock::now();
+	const auto r = interruptWhen(
+		"yesslam", {"--input", folder, "--out", out, "--detector", "none", "--quiet"},
+		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(5); });
+	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
+	const long reported = r.frames();
+	ASSERT_GE(reported, 0) << r.out;
 	EXPECT_GT(reported, 0);
 	EXPECT_LT(reported, 3000);
 	// Every output is in place and the trajectory has a pose per frame done, all at the start.
