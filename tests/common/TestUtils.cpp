@@ -60,8 +60,13 @@ std::string quote(const std::string& s)
 
 RunResult runTool(const std::string& tool, const std::vector<std::string>& args)
 {
+	return runCommand(std::string(YESSLAM_TOOLS_DIR) + "/" + tool, args);
+}
+
+RunResult runCommand(const std::string& program, const std::vector<std::string>& args)
+{
 	TempDir tmp("run");
-	std::string cmd = quote(std::string(YESSLAM_TOOLS_DIR) + "/" + tool);
+	std::string cmd = quote(program);
 	for (const auto& a : args) cmd += " " + quote(a);
 	cmd += " >" + quote(tmp / "out") + " 2>" + quote(tmp / "err") + " </dev/null";
 	const int st = std::system(cmd.c_str());

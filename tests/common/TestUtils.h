@@ -34,6 +34,8 @@ struct RunResult
 
 /** Runs one of our tools (by name, from the build's rawlog_tools folder) with arguments. */
 RunResult runTool(const std::string& tool, const std::vector<std::string>& args);
+/** Runs any program (a path, or a name looked up in PATH; exit code 127 if not found). */
+RunResult runCommand(const std::string& program, const std::vector<std::string>& args);
 
 /** One frame of a synthetic TUM folder. */
 struct SyntheticFrame

@@ -121,6 +121,45 @@ TEST(Tools, Tum2RawlogConvertsAndSummarises)
 	EXPECT_NE(e.err.find("tum2rawlog"), std::string::npos);
 }
 
+TEST(Tools, RawlogsOpenInMrptsRawlogEdit)
+{
+	// The rawlogs of tum2rawlog (inline and external images) and of yesslam-sim must be usable by
+	// MRPT's own tools, not only by our reader: rawlog-edit (Debian package mrpt-apps, installed
+	// by scripts/install_deps.sh) counts every frame and loads every image and depth to build
+	// point clouds from them.
+	// rawlog-edit prints "Key      : value" lines.
+	auto field = [](const RunResult& r, const std::string& key) -> std::string
+	{
+		const std::string all = r.out + r.err;
+		const auto k = all.find(key);
+		if (k == std::string::npos) return {};
+		auto c = all.find(':', k + key.size());
+		if (c == std::string::npos) return {};
+		c++;
+		while (c < all.size() && all[c] == ' ') c++;
+		return all.substr(c, all.find('\n', c) - c);
+	};
+	TempDir d("rawlog_edit");
+	writeTumFolder(d / "seq", makeSyntheticFrames(4));
+	ASSERT_EQ(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "inline.rawlog", "--quiet"}).exitCode, 0);
+	ASSERT_EQ(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "ext.rawlog", "--external-images", "--quiet"}).exitCode, 0);
+	const auto sim = runTool("yesslam-sim", {"--preset", "walking_xyz", "--frames", "3", "--out", d / "sim", "--quiet"});
+	ASSERT_EQ(sim.exitCode, 0) << sim.err;
+	for (const auto& [file, frames] : std::vector<std::pair<std::string, std::string>>{
+			 {d / "inline.rawlog", "4"}, {d / "ext.rawlog", "4"}, {d / "sim/sequence.rawlog", "3"}})
+	{
+		SCOPED_TRACE(file);
+		const auto info = runCommand("rawlog-edit", {"-i", file, "--info"});
+		ASSERT_NE(info.exitCode, 127) << "rawlog-edit not found: install Debian's mrpt-apps (scripts/install_deps.sh does)";
+		ASSERT_EQ(info.exitCode, 0) << info.out << info.err;
+		EXPECT_EQ(field(info, "Overall number of objects"), frames) << info.out;
+		const auto pc = runCommand("rawlog-edit", {"-i", file, "--generate-3d-pointclouds", "-o", file + ".pc.rawlog"});
+		ASSERT_EQ(pc.exitCode, 0) << pc.out << pc.err;
+		EXPECT_EQ(field(pc, "Entries modified"), frames) << pc.out;
+		EXPECT_GT(fs::file_size(file + ".pc.rawlog"), fs::file_size(file)) << "no point clouds were added";
+	}
+}
+
 TEST(Tools, Tum2RawlogBadInput)
 {
 	TempDir d("t2rbad");
