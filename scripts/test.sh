@@ -22,6 +22,8 @@ if [ "$mode" = sanitize ]; then
   # clear error), as in a normal build, not an ASan abort.
   export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0:allocator_may_return_null=1"
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$ROOT/tests/sanitizer/ubsan.supp"
+  # Leaks inside Mesa's OpenGL driver only (tests/sanitizer/lsan.supp says which and why).
+  export LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizer/lsan.supp"
 else
   BUILD="$ROOT/build"
   ./scripts/build.sh "$BUILD" -DYESSLAM_BUILD_TESTS=ON
