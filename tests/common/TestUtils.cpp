@@ -143,4 +143,48 @@ void writeTumFolder(
 		writeText((fs::path(folder) / "calibration.txt").string(), buf);
 	}
 }
+
+mrpt::img::TCamera fr3Camera()
+{
+	mrpt::img::TCamera K;
+	K.ncols = 640;
+	K.nrows = 480;
+	K.fx(535.4);
+	K.fy(539.2);
+	K.cx(320.1);
+	K.cy(247.6);
+	return K;
+}
+
+std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
+	std::size_t id, const mrpt::poses::CPose3D& Twc, const std::vector<mrpt::math::TPoint3D>& world,
+	std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng, int octave)
+{
+	auto f = std::make_shared<mrpt_yesslam::TFrame>();
+	f->id = id;
+	f->timestamp = static_cast<double>(id);
+	f->camera = fr3Camera();
+	f->pose = Twc;
+	f->tracked = true;
+	f->features.descriptors = cv::Mat(0, 32, CV_8U);
+	std::uniform_int_distribution<int> byte(0, 255);
+	const mrpt::poses::CPose3D Tcw = -Twc;
+	for (std::size_t j = 0; j < world.size(); j++)
+	{
+		double x, y, z;
+		Tcw.composePoint(world[j].x, world[j].y, world[j].z, x, y, z);
+		cv::KeyPoint kp;
+		kp.pt = {static_cast<float>(f->camera.fx() * x / z + f->camera.cx()), static_cast<float>(f->camera.fy() * y / z + f->camera.cy())};
+		kp.octave = octave;
+		f->features.keypoints.push_back(kp);
+		f->features.depth.push_back(static_cast<float>(z));
+		f->features.dynamic.push_back(false);
+		cv::Mat d(1, 32, CV_8U);
+		for (int b = 0; b < 32; b++) d.at<uchar>(b) = static_cast<uchar>(byte(rng));
+		f->features.descriptors.push_back(d);
+		f->colors.emplace_back(100, 100, 100);
+	}
+	f->mapPoints = std::move(ids);
+	return f;
+}
 }  // namespace yesslam_test

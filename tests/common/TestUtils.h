@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
+#include <memory>
+#include <random>
 #include <string>
 #include <vector>
+
+#include "mrpt_yesslam/data/TFrame.h"
 
 namespace yesslam_test
 {
@@ -75,4 +79,12 @@ void expectInputError(F&& f, const std::vector<std::string>& fragments)
 
 /** Writes a text file. */
 void writeText(const std::string& path, const std::string& content);
+
+/** The TUM fr3 colour camera (640x480, no distortion). */
+mrpt::img::TCamera fr3Camera();
+/** A tracked frame at pose `Twc` observing `world` exactly: keypoint j at the projection of point j
+ * (octave `octave`), depth = its z, a random descriptor; `ids` are its matched map points. */
+std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
+	std::size_t id, const mrpt::poses::CPose3D& Twc, const std::vector<mrpt::math::TPoint3D>& world,
+	std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng, int octave = 0);
 }  // namespace yesslam_test

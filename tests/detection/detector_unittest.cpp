@@ -231,7 +231,7 @@ TEST(Detector, BadModelsAndNames)
 
 TEST(Detector, BadDetectionsFilesOfTheCorpus)
 {
-	const std::string bad = std::string(YESSLAM_SOURCE_DIR) + "/tests/data/bad/";
+	const std::string bad = std::string(YESSLAM_SOURCE_DIR) + "/tests/bad_inputs/";
 	CObjectDetector::TOptions o;
 	o.backend = "file";
 	o.file = bad + "detections_negative_size.txt";

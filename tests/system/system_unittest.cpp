@@ -74,7 +74,7 @@ TEST(System, WalkingSequenceIsTrackedAccurately)
 
 	// Every output exists and parses.
 	EXPECT_EQ(readTumTrajectory(d / "trajectory.txt").size(), 60u);
-	EXPECT_EQ(readTumTrajectory(d / "keyframes.txt").size(), s.stats.keyFrames);
+	EXPECT_EQ(readTumTrajectory(d / "keyframes.txt").size(), s.stats.keyFrames - s.stats.culledKeyFrames);
 	mrpt::opengl::COpenGLScene scene;
 	mrpt::io::CFileGZInputStream f(d / "map.3Dscene");
 	mrpt::serialization::archiveFrom(f) >> scene;
@@ -102,18 +102,18 @@ TEST(System, DynamicFilterKeepsPeopleOutOfTheMap)
 		auto src = openInputSource(walkingSequence(), o.input);
 		while (auto obs = src->next()) sys.processFrame(*obs);
 		std::size_t onPerson = 0, all = 0;
-		for (std::size_t k = 0; k < sys.map().numKeyFrames(); k++)
+		for (TKeyFrameId k : sys.map().keyFrameIds())
 		{
 			const CKeyFrame kf = sys.map().keyFrame(k);
 			char name[64];
-			std::snprintf(name, sizeof(name), "/labels/class/%.6f.png", kf.frame->timestamp);
+			std::snprintf(name, sizeof(name), "/labels/class/%.6f.png", kf.timestamp);
 			const cv::Mat cls = cv::imread(walkingSequence() + name, cv::IMREAD_UNCHANGED);
 			EXPECT_FALSE(cls.empty()) << name;
 			if (cls.empty()) continue;
 			for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
 			{
 				if (kf.mapPoints[i] < 0) continue;
-				const auto& p = kf.frame->features.keypoints[i].pt;
+				const auto& p = kf.features->keypoints[i].pt;
 				all++;
 				onPerson += cls.at<uint16_t>(cvRound(p.y), cvRound(p.x)) == 1;	 // COCO person (0) + 1
 			}

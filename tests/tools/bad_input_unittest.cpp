@@ -1,4 +1,4 @@
-// The bad-input corpus (tests/data/bad/, README there): one test per case, each checking that the
+// The bad-input corpus (tests/bad_inputs/, README there): one test per case, each checking that the
 // tool exits non-zero (or warns, for unknown config keys) with one line naming the file and the
 // problem, and never crashes.
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@ namespace fs = std::filesystem;
 
 namespace
 {
-const std::string kBad = std::string(YESSLAM_SOURCE_DIR) + "/tests/data/bad/";
+const std::string kBad = std::string(YESSLAM_SOURCE_DIR) + "/tests/bad_inputs/";
 
 struct BadCase
 {

@@ -3,31 +3,164 @@
 #include <algorithm>
 #include <mutex>
 #include <set>
+#include <stdexcept>
 
 namespace mrpt_yesslam
 {
 using ReadLock = std::shared_lock<std::shared_mutex>;
 using WriteLock = std::unique_lock<std::shared_mutex>;
 
-std::size_t CSparseMap::addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth, std::size_t* newPoints)
+namespace
+{
+// Points created by one keyframe stay on the recent list for this many further keyframes
+// (ORB-SLAM2's MapPointCulling judges a point until three keyframes after its creation).
+constexpr TKeyFrameId kRecentKeyFrames = 3;
+
+void appendPoint(TLocalMapPoints& out, const CMapPoint& p)
+{
+	out.ids.push_back(p.id);
+	out.positions.push_back(p.position);
+	out.descriptors.push_back(p.descriptor);
+}
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Internal bookkeeping (map lock held by the caller)
+
+void CSparseMap::addObservation(CMapPoint& p, CKeyFrame& kf, std::size_t kp)
+{
+	// Every keyframe already observing the point gains one shared point with `kf`.
+	for (const auto& [other, idx] : p.observations)
+	{
+		if (other == kf.id) continue;
+		auto it = keyFrames_.find(other);
+		if (it == keyFrames_.end() || it->second->bad) continue;
+		kf.connections[other]++;
+		it->second->connections[kf.id]++;
+		dirty_.push_back(other);
+	}
+	dirty_.push_back(kf.id);
+	p.observations[kf.id] = kp;
+	kf.mapPoints[kp] = p.id;
+}
+
+void CSparseMap::eraseObservation(CMapPoint& p, TKeyFrameId kfId)
+{
+	const auto it = p.observations.find(kfId);
+	if (it == p.observations.end()) return;
+	const auto kit = keyFrames_.find(kfId);
+	if (kit != keyFrames_.end())
+	{
+		CKeyFrame& kf = *kit->second;
+		if (it->second < kf.mapPoints.size() && kf.mapPoints[it->second] == p.id) kf.mapPoints[it->second] = -1;
+		for (const auto& [other, idx] : p.observations)
+		{
+			if (other == kfId) continue;
+			auto ot = keyFrames_.find(other);
+			if (ot == keyFrames_.end()) continue;
+			for (auto [a, b] : {std::pair<CKeyFrame*, TKeyFrameId>{&kf, other}, {ot->second.get(), kfId}})
+			{
+				auto c = a->connections.find(b);
+				if (c != a->connections.end() && --c->second <= 0) a->connections.erase(c);
+			}
+			dirty_.push_back(other);
+		}
+		dirty_.push_back(kfId);
+	}
+	p.observations.erase(it);
+}
+
+void CSparseMap::reorderDirty()
+{
+	std::sort(dirty_.begin(), dirty_.end());
+	dirty_.erase(std::unique(dirty_.begin(), dirty_.end()), dirty_.end());
+	for (TKeyFrameId id : dirty_)
+	{
+		auto it = keyFrames_.find(id);
+		if (it == keyFrames_.end()) continue;
+		CKeyFrame& kf = *it->second;
+		kf.orderedConnections.clear();
+		for (const auto& [k, w] : kf.connections) kf.orderedConnections.push_back(k);
+		// Heaviest first; ties by id (older first) so that the order, and everything built on it,
+		// is deterministic.
+		std::stable_sort(kf.orderedConnections.begin(), kf.orderedConnections.end(),
+						 [&](TKeyFrameId a, TKeyFrameId b) { return kf.connections.at(a) > kf.connections.at(b); });
+	}
+	dirty_.clear();
+}
+
+const CMapPoint* CSparseMap::goodPoint(TPointId id) const
+{
+	// A fused point is followed to the point that took its observations (a short chain).
+	for (int hops = 0; hops < 8 && id >= 0; hops++)
+	{
+		const auto it = points_.find(id);
+		if (it == points_.end()) return nullptr;
+		if (!it->second.bad) return &it->second;
+		id = it->second.replacedBy;
+	}
+	return nullptr;
+}
+
+mrpt::poses::CPose3D CSparseMap::poseLocked(TKeyFrameId id) const
+{
+	// A bad keyframe's pose follows its parent (ORB-SLAM2 saves trajectories this way), so frames
+	// tracked from an erased keyframe still move with the corrected map.
+	mrpt::poses::CPose3D rel;
+	for (std::size_t hops = 0; hops <= keyFrames_.size(); hops++)
+	{
+		const CKeyFrame& kf = *keyFrames_.at(id);
+		if (!kf.bad) return kf.pose + rel;
+		if (!kf.parent) return kf.pose + rel;
+		rel = kf.poseInParent + rel;
+		id = *kf.parent;
+	}
+	throw std::logic_error("CSparseMap: cycle in the spanning tree");
+}
+
+std::vector<TKeyFrameId> CSparseMap::covisibleLocked(TKeyFrameId id, std::size_t max, int minWeight) const
+{
+	std::vector<TKeyFrameId> out;
+	const auto it = keyFrames_.find(id);
+	if (it == keyFrames_.end()) return out;
+	const CKeyFrame& kf = *it->second;
+	for (TKeyFrameId k : kf.orderedConnections)
+	{
+		if (out.size() >= max || kf.connections.at(k) < minWeight) break;
+		out.push_back(k);
+	}
+	return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TKeyFrameId CSparseMap::addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth, std::size_t* newPoints)
 {
 	WriteLock lk(mtx_);
-	CKeyFrame kf;
-	kf.id = keyFrames_.size();
-	kf.frame = frame;
+	auto kfp = std::make_shared<CKeyFrame>();
+	CKeyFrame& kf = *kfp;
+	kf.id = nextKeyFrame_++;
+	kf.frameId = frame->id;
+	kf.timestamp = frame->timestamp;
+	kf.camera = frame->camera;
+	kf.features = std::make_shared<const TFeatures>(frame->features);
+	kf.colors = frame->colors;
+	kf.detections = frame->detections;
 	kf.pose = frame->pose;
 	kf.mapPoints.assign(frame->size(), -1);
+	keyFrames_.emplace(kf.id, kfp);
+	numGoodKeyFrames_++;
 	std::size_t created = 0;
 	for (std::size_t i = 0; i < frame->size(); i++)
 	{
-		const TPointId pid = i < frame->mapPoints.size() ? frame->mapPoints[i] : -1;
-		if (pid >= 0)
+		const TPointId matched = i < frame->mapPoints.size() ? frame->mapPoints[i] : -1;
+		if (matched >= 0)
 		{
-			auto it = points_.find(pid);
-			if (it != points_.end() && !it->second.bad && !it->second.observations.count(kf.id))
+			// Tracking may have matched a point that has since been fused: follow it.
+			const CMapPoint* gp = goodPoint(matched);
+			if (gp && !gp->observations.count(kf.id))
 			{
-				it->second.observations[kf.id] = i;
-				kf.mapPoints[i] = pid;
+				addObservation(points_.at(gp->id), kf, i);
 				continue;
 			}
 		}
@@ -40,111 +173,145 @@ std::size_t CSparseMap::addKeyFrame(const std::shared_ptr<const TFrame>& frame, 
 		p.position = {gx, gy, gz};
 		p.descriptor = frame->features.descriptors.row(static_cast<int>(i)).clone();
 		p.color = i < frame->colors.size() ? frame->colors[i] : cv::Vec3b(128, 128, 128);
-		p.observations[kf.id] = i;
 		p.firstKeyFrame = kf.id;
-		kf.mapPoints[i] = p.id;
-		points_.emplace(p.id, std::move(p));
+		CMapPoint& stored = points_.emplace(p.id, std::move(p)).first->second;
+		addObservation(stored, kf, i);
+		recent_.push_back(stored.id);
+		numGoodPoints_++;
 		created++;
 	}
+	reorderDirty();
+	// Spanning tree: the parent is the keyframe sharing most points (ORB-SLAM2's UpdateConnections);
+	// a keyframe sharing none (after a loss) hangs under the newest good one, so the tree stays one tree.
+	if (!kf.orderedConnections.empty())
+		kf.parent = kf.orderedConnections.front();
+	else
+		for (auto it = std::next(keyFrames_.rbegin()); it != keyFrames_.rend(); ++it)
+			if (!it->second->bad)
+			{
+				kf.parent = it->first;
+				break;
+			}
+	if (kf.parent) keyFrames_.at(*kf.parent)->children.insert(kf.id);
 	if (newPoints) *newPoints = created;
-	keyFrames_.push_back(std::move(kf));
-	return keyFrames_.back().id;
+	return kf.id;
 }
 
 std::size_t CSparseMap::numKeyFrames() const
 {
 	ReadLock lk(mtx_);
-	return keyFrames_.size();
+	return numGoodKeyFrames_;
+}
+
+std::vector<TKeyFrameId> CSparseMap::keyFrameIds() const
+{
+	ReadLock lk(mtx_);
+	std::vector<TKeyFrameId> out;
+	for (const auto& [id, kf] : keyFrames_)
+		if (!kf->bad) out.push_back(id);
+	return out;
+}
+
+bool CSparseMap::hasKeyFrame(TKeyFrameId id) const
+{
+	ReadLock lk(mtx_);
+	return keyFrames_.count(id) != 0;
+}
+
+bool CSparseMap::isBad(TKeyFrameId id) const
+{
+	ReadLock lk(mtx_);
+	return keyFrames_.at(id)->bad;
+}
+
+TKeyFrameId CSparseMap::goodAncestor(TKeyFrameId id) const
+{
+	ReadLock lk(mtx_);
+	for (std::size_t hops = 0; hops <= keyFrames_.size(); hops++)
+	{
+		const CKeyFrame& kf = *keyFrames_.at(id);
+		if (!kf.bad || !kf.parent) return id;
+		id = *kf.parent;
+	}
+	throw std::logic_error("CSparseMap: cycle in the spanning tree");
 }
 
 std::size_t CSparseMap::numPoints() const
 {
 	ReadLock lk(mtx_);
-	return static_cast<std::size_t>(
-		std::count_if(points_.begin(), points_.end(), [](const auto& p) { return !p.second.bad; }));
+	return numGoodPoints_;
 }
 
-mrpt::poses::CPose3D CSparseMap::keyFramePose(std::size_t id) const
+mrpt::poses::CPose3D CSparseMap::keyFramePose(TKeyFrameId id) const
 {
 	ReadLock lk(mtx_);
-	return keyFrames_.at(id).pose;
+	return poseLocked(id);
 }
 
-CKeyFrame CSparseMap::keyFrame(std::size_t id) const
+CKeyFrame CSparseMap::keyFrame(TKeyFrameId id) const
 {
 	ReadLock lk(mtx_);
-	return keyFrames_.at(id);
+	return *keyFrames_.at(id);
 }
 
-namespace
-{
-std::vector<std::size_t> covisibleLocked(
-	const std::vector<CKeyFrame>& kfs, const std::map<TPointId, CMapPoint>& pts, std::size_t id, std::size_t max)
-{
-	std::map<std::size_t, int> shared;
-	for (TPointId pid : kfs.at(id).mapPoints)
-	{
-		if (pid < 0) continue;
-		const auto it = pts.find(pid);
-		if (it == pts.end() || it->second.bad) continue;
-		for (const auto& [k, kp] : it->second.observations)
-			if (k != id) shared[k]++;
-	}
-	std::vector<std::pair<int, std::size_t>> order;
-	for (const auto& [k, n] : shared) order.emplace_back(-n, k);
-	std::sort(order.begin(), order.end());
-	std::vector<std::size_t> out;
-	for (std::size_t i = 0; i < order.size() && out.size() < max; i++) out.push_back(order[i].second);
-	return out;
-}
-
-void appendPoint(TLocalMapPoints& out, const CMapPoint& p)
-{
-	out.ids.push_back(p.id);
-	out.positions.push_back(p.position);
-	out.descriptors.push_back(p.descriptor);
-}
-}  // namespace
-
-std::vector<std::size_t> CSparseMap::covisible(std::size_t id, std::size_t max) const
+CMapPoint CSparseMap::point(TPointId id) const
 {
 	ReadLock lk(mtx_);
-	return covisibleLocked(keyFrames_, points_, id, max);
+	return points_.at(id);
 }
 
-TLocalMapPoints CSparseMap::localPoints(std::size_t id, std::size_t numCovisible) const
+std::vector<TKeyFrameId> CSparseMap::covisible(TKeyFrameId id, std::size_t max, int minWeight) const
+{
+	ReadLock lk(mtx_);
+	return covisibleLocked(id, max, minWeight);
+}
+
+TLocalMapPoints CSparseMap::localPoints(TKeyFrameId id, std::size_t numCovisible) const
 {
 	ReadLock lk(mtx_);
 	TLocalMapPoints out;
-	if (id >= keyFrames_.size()) return out;
-	auto kfs = covisibleLocked(keyFrames_, points_, id, numCovisible);
+	if (!keyFrames_.count(id)) return out;
+	auto kfs = covisibleLocked(id, numCovisible, 1);
 	kfs.insert(kfs.begin(), id);
 	std::set<TPointId> seen;
-	for (std::size_t k : kfs)
-		for (TPointId pid : keyFrames_[k].mapPoints)
+	for (TKeyFrameId k : kfs)
+		for (TPointId pid : keyFrames_.at(k)->mapPoints)
 		{
 			if (pid < 0 || !seen.insert(pid).second) continue;
-			const auto it = points_.find(pid);
-			if (it != points_.end() && !it->second.bad) appendPoint(out, it->second);
+			if (const CMapPoint* p = goodPoint(pid)) appendPoint(out, *p);
 		}
 	return out;
 }
 
-TLocalMapPoints CSparseMap::keyFramePoints(std::size_t id, std::vector<std::size_t>* keypoints) const
+TLocalMapPoints CSparseMap::keyFramePoints(TKeyFrameId id, std::vector<std::size_t>* keypoints) const
 {
 	ReadLock lk(mtx_);
 	TLocalMapPoints out;
 	if (keypoints) keypoints->clear();
-	if (id >= keyFrames_.size()) return out;
-	const auto& kf = keyFrames_[id];
+	const auto it = keyFrames_.find(id);
+	if (it == keyFrames_.end()) return out;
+	const auto& kf = *it->second;
 	for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
 	{
-		const auto it = points_.find(kf.mapPoints[i]);
-		if (it == points_.end() || it->second.bad) continue;
-		appendPoint(out, it->second);
+		if (kf.mapPoints[i] < 0) continue;
+		const auto pit = points_.find(kf.mapPoints[i]);
+		if (pit == points_.end() || pit->second.bad) continue;
+		appendPoint(out, pit->second);
 		if (keypoints) keypoints->push_back(i);
 	}
 	return out;
+}
+
+std::size_t CSparseMap::numKeyFramePoints(TKeyFrameId id) const
+{
+	ReadLock lk(mtx_);
+	const auto it = keyFrames_.find(id);
+	if (it == keyFrames_.end()) return 0;
+	std::size_t n = 0;
+	for (TPointId pid : it->second->mapPoints)
+		if (pid >= 0)
+			if (auto pit = points_.find(pid); pit != points_.end() && !pit->second.bad) n++;
+	return n;
 }
 
 TLocalMapPoints CSparseMap::pointsById(const std::vector<TPointId>& ids) const
@@ -152,7 +319,7 @@ TLocalMapPoints CSparseMap::pointsById(const std::vector<TPointId>& ids) const
 	ReadLock lk(mtx_);
 	TLocalMapPoints out;
 	for (TPointId id : ids)
-		if (auto it = points_.find(id); it != points_.end() && !it->second.bad) appendPoint(out, it->second);
+		if (const CMapPoint* p = goodPoint(id)) appendPoint(out, *p);
 	return out;
 }
 
@@ -165,75 +332,242 @@ void CSparseMap::countTracking(const std::vector<TPointId>& visible, const std::
 		if (auto it = points_.find(id); it != points_.end()) it->second.found++;
 }
 
-void CSparseMap::eraseObservation(CMapPoint& p, std::size_t kf)
-{
-	const auto it = p.observations.find(kf);
-	if (it == p.observations.end()) return;
-	auto& slot = keyFrames_[kf].mapPoints[it->second];
-	if (slot == p.id) slot = -1;
-	p.observations.erase(it);
-}
-
-std::size_t CSparseMap::cullRecentPoints(std::size_t currentKf, double minFoundRatio, std::size_t minObservations)
+std::size_t CSparseMap::cullRecentPoints(TKeyFrameId currentKf, double minFoundRatio, std::size_t minObservations)
 {
 	WriteLock lk(mtx_);
 	std::size_t culled = 0;
-	for (auto& [id, p] : points_)
+	std::deque<TPointId> keep;
+	for (TPointId id : recent_)
 	{
-		if (p.bad) continue;
-		// Only young points are judged (ORB-SLAM2 checks them for three keyframes after creation).
-		if (p.firstKeyFrame + 3 < currentKf) continue;
+		auto it = points_.find(id);
+		if (it == points_.end() || it->second.bad) continue;  // already gone: leaves the list
+		CMapPoint& p = it->second;
 		const double ratio = static_cast<double>(p.found) / std::max(1, p.visible);
 		const bool tooRare = ratio < minFoundRatio;
 		const bool tooFewViews = currentKf >= p.firstKeyFrame + 2 && p.observations.size() < minObservations;
-		if (!tooRare && !tooFewViews) continue;
-		p.bad = true;
-		const auto obs = p.observations;
-		for (const auto& [k, kp] : obs) eraseObservation(p, k);
-		culled++;
+		if (tooRare || tooFewViews)
+		{
+			p.bad = true;
+			numGoodPoints_--;
+			const auto obs = p.observations;
+			for (const auto& [k, kp] : obs) eraseObservation(p, k);
+			culled++;
+			continue;
+		}
+		// Survived its trial period: a grown-up point, no longer judged (ORB-SLAM2).
+		if (currentKf < p.firstKeyFrame + kRecentKeyFrames) keep.push_back(id);
 	}
+	recent_.swap(keep);
+	reorderDirty();
 	return culled;
 }
 
-TBundleWindow CSparseMap::bundleWindow(std::size_t id, std::size_t numCovisible, std::size_t maxFixed) const
+std::size_t CSparseMap::numRecentPoints() const
+{
+	ReadLock lk(mtx_);
+	return recent_.size();
+}
+
+void CSparseMap::erasePoint(TPointId id)
+{
+	WriteLock lk(mtx_);
+	auto it = points_.find(id);
+	if (it == points_.end() || it->second.bad) return;
+	it->second.bad = true;
+	numGoodPoints_--;
+	const auto obs = it->second.observations;
+	for (const auto& [k, kp] : obs) eraseObservation(it->second, k);
+	reorderDirty();
+}
+
+bool CSparseMap::replacePoint(TPointId oldId, TPointId newId)
+{
+	WriteLock lk(mtx_);
+	if (oldId == newId) return false;
+	auto oit = points_.find(oldId), nit = points_.find(newId);
+	if (oit == points_.end() || nit == points_.end() || oit->second.bad || nit->second.bad) return false;
+	CMapPoint& oldP = oit->second;
+	CMapPoint& newP = nit->second;
+	const auto obs = oldP.observations;
+	for (const auto& [k, kp] : obs)
+	{
+		eraseObservation(oldP, k);
+		auto kit = keyFrames_.find(k);
+		if (kit == keyFrames_.end() || kit->second->bad) continue;
+		// A keyframe that sees both keeps its observation of the new point (ORB-SLAM2's Replace).
+		if (!newP.observations.count(k)) addObservation(newP, *kit->second, kp);
+	}
+	newP.visible += oldP.visible;
+	newP.found += oldP.found;
+	oldP.bad = true;
+	oldP.replacedBy = newId;
+	numGoodPoints_--;
+	reorderDirty();
+	return true;
+}
+
+void CSparseMap::eraseKeyFrameLocked(CKeyFrame& kf)
+{
+	// ORB-SLAM2's KeyFrame::SetBadFlag: drop the observations, then re-hang the children in the
+	// spanning tree, each under the candidate (the parent, or a child already re-hung) it shares
+	// most points with; children that share none with any candidate go to the parent.
+	for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
+	{
+		const TPointId pid = kf.mapPoints[i];
+		if (pid < 0) continue;
+		auto it = points_.find(pid);
+		if (it == points_.end()) continue;
+		eraseObservation(it->second, kf.id);
+		if (!it->second.bad && it->second.observations.empty())
+		{
+			it->second.bad = true;
+			numGoodPoints_--;
+		}
+	}
+	reorderDirty();
+	const TKeyFrameId parent = *kf.parent;
+	std::set<TKeyFrameId> candidates{parent};
+	std::set<TKeyFrameId> children = kf.children;
+	while (!children.empty())
+	{
+		int best = 0;
+		TKeyFrameId bestChild = 0, bestParent = 0;
+		for (TKeyFrameId c : children)
+		{
+			const CKeyFrame& ck = *keyFrames_.at(c);
+			for (TKeyFrameId cand : candidates)
+				if (const int w = ck.weight(cand); w > best)
+				{
+					best = w;
+					bestChild = c;
+					bestParent = cand;
+				}
+		}
+		if (best == 0) break;
+		CKeyFrame& ck = *keyFrames_.at(bestChild);
+		ck.parent = bestParent;
+		keyFrames_.at(bestParent)->children.insert(bestChild);
+		candidates.insert(bestChild);
+		children.erase(bestChild);
+	}
+	for (TKeyFrameId c : children)
+	{
+		keyFrames_.at(c)->parent = parent;
+		keyFrames_.at(parent)->children.insert(c);
+	}
+	kf.children.clear();
+	keyFrames_.at(parent)->children.erase(kf.id);
+	kf.poseInParent = kf.pose - keyFrames_.at(parent)->pose;
+	kf.bad = true;
+	kf.connections.clear();
+	kf.orderedConnections.clear();
+	// The measurements are what costs memory; a bad keyframe keeps only what resolves its pose.
+	kf.features.reset();
+	kf.colors.clear();
+	kf.colors.shrink_to_fit();
+	kf.mapPoints.clear();
+	kf.mapPoints.shrink_to_fit();
+	numGoodKeyFrames_--;
+}
+
+bool CSparseMap::eraseKeyFrame(TKeyFrameId id)
+{
+	WriteLock lk(mtx_);
+	auto it = keyFrames_.find(id);
+	if (it == keyFrames_.end() || it->second->bad || !it->second->parent) return false;	 // the root stays
+	eraseKeyFrameLocked(*it->second);
+	return true;
+}
+
+std::vector<TKeyFrameId> CSparseMap::cullRedundantKeyFrames(
+	TKeyFrameId currentKf, double redundantRatio, std::size_t minOtherObservers, double maxDepth)
+{
+	WriteLock lk(mtx_);
+	std::vector<TKeyFrameId> erased;
+	const auto cit = keyFrames_.find(currentKf);
+	if (cit == keyFrames_.end() || cit->second->bad) return erased;
+	const std::vector<TKeyFrameId> local = cit->second->orderedConnections;
+	for (TKeyFrameId id : local)
+	{
+		auto it = keyFrames_.find(id);
+		if (it == keyFrames_.end()) continue;
+		CKeyFrame& kf = *it->second;
+		if (kf.bad || !kf.parent || id == currentKf) continue;
+		std::size_t numPoints = 0, redundant = 0;
+		for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
+		{
+			const TPointId pid = kf.mapPoints[i];
+			if (pid < 0) continue;
+			const auto pit = points_.find(pid);
+			if (pit == points_.end() || pit->second.bad) continue;
+			const float z = kf.features->depth[i];
+			if (!(z > 0) || z > maxDepth) continue;	 // RGB-D: only close points count (ORB-SLAM2)
+			numPoints++;
+			const CMapPoint& p = pit->second;
+			if (p.observations.size() <= minOtherObservers) continue;
+			const int octave = kf.features->keypoints[i].octave;
+			std::size_t others = 0;
+			for (const auto& [k, kp] : p.observations)
+			{
+				if (k == id) continue;
+				const CKeyFrame& o = *keyFrames_.at(k);
+				if (o.features->keypoints[kp].octave <= octave + 1 && ++others >= minOtherObservers) break;
+			}
+			if (others >= minOtherObservers) redundant++;
+		}
+		if (numPoints > 0 && static_cast<double>(redundant) > redundantRatio * static_cast<double>(numPoints))
+		{
+			eraseKeyFrameLocked(kf);
+			erased.push_back(id);
+		}
+	}
+	return erased;
+}
+
+TBundleWindow CSparseMap::bundleWindow(TKeyFrameId id, std::size_t numCovisible, std::size_t maxFixed) const
 {
 	ReadLock lk(mtx_);
 	TBundleWindow w;
-	if (id >= keyFrames_.size()) return w;
-	w.keyFrames = covisibleLocked(keyFrames_, points_, id, numCovisible);
+	w.generation = generation_;
+	const auto cit = keyFrames_.find(id);
+	if (cit == keyFrames_.end() || cit->second->bad) return w;
+	w.keyFrames = covisibleLocked(id, numCovisible, 1);
 	w.keyFrames.insert(w.keyFrames.begin(), id);
-	// Keyframe 0 anchors the gauge (ORB-SLAM2 fixes the origin keyframe).
-	const std::set<std::size_t> local(w.keyFrames.begin(), w.keyFrames.end());
+	const std::set<TKeyFrameId> local(w.keyFrames.begin(), w.keyFrames.end());
 	std::set<TPointId> pts;
-	for (std::size_t k : w.keyFrames)
-		for (TPointId pid : keyFrames_[k].mapPoints)
+	for (TKeyFrameId k : w.keyFrames)
+		for (TPointId pid : keyFrames_.at(k)->mapPoints)
 			if (pid >= 0)
 				if (auto it = points_.find(pid); it != points_.end() && !it->second.bad) pts.insert(pid);
-	std::map<std::size_t, int> fixedCount;
+	std::map<TKeyFrameId, int> fixedCount;
 	for (TPointId pid : pts)
 		for (const auto& [k, kp] : points_.at(pid).observations)
 			if (!local.count(k)) fixedCount[k]++;
-	std::vector<std::pair<int, std::size_t>> order;
+	std::vector<std::pair<int, TKeyFrameId>> order;
 	for (const auto& [k, n] : fixedCount) order.emplace_back(-n, k);
 	std::sort(order.begin(), order.end());
 	for (std::size_t i = 0; i < order.size() && w.fixedKeyFrames.size() < maxFixed; i++)
 		w.fixedKeyFrames.push_back(order[i].second);
-	if (local.count(0))
+	// The first keyframe anchors the gauge (ORB-SLAM2 fixes the origin keyframe).
+	const TKeyFrameId root = keyFrames_.begin()->first;
+	if (local.count(root))
 	{
-		w.keyFrames.erase(std::find(w.keyFrames.begin(), w.keyFrames.end(), std::size_t(0)));
-		w.fixedKeyFrames.push_back(0);
+		w.keyFrames.erase(std::find(w.keyFrames.begin(), w.keyFrames.end(), root));
+		w.fixedKeyFrames.push_back(root);
 	}
-	std::set<std::size_t> all(w.keyFrames.begin(), w.keyFrames.end());
+	std::set<TKeyFrameId> all(w.keyFrames.begin(), w.keyFrames.end());
 	all.insert(w.fixedKeyFrames.begin(), w.fixedKeyFrames.end());
-	for (std::size_t k : all)
+	for (TKeyFrameId k : all)
 	{
-		w.poses[k] = keyFrames_[k].pose;
-		w.frames[k] = keyFrames_[k].frame;
+		const CKeyFrame& kf = *keyFrames_.at(k);
+		w.poses[k] = kf.pose;
+		w.features[k] = kf.features;
+		w.cameras[k] = kf.camera;
 	}
 	for (TPointId pid : pts)
 	{
 		const auto& p = points_.at(pid);
-		std::map<std::size_t, std::size_t> obs;
+		std::map<TKeyFrameId, std::size_t> obs;
 		for (const auto& [k, kp] : p.observations)
 			if (all.count(k)) obs[k] = kp;
 		w.points.push_back(pid);
@@ -243,37 +577,49 @@ TBundleWindow CSparseMap::bundleWindow(std::size_t id, std::size_t numCovisible,
 	return w;
 }
 
-void CSparseMap::applyBundle(
-	const std::map<std::size_t, mrpt::poses::CPose3D>& poses, const std::vector<TPointId>& points,
-	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, std::size_t>>& outliers)
+bool CSparseMap::applyBundle(
+	const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
 {
 	WriteLock lk(mtx_);
+	if (w.generation != generation_) return false;
 	for (const auto& [k, p] : poses)
-		if (k < keyFrames_.size()) keyFrames_[k].pose = p;
-	for (std::size_t i = 0; i < points.size() && i < positions.size(); i++)
-		if (auto it = points_.find(points[i]); it != points_.end()) it->second.position = positions[i];
+		if (auto it = keyFrames_.find(k); it != keyFrames_.end() && !it->second->bad) it->second->pose = p;
+	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
+		if (auto it = points_.find(w.points[i]); it != points_.end() && !it->second.bad) it->second.position = positions[i];
 	for (const auto& [pid, k] : outliers)
 	{
 		auto it = points_.find(pid);
-		if (it == points_.end() || k >= keyFrames_.size()) continue;
+		if (it == points_.end() || it->second.bad) continue;
 		eraseObservation(it->second, k);
-		if (it->second.observations.empty()) it->second.bad = true;
+		if (it->second.observations.empty())
+		{
+			it->second.bad = true;
+			numGoodPoints_--;
+		}
 	}
+	reorderDirty();
+	return true;
 }
 
-std::vector<mrpt::poses::CPose3D> CSparseMap::keyFramePoses() const
+std::uint64_t CSparseMap::generation() const
 {
 	ReadLock lk(mtx_);
-	std::vector<mrpt::poses::CPose3D> out;
-	for (const auto& k : keyFrames_) out.push_back(k.pose);
-	return out;
+	return generation_;
 }
 
-std::vector<double> CSparseMap::keyFrameTimes() const
+std::uint64_t CSparseMap::beginCorrection()
+{
+	WriteLock lk(mtx_);
+	return ++generation_;
+}
+
+std::vector<TKeyFramePose> CSparseMap::keyFramePoses() const
 {
 	ReadLock lk(mtx_);
-	std::vector<double> out;
-	for (const auto& k : keyFrames_) out.push_back(k.frame->timestamp);
+	std::vector<TKeyFramePose> out;
+	out.reserve(keyFrames_.size());
+	for (const auto& [id, kf] : keyFrames_) out.push_back({id, kf->timestamp, poseLocked(id), kf->bad});
 	return out;
 }
 
@@ -281,8 +627,10 @@ std::vector<CMapPoint> CSparseMap::points() const
 {
 	ReadLock lk(mtx_);
 	std::vector<CMapPoint> out;
+	out.reserve(numGoodPoints_);
 	for (const auto& [id, p] : points_)
 		if (!p.bad) out.push_back(p);
+	std::sort(out.begin(), out.end(), [](const CMapPoint& a, const CMapPoint& b) { return a.id < b.id; });
 	return out;
 }
 }  // namespace mrpt_yesslam

@@ -1,11 +1,12 @@
 #include "mrpt_yesslam/data/TFrame.h"
 
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
+
 namespace mrpt_yesslam
 {
 cv::Point3d TFrame::backProject(std::size_t i) const
 {
-	const double z = features.depth[i];
 	const auto& p = features.keypoints[i].pt;
-	return {(p.x - camera.cx()) * z / camera.fx(), (p.y - camera.cy()) * z / camera.fy(), z};
+	return CPinholeCamera(camera).backProject(p.x, p.y, features.depth[i]);
 }
 }  // namespace mrpt_yesslam

@@ -158,8 +158,19 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 			const float z = depth.at<float>(y, x);
 			out.depth[i] = std::isfinite(z) && z > 0 && depthIsSmoothAround(depth, x, y, z) ? z : 0.f;
 		}
-		if (!mask.empty() && x >= 0 && y >= 0 && x < mask.cols && y < mask.rows) out.dynamic[i] = mask.at<uchar>(y, x) != 0;
 	}
+	flagDynamic(out, mask);
 	return out;
+}
+
+void COrbExtractor::flagDynamic(TFeatures& f, const cv::Mat& mask)
+{
+	f.dynamic.assign(f.keypoints.size(), false);
+	if (mask.empty()) return;
+	for (std::size_t i = 0; i < f.keypoints.size(); i++)
+	{
+		const int x = static_cast<int>(std::lround(f.keypoints[i].pt.x)), y = static_cast<int>(std::lround(f.keypoints[i].pt.y));
+		if (x >= 0 && y >= 0 && x < mask.cols && y < mask.rows) f.dynamic[i] = mask.at<uchar>(y, x) != 0;
+	}
 }
 }  // namespace mrpt_yesslam

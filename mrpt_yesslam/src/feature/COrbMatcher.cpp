@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/feature/COrbMatcher.h"
 
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -73,16 +75,18 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 	const int W = static_cast<int>(frame.camera.ncols), H = static_cast<int>(frame.camera.nrows);
 	const int gw = std::max(1, (W + cell - 1) / cell), gh = std::max(1, (H + cell - 1) / cell);
 	std::vector<std::vector<int>> grid(static_cast<std::size_t>(gw * gh));
+	int maxOctave = 0;
 	for (std::size_t i = 0; i < kps.size(); i++)
 	{
 		if (frame.features.dynamic[i]) continue;
+		maxOctave = std::max(maxOctave, std::clamp(kps[i].octave, 0, 15));
 		if (skipMatched && i < frame.mapPoints.size() && frame.mapPoints[i] >= 0) continue;
 		const int gx = std::clamp(static_cast<int>(kps[i].pt.x) / cell, 0, gw - 1);
 		const int gy = std::clamp(static_cast<int>(kps[i].pt.y) / cell, 0, gh - 1);
 		grid[static_cast<std::size_t>(gy * gw + gx)].push_back(static_cast<int>(i));
 	}
 	const mrpt::poses::CPose3D Tcw = -Twc;
-	const auto& K = frame.camera;
+	const CPinholeCamera K(frame.camera);
 	std::vector<double> levelScale(16, 1.0);
 	for (std::size_t l = 1; l < levelScale.size(); l++) levelScale[l] = levelScale[l - 1] * scaleFactor;
 	for (std::size_t j = 0; j < points.ids.size(); j++)
@@ -90,13 +94,13 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 		double x, y, z;
 		const auto& P = points.positions[j];
 		Tcw.composePoint(P.x, P.y, P.z, x, y, z);
-		if (z < 0.05) continue;
-		const double u = K.fx() * x / z + K.cx(), v = K.fy() * y / z + K.cy();
-		if (u < 0 || v < 0 || u >= W || v >= H) continue;
+		double u, v;
+		if (z < 0.05 || !K.project(x, y, z, u, v) || u < 0 || v < 0 || u >= W || v >= H) continue;
 		if (inView) inView->push_back(j);
 		const unsigned char* d = points.descriptors.ptr<unsigned char>(static_cast<int>(j));
 		TBestTwo two;
-		const double rMax = radius * levelScale.back();
+		// The cells to scan: as far as the coarsest level present in this frame reaches.
+		const double rMax = radius * levelScale[static_cast<std::size_t>(maxOctave)];
 		const int x0 = std::max(0, static_cast<int>((u - rMax) / cell)), x1 = std::min(gw - 1, static_cast<int>((u + rMax) / cell));
 		const int y0 = std::max(0, static_cast<int>((v - rMax) / cell)), y1 = std::min(gh - 1, static_cast<int>((v + rMax) / cell));
 		for (int gy = y0; gy <= y1; gy++)

@@ -75,7 +75,6 @@ std::optional<CKeyFrameInserter::TDecision> CKeyFrameInserter::addFrame(const TF
 		if ((c1a || c1b || c1c) && c2) return TDecision{f.id, false};
 		return std::nullopt;
 	}
-	if (inliers < opts_.forceTrackedRatio * refPoints && f.numInliers > 15) return TDecision{f.id, true};
 	TKeyFrameInput in;
 	in.frameId = f.id;
 	in.detections = f.detections;
@@ -84,6 +83,13 @@ std::optional<CKeyFrameInserter::TDecision> CKeyFrameInserter::addFrame(const TF
 	in.numStatic = f.features.numStatic();
 	in.numInliers = f.numInliers;
 	in.motion = motion;
+	if (inliers < opts_.forceTrackedRatio * refPoints && f.numInliers > 15)
+	{
+		// The forced keyframe becomes the selector's reference and opens a new interval: a frame of
+		// the interval it cut short must not become a keyframe after it (ids would leave time order).
+		selector_.restart(in);
+		return TDecision{f.id, true};
+	}
 	if (const auto d = selector_.addFrame(in)) return TDecision{d->frameId, false};
 	return std::nullopt;
 }

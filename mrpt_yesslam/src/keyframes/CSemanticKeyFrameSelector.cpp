@@ -153,6 +153,15 @@ std::optional<std::size_t> CSemanticKeyFrameSelector::referenceId() const
 	return ref_->frameId;
 }
 
+void CSemanticKeyFrameSelector::restart(const TKeyFrameInput& f)
+{
+	ref_ = f;
+	cand_.reset();
+	candSim_ = 2;
+	inInterval_ = 0;
+	intervalLen_ = currentInterval();
+}
+
 double CSemanticKeyFrameSelector::similarityToReference(const TKeyFrameInput& f) const
 {
 	if (!ref_) return 1.0;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/mapping/BundleCosts.h"
 #include "mrpt_yesslam/tracking/CPoseOptimizer.h"
 
@@ -20,7 +21,9 @@ void CLocalMapper::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
 	MRPT_LOAD_CONFIG_VAR(depthNoise, double, c, s);
 	MRPT_LOAD_CONFIG_VAR(cullFoundRatio, double, c, s);
 	cullMinObservations = static_cast<std::size_t>(c.read_int(s, "cullMinObservations", static_cast<int>(cullMinObservations)));
-	MRPT_LOAD_CONFIG_VAR(scaleFactor, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(keyFrameCulling, bool, c, s);
+	MRPT_LOAD_CONFIG_VAR(redundantRatio, double, c, s);
+	redundantObservers = static_cast<std::size_t>(c.read_int(s, "redundantObservers", static_cast<int>(redundantObservers)));
 }
 
 void CLocalMapper::TOptions::dumpToTextStream(std::ostream& o) const
@@ -33,7 +36,9 @@ void CLocalMapper::TOptions::dumpToTextStream(std::ostream& o) const
 	o << "depthNoise          = " << depthNoise << "\n";
 	o << "cullFoundRatio      = " << cullFoundRatio << "\n";
 	o << "cullMinObservations = " << cullMinObservations << "\n";
-	o << "scaleFactor         = " << scaleFactor << "\n";
+	o << "keyFrameCulling     = " << (keyFrameCulling ? "true" : "false") << "\n";
+	o << "redundantRatio      = " << redundantRatio << "\n";
+	o << "redundantObservers  = " << redundantObservers << "\n";
 }
 
 std::vector<TConfigKey> CLocalMapper::TOptions::configKeys()
@@ -41,17 +46,26 @@ std::vector<TConfigKey> CLocalMapper::TOptions::configKeys()
 	using T = TConfigKey::Type;
 	return {{"bundleAdjustment", T::Boolean}, {"covisibleKeyFrames", T::Integer}, {"maxFixedKeyFrames", T::Integer},
 			{"iterations", T::Integer},		  {"depthNoise", T::Number},				   {"cullFoundRatio", T::Number},
-			{"cullMinObservations", T::Integer}, {"scaleFactor", T::Number}};
+			{"cullMinObservations", T::Integer}, {"keyFrameCulling", T::Boolean}, {"redundantRatio", T::Number},
+			{"redundantObservers", T::Integer}};
 }
 
-TBundleStats CLocalMapper::step(std::size_t kf)
+CLocalMapper::CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor, double maxDepth)
+	: opts_(opts), map_(map), scaleFactor_(scaleFactor), maxDepth_(maxDepth)
 {
-	map_.cullRecentPoints(kf, opts_.cullFoundRatio, opts_.cullMinObservations);
-	if (!opts_.bundleAdjustment) return {};
-	return bundleAdjust(kf);
 }
 
-TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
+TMappingStats CLocalMapper::step(TKeyFrameId kf)
+{
+	TMappingStats st;
+	st.culledPoints = map_.cullRecentPoints(kf, opts_.cullFoundRatio, opts_.cullMinObservations);
+	if (opts_.bundleAdjustment) st.bundle = bundleAdjust(kf);
+	if (opts_.keyFrameCulling)
+		st.erasedKeyFrames = map_.cullRedundantKeyFrames(kf, opts_.redundantRatio, opts_.redundantObservers, maxDepth_);
+	return st;
+}
+
+TBundleStats CLocalMapper::bundleAdjust(TKeyFrameId kf)
 {
 	TBundleStats st;
 	const TBundleWindow w = map_.bundleWindow(kf, opts_.covisibleKeyFrames, opts_.maxFixedKeyFrames);
@@ -60,7 +74,7 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 	st.fixedKeyFrames = w.fixedKeyFrames.size();
 	st.points = w.points.size();
 
-	std::map<std::size_t, std::array<double, 6>> poseParams;
+	std::map<TKeyFrameId, std::array<double, 6>> poseParams;
 	for (const auto& [k, p] : w.poses)
 	{
 		auto& a = poseParams[k];
@@ -71,7 +85,8 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 
 	struct Obs
 	{
-		std::size_t point, kf;
+		std::size_t point;
+		TKeyFrameId kf;
 		TRgbdReprojectionCost cost;
 		bool hasDepth;
 	};
@@ -80,12 +95,12 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 	for (std::size_t i = 0; i < w.points.size(); i++)
 		for (const auto& [k, kp] : w.observations[i])
 		{
-			const auto& f = *w.frames.at(k);
-			const auto& key = f.features.keypoints[kp];
-			const double z = f.features.depth[kp];
+			const TFeatures& f = *w.features.at(k);
+			const auto& key = f.keypoints[kp];
+			const double z = f.depth[kp];
 			const bool hasDepth = z > 0;
-			const double sigma = std::pow(opts_.scaleFactor, std::max(0, key.octave));
-			const auto& K = f.camera;
+			const double sigma = std::pow(scaleFactor_, std::max(0, key.octave));
+			const CPinholeCamera K(w.cameras.at(k));
 			const bool useDepth = hasDepth && opts_.depthNoise > 0;
 			TRgbdReprojectionCost c(
 				key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, useDepth ? opts_.depthNoise * z * z : 0.0, K.fx(), K.fy(), K.cx(), K.cy());
@@ -97,7 +112,7 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 			problem.AddResidualBlock(cost, loss, pp.data(), pp.data() + 3, X[i].data());
 		}
 	st.observations = all.size();
-	for (std::size_t k : w.fixedKeyFrames)
+	for (TKeyFrameId k : w.fixedKeyFrames)
 	{
 		auto& pp = poseParams.at(k);
 		problem.SetParameterBlockConstant(pp.data());
@@ -116,7 +131,7 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 	st.finalCost = sum.final_cost;
 
 	// Observations that are still outliers after the solve are removed from the map (ORB-SLAM2).
-	std::vector<std::pair<TPointId, std::size_t>> outliers;
+	std::vector<std::pair<TPointId, TKeyFrameId>> outliers;
 	for (const auto& o : all)
 	{
 		const auto& pp = poseParams.at(o.kf);
@@ -126,15 +141,15 @@ TBundleStats CLocalMapper::bundleAdjust(std::size_t kf)
 		if (chi2 > (o.hasDepth ? 7.815 : 5.991)) outliers.emplace_back(w.points[o.point], o.kf);
 	}
 	st.outliers = outliers.size();
-	std::map<std::size_t, mrpt::poses::CPose3D> poses;
-	for (std::size_t k : w.keyFrames)
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
+	for (TKeyFrameId k : w.keyFrames)
 	{
 		const auto& pp = poseParams.at(k);
 		poses[k] = cameraPoseFromParams(pp.data(), pp.data() + 3);
 	}
 	std::vector<mrpt::math::TPoint3D> positions;
 	for (const auto& x : X) positions.push_back({x[0], x[1], x[2]});
-	map_.applyBundle(poses, w.points, positions, outliers);
+	st.applied = map_.applyBundle(w, poses, positions, outliers);
 	return st;
 }
 }  // namespace mrpt_yesslam

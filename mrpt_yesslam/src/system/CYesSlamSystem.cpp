@@ -24,6 +24,8 @@ void TYesSlamOptions::TSystem::loadFromConfigFile(const mrpt::config::CConfigFil
 	MRPT_LOAD_CONFIG_VAR(dynamicFilter, bool, c, s);
 	minInitPoints = static_cast<std::size_t>(c.read_int(s, "minInitPoints", static_cast<int>(minInitPoints)));
 	frameBuffer = static_cast<std::size_t>(c.read_int(s, "frameBuffer", static_cast<int>(frameBuffer)));
+	MRPT_LOAD_CONFIG_VAR(asyncDetection, bool, c, s);
+	mappingQueue = static_cast<std::size_t>(c.read_int(s, "mappingQueue", static_cast<int>(mappingQueue)));
 }
 
 void TYesSlamOptions::TSystem::dumpToTextStream(std::ostream& o) const
@@ -33,12 +35,15 @@ void TYesSlamOptions::TSystem::dumpToTextStream(std::ostream& o) const
 	o << "dynamicFilter = " << (dynamicFilter ? "true" : "false") << "\n";
 	o << "minInitPoints = " << minInitPoints << "\n";
 	o << "frameBuffer   = " << frameBuffer << "\n";
+	o << "asyncDetection = " << (asyncDetection ? "true" : "false") << "\n";
+	o << "mappingQueue  = " << mappingQueue << "\n";
 }
 
 std::vector<TConfigKey> TYesSlamOptions::TSystem::configKeys()
 {
 	using T = TConfigKey::Type;
-	return {{"parallel", T::Boolean}, {"dynamicFilter", T::Boolean}, {"minInitPoints", T::Integer}, {"frameBuffer", T::Integer}};
+	return {{"parallel", T::Boolean}, {"dynamicFilter", T::Boolean}, {"minInitPoints", T::Integer}, {"frameBuffer", T::Integer},
+			{"asyncDetection", T::Boolean}, {"mappingQueue", T::Integer}};
 }
 
 void TYesSlamOptions::loadFromFile(const std::string& path)
@@ -81,59 +86,71 @@ double percentile(std::vector<double> v, double q)
 
 CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	: opts_(opts),
-	  detector_(createObjectDetector(opts.detector)),
-	  masker_(opts.masker),
-	  extractor_(opts.orb),
-	  tracker_(opts.tracking, map_),
+	  builder_(createObjectDetector(opts.detector), opts.masker, opts.orb, opts.system.dynamicFilter, opts.system.asyncDetection),
+	  tracker_(opts.tracking, map_, opts.orb.scaleFactor),
 	  inserter_(opts.keyFrames),
-	  mapper_(opts.mapping, map_)
+	  mapper_(opts.mapping, map_, opts.orb.scaleFactor, opts.tracking.maxDepth)
 {
-	if (opts_.system.parallel) worker_ = std::thread([this] { mappingLoop(); });
+	// Algorithm 1 may name any frame of the interval that just closed: the buffer must hold it.
+	const auto& sem = opts_.keyFrames.semantic;
+	const std::size_t longest = static_cast<std::size_t>(std::max(sem.interval, sem.shortInterval));
+	if (opts_.keyFrames.policy == "semantic" && opts_.system.frameBuffer < longest)
+		throw InputError(
+			"", "[System] frameBuffer (" + std::to_string(opts_.system.frameBuffer) + ") must be at least [KeyFrames] interval (" +
+					std::to_string(longest) + "): a keyframe chosen in the interval would be lost");
+	if (opts_.system.mappingQueue < 1) throw InputError("", "[System] mappingQueue must be >= 1");
+	if (opts_.system.parallel) mappingStage_ = std::make_unique<CWorkerPool>(1, opts_.system.mappingQueue);
 }
 
 CYesSlamSystem::~CYesSlamSystem()
 {
-	{
-		std::lock_guard<std::mutex> lk(qMtx_);
-		stop_ = true;
-	}
-	qCv_.notify_all();
-	if (worker_.joinable()) worker_.join();
+	// Let the queued keyframes finish (their futures would otherwise break), ignoring failures: a
+	// destructor must not throw, and a failure has been or will not be reported.
+	if (mappingStage_) mappingStage_->waitIdle();
 }
 
-void CYesSlamSystem::mappingLoop()
+void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
-	for (;;)
+	const auto t0 = Clock::now();
+	const TMappingStats st = mapper_.step(kf);
+	const double ms = msSince(t0);
 	{
-		std::size_t kf;
+		std::lock_guard<std::mutex> sl(statsMtx_);
+		stats_.stageMs["mapping"].push_back(ms);
+		stats_.culledKeyFrames += st.erasedKeyFrames.size();
+	}
+	if (keyFrameCallback_) keyFrameCallback_(kf);
+}
+
+void CYesSlamSystem::collectMapping(bool wait)
+{
+	while (!mappingTasks_.empty())
+	{
+		auto& f = mappingTasks_.front();
+		if (!wait && f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+		std::future<void> done = std::move(f);
+		mappingTasks_.pop_front();
+		try
 		{
-			std::unique_lock<std::mutex> lk(qMtx_);
-			qCv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
-			if (queue_.empty()) return;	 // stopping, nothing left
-			// Only the newest keyframe matters when mapping falls behind (ORB-SLAM2 aborts its BA
-			// for a new keyframe too); culling still looks at every young point.
-			kf = queue_.back();
-			queue_.clear();
-			busy_ = true;
+			done.get();
 		}
-		const auto t0 = Clock::now();
-		mapper_.step(kf);
+		catch (const std::exception& e)
 		{
-			std::lock_guard<std::mutex> sl(statsMtx_);
-			stats_.stageMs["mapping"].push_back(msSince(t0));
+			throw std::runtime_error(std::string("local mapping failed: ") + e.what());
 		}
-		{
-			std::lock_guard<std::mutex> lk(qMtx_);
-			busy_ = false;
-		}
-		qDone_.notify_all();
 	}
 }
 
-void CYesSlamSystem::waitForMapping()
+void CYesSlamSystem::waitForMapping() { collectMapping(true); }
+
+void CYesSlamSystem::pauseMapping()
 {
-	std::unique_lock<std::mutex> lk(qMtx_);
-	qDone_.wait(lk, [&] { return queue_.empty() && !busy_; });
+	if (mappingStage_) mappingStage_->pause();
+}
+
+void CYesSlamSystem::resumeMapping()
+{
+	if (mappingStage_) mappingStage_->resume();
 }
 
 TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs)
@@ -158,8 +175,8 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 	{
 		if (f.mapPoints[i] < 0 || f.features.depth[i] <= 0) continue;
 		const auto it = refKp.find(f.mapPoints[i]);
-		if (it == refKp.end() || kf.frame->features.depth[it->second] <= 0) continue;
-		const cv::Point3d a = f.backProject(i), b = kf.frame->backProject(it->second);
+		if (it == refKp.end() || kf.features->depth[it->second] <= 0) continue;
+		const cv::Point3d a = f.backProject(i), b = kf.backProject(it->second);
 		cur.emplace_back(a.x, a.y, a.z);
 		prev.emplace_back(b.x, b.y, b.z);
 	}
@@ -175,87 +192,40 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 
 void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
 {
-	const std::size_t kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
+	const TKeyFrameId kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
 	tracker_.setReferenceKeyFrame(kf);
 	inserter_.keyFrameInserted(f->id);
+	lastKeyFrameFrame_ = f->id;
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.keyFrames++;
 		if (forced) stats_.forcedKeyFrames++;
 	}
-	if (opts_.system.parallel)
+	if (mappingStage_)
 	{
-		{
-			std::lock_guard<std::mutex> lk(qMtx_);
-			queue_.push_back(kf);
-		}
-		qCv_.notify_one();
+		// Every keyframe in order, as in sequential mode; a full queue holds tracking back.
+		mappingTasks_.push_back(mappingStage_->submit([this, kf] { mapKeyFrame(kf); }));
 		return;
 	}
-	const auto t0 = Clock::now();
-	mapper_.step(kf);
-	std::lock_guard<std::mutex> sl(statsMtx_);
-	stats_.stageMs["mapping"].push_back(msSince(t0));
+	mapKeyFrame(kf);
 }
 
 TFrameReport CYesSlamSystem::processFrame(
 	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera)
 {
+	collectMapping(false);	// a failure of the mapping stage ends the run here, with its message
 	TFrameReport rep;
-	auto f = std::make_shared<TFrame>();
-	f->id = nextFrameId_++;
-	f->timestamp = timestamp;
-	f->camera = camera;
-	f->camera.ncols = static_cast<uint32_t>(bgr.cols);
-	f->camera.nrows = static_cast<uint32_t>(bgr.rows);
-	rep.frameId = f->id;
 	std::map<std::string, double> ms;
+	const std::shared_ptr<TFrame> f = builder_.build(bgr, depth, timestamp, camera, nextFrameId_++, &ms);
+	rep.frameId = f->id;
 
 	auto t0 = Clock::now();
-	if (detector_) f->detections = detector_->detect(bgr, timestamp);
-	ms["detect"] = msSince(t0);
-	t0 = Clock::now();
-	cv::Mat mask;
-	if (opts_.system.dynamicFilter)
-	{
-		// Also without a dynamic detection in this frame: the masker holds objects the detector has
-		// just missed ([DynamicMask] holdFrames).
-		mask = masker_.compute(depth, f->detections).mask;
-		f->numDynamicMasked = static_cast<std::size_t>(cv::countNonZero(mask));
-		if (f->numDynamicMasked == 0) mask.release();
-	}
-	ms["mask"] = msSince(t0);
-	t0 = Clock::now();
-	f->features = extractor_.extract(bgr, depth, mask);
-	// Depth and mask are looked up at the raw keypoint; tracking works in undistorted pixels.
-	const auto& d = camera.dist;
-	if (d[0] != 0 || d[1] != 0 || d[2] != 0 || d[3] != 0 || d[4] != 0)
-	{
-		std::vector<cv::Point2f> raw, und;
-		for (const auto& k : f->features.keypoints) raw.push_back(k.pt);
-		if (!raw.empty())
-		{
-			const cv::Matx33d K(camera.fx(), 0, camera.cx(), 0, camera.fy(), camera.cy(), 0, 0, 1);
-			const cv::Matx<double, 1, 5> D(d[0], d[1], d[2], d[3], d[4]);
-			cv::undistortPoints(raw, und, K, D, cv::noArray(), K);
-			for (std::size_t i = 0; i < und.size(); i++) f->features.keypoints[i].pt = und[i];
-		}
-	}
-	for (const auto& k : f->features.keypoints)
-	{
-		const cv::Point p(std::clamp(cvRound(k.pt.x), 0, bgr.cols - 1), std::clamp(cvRound(k.pt.y), 0, bgr.rows - 1));
-		f->colors.push_back(bgr.at<cv::Vec3b>(p));
-	}
-	f->mapPoints.assign(f->size(), -1);
-	ms["orb"] = msSince(t0);
-
 	rep.features = f->size();
 	rep.staticFeatures = f->features.numStatic();
 	rep.detections = f->detections.size();
 	rep.dynamicDetections = static_cast<std::size_t>(
 		std::count_if(f->detections.begin(), f->detections.end(), [](const TDetection& x) { return x.dynamic; }));
 
-	t0 = Clock::now();
 	std::optional<CKeyFrameInserter::TDecision> decision;
 	bool initialising = false;
 	if (map_.numKeyFrames() == 0)
@@ -305,18 +275,18 @@ TFrameReport CYesSlamSystem::processFrame(
 	{
 		const auto ref = tracker_.referenceKeyFrame();
 		CKeyFrameInserter::TReference refInfo;
-		if (ref)
-		{
-			const TLocalMapPoints p = map_.keyFramePoints(*ref);
-			refInfo.points = p.ids.size();
-		}
+		if (ref) refInfo.points = map_.numKeyFramePoints(*ref);
 		const double D = opts_.keyFrames.policy == "semantic" ? motionToReference(*frame) : 0.0;
 		decision = inserter_.addFrame(*frame, refInfo, D);
 	}
-	if (decision)
+	// Keyframe ids follow time: a decision for a frame not newer than the newest keyframe cannot
+	// happen (forced keyframes restart the selector's interval), and the buffer holds every frame of
+	// an interval (checked at construction).
+	if (decision && !(lastKeyFrameFrame_ && decision->frameId <= *lastKeyFrameFrame_))
 	{
 		const auto it = std::find_if(recent_.begin(), recent_.end(), [&](const auto& x) { return x->id == decision->frameId; });
-		if (it != recent_.end() && (*it)->tracked)
+		if (it == recent_.end()) throw std::logic_error("keyframe decision for a frame no longer buffered");
+		if ((*it)->tracked)
 		{
 			insertKeyFrame(*it, decision->forced);
 			rep.keyFrame = (*it)->id == frame->id;
@@ -325,7 +295,10 @@ TFrameReport CYesSlamSystem::processFrame(
 	ms["keyframe"] = msSince(t0);
 	tracker_.setLastFrame(frame);
 
-	records_.push_back(rec);
+	{
+		std::lock_guard<std::mutex> lk(recordsMtx_);
+		records_.push_back(rec);
+	}
 
 	rep.tracked = frame->tracked;
 	rep.inliers = frame->numInliers;
@@ -342,12 +315,19 @@ TFrameReport CYesSlamSystem::processFrame(
 
 TTrajectory CYesSlamSystem::trajectory() const
 {
-	TTrajectory out;
-	const auto poses = map_.keyFramePoses();
-	for (const auto& r : records_)
+	std::vector<TFrameRecord> records;
 	{
-		const mrpt::poses::CPose3D p = r.hasRef && r.refKf < poses.size() ? poses[r.refKf] + r.relative : r.relative;
-		out.push_back(TStampedPose::fromPose(r.t, p));
+		std::lock_guard<std::mutex> lk(recordsMtx_);
+		records = records_;
+	}
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
+	for (const auto& k : map_.keyFramePoses()) poses[k.id] = k.pose;
+	TTrajectory out;
+	out.reserve(records.size());
+	for (const auto& r : records)
+	{
+		const auto it = r.hasRef ? poses.find(r.refKf) : poses.end();
+		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.relative : r.relative));
 	}
 	return out;
 }
@@ -355,9 +335,8 @@ TTrajectory CYesSlamSystem::trajectory() const
 TTrajectory CYesSlamSystem::keyFrameTrajectory() const
 {
 	TTrajectory out;
-	const auto poses = map_.keyFramePoses();
-	const auto times = map_.keyFrameTimes();
-	for (std::size_t i = 0; i < poses.size(); i++) out.push_back(TStampedPose::fromPose(times[i], poses[i]));
+	for (const auto& k : map_.keyFramePoses())
+		if (!k.bad) out.push_back(TStampedPose::fromPose(k.timestamp, k.pose));
 	return out;
 }
 
@@ -371,8 +350,10 @@ mrpt::opengl::COpenGLScene::Ptr CYesSlamSystem::buildScene() const
 			static_cast<float>(p.position.x), static_cast<float>(p.position.y), static_cast<float>(p.position.z),
 			p.color[2] / 255.f, p.color[1] / 255.f, p.color[0] / 255.f);
 	scene->insert(cloud);
-	for (const auto& kf : map_.keyFramePoses())
+	for (const auto& k : map_.keyFramePoses())
 	{
+		if (k.bad) continue;
+		const auto& kf = k.pose;
 		// A small frustum per keyframe (near 0.02 m, far 0.12 m, the TUM field of view).
 		auto fr = mrpt::opengl::CFrustum::Create(0.02f, 0.12f, 62.f, 48.f, 1.5f, true, false);
 		fr->setColor_u8(0, 90, 220);
@@ -394,6 +375,7 @@ TSlamStats CYesSlamSystem::stats() const
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	TSlamStats s = stats_;
 	s.mapPoints = map_.numPoints();
+	s.keyFramesInMap = map_.numKeyFrames();
 	return s;
 }
 
@@ -410,6 +392,8 @@ std::string CYesSlamSystem::statsJson() const
 	o << "  \"relocalisations\": " << s.relocalisations << ",\n";
 	o << "  \"keyframes\": " << s.keyFrames << ",\n";
 	o << "  \"forced_keyframes\": " << s.forcedKeyFrames << ",\n";
+	o << "  \"culled_keyframes\": " << s.culledKeyFrames << ",\n";
+	o << "  \"keyframes_in_map\": " << s.keyFramesInMap << ",\n";
 	o << "  \"map_points\": " << s.mapPoints << ",\n";
 	o << "  \"keyframe_policy\": \"" << opts_.keyFrames.policy << "\",\n";
 	o << "  \"dynamic_filter\": " << (opts_.system.dynamicFilter ? "true" : "false") << ",\n";

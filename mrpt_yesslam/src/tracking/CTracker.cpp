@@ -74,9 +74,15 @@ std::vector<TPoseObservation> makePoseObservations(
 	return obs;
 }
 
-CTracker::CTracker(const TOptions& opts, CSparseMap& map)
-	: opts_(opts), map_(map), optimizer_(opts.pose), matcher_(opts.maxHamming, opts.ratio)
+CTracker::CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor)
+	: opts_(opts), map_(map), optimizer_(opts.pose), matcher_(opts.maxHamming, opts.ratio), scaleFactor_(scaleFactor)
 {
+}
+
+std::optional<TKeyFrameId> CTracker::referenceKeyFrame() const
+{
+	if (!refKf_) return std::nullopt;
+	return map_.goodAncestor(*refKf_);
 }
 
 void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
@@ -86,15 +92,24 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 	else if (!f->tracked)
 		velocity_.reset();	// a guessed pose must not feed the next guess
 	last_ = f;
+	lastRef_ = referenceKeyFrame();
+	if (lastRef_) lastRelative_ = f->pose - map_.keyFramePose(*lastRef_);
+}
+
+mrpt::poses::CPose3D CTracker::lastFramePose() const
+{
+	if (!last_) return {};
+	// A bad reference still resolves: its pose follows its parent.
+	return lastRef_ ? map_.keyFramePose(*lastRef_) + lastRelative_ : last_->pose;
 }
 
 TPoseEstimate CTracker::refineWith(
 	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const
 {
-	return optimizer_.refine(makePoseObservations(f, m, pts, 1.2, opts_.pose.depthNoise), f.camera, guess);
+	return optimizer_.refine(makePoseObservations(f, m, pts, scaleFactor_, opts_.pose.depthNoise), f.camera, guess);
 }
 
-TLocalMapPoints CTracker::lastFramePoints() const
+TLocalMapPoints CTracker::lastFramePoints(const mrpt::poses::CPose3D& lastPose) const
 {
 	TLocalMapPoints out;
 	if (!last_) return out;
@@ -112,7 +127,7 @@ TLocalMapPoints CTracker::lastFramePoints() const
 	{
 		const cv::Point3d pc = last_->backProject(i);
 		double gx, gy, gz;
-		last_->pose.composePoint(pc.x, pc.y, pc.z, gx, gy, gz);
+		lastPose.composePoint(pc.x, pc.y, pc.z, gx, gy, gz);
 		out.ids.push_back(-1);
 		out.positions.push_back({gx, gy, gz});
 		out.descriptors.push_back(last_->features.descriptors.row(static_cast<int>(i)));
@@ -122,10 +137,11 @@ TLocalMapPoints CTracker::lastFramePoints() const
 
 bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResult& r)
 {
-	if (!refKf_) return false;
-	const TLocalMapPoints local = map_.localPoints(*refKf_, opts_.localKeyFrames);
+	const auto ref = referenceKeyFrame();
+	if (!ref) return false;
+	const TLocalMapPoints local = map_.localPoints(*ref, opts_.localKeyFrames);
 	std::vector<std::size_t> inView;
-	const auto m = matcher_.searchByProjection(f, guess, local, opts_.localRadius, &inView);
+	const auto m = matcher_.searchByProjection(f, guess, local, opts_.localRadius, &inView, false, scaleFactor_);
 	r.localMatches = m.size();
 	const TPoseEstimate e = refineWith(f, m, local, guess);
 	if (!e.ok || e.numInliers < opts_.minTrackedInliers) return false;
@@ -147,15 +163,17 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResu
 
 bool CTracker::relocalise(TFrame& f, TResult& r)
 {
-	const std::size_t n = map_.numKeyFrames();
+	const std::vector<TKeyFrameId> ids = map_.keyFrameIds();
+	const std::size_t n = ids.size();
 	const std::size_t first = opts_.relocKeyFrames == 0 || n <= opts_.relocKeyFrames ? 0 : n - opts_.relocKeyFrames;
 	// Newest first: after a short loss the camera is most likely where it just was.
-	for (std::size_t k = n; k-- > first;)
+	for (std::size_t j = n; j-- > first;)
 	{
+		const TKeyFrameId k = ids[j];
 		const TLocalMapPoints pts = map_.keyFramePoints(k);
 		const auto m = matcher_.matchBruteForce(f, pts.descriptors);
 		if (m.size() < 15) continue;
-		const auto obs = makePoseObservations(f, m, pts, 1.2, opts_.pose.depthNoise);
+		const auto obs = makePoseObservations(f, m, pts, scaleFactor_, opts_.pose.depthNoise);
 		const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
 		if (!pnp.ok) continue;
 		const auto prevRef = refKf_;
@@ -176,7 +194,7 @@ CTracker::TResult CTracker::track(TFrame& f)
 	f.tracked = false;
 	f.numInliers = 0;
 	f.mapPoints.assign(f.size(), -1);
-	const mrpt::poses::CPose3D lastPose = last_ ? last_->pose : mrpt::poses::CPose3D();
+	const mrpt::poses::CPose3D lastPose = lastFramePose();
 	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
 	f.pose = predicted;
 	if (!refKf_) return r;
@@ -188,17 +206,17 @@ CTracker::TResult CTracker::track(TFrame& f)
 	TPoseEstimate e;
 	if (last_ && last_->tracked)
 	{
-		pts = lastFramePoints();
-		used = matcher_.searchByProjection(f, predicted, pts, opts_.motionRadius);
+		pts = lastFramePoints(lastPose);
+		used = matcher_.searchByProjection(f, predicted, pts, opts_.motionRadius, nullptr, false, scaleFactor_);
 		if (used.size() < 2 * opts_.minTrackedInliers)	// a poor prediction (sudden motion): search wider
-			used = matcher_.searchByProjection(f, predicted, pts, 2 * opts_.motionRadius);
+			used = matcher_.searchByProjection(f, predicted, pts, 2 * opts_.motionRadius, nullptr, false, scaleFactor_);
 		r.motionMatches = used.size();
 		e = refineWith(f, used, pts, predicted);
 		if (!e.ok)
 		{
 			// The prediction was too far off for projection search: match by descriptor, PnP.
 			used = matcher_.matchBruteForce(f, pts.descriptors);
-			const auto obs = makePoseObservations(f, used, pts, 1.2, opts_.pose.depthNoise);
+			const auto obs = makePoseObservations(f, used, pts, scaleFactor_, opts_.pose.depthNoise);
 			const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
 			if (pnp.ok)
 			{

@@ -39,13 +39,53 @@ void CWorkerPool::loop()
 		std::function<void()> job;
 		{
 			std::unique_lock<std::mutex> lk(mutex_);
-			work_.wait(lk, [&] { return stop_ || !jobs_.empty(); });
+			work_.wait(lk, [&] { return stop_ || (!paused_ && !jobs_.empty()); });
 			if (stop_) return;
 			job = std::move(jobs_.front());
 			jobs_.pop_front();
+			running_++;
 		}
 		space_.notify_one();
 		job();	// a packaged task: exceptions are stored in its future
+		{
+			std::lock_guard<std::mutex> lk(mutex_);
+			running_--;
+		}
+		idle_.notify_all();
 	}
+}
+
+void CWorkerPool::pause()
+{
+	std::unique_lock<std::mutex> lk(mutex_);
+	paused_ = true;
+	idle_.wait(lk, [&] { return running_ == 0; });
+}
+
+void CWorkerPool::resume()
+{
+	{
+		std::lock_guard<std::mutex> lk(mutex_);
+		paused_ = false;
+	}
+	work_.notify_all();
+}
+
+bool CWorkerPool::paused() const
+{
+	std::lock_guard<std::mutex> lk(mutex_);
+	return paused_;
+}
+
+void CWorkerPool::waitIdle()
+{
+	std::unique_lock<std::mutex> lk(mutex_);
+	idle_.wait(lk, [&] { return running_ == 0 && (paused_ || jobs_.empty()); });
+}
+
+std::size_t CWorkerPool::queued() const
+{
+	std::lock_guard<std::mutex> lk(mutex_);
+	return jobs_.size();
 }
 }  // namespace mrpt_yesslam

@@ -1,44 +1,31 @@
 #pragma once
-// The sparse map shared by tracking and local mapping: keyframes, map points and the observations
-// that tie them (the covisibility graph is derived from those). All access goes through methods
-// that take the map's one private lock, and hand out copies (snapshots), so that no caller ever
-// holds a lock for a whole frame.
-#include <mrpt/math/TPoint3D.h>
+// The sparse map shared by tracking and local mapping (and later loop closing), as ORB-SLAM2's Map
+// and stella_vslam's map_database: keyframes and map points with stable ids, the observations that
+// tie them, and what is derived from those and kept up to date on every change instead of being
+// recomputed by scanning: the covisibility graph (weights, ordered lists), the spanning tree, and
+// the list of recently created points that culling judges. All access goes through methods that
+// take the map's one private lock and hand out copies, so no caller holds a lock for a whole frame
+// and no caller keeps a stale copy of a keyframe's state.
+//
+// Every per-frame and per-keyframe operation is local: it touches one keyframe, its covisible
+// keyframes and their points, never the whole map, so that cost does not grow with the map.
 #include <mrpt/poses/CPose3D.h>
 
+#include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <shared_mutex>
+#include <unordered_map>
 #include <vector>
 
+#include "mrpt_yesslam/data/CKeyFrame.h"
+#include "mrpt_yesslam/data/CMapPoint.h"
 #include "mrpt_yesslam/data/TFrame.h"
 
 namespace mrpt_yesslam
 {
-/** A 3D landmark. */
-struct CMapPoint
-{
-	TPointId id = -1;
-	mrpt::math::TPoint3D position;	//!< world frame, metres
-	cv::Mat descriptor;	 //!< 1x32 CV_8U, from the keyframe that created it
-	cv::Vec3b color;  //!< BGR
-	std::map<std::size_t, std::size_t> observations;  //!< keyframe id -> keypoint index
-	std::size_t firstKeyFrame = 0;
-	int visible = 1;  //!< times it was inside a tracked frame's view
-	int found = 1;	//!< times tracking matched it
-	bool bad = false;
-};
-
-/** A keyframe: a tracked frame kept for the map. */
-struct CKeyFrame
-{
-	std::size_t id = 0;
-	std::shared_ptr<const TFrame> frame;
-	mrpt::poses::CPose3D pose;	//!< T_w_c; written only by the optimisers
-	std::vector<TPointId> mapPoints;  //!< per keypoint, -1 = none
-};
-
 /** What tracking searches a frame against: points near the current view, copied out. */
 struct TLocalMapPoints
 {
@@ -47,16 +34,28 @@ struct TLocalMapPoints
 	cv::Mat descriptors;  //!< one row per point
 };
 
-/** One bundle-adjustment window, copied out of the map (see CLocalBundleAdjuster). */
+/** One bundle-adjustment window, copied out of the map (see CLocalMapper). */
 struct TBundleWindow
 {
-	std::vector<std::size_t> keyFrames;	 //!< optimised
-	std::vector<std::size_t> fixedKeyFrames;  //!< observe the points, held fixed
-	std::map<std::size_t, mrpt::poses::CPose3D> poses;	//!< T_w_c of both kinds
-	std::map<std::size_t, std::shared_ptr<const TFrame>> frames;
+	std::uint64_t generation = 0;  //!< the map's correction generation when copied
+	std::vector<TKeyFrameId> keyFrames;	 //!< optimised
+	std::vector<TKeyFrameId> fixedKeyFrames;  //!< observe the points, held fixed
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;	//!< T_w_c of both kinds
+	/** Measurements of both kinds (keypoints, depth), shared read-only, and their cameras. */
+	std::map<TKeyFrameId, std::shared_ptr<const TFeatures>> features;
+	std::map<TKeyFrameId, mrpt::img::TCamera> cameras;
 	std::vector<TPointId> points;
 	std::vector<mrpt::math::TPoint3D> positions;
-	std::vector<std::map<std::size_t, std::size_t>> observations;  //!< per point, restricted to the window
+	std::vector<std::map<TKeyFrameId, std::size_t>> observations;  //!< per point, restricted to the window
+};
+
+/** Pose and time of one keyframe (trajectories, scenes). */
+struct TKeyFramePose
+{
+	TKeyFrameId id = 0;
+	double timestamp = 0;
+	mrpt::poses::CPose3D pose;	//!< T_w_c (for a bad keyframe: through its parent)
+	bool bad = false;
 };
 
 /** The map. Thread-safe. */
@@ -65,51 +64,105 @@ class CSparseMap
    public:
 	/** Adds a keyframe of a tracked frame: observations for the map points tracking matched
 	 * (`frame->mapPoints`), and a new map point for every other static keypoint with depth up to
-	 * `maxDepth` (RGB-D: depth gives the point at once, as in ORB-SLAM2's RGB-D mode). */
-	std::size_t addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth, std::size_t* newPoints = nullptr);
+	 * `maxDepth` (RGB-D: depth gives the point at once, as in ORB-SLAM2's RGB-D mode). Updates the
+	 * covisibility graph and hangs the keyframe in the spanning tree under its best-connected
+	 * keyframe. Ids increase with every call. */
+	TKeyFrameId addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth, std::size_t* newPoints = nullptr);
 
+	/** Number of keyframes that are not bad. */
 	std::size_t numKeyFrames() const;
+	/** Ids of the keyframes that are not bad, ascending. */
+	std::vector<TKeyFrameId> keyFrameIds() const;
+	/** Whether `id` names a keyframe (bad or not). */
+	bool hasKeyFrame(TKeyFrameId id) const;
+	/** Whether keyframe `id` was erased (throws std::out_of_range for unknown ids). */
+	bool isBad(TKeyFrameId id) const;
+	/** The nearest keyframe up the spanning tree from `id` (itself included) that is not bad. */
+	TKeyFrameId goodAncestor(TKeyFrameId id) const;
 	/** Number of map points that are not bad. */
 	std::size_t numPoints() const;
-	/** The current pose T_w_c of keyframe `id` (throws std::out_of_range for unknown ids). */
-	mrpt::poses::CPose3D keyFramePose(std::size_t id) const;
+	/** The current pose T_w_c of keyframe `id`, also of a bad one (through its parent); throws
+	 * std::out_of_range for unknown ids. */
+	mrpt::poses::CPose3D keyFramePose(TKeyFrameId id) const;
 	/** A copy of keyframe `id` (throws std::out_of_range for unknown ids). */
-	CKeyFrame keyFrame(std::size_t id) const;
-	/** Keyframe ids sorted by the number of map points they share with `id`, most first (at most `max`). */
-	std::vector<std::size_t> covisible(std::size_t id, std::size_t max) const;
+	CKeyFrame keyFrame(TKeyFrameId id) const;
+	/** A copy of map point `id` (throws std::out_of_range for unknown ids). */
+	CMapPoint point(TPointId id) const;
+	/** Covisible keyframes of `id` from the stored graph, heaviest first: at most `max`, each
+	 * sharing at least `minWeight` points. */
+	std::vector<TKeyFrameId> covisible(TKeyFrameId id, std::size_t max, int minWeight = 1) const;
 	/** Points seen by keyframe `id` and its `numCovisible` best covisible keyframes. */
-	TLocalMapPoints localPoints(std::size_t id, std::size_t numCovisible) const;
+	TLocalMapPoints localPoints(TKeyFrameId id, std::size_t numCovisible) const;
 	/** Points of one keyframe with their keypoint index (relocalisation). */
-	TLocalMapPoints keyFramePoints(std::size_t id, std::vector<std::size_t>* keypoints = nullptr) const;
-	/** The good points among `ids` (in that order; bad or unknown ids are left out). */
+	TLocalMapPoints keyFramePoints(TKeyFrameId id, std::vector<std::size_t>* keypoints = nullptr) const;
+	/** Number of good points keyframe `id` observes. */
+	std::size_t numKeyFramePoints(TKeyFrameId id) const;
+	/** The good points among `ids` (in that order; bad or unknown ids are left out; a fused point
+	 * is followed to the point that replaced it). */
 	TLocalMapPoints pointsById(const std::vector<TPointId>& ids) const;
 	/** Tracking statistics for culling: `visible` points were in view, `found` were matched. */
 	void countTracking(const std::vector<TPointId>& visible, const std::vector<TPointId>& found);
+
 	/** ORB-SLAM2's culling of recent points: found/visible below `minFoundRatio`, or fewer than
-	 * `minObservations` keyframes after two more keyframes. Returns the number culled. */
-	std::size_t cullRecentPoints(std::size_t currentKf, double minFoundRatio, std::size_t minObservations);
+	 * `minObservations` keyframes two keyframes after creation. Only the points created in the last
+	 * three keyframes are judged (the recent list); returns the number culled. */
+	std::size_t cullRecentPoints(TKeyFrameId currentKf, double minFoundRatio, std::size_t minObservations);
+	/** Size of the recent-points list (what the next culling will look at). */
+	std::size_t numRecentPoints() const;
+	/** ORB-SLAM2's KeyFrameCulling: each keyframe covisible with `currentKf` (never keyframe 0 or the
+	 * current one) whose good points with depth up to `maxDepth` are at least `redundantRatio`
+	 * observed by `minOtherObservers` other keyframes at the same or a finer scale (octave <= its
+	 * own + 1) is erased. Returns the ids erased. */
+	std::vector<TKeyFrameId> cullRedundantKeyFrames(
+		TKeyFrameId currentKf, double redundantRatio = 0.9, std::size_t minOtherObservers = 3, double maxDepth = 1e9);
+	/** Erases keyframe `id` (not keyframe 0): its observations go, its children are re-hung in the
+	 * spanning tree, its measurements are dropped; its pose is kept relative to its parent. Returns
+	 * false for keyframe 0, an unknown or an already bad keyframe. */
+	bool eraseKeyFrame(TKeyFrameId id);
+	/** Marks point `id` bad and removes its observations. */
+	void erasePoint(TPointId id);
+	/** Fuses `oldId` into `newId`: every observation of the old point moves to the new one (unless
+	 * that keyframe already observes the new one), tracking counts are added, the old point is bad
+	 * and `replacedBy` names the new one. Returns false when either is unknown or bad. */
+	bool replacePoint(TPointId oldId, TPointId newId);
 
 	/** The window around `id`: it and its `numCovisible` covisible keyframes are optimised, other
 	 * keyframes that see the window's points are fixed (at most `maxFixed`), and so is keyframe 0. */
-	TBundleWindow bundleWindow(std::size_t id, std::size_t numCovisible, std::size_t maxFixed) const;
-	/** Writes optimised poses and positions back; removes the listed (point, keyframe) observations. */
-	void applyBundle(
-		const std::map<std::size_t, mrpt::poses::CPose3D>& poses, const std::vector<TPointId>& points,
-		const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, std::size_t>>& outliers);
+	TBundleWindow bundleWindow(TKeyFrameId id, std::size_t numCovisible, std::size_t maxFixed) const;
+	/** Writes optimised poses and positions of window `w` back and removes the listed (point,
+	 * keyframe) observations. Refused (returns false, nothing written) when a correction has been
+	 * applied since the window was copied (its generation is older): the result would undo it.
+	 * Keyframes and points erased meanwhile are skipped. */
+	bool applyBundle(
+		const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+		const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
+	/** The correction generation: bumped by every map-wide correction (loop closing, global BA). */
+	std::uint64_t generation() const;
+	/** Starts a new correction generation (call when writing a map-wide correction); returns it. */
+	std::uint64_t beginCorrection();
 
-	/** Poses of all keyframes, by id. */
-	std::vector<mrpt::poses::CPose3D> keyFramePoses() const;
-	/** Timestamps of all keyframes, by id. */
-	std::vector<double> keyFrameTimes() const;
+	/** Poses and times of all keyframes (bad ones resolved through their parents), by id. */
+	std::vector<TKeyFramePose> keyFramePoses() const;
 	/** Copies of all good points. */
 	std::vector<CMapPoint> points() const;
 
    private:
-	void eraseObservation(CMapPoint& p, std::size_t kf);
+	void addObservation(CMapPoint& p, CKeyFrame& kf, std::size_t kp);
+	void eraseObservation(CMapPoint& p, TKeyFrameId kf);
+	void eraseKeyFrameLocked(CKeyFrame& kf);
+	void reorderDirty();
+	const CMapPoint* goodPoint(TPointId id) const;
+	mrpt::poses::CPose3D poseLocked(TKeyFrameId id) const;
+	std::vector<TKeyFrameId> covisibleLocked(TKeyFrameId id, std::size_t max, int minWeight) const;
 
 	mutable std::shared_mutex mtx_;
-	std::vector<CKeyFrame> keyFrames_;
-	std::map<TPointId, CMapPoint> points_;
+	std::map<TKeyFrameId, std::shared_ptr<CKeyFrame>> keyFrames_;
+	std::unordered_map<TPointId, CMapPoint> points_;
+	std::deque<TPointId> recent_;  //!< points created in the last keyframes, oldest first
+	std::vector<TKeyFrameId> dirty_;  //!< keyframes whose ordered connections need sorting
+	std::size_t numGoodKeyFrames_ = 0, numGoodPoints_ = 0;
+	TKeyFrameId nextKeyFrame_ = 0;
 	TPointId nextPoint_ = 0;
+	std::uint64_t generation_ = 0;
 };
 }  // namespace mrpt_yesslam

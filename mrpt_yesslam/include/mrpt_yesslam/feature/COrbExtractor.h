@@ -54,6 +54,11 @@ class COrbExtractor
 	 * keypoint's depth, `dynamicMask` (CV_8U, may be empty) the dynamic flags. */
 	TFeatures extract(const cv::Mat& image, const cv::Mat& depthMetres = {}, const cv::Mat& dynamicMask = {}) const;
 
+	/** Sets the dynamic flags from a mask (at the raw keypoint positions): extracting without a mask
+	 * and flagging afterwards gives the same features as extract() with the mask, unless
+	 * excludeMasked, so detection can run while features are extracted. */
+	static void flagDynamic(TFeatures& features, const cv::Mat& dynamicMask);
+
 	const TOptions& options() const { return opts_; }
 
    private:

@@ -97,6 +97,8 @@ class CSemanticKeyFrameSelector
 	/** Feeds one frame; returns the keyframe chosen when an interval closes (or the first keyframe). */
 	std::optional<TDecision> addFrame(const TKeyFrameInput& f);
 
+	/** Makes `f` the reference keyframe (inserted by another rule) and starts a new interval after it. */
+	void restart(const TKeyFrameInput& f);
 	/** S_G of a frame to the current reference keyframe. */
 	double similarityToReference(const TKeyFrameInput& f) const;
 	/** The current interval length N_I. */

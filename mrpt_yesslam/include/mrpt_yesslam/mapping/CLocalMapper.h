@@ -1,9 +1,11 @@
 #pragma once
 // Local mapping (ORB-SLAM2's LocalMapping, for RGB-D): for each new keyframe, cull the young map
-// points that tracking rarely finds, then run local bundle adjustment in Ceres over the keyframe,
-// its covisible keyframes and the points they see, with the other keyframes that see those points
-// held fixed (keyframe 0 always fixed: it anchors the map). The class knows nothing of threads;
-// CYesSlamSystem runs step() in the caller's thread or in a worker thread ([System] parallel).
+// points that tracking rarely finds, run local bundle adjustment in Ceres over the keyframe, its
+// covisible keyframes and the points they see (the other keyframes that see those points held
+// fixed; the first keyframe always fixed: it anchors the map), then erase the covisible keyframes
+// that have become redundant (ORB-SLAM2's KeyFrameCulling), so that a camera that keeps revisiting
+// a known room does not grow the map for ever. The class knows nothing of threads; CYesSlamSystem
+// runs step() in the caller's thread or on its mapping stage thread ([System] parallel).
 #include <mrpt/config/CLoadableOptions.h>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
@@ -16,6 +18,15 @@ struct TBundleStats
 {
 	std::size_t keyFrames = 0, fixedKeyFrames = 0, points = 0, observations = 0, outliers = 0;
 	double initialCost = 0, finalCost = 0;
+	bool applied = false;  //!< false: the map was corrected meanwhile and the result was dropped
+};
+
+/** What one local-mapping step did. */
+struct TMappingStats
+{
+	std::size_t culledPoints = 0;
+	std::vector<TKeyFrameId> erasedKeyFrames;  //!< redundant keyframes culled
+	TBundleStats bundle;
 };
 
 /** The local mapping stage. */
@@ -33,7 +44,9 @@ class CLocalMapper
 		double depthNoise = 0.0025;
 		double cullFoundRatio = 0.25;  //!< young points found in fewer than this share of views are culled
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
-		double scaleFactor = 1.2;  //!< ORB pyramid scale (sigma of an observation = scale ^ octave)
+		bool keyFrameCulling = true;  //!< erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)
+		double redundantRatio = 0.9;  //!< a keyframe goes when more than this share of its close points ...
+		std::size_t redundantObservers = 3;	 //!< ... is seen by at least this many other keyframes at the same or finer scale
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void dumpToTextStream(std::ostream& out) const override;
@@ -41,16 +54,19 @@ class CLocalMapper
 		static std::vector<TConfigKey> configKeys();
 	};
 
-	CLocalMapper(const TOptions& opts, CSparseMap& map) : opts_(opts), map_(map) {}
+	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor; sigma of an observation = scale ^ octave);
+	 * `maxDepth`: tracking's, the depth up to which points count as close for keyframe culling. */
+	CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double maxDepth = 4.0);
 
-	/** Processes keyframe `kf` (already in the map): culling, then local BA. */
-	TBundleStats step(std::size_t kf);
+	/** Processes keyframe `kf` (already in the map): point culling, local BA, keyframe culling. */
+	TMappingStats step(TKeyFrameId kf);
 	/** Local bundle adjustment around `kf` alone. */
-	TBundleStats bundleAdjust(std::size_t kf);
+	TBundleStats bundleAdjust(TKeyFrameId kf);
 	const TOptions& options() const { return opts_; }
 
    private:
 	TOptions opts_;
 	CSparseMap& map_;
+	double scaleFactor_, maxDepth_;
 };
 }  // namespace mrpt_yesslam

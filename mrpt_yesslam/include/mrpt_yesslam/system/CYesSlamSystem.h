@@ -1,13 +1,19 @@
 #pragma once
-// The system facade (as stella_vslam's system): one call per RGB-D frame runs detection, dynamic
-// masking, ORB extraction, tracking and the keyframe decision in the caller's thread; local mapping
-// runs in its own thread ([System] parallel=true) or in order after each keyframe (parallel=false:
-// deterministic, what the tests use). At any time it can give the trajectory, keyframes and map.
+// The system facade (as stella_vslam's system): one call per RGB-D frame builds the frame
+// (CFrameBuilder: detection, dynamic masking, ORB), tracks it (CTracker) and takes the keyframe
+// decision (CKeyFrameInserter) in the caller's thread; local mapping (CLocalMapper) runs on its
+// own stage thread ([System] parallel=true: a CWorkerPool with one worker and a bounded queue, every
+// keyframe processed in order) or in order after each keyframe (parallel=false: deterministic, what
+// the tests use). An exception in the mapping stage reaches the caller of processFrame() or
+// waitForMapping(). At any time it can give the trajectory, keyframes and map.
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/opengl/COpenGLScene.h>
 
 #include <condition_variable>
 #include <deque>
+#include <functional>
+#include <future>
+#include <optional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -21,7 +27,9 @@
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/keyframes/CKeyFrameInserter.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
+#include "mrpt_yesslam/system/CFrameBuilder.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
+#include "mrpt_yesslam/util/CWorkerPool.h"
 
 namespace mrpt_yesslam
 {
@@ -34,7 +42,9 @@ struct TYesSlamOptions
 		bool parallel = true;  //!< local mapping in its own thread (false: sequential, deterministic)
 		bool dynamicFilter = true;	//!< mask dynamic objects (false: every feature is used, as ORB-SLAM2)
 		std::size_t minInitPoints = 100;  //!< static keypoints with depth needed for the first keyframe
-		std::size_t frameBuffer = 8;  //!< recent frames kept for delayed (semantic) keyframe decisions
+		std::size_t frameBuffer = 8;  //!< recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)
+		bool asyncDetection = true;	 //!< detect on a worker thread while ORB features are extracted
+		std::size_t mappingQueue = 4;  //!< parallel: keyframes waiting for local mapping before tracking waits
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void dumpToTextStream(std::ostream& out) const override;
@@ -70,6 +80,8 @@ struct TSlamStats
 {
 	std::size_t frames = 0, trackedFrames = 0, lostFrames = 0, relocalisations = 0;
 	std::size_t keyFrames = 0, forcedKeyFrames = 0, mapPoints = 0;
+	std::size_t culledKeyFrames = 0;  //!< erased as redundant by local mapping
+	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
 	std::map<std::string, std::vector<double>> stageMs;
 };
@@ -89,8 +101,16 @@ class CYesSlamSystem
 	TFrameReport processFrame(const mrpt::obs::CObservation3DRangeScan& obs);
 	/** Same, from images: BGR colour, depth in metres (CV_32F, 0 = none), intrinsics. */
 	TFrameReport processFrame(const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera);
-	/** Waits for local mapping to finish the keyframes queued so far. */
+	/** Waits for local mapping to finish the keyframes queued so far; throws std::runtime_error if
+	 * local mapping failed (once per failure). */
 	void waitForMapping();
+	/** Holds local mapping still (the keyframe in progress finishes first) and resumes it; for a
+	 * stage that corrects the whole map (loop closing). No effect in sequential mode. */
+	void pauseMapping();
+	void resumeMapping();
+	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
+	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
+	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }
 
 	/** A pose for every processed frame: its reference keyframe's current (optimised) pose composed
 	 * with the frame's pose relative to it, as ORB-SLAM2 saves trajectories. */
@@ -104,22 +124,24 @@ class CYesSlamSystem
 	/** stats() as JSON (per-stage median and p95 in ms). */
 	std::string statsJson() const;
 	const CSparseMap& map() const { return map_; }
-	const CObjectDetector* detector() const { return detector_.get(); }
+	const CObjectDetector* detector() const { return builder_.detector(); }
 	const TYesSlamOptions& options() const { return opts_; }
 
    private:
 	void insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced);
 	double motionToReference(const TFrame& f) const;
-	void mappingLoop();
+	/** Local mapping of one keyframe (on the stage thread in parallel mode). */
+	void mapKeyFrame(TKeyFrameId kf);
+	/** Collects finished mapping tasks (all queued ones with `wait`); rethrows the first failure. */
+	void collectMapping(bool wait);
 
 	TYesSlamOptions opts_;
-	std::unique_ptr<CObjectDetector> detector_;
-	CDynamicObjectMasker masker_;
-	COrbExtractor extractor_;
+	CFrameBuilder builder_;
 	CSparseMap map_;
 	CTracker tracker_;
 	CKeyFrameInserter inserter_;
 	CLocalMapper mapper_;
+	std::function<void(TKeyFrameId)> keyFrameCallback_;
 
 	struct TFrameRecord
 	{
@@ -129,17 +151,16 @@ class CYesSlamSystem
 		mrpt::poses::CPose3D relative;	//!< T_ref_frame (or T_w_frame without a reference)
 		bool tracked = false;
 	};
-	std::vector<TFrameRecord> records_;
+	std::vector<TFrameRecord> records_;	//!< guarded by recordsMtx_ (trajectory() may run on another thread)
+	mutable std::mutex recordsMtx_;
 	std::deque<std::shared_ptr<const TFrame>> recent_;
 	std::size_t nextFrameId_ = 0;
+	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;
 
-	// Local mapping queue (parallel mode).
-	std::thread worker_;
-	std::mutex qMtx_;
-	std::condition_variable qCv_, qDone_;
-	std::deque<std::size_t> queue_;
-	bool stop_ = false, busy_ = false;
+	// Local mapping stage (parallel mode): futures of queued keyframes, collected by the caller.
+	std::deque<std::future<void>> mappingTasks_;
+	std::unique_ptr<CWorkerPool> mappingStage_;	 //!< last: stopped first
 };
 }  // namespace mrpt_yesslam

@@ -6,6 +6,11 @@
 // searched by projection and the pose refined again on map points only. PnP + RANSAC recovers when
 // the prediction fails; when everything fails, the frame is relocalised against the keyframes.
 // Only static features (outside the dynamic mask, eq. 3) are ever matched.
+//
+// Tracking keeps no copy of map state: the last frame's pose is re-derived for every prediction
+// from its reference keyframe's current pose (ORB-SLAM2's UpdateLastFrame), so that a map corrected
+// by local BA (and later loop closing) does not make the camera jump; a reference keyframe erased
+// by keyframe culling is replaced by its nearest good ancestor in the spanning tree.
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <memory>
@@ -50,23 +55,28 @@ class CTracker
 		std::size_t motionMatches = 0, localMatches = 0, inliers = 0;
 	};
 
-	CTracker(const TOptions& opts, CSparseMap& map);
+	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor): search windows and observation sigmas scale with it. */
+	CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2);
 
 	/** Tracks `f` (features filled in): sets pose, tracked, mapPoints and numInliers. Never throws
 	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
 	TResult track(TFrame& f);
-	/** Starts the map's first keyframe from this frame (pose as given) and makes it the reference. */
-	void setReferenceKeyFrame(std::size_t kf) { refKf_ = kf; }
-	std::optional<std::size_t> referenceKeyFrame() const { return refKf_; }
-	/** The frame tracking saw last, for the next prediction. */
+	/** Makes keyframe `kf` the reference (the newest keyframe, or the one relocalisation found). */
+	void setReferenceKeyFrame(TKeyFrameId kf) { refKf_ = kf; }
+	/** The reference keyframe: the one set last, or its nearest good ancestor once it was erased. */
+	std::optional<TKeyFrameId> referenceKeyFrame() const;
+	/** The frame tracking saw last, for the next prediction; its pose is kept relative to the
+	 * reference keyframe at this moment. */
 	void setLastFrame(const std::shared_ptr<const TFrame>& f);
 	const TOptions& options() const { return opts_; }
 
    private:
 	/** Pose from matched observations; refines from `guess`. */
 	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
-	/** The last frame's map points and temporary depth points. */
-	TLocalMapPoints lastFramePoints() const;
+	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
+	TLocalMapPoints lastFramePoints(const mrpt::poses::CPose3D& lastPose) const;
+	/** The last frame's pose from its reference keyframe's current pose. */
+	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
 	/** Local-map search and refinement from `guess`; on success fills the frame. */
 	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResult& r);
@@ -75,13 +85,16 @@ class CTracker
 	CSparseMap& map_;
 	CPoseOptimizer optimizer_;
 	COrbMatcher matcher_;
+	double scaleFactor_;
 	std::shared_ptr<const TFrame> last_;
+	std::optional<TKeyFrameId> lastRef_;	//!< the last frame's reference keyframe ...
+	mrpt::poses::CPose3D lastRelative_;	//!< ... and its pose relative to it, T_ref_last
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
-	std::optional<std::size_t> refKf_;
+	std::optional<TKeyFrameId> refKf_;
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with
  * depthNoise > 0 the keypoint's depth too, sigma_z = depthNoise z^2). */
 std::vector<TPoseObservation> makePoseObservations(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor = 1.2, double depthNoise = 0);
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, double depthNoise = 0);
 }  // namespace mrpt_yesslam

@@ -1,9 +1,12 @@
 #pragma once
 // Worker threads running submitted tasks in submission order, each task's result or exception
-// handed back through a std::future. The one threading mechanism behind reading input ahead
+// handed back through a std::future. The one threading mechanism of the library (a stage thread
+// over a bounded queue, as Basalt's and Kimera-VIO's pipelines): reading input ahead
 // (CPrefetchingSource: one worker, so reads stay in order), detecting asynchronously
-// (CAsyncDetector) and writing PNGs in the background (CAsyncPngWriter), so that queueing, waking,
-// stopping and passing exceptions to the consumer are written and tested once.
+// (CAsyncDetector), writing PNGs in the background (CAsyncPngWriter) and local mapping
+// (CYesSlamSystem: one worker, every keyframe in order, pausable for map-wide corrections), so that
+// queueing, waking, pausing, stopping and passing exceptions to the consumer are written and
+// tested once.
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -41,15 +44,28 @@ class CWorkerPool
 		return future;
 	}
 
+	/** Stops starting tasks and returns once none is running (queued tasks wait); for a stage that
+	 * must hold still while another changes what it works on (ORB-SLAM2's RequestStop). */
+	void pause();
+	/** Lets the queued tasks start again. */
+	void resume();
+	/** Whether pause() is in effect. */
+	bool paused() const;
+	/** Returns once the queue is empty and no task is running (while paused: once none is running). */
+	void waitIdle();
+	/** Tasks waiting to start. */
+	std::size_t queued() const;
+
    private:
 	void enqueue(std::function<void()> job);
 	void loop();
 
-	std::mutex mutex_;
-	std::condition_variable work_, space_;
+	mutable std::mutex mutex_;
+	std::condition_variable work_, space_, idle_;
 	std::deque<std::function<void()>> jobs_;
 	const std::size_t maxQueued_;
-	bool stop_ = false;
+	std::size_t running_ = 0;
+	bool stop_ = false, paused_ = false;
 	std::vector<std::thread> threads_;
 };
 }  // namespace mrpt_yesslam

@@ -1,6 +1,6 @@
-// Writes the image-based cases of the bad-input corpus (tests/data/bad/tum_*): small TUM folders,
+// Writes the image-based cases of the bad-input corpus (tests/bad_inputs/tum_*): small TUM folders,
 // each broken in one way. The text cases beside them are written by hand. Run once; the output is
-// committed. Usage: make_bad_corpus tests/data/bad
+// committed. Usage: make_bad_corpus tests/bad_inputs
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

@@ -1,0 +1,103 @@
+#include "mrpt_yesslam/system/CFrameBuilder.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
+
+namespace mrpt_yesslam
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+CFrameBuilder::CFrameBuilder(
+	std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker, const COrbExtractor::TOptions& orb,
+	bool dynamicFilter, bool asyncDetection)
+	: masker_(masker), extractor_(orb), dynamicFilter_(dynamicFilter)
+{
+	// Overlapping needs features extracted without the mask, which excludeMasked forbids.
+	if (detector && asyncDetection && !orb.excludeMasked)
+		async_ = std::make_unique<CAsyncDetector>(std::move(detector));
+	else
+		detector_ = std::move(detector);
+}
+
+const CObjectDetector* CFrameBuilder::detector() const { return async_ ? &async_->detector() : detector_.get(); }
+
+std::shared_ptr<TFrame> CFrameBuilder::build(
+	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera, std::size_t id,
+	std::map<std::string, double>* stageMs)
+{
+	std::map<std::string, double> ms;
+	auto f = std::make_shared<TFrame>();
+	f->id = id;
+	f->timestamp = timestamp;
+	f->camera = camera;
+	f->camera.ncols = static_cast<uint32_t>(bgr.cols);
+	f->camera.nrows = static_cast<uint32_t>(bgr.rows);
+
+	auto t0 = Clock::now();
+	cv::Mat mask;
+	auto computeMask = [&]
+	{
+		const auto tm = Clock::now();
+		if (dynamicFilter_)
+		{
+			// Also without a dynamic detection in this frame: the masker holds objects the detector
+			// has just missed ([DynamicMask] holdFrames).
+			mask = masker_.compute(depth, f->detections).mask;
+			f->numDynamicMasked = static_cast<std::size_t>(cv::countNonZero(mask));
+			if (f->numDynamicMasked == 0) mask.release();
+		}
+		ms["mask"] = msSince(tm);
+	};
+	if (async_)
+	{
+		// Detection on the worker while ORB runs here; "detect" is the wait that was left.
+		async_->submit(bgr, timestamp);
+		t0 = Clock::now();
+		f->features = extractor_.extract(bgr, depth);
+		ms["orb"] = msSince(t0);
+		t0 = Clock::now();
+		f->detections = async_->get();
+		ms["detect"] = msSince(t0);
+		computeMask();
+		COrbExtractor::flagDynamic(f->features, mask);
+	}
+	else
+	{
+		if (detector_) f->detections = detector_->detect(bgr, timestamp);
+		ms["detect"] = msSince(t0);
+		computeMask();
+		t0 = Clock::now();
+		f->features = extractor_.extract(bgr, depth, mask);
+		ms["orb"] = msSince(t0);
+	}
+	t0 = Clock::now();
+	// Colours (and, in the extractor, depth and mask) are looked up at the raw keypoint, in the
+	// image as it is; only then are keypoints undistorted: tracking works in undistorted pixels.
+	f->colors.reserve(f->size());
+	for (const auto& k : f->features.keypoints)
+	{
+		const cv::Point p(std::clamp(cvRound(k.pt.x), 0, bgr.cols - 1), std::clamp(cvRound(k.pt.y), 0, bgr.rows - 1));
+		f->colors.push_back(bgr.at<cv::Vec3b>(p));
+	}
+	const CPinholeCamera K(f->camera);
+	if (K.distorted())
+	{
+		std::vector<cv::Point2f> pts;
+		pts.reserve(f->size());
+		for (const auto& k : f->features.keypoints) pts.push_back(k.pt);
+		K.undistort(pts);
+		for (std::size_t i = 0; i < pts.size(); i++) f->features.keypoints[i].pt = pts[i];
+	}
+	f->mapPoints.assign(f->size(), -1);
+	ms["orb"] += msSince(t0);
+	if (stageMs)
+		for (const auto& [k, v] : ms) (*stageMs)[k] = v;
+	return f;
+}
+}  // namespace mrpt_yesslam

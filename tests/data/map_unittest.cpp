@@ -1,0 +1,311 @@
+// The sparse map's own operations: stable ids, the stored covisibility graph (checked against a
+// recount from the observations after every kind of change), the spanning tree, keyframe erasure
+// and redundant-keyframe culling, point fusion, the recent-points list, the generation counter
+// that refuses stale bundle results, and the versioned serialisation of keyframes and points.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <sstream>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/data/CSparseMap.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+
+namespace
+{
+std::vector<mrpt::math::TPoint3D> wall(int n, double z = 2.5)
+{
+	std::vector<mrpt::math::TPoint3D> w;
+	for (int i = 0; i < n; i++) w.emplace_back(-1.0 + 2.0 * (i % 10) / 9.0, -0.7 + 1.4 * (i / 10) / 9.0, z + 0.01 * (i % 7));
+	return w;
+}
+
+// Keyframe `id` at `pose` observing the points `ids` of `world` (-1: creates a new point from depth).
+TKeyFrameId addView(CSparseMap& map, std::size_t id, const mrpt::poses::CPose3D& pose, const std::vector<mrpt::math::TPoint3D>& world,
+					const std::vector<TPointId>& ids, std::mt19937& rng, int octave = 0)
+{
+	return map.addKeyFrame(observeWorld(id, pose, world, ids, rng, octave), 10.0);
+}
+
+// The covisibility weights recounted from the observations of the good points.
+std::map<std::pair<TKeyFrameId, TKeyFrameId>, int> recount(const CSparseMap& map)
+{
+	std::map<std::pair<TKeyFrameId, TKeyFrameId>, int> w;
+	for (const auto& p : map.points())
+		for (const auto& [a, ia] : p.observations)
+			for (const auto& [b, ib] : p.observations)
+				if (a != b) w[{a, b}]++;
+	return w;
+}
+
+void expectGraphMatchesObservations(const CSparseMap& map)
+{
+	const auto expected = recount(map);
+	std::map<std::pair<TKeyFrameId, TKeyFrameId>, int> stored;
+	for (TKeyFrameId k : map.keyFrameIds())
+	{
+		const CKeyFrame kf = map.keyFrame(k);
+		for (const auto& [o, w] : kf.connections) stored[{k, o}] = w;
+		// The ordered list is the connections, heaviest first.
+		ASSERT_EQ(kf.orderedConnections.size(), kf.connections.size());
+		for (std::size_t i = 1; i < kf.orderedConnections.size(); i++)
+			EXPECT_GE(kf.weight(kf.orderedConnections[i - 1]), kf.weight(kf.orderedConnections[i]));
+	}
+	EXPECT_EQ(stored, expected);
+}
+
+std::vector<TPointId> range(TPointId from, TPointId to)
+{
+	std::vector<TPointId> v;
+	for (TPointId i = from; i < to; i++) v.push_back(i);
+	return v;
+}
+}  // namespace
+
+TEST(SparseMap, CovisibilityGraphAndSpanningTreeAreStoredAndUpdated)
+{
+	std::mt19937 rng(1);
+	const auto world = wall(100);
+	CSparseMap map;
+	// kf0 creates points 0-99; kf1 sees 0-59; kf2 sees 40-99 (shares 20 with kf1, 60 with kf0).
+	std::vector<TPointId> none(100, -1), ids1(100, -1), ids2(100, -1);
+	for (int j = 0; j < 60; j++) ids1[j] = j;
+	for (int j = 40; j < 100; j++) ids2[j] = j;
+	EXPECT_EQ(addView(map, 0, {}, world, none, rng), 0u);
+	EXPECT_EQ(addView(map, 1, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), world, ids1, rng), 1u);
+	EXPECT_EQ(addView(map, 2, mrpt::poses::CPose3D(-0.05, 0, 0, 0, 0, 0), world, ids2, rng), 2u);
+	const CKeyFrame k0 = map.keyFrame(0), k1 = map.keyFrame(1), k2 = map.keyFrame(2);
+	EXPECT_EQ(k0.weight(1), 60);
+	EXPECT_EQ(k0.weight(2), 60);
+	EXPECT_EQ(k1.weight(2), 20);
+	EXPECT_EQ(map.covisible(1, 5), (std::vector<TKeyFrameId>{0, 2}));
+	EXPECT_EQ(map.covisible(1, 5, 30), (std::vector<TKeyFrameId>{0}));
+	// Spanning tree: each keyframe under the one it shares most with.
+	EXPECT_FALSE(k0.parent.has_value());
+	EXPECT_EQ(*k1.parent, 0u);
+	EXPECT_EQ(*k2.parent, 0u);
+	EXPECT_EQ(k0.children, (std::set<TKeyFrameId>{1, 2}));
+	expectGraphMatchesObservations(map);
+	// Points leave: the weights follow without a rescan.
+	for (TPointId p = 40; p < 50; p++) map.erasePoint(p);
+	EXPECT_EQ(map.keyFrame(1).weight(2), 10);
+	EXPECT_EQ(map.keyFrame(0).weight(1), 50);
+	expectGraphMatchesObservations(map);
+}
+
+TEST(SparseMap, ReplacingAPointMovesEveryObservation)
+{
+	std::mt19937 rng(2);
+	const auto world = wall(30);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(30, -1), rng);	 // points 0-29
+	// kf1 sees 0-9 and creates a duplicate of point 5's place (a new point) at keypoint 20.
+	std::vector<TPointId> ids(30, -1);
+	for (int j = 0; j < 10; j++) ids[j] = j;
+	addView(map, 1, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), world, ids, rng);
+	const CKeyFrame k1 = map.keyFrame(1);
+	const TPointId duplicate = k1.mapPoints[20];
+	ASSERT_GE(duplicate, 30);
+	const std::size_t before = map.numPoints();
+	// Fuse kf0's point 20 (seen by kf0 only) into kf1's duplicate.
+	ASSERT_TRUE(map.replacePoint(20, duplicate));
+	EXPECT_EQ(map.numPoints(), before - 1);
+	const CMapPoint fused = map.point(duplicate), old = map.point(20);
+	EXPECT_TRUE(old.bad);
+	EXPECT_EQ(old.replacedBy, duplicate);
+	EXPECT_TRUE(old.observations.empty());
+	EXPECT_EQ(fused.observations.size(), 2u);
+	EXPECT_EQ(map.keyFrame(0).mapPoints[20], duplicate);
+	// Tracking that still holds the old id gets the new point.
+	EXPECT_EQ(map.pointsById({20}).ids, std::vector<TPointId>{duplicate});
+	// kf0 and kf1 share one more point now.
+	EXPECT_EQ(map.keyFrame(0).weight(1), 11);
+	expectGraphMatchesObservations(map);
+	EXPECT_FALSE(map.replacePoint(20, duplicate));	// already fused
+}
+
+TEST(SparseMap, ErasingAKeyFrameRehangsItsChildrenAndKeepsItsPose)
+{
+	std::mt19937 rng(3);
+	const auto world = wall(60);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(60, -1), rng);
+	std::vector<TPointId> all = range(0, 60);
+	const mrpt::poses::CPose3D p1(0.1, 0, 0, 0.02, 0, 0), p2(0.2, 0, 0, 0, 0, 0), p3(0.3, 0, 0, 0, 0, 0);
+	addView(map, 1, p1, world, all, rng);
+	// kf2 shares all with kf0 and kf1 but the tree hangs it under the heaviest, the oldest on ties.
+	addView(map, 2, p2, world, all, rng);
+	ASSERT_EQ(*map.keyFrame(2).parent, 0u);
+	EXPECT_FALSE(map.eraseKeyFrame(0));	 // the root anchors the map
+	ASSERT_TRUE(map.eraseKeyFrame(1));
+	EXPECT_FALSE(map.eraseKeyFrame(1));
+	EXPECT_TRUE(map.isBad(1));
+	EXPECT_EQ(map.numKeyFrames(), 2u);
+	EXPECT_EQ(map.keyFrameIds(), (std::vector<TKeyFrameId>{0, 2}));
+	// Its pose still resolves (frames tracked from it keep their place) and follows its parent.
+	EXPECT_NEAR((map.keyFramePose(1) - p1).norm(), 0, 1e-9);
+	EXPECT_EQ(map.goodAncestor(1), 0u);
+	// New keyframes keep counting up: ids are not positions.
+	EXPECT_EQ(addView(map, 3, p3, world, all, rng), 3u);
+	EXPECT_EQ(map.keyFrame(0).weight(1), 0);
+	EXPECT_EQ(map.keyFrame(0).weight(3), 60);
+	expectGraphMatchesObservations(map);
+
+	// A keyframe with children: erasing kf2 re-hangs kf3 (which shares points with kf0).
+	ASSERT_EQ(*map.keyFrame(3).parent, 0u);
+	std::vector<TPointId> five(60, -1);
+	for (int j = 0; j < 5; j++) five[j] = j;
+	addView(map, 4, p3, world, five, rng);	// creates points 60-114, kf4's children follow it
+	std::vector<TPointId> fromKf4(60, -1);
+	for (int j = 5; j < 60; j++) fromKf4[j] = map.keyFrame(4).mapPoints[j];
+	addView(map, 5, p3, world, fromKf4, rng);
+	ASSERT_EQ(*map.keyFrame(5).parent, 4u);
+	ASSERT_TRUE(map.eraseKeyFrame(4));
+	// kf5 shared nothing else with kf4's parent: it goes to the parent, and its points survive (it sees them).
+	EXPECT_EQ(*map.keyFrame(5).parent, *map.keyFrame(4).parent);
+	EXPECT_TRUE(map.keyFrame(*map.keyFrame(5).parent).children.count(5));
+	expectGraphMatchesObservations(map);
+}
+
+TEST(SparseMap, RedundantKeyFramesAreCulled)
+{
+	// Five keyframes at almost the same place see the same points: all but the root, the newest and
+	// enough to keep each point seen three times are redundant (ORB-SLAM2's rule).
+	std::mt19937 rng(4);
+	const auto world = wall(80);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(80, -1), rng);
+	for (std::size_t k = 1; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
+	const auto erased = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+	// Checked oldest first (equal weights): kf1, kf2 and kf3 each still had three other observers
+	// of every point when their turn came; kf4 then had two (kf0, kf5) and stays.
+	EXPECT_EQ(erased, (std::vector<TKeyFrameId>{1, 2, 3}));
+	EXPECT_EQ(map.keyFrameIds(), (std::vector<TKeyFrameId>{0, 4, 5}));
+	for (const auto& p : map.points()) EXPECT_EQ(p.observations.size(), 3u);
+	EXPECT_TRUE(map.cullRedundantKeyFrames(5, 0.9, 3, 10.0).empty());
+	expectGraphMatchesObservations(map);
+
+	// A keyframe seen only at coarser scales by the others is not redundant.
+	CSparseMap fine;
+	addView(fine, 0, {}, world, std::vector<TPointId>(80, -1), rng, 0);
+	addView(fine, 1, mrpt::poses::CPose3D(0.01, 0, 0, 0, 0, 0), world, range(0, 80), rng, 0);
+	for (std::size_t k = 2; k <= 5; k++)
+		addView(fine, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng, 3);
+	const auto none = fine.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+	EXPECT_EQ(std::count(none.begin(), none.end(), TKeyFrameId(1)), 0);
+}
+
+TEST(SparseMap, RecentPointsListHoldsOnlyYoungPoints)
+{
+	std::mt19937 rng(5);
+	CSparseMap map;
+	addView(map, 0, {}, wall(50), std::vector<TPointId>(50, -1), rng);
+	EXPECT_EQ(map.numRecentPoints(), 50u);
+	// Each further keyframe sees kf0's points and creates 20 new ones elsewhere.
+	for (std::size_t k = 1; k <= 4; k++)
+	{
+		auto world = wall(50);
+		auto extra = wall(20, 3.5 + static_cast<double>(k));
+		world.insert(world.end(), extra.begin(), extra.end());
+		std::vector<TPointId> ids = range(0, 50);
+		ids.resize(70, -1);
+		addView(map, k, {}, world, ids, rng);
+		map.cullRecentPoints(k, 0.25, 1);
+	}
+	// kf0's points left the list after three keyframes; the newest keyframes' are on it.
+	EXPECT_LE(map.numRecentPoints(), 60u);
+	EXPECT_GE(map.numRecentPoints(), 20u);
+	// Grown-up points are not judged any more, however rarely tracking finds them.
+	std::vector<TPointId> visible(100, 0);
+	map.countTracking(visible, {});
+	const std::size_t before = map.numPoints();
+	map.cullRecentPoints(5, 0.25, 1);
+	EXPECT_EQ(map.numPoints(), before);
+	EXPECT_FALSE(map.point(0).bad);
+}
+
+TEST(SparseMap, BundleResultFromBeforeACorrectionIsRefused)
+{
+	std::mt19937 rng(6);
+	const auto world = wall(40);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);
+	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0), world, range(0, 40), rng);
+	const TBundleWindow w = map.bundleWindow(1, 10, 10);
+	ASSERT_EQ(w.keyFrames, std::vector<TKeyFrameId>{1});
+	const mrpt::poses::CPose3D moved(0.5, 0, 0, 0, 0, 0);
+	// A correction lands while the window is being optimised: the old result must not undo it.
+	EXPECT_EQ(map.beginCorrection(), 1u);
+	EXPECT_FALSE(map.applyBundle(w, {{1, moved}}, w.positions, {}));
+	EXPECT_NEAR(map.keyFramePose(1).x(), 0.1, 1e-12);
+	// A window copied after the correction applies.
+	const TBundleWindow w2 = map.bundleWindow(1, 10, 10);
+	EXPECT_TRUE(map.applyBundle(w2, {{1, moved}}, w2.positions, {{3, 1}}));
+	EXPECT_NEAR(map.keyFramePose(1).x(), 0.5, 1e-12);
+	EXPECT_EQ(map.keyFrame(1).mapPoints[3], -1);
+	expectGraphMatchesObservations(map);
+}
+
+TEST(SparseMap, KeyFramesAndPointsSerialiseAndRefuseCorruptData)
+{
+	std::mt19937 rng(7);
+	const auto world = wall(30);
+	CSparseMap map;
+	auto f = observeWorld(0, mrpt::poses::CPose3D(0.1, -0.2, 0.3, 0.4, -0.1, 0.2), world, std::vector<TPointId>(30, -1), rng, 2);
+	TDetection d;
+	d.classId = 0;
+	d.score = 0.8f;
+	d.box = {10, 20, 30, 40};
+	d.dynamic = true;
+	f->detections.push_back(d);
+	map.addKeyFrame(f, 10.0);
+	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0), world, range(0, 30), rng);
+	const CKeyFrame kf = map.keyFrame(0);
+	std::stringstream ss;
+	kf.serialize(ss);
+	const CKeyFrame back = CKeyFrame::deserialize(ss);
+	EXPECT_EQ(back.id, kf.id);
+	EXPECT_EQ(back.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>(), kf.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>());
+	EXPECT_EQ(back.mapPoints, kf.mapPoints);
+	EXPECT_EQ(back.connections, kf.connections);
+	EXPECT_EQ(back.orderedConnections, kf.orderedConnections);
+	EXPECT_EQ(back.children, kf.children);
+	ASSERT_EQ(back.size(), kf.size());
+	EXPECT_EQ(cv::norm(back.features->descriptors, kf.features->descriptors, cv::NORM_HAMMING), 0);
+	EXPECT_EQ(back.features->keypoints[7].pt, kf.features->keypoints[7].pt);
+	EXPECT_EQ(back.features->keypoints[7].octave, 2);
+	EXPECT_EQ(back.features->depth, kf.features->depth);
+	ASSERT_EQ(back.detections.size(), 1u);
+	EXPECT_EQ(back.detections[0].box, d.box);
+	EXPECT_TRUE(back.detections[0].dynamic);
+
+	const CMapPoint p = map.point(4);
+	std::stringstream ps;
+	p.serialize(ps);
+	const CMapPoint pb = CMapPoint::deserialize(ps);
+	EXPECT_EQ(pb.id, p.id);
+	EXPECT_EQ(pb.position, p.position);
+	EXPECT_EQ(pb.observations, p.observations);
+	EXPECT_EQ(cv::norm(pb.descriptor, p.descriptor, cv::NORM_HAMMING), 0);
+
+	// Truncated, and written by a newer format version: refused with a message, no crash.
+	const std::string bytes = ss.str();
+	std::stringstream cut;
+	kf.serialize(cut);
+	std::stringstream half(cut.str().substr(0, cut.str().size() / 2));
+	EXPECT_THROW(CKeyFrame::deserialize(half), std::runtime_error);
+	std::string future = ps.str();
+	future[0] = 99;
+	std::stringstream fs(future);
+	try
+	{
+		CMapPoint::deserialize(fs);
+		ADD_FAILURE() << "a newer version was accepted";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("version 99"), std::string::npos) << e.what();
+	}
+}
