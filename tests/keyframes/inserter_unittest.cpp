@@ -85,3 +85,39 @@ TEST(KeyFrameInserter, RejectsInvalidOptions)
 	o.orbMaxFrames = 0;
 	expectInputError([&] { CKeyFrameInserter x(o); }, {"orbMaxFrames"});
 }
+
+// Review finding: a forced keyframe inside an interval did not restart Algorithm 1, which could then
+// close the interval by naming a frame from before the forced one: keyframe ids out of time order.
+TEST(KeyFrameInserter, ForcedKeyFrameRestartsTheSemanticInterval)
+{
+	CKeyFrameInserter::TOptions o;
+	o.policy = "semantic";
+	o.semantic.interval = 5;
+	CKeyFrameInserter ins(o);
+	const CKeyFrameInserter::TReference ref{0, 400};
+	// The first frame is the selector's first reference.
+	ASSERT_TRUE(ins.addFrame(tracked(0, 400), ref, 0));
+	std::vector<std::size_t> chosen;
+	// Frames 1-3 of an interval with enough motion (each a candidate), then frame 4 loses most of
+	// the reference's points: forced. Frames 5-12 follow with motion.
+	for (std::size_t id = 1; id <= 12; id++)
+	{
+		const std::size_t inliers = id == 4 ? 60 : 350;
+		TFrame f = tracked(id, inliers);
+		// A person in a different place in each frame, so that every frame differs from the reference.
+		TDetection d;
+		d.classId = 0;
+		d.score = 0.9f;
+		d.box = {static_cast<float>(40 * id), 100, 80, 200};
+		f.detections.push_back(d);
+		if (const auto dec = ins.addFrame(f, ref, 0.05))
+		{
+			if (dec->forced) EXPECT_EQ(dec->frameId, 4u);
+			chosen.push_back(dec->frameId);
+			ins.keyFrameInserted(dec->frameId);
+		}
+	}
+	ASSERT_GE(chosen.size(), 2u);
+	EXPECT_EQ(chosen[0], 4u);
+	for (std::size_t i = 1; i < chosen.size(); i++) EXPECT_GT(chosen[i], chosen[i - 1]) << "keyframes out of time order";
+}

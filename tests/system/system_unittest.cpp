@@ -6,7 +6,10 @@
 
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
+#include <thread>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
@@ -194,4 +197,79 @@ TEST(System, SequenceWithoutAnyDepth)
 	EXPECT_EQ(s.stats.keyFrames, 0u);
 	EXPECT_TRUE(fs::exists(d / "run/stats.json"));
 	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
+}
+
+// Review findings on the system's threads and keyframe bookkeeping, each failing before its fix.
+TEST(System, FrameBufferShorterThanTheIntervalIsRefused)
+{
+	TYesSlamOptions o;
+	o.detector.backend = "none";
+	o.keyFrames.semantic.interval = 10;
+	o.system.frameBuffer = 8;  // Algorithm 1 could name a frame that has already left the buffer
+	expectInputError([&] { CYesSlamSystem sys(o); }, {"frameBuffer", "interval"});
+	o.system.frameBuffer = 10;
+	EXPECT_NO_THROW(CYesSlamSystem sys(o));
+}
+
+TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
+{
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = walkingSequence() + "/detections.txt";
+	o.system.parallel = true;
+	CYesSlamSystem sys(o);
+	std::atomic<std::size_t> mapped{0};
+	// A consumer that takes its time: keyframes queue up behind it, none may be skipped.
+	sys.setKeyFrameCallback(
+		[&](TKeyFrameId)
+		{
+			std::this_thread::sleep_for(std::chrono::milliseconds(40));
+			mapped++;
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	// trajectory() from another thread while frames are processed (a data race before: TSan).
+	std::atomic<bool> running{true};
+	std::thread reader(
+		[&]
+		{
+			while (running) (void)sys.trajectory();
+		});
+	while (auto obs = src->next()) sys.processFrame(*obs);
+	sys.waitForMapping();
+	running = false;
+	reader.join();
+	const TSlamStats st = sys.stats();
+	EXPECT_GE(st.keyFrames, 5u);
+	EXPECT_EQ(mapped.load(), st.keyFrames);
+	EXPECT_EQ(st.stageMs.at("mapping").size(), st.keyFrames);
+	EXPECT_EQ(sys.trajectory().size(), 60u);
+
+	// A failure on the mapping thread reaches the caller as an error, not std::terminate.
+	CYesSlamSystem failing(o);
+	failing.setKeyFrameCallback([](TKeyFrameId k) { if (k == 2) throw std::runtime_error("disk full"); });
+	auto src2 = openInputSource(walkingSequence(), o.input);
+	bool reported = false;
+	try
+	{
+		while (auto obs = src2->next()) failing.processFrame(*obs);
+		failing.waitForMapping();
+	}
+	catch (const std::runtime_error& e)
+	{
+		reported = true;
+		EXPECT_NE(std::string(e.what()).find("local mapping failed: disk full"), std::string::npos) << e.what();
+	}
+	EXPECT_TRUE(reported);
+}
+
+TEST(System, SequentialAndParallelMappingBuildTheSameKeyFrames)
+{
+	// Every keyframe is mapped in both modes (the parallel one used to map only the newest queued
+	// keyframe): the same keyframes are inserted and the accuracy is the same.
+	TempDir a("system_seq"), b("system_par2");
+	const auto sa = runSlamJob(jobFor(a.path(), false)), sb = runSlamJob(jobFor(b.path(), true));
+	EXPECT_EQ(sa.stats.stageMs.at("mapping").size(), sa.stats.keyFrames);
+	EXPECT_EQ(sb.stats.stageMs.at("mapping").size(), sb.stats.keyFrames);
+	EXPECT_NEAR(static_cast<double>(sb.stats.keyFrames), static_cast<double>(sa.stats.keyFrames), 2.0);
+	EXPECT_LT(std::abs(ateOf(sa) - ateOf(sb)), 0.005);
 }

@@ -109,3 +109,40 @@ TEST(WorkerPool, PngWriterWritesTheSameBytesAndReportsErrors)
 	EXPECT_THROW(v.write(d / "ok2.png", img), InputError);
 	v.finish();
 }
+
+TEST(WorkerPool, PauseHoldsQueuedTasksUntilResume)
+{
+	CWorkerPool pool(1);
+	std::atomic<int> done{0};
+	std::promise<void> gate, started;
+	std::shared_future<void> open = gate.get_future().share();
+	auto first = pool.submit(
+		[&]
+		{
+			started.set_value();
+			open.wait();
+			done++;
+		});
+	started.get_future().wait();
+	std::vector<std::future<void>> rest;
+	for (int i = 0; i < 3; i++) rest.push_back(pool.submit([&] { done++; }));
+	// pause() returns only once the running task has finished.
+	std::thread opener(
+		[&]
+		{
+			std::this_thread::sleep_for(std::chrono::milliseconds(50));
+			gate.set_value();
+		});
+	pool.pause();
+	EXPECT_EQ(done.load(), 1);
+	EXPECT_TRUE(pool.paused());
+	std::this_thread::sleep_for(std::chrono::milliseconds(50));
+	EXPECT_EQ(done.load(), 1);	// nothing started while paused
+	EXPECT_EQ(pool.queued(), 3u);
+	pool.waitIdle();  // paused: returns at once, nothing running
+	pool.resume();
+	pool.waitIdle();
+	EXPECT_EQ(done.load(), 4);
+	EXPECT_EQ(pool.queued(), 0u);
+	opener.join();
+}
