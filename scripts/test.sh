@@ -2,6 +2,7 @@
 # Installs dependencies, builds (Release, all cores) and runs the whole test suite with ctest.
 #   ./scripts/test.sh             normal build in build/
 #   ./scripts/test.sh --sanitize  ASan + UBSan build in build-sanitize/, same suite, halting on the first finding
+#   ./scripts/test.sh --tsan      ThreadSanitizer build in build-tsan/: the tests that run threads
 # The tests read data from ../shared beside the repository and fail if it is missing.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -10,14 +11,26 @@ mode="normal"
 case "${1:-}" in
   "") ;;
   --sanitize) mode="sanitize" ;;
-  -h|--help) sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-  *) echo "test.sh: error: unknown option '$1' (use --sanitize or nothing)" >&2; exit 2 ;;
+  --tsan) mode="tsan" ;;
+  -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  *) echo "test.sh: error: unknown option '$1' (use --sanitize, --tsan or nothing)" >&2; exit 2 ;;
 esac
 start=$(date +%s)
 ./scripts/install_deps.sh
-if [ "$mode" = sanitize ]; then
+FILTER=()
+if [ "$mode" = tsan ]; then
+  # Only what runs threads of ours: the worker pool and what is built on it (prefetching reader,
+  # asynchronous detector and frame builder, the system with its mapping stage). The system tests
+  # run yesslam and yesslam-sim, which the build brings along.
+  BUILD="$ROOT/build-tsan"
+  YESSLAM_TARGETS="util_unittest io_unittest system_unittest" \
+    ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
+  FILTER=(-R "WorkerPool|PngWriter|Prefetch|FrameBuilder|System\\.")
+  # Reports inside third-party libraries only (tests/sanitizer/tsan.supp says which and why).
+  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/tests/sanitizer/tsan.supp"
+elif [ "$mode" = sanitize ]; then
   BUILD="$ROOT/build-sanitize"
-  ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=ON -DYESSLAM_BUILD_TESTS=ON
+  ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=ON -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
   # allocator_may_return_null: a corrupt file asking for terabytes must get std::bad_alloc (and our
   # clear error), as in a normal build, not an ASan abort.
   export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0:allocator_may_return_null=1"
@@ -30,5 +43,5 @@ else
 fi
 built=$(date +%s)
 cd "$BUILD"
-ctest --output-on-failure -j "$(nproc)"
+ctest --output-on-failure -j "$(nproc)" "${FILTER[@]}"
 echo "test.sh ($mode): build $((built - start)) s, tests $(( $(date +%s) - built )) s"

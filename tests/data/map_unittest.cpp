@@ -309,3 +309,24 @@ TEST(SparseMap, KeyFramesAndPointsSerialiseAndRefuseCorruptData)
 		EXPECT_NE(std::string(e.what()).find("version 99"), std::string::npos) << e.what();
 	}
 }
+
+TEST(SparseMap, FusionAddsObservationsAndMergesDuplicates)
+{
+	std::mt19937 rng(8);
+	const auto world = wall(40);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);	 // points 0-39
+	// kf1 matched nothing: it created duplicates 40-79 of the same places.
+	addView(map, 1, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), world, std::vector<TPointId>(40, -1), rng);
+	ASSERT_EQ(map.numPoints(), 80u);
+	EXPECT_EQ(map.keyFrame(0).weight(1), 0);
+	// Points 0-19 found again at kf1's keypoints (which hold duplicates), points 50-59 in kf0.
+	std::vector<TFuseCandidate> c;
+	for (std::size_t j = 0; j < 20; j++) c.push_back({static_cast<TPointId>(j), 1, j});
+	for (std::size_t j = 10; j < 20; j++) c.push_back({static_cast<TPointId>(40 + j), 0, j});  // already fused above: no-op
+	EXPECT_EQ(map.fuse(c), 20u);
+	EXPECT_EQ(map.numPoints(), 60u);
+	EXPECT_EQ(map.keyFrame(0).weight(1), 20);
+	for (std::size_t j = 0; j < 20; j++) EXPECT_EQ(map.keyFrame(1).mapPoints[j], map.keyFrame(0).mapPoints[j]);
+	expectGraphMatchesObservations(map);
+}

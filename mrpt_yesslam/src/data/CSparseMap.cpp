@@ -383,6 +383,44 @@ void CSparseMap::erasePoint(TPointId id)
 bool CSparseMap::replacePoint(TPointId oldId, TPointId newId)
 {
 	WriteLock lk(mtx_);
+	const bool ok = replacePointLocked(oldId, newId);
+	reorderDirty();
+	return ok;
+}
+
+std::size_t CSparseMap::fuse(const std::vector<TFuseCandidate>& candidates)
+{
+	WriteLock lk(mtx_);
+	std::size_t changed = 0;
+	for (const auto& c : candidates)
+	{
+		const CMapPoint* gp = goodPoint(c.point);
+		auto kit = keyFrames_.find(c.keyFrame);
+		if (!gp || kit == keyFrames_.end() || kit->second->bad) continue;
+		CKeyFrame& kf = *kit->second;
+		if (c.keypoint >= kf.mapPoints.size() || gp->observations.count(kf.id)) continue;
+		const TPointId pid = gp->id;
+		const CMapPoint* existing = kf.mapPoints[c.keypoint] >= 0 ? goodPoint(kf.mapPoints[c.keypoint]) : nullptr;
+		if (existing)
+		{
+			if (existing->id == pid) continue;
+			// The better-observed point survives (ORB-SLAM2 keeps the one seen more often).
+			const bool keepExisting = existing->observations.size() >= gp->observations.size();
+			changed += keepExisting ? replacePointLocked(pid, existing->id) : replacePointLocked(existing->id, pid);
+		}
+		else
+		{
+			kf.mapPoints[c.keypoint] = -1;
+			addObservation(points_.at(pid), kf, c.keypoint);
+			changed++;
+		}
+	}
+	reorderDirty();
+	return changed;
+}
+
+bool CSparseMap::replacePointLocked(TPointId oldId, TPointId newId)
+{
 	if (oldId == newId) return false;
 	auto oit = points_.find(oldId), nit = points_.find(newId);
 	if (oit == points_.end() || nit == points_.end() || oit->second.bad || nit->second.bad) return false;
@@ -402,7 +440,6 @@ bool CSparseMap::replacePoint(TPointId oldId, TPointId newId)
 	oldP.bad = true;
 	oldP.replacedBy = newId;
 	numGoodPoints_--;
-	reorderDirty();
 	return true;
 }
 

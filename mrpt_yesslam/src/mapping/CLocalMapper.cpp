@@ -3,9 +3,11 @@
 #include <ceres/ceres.h>
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "mrpt_yesslam/feature/COrbMatcher.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/mapping/BundleCosts.h"
 #include "mrpt_yesslam/tracking/CPoseOptimizer.h"
@@ -21,6 +23,9 @@ void CLocalMapper::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
 	MRPT_LOAD_CONFIG_VAR(depthNoise, double, c, s);
 	MRPT_LOAD_CONFIG_VAR(cullFoundRatio, double, c, s);
 	cullMinObservations = static_cast<std::size_t>(c.read_int(s, "cullMinObservations", static_cast<int>(cullMinObservations)));
+	fuseKeyFrames = static_cast<std::size_t>(c.read_int(s, "fuseKeyFrames", static_cast<int>(fuseKeyFrames)));
+	MRPT_LOAD_CONFIG_VAR(fuseRadius, double, c, s);
+	MRPT_LOAD_CONFIG_VAR(fuseMaxHamming, int, c, s);
 	MRPT_LOAD_CONFIG_VAR(keyFrameCulling, bool, c, s);
 	MRPT_LOAD_CONFIG_VAR(redundantRatio, double, c, s);
 	redundantObservers = static_cast<std::size_t>(c.read_int(s, "redundantObservers", static_cast<int>(redundantObservers)));
@@ -36,6 +41,9 @@ void CLocalMapper::TOptions::dumpToTextStream(std::ostream& o) const
 	o << "depthNoise          = " << depthNoise << "\n";
 	o << "cullFoundRatio      = " << cullFoundRatio << "\n";
 	o << "cullMinObservations = " << cullMinObservations << "\n";
+	o << "fuseKeyFrames       = " << fuseKeyFrames << "\n";
+	o << "fuseRadius          = " << fuseRadius << "\n";
+	o << "fuseMaxHamming      = " << fuseMaxHamming << "\n";
 	o << "keyFrameCulling     = " << (keyFrameCulling ? "true" : "false") << "\n";
 	o << "redundantRatio      = " << redundantRatio << "\n";
 	o << "redundantObservers  = " << redundantObservers << "\n";
@@ -46,7 +54,7 @@ std::vector<TConfigKey> CLocalMapper::TOptions::configKeys()
 	using T = TConfigKey::Type;
 	return {{"bundleAdjustment", T::Boolean}, {"covisibleKeyFrames", T::Integer}, {"maxFixedKeyFrames", T::Integer},
 			{"iterations", T::Integer},		  {"depthNoise", T::Number},				   {"cullFoundRatio", T::Number},
-			{"cullMinObservations", T::Integer}, {"keyFrameCulling", T::Boolean}, {"redundantRatio", T::Number},
+			{"cullMinObservations", T::Integer}, {"fuseKeyFrames", T::Integer}, {"fuseRadius", T::Number}, {"fuseMaxHamming", T::Integer}, {"keyFrameCulling", T::Boolean}, {"redundantRatio", T::Number},
 			{"redundantObservers", T::Integer}};
 }
 
@@ -59,10 +67,69 @@ TMappingStats CLocalMapper::step(TKeyFrameId kf)
 {
 	TMappingStats st;
 	st.culledPoints = map_.cullRecentPoints(kf, opts_.cullFoundRatio, opts_.cullMinObservations);
+	if (opts_.fuseKeyFrames > 0) st.fused = fuseWithNeighbours(kf);
 	if (opts_.bundleAdjustment) st.bundle = bundleAdjust(kf);
 	if (opts_.keyFrameCulling)
 		st.erasedKeyFrames = map_.cullRedundantKeyFrames(kf, opts_.redundantRatio, opts_.redundantObservers, maxDepth_);
 	return st;
+}
+
+namespace
+{
+// A keyframe's measurements as the matcher takes them.
+TFrame asFrame(const CKeyFrame& kf)
+{
+	TFrame f;
+	f.id = kf.frameId;
+	f.camera = kf.camera;
+	f.features = *kf.features;
+	f.mapPoints = kf.mapPoints;
+	return f;
+}
+}  // namespace
+
+std::size_t CLocalMapper::fuseWithNeighbours(TKeyFrameId kfId)
+{
+	const std::vector<TKeyFrameId> neighbours = map_.covisible(kfId, opts_.fuseKeyFrames, 1);
+	if (neighbours.empty()) return 0;
+	// Projection search as tracking's, with ORB-SLAM2's Fuse thresholds: a small window and TH_LOW,
+	// no ratio test (the best match within the window is taken).
+	const COrbMatcher matcher(opts_.fuseMaxHamming, 1.0);
+	std::vector<TFuseCandidate> cands;
+	auto search = [&](const TLocalMapPoints& pts, const CKeyFrame& into)
+	{
+		if (pts.ids.empty() || !into.features) return;
+		const TFrame f = asFrame(into);
+		const mrpt::poses::CPose3D Tcw = -into.pose;
+		for (const TMatch& m : matcher.searchByProjection(f, into.pose, pts, opts_.fuseRadius, nullptr, false, scaleFactor_))
+		{
+			// RGB-D: the keypoint's own depth must agree with the point's (3 sigma of the Kinect model
+			// plus 2 cm), as ORB-SLAM2 checks the right-image coordinate.
+			const float d = f.features.depth[m.keypoint];
+			if (d > 0)
+			{
+				const auto& P = pts.positions[m.point];
+				double x, y, z;
+				Tcw.composePoint(P.x, P.y, P.z, x, y, z);
+				if (std::abs(d - z) > 0.02 + 3 * opts_.depthNoise * z * z) continue;
+			}
+			cands.push_back({pts.ids[m.point], into.id, m.keypoint});
+		}
+	};
+	const CKeyFrame cur = map_.keyFrame(kfId);
+	const TLocalMapPoints curPts = map_.keyFramePoints(kfId);
+	std::vector<TPointId> neighbourIds;
+	for (TKeyFrameId n : neighbours)
+	{
+		const CKeyFrame nk = map_.keyFrame(n);
+		search(curPts, nk);	 // the new keyframe's points into each neighbour
+		for (TPointId p : nk.mapPoints)
+			if (p >= 0) neighbourIds.push_back(p);
+	}
+	std::sort(neighbourIds.begin(), neighbourIds.end());
+	neighbourIds.erase(std::unique(neighbourIds.begin(), neighbourIds.end()), neighbourIds.end());
+	search(map_.pointsById(neighbourIds), cur);	 // the neighbours' points into the new keyframe
+	return map_.fuse(cands);
 }
 
 TBundleStats CLocalMapper::bundleAdjust(TKeyFrameId kf)

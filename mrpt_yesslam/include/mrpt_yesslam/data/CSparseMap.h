@@ -49,6 +49,14 @@ struct TBundleWindow
 	std::vector<std::map<TKeyFrameId, std::size_t>> observations;  //!< per point, restricted to the window
 };
 
+/** A map point found again in a keyframe (fusion): point `point` projects onto keypoint `keypoint` of `keyFrame`. */
+struct TFuseCandidate
+{
+	TPointId point = -1;
+	TKeyFrameId keyFrame = 0;
+	std::size_t keypoint = 0;
+};
+
 /** Pose and time of one keyframe (trajectories, scenes). */
 struct TKeyFramePose
 {
@@ -125,6 +133,10 @@ class CSparseMap
 	 * that keyframe already observes the new one), tracking counts are added, the old point is bad
 	 * and `replacedBy` names the new one. Returns false when either is unknown or bad. */
 	bool replacePoint(TPointId oldId, TPointId newId);
+	/** ORB-SLAM2's Fuse: for each candidate, a keypoint without a point gets an observation of the
+	 * point; a keypoint holding another point has the two fused (the one with fewer observations
+	 * goes). Returns the number of observations added plus points fused. */
+	std::size_t fuse(const std::vector<TFuseCandidate>& candidates);
 
 	/** The window around `id`: it and its `numCovisible` covisible keyframes are optimised, other
 	 * keyframes that see the window's points are fixed (at most `maxFixed`), and so is keyframe 0. */
@@ -150,6 +162,7 @@ class CSparseMap
 	void addObservation(CMapPoint& p, CKeyFrame& kf, std::size_t kp);
 	void eraseObservation(CMapPoint& p, TKeyFrameId kf);
 	void eraseKeyFrameLocked(CKeyFrame& kf);
+	bool replacePointLocked(TPointId oldId, TPointId newId);
 	void reorderDirty();
 	const CMapPoint* goodPoint(TPointId id) const;
 	mrpt::poses::CPose3D poseLocked(TKeyFrameId id) const;

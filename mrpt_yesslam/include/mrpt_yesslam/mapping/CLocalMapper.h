@@ -1,6 +1,8 @@
 #pragma once
 // Local mapping (ORB-SLAM2's LocalMapping, for RGB-D): for each new keyframe, cull the young map
-// points that tracking rarely finds, run local bundle adjustment in Ceres over the keyframe, its
+// points that tracking rarely finds, fuse the duplicates the new keyframe created with the points of
+// its neighbours (ORB-SLAM2's SearchInNeighbors: a place seen again must not get a second copy of
+// its points), run local bundle adjustment in Ceres over the keyframe, its
 // covisible keyframes and the points they see (the other keyframes that see those points held
 // fixed; the first keyframe always fixed: it anchors the map), then erase the covisible keyframes
 // that have become redundant (ORB-SLAM2's KeyFrameCulling), so that a camera that keeps revisiting
@@ -25,6 +27,7 @@ struct TBundleStats
 struct TMappingStats
 {
 	std::size_t culledPoints = 0;
+	std::size_t fused = 0;	//!< observations added and duplicates fused with the neighbours
 	std::vector<TKeyFrameId> erasedKeyFrames;  //!< redundant keyframes culled
 	TBundleStats bundle;
 };
@@ -44,6 +47,9 @@ class CLocalMapper
 		double depthNoise = 0.0025;
 		double cullFoundRatio = 0.25;  //!< young points found in fewer than this share of views are culled
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
+		std::size_t fuseKeyFrames = 10;	 //!< neighbours searched for duplicates (ORB-SLAM2, RGB-D: 10); 0 = no fusion
+		double fuseRadius = 3;	//!< pixels at level 0 (x scale^octave), ORB-SLAM2's Fuse
+		int fuseMaxHamming = 50;  //!< ORB-SLAM2's TH_LOW
 		bool keyFrameCulling = true;  //!< erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)
 		double redundantRatio = 0.9;  //!< a keyframe goes when more than this share of its close points ...
 		std::size_t redundantObservers = 3;	 //!< ... is seen by at least this many other keyframes at the same or finer scale
@@ -60,6 +66,8 @@ class CLocalMapper
 
 	/** Processes keyframe `kf` (already in the map): point culling, local BA, keyframe culling. */
 	TMappingStats step(TKeyFrameId kf);
+	/** Fusion of `kf`'s points with its neighbours' alone; returns what fuse() changed. */
+	std::size_t fuseWithNeighbours(TKeyFrameId kf);
 	/** Local bundle adjustment around `kf` alone. */
 	TBundleStats bundleAdjust(TKeyFrameId kf);
 	const TOptions& options() const { return opts_; }
