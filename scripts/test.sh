@@ -18,19 +18,22 @@ esac
 start=$(date +%s)
 ./scripts/install_deps.sh
 FILTER=()
+# Sanitizer builds: -O1 and line tables only (-g1), the sanitizers' recommended setting, which
+# compiles much faster than -O2 -g and still gives file:line in every report.
+SANFLAGS=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1")
 if [ "$mode" = tsan ]; then
   # Only what runs threads of ours: the worker pool and what is built on it (prefetching reader,
   # asynchronous detector and frame builder, the system with its mapping stage). The system tests
   # run yesslam and yesslam-sim, which the build brings along.
   BUILD="$ROOT/build-tsan"
   YESSLAM_TARGETS="util_unittest io_unittest system_unittest" \
-    ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
+    ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
   FILTER=(-R "WorkerPool|PngWriter|Prefetch|FrameBuilder|System\\.")
   # Reports inside third-party libraries only (tests/sanitizer/tsan.supp says which and why).
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/tests/sanitizer/tsan.supp"
 elif [ "$mode" = sanitize ]; then
   BUILD="$ROOT/build-sanitize"
-  ./scripts/build.sh "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DYESSLAM_SANITIZE=ON -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
+  ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=ON -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
   # allocator_may_return_null: a corrupt file asking for terabytes must get std::bad_alloc (and our
   # clear error), as in a normal build, not an ASan abort.
   export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0:allocator_may_return_null=1"
