@@ -26,11 +26,12 @@ if [ "$mode" = tsan ]; then
   # asynchronous detector and frame builder, the system with its mapping stage). The system tests
   # run yesslam and yesslam-sim, which the build brings along.
   BUILD="$ROOT/build-tsan"
+  # Set before building: gtest_discover_tests runs the test executables at build time.
+  # Reports inside third-party libraries only (tests/sanitizer/tsan.supp says which and why).
+  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/tests/sanitizer/tsan.supp"
   YESSLAM_TARGETS="util_unittest io_unittest system_unittest" \
     ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
   FILTER=(-R "WorkerPool|PngWriter|Prefetch|FrameBuilder|System\\.")
-  # Reports inside third-party libraries only (tests/sanitizer/tsan.supp says which and why).
-  export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/tests/sanitizer/tsan.supp"
 elif [ "$mode" = sanitize ]; then
   BUILD="$ROOT/build-sanitize"
   ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=ON -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF
