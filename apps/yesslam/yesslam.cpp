@@ -73,7 +73,9 @@ int main(int argc, char** argv)
 				"tracked:         %zu (%.1f%%), relocalisations %zu\n", st.trackedFrames,
 				st.frames ? 100.0 * static_cast<double>(st.trackedFrames) / static_cast<double>(st.frames) : 0.0, st.relocalisations);
 			std::printf("fps:             %.2f (%.1f s)\n", s.seconds > 0 ? static_cast<double>(st.frames) / s.seconds : 0.0, s.seconds);
-			std::printf("keyframes:       %zu (%zu forced), map points %zu\n", st.keyFrames, st.forcedKeyFrames, st.mapPoints);
+			std::printf(
+				"keyframes:       %zu inserted (%zu forced), %zu culled as redundant, %zu in the map; map points %zu\n", st.keyFrames,
+				st.forcedKeyFrames, st.culledKeyFrames, st.keyFramesInMap, st.mapPoints);
 			std::printf("outputs:         %s/{trajectory.txt,keyframes.txt,map.3Dscene,stats.json,config_used.ini}\n", o.outDir.c_str());
 			if (s.evaluated)
 			{

@@ -94,9 +94,17 @@ TSlamJobSummary runSlamJob(
 			}
 		}
 	}
-	catch (const InputError&)
+	catch (const std::exception&)
 	{
-		sys.waitForMapping();
+		// A bad frame, or a failure of the mapping stage: keep what was done up to here.
+		try
+		{
+			sys.waitForMapping();
+		}
+		catch (const std::exception&)
+		{
+			// Already failing: the first error is the one reported.
+		}
 		writeOutputs(sys, o.outDir, sum);
 		throw;
 	}

@@ -48,10 +48,7 @@ struct CKeyFrame
 	/** Number of keypoints. */
 	std::size_t size() const { return features ? features->keypoints.size() : 0; }
 	/** Static keypoint with depth in (0, maxDepth]. */
-	bool usable(std::size_t i, double maxDepth) const
-	{
-		return !features->dynamic[i] && features->depth[i] > 0 && features->depth[i] <= maxDepth;
-	}
+	bool usable(std::size_t i, double maxDepth) const { return features->usable(i, maxDepth); }
 	/** The 3D point of keypoint i in the camera frame (needs depth). */
 	cv::Point3d backProject(std::size_t i) const;
 	/** Weight of the edge to `other` (0 = not covisible). */

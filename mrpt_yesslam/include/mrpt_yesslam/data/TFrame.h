@@ -34,10 +34,7 @@ struct TFrame
 	/** Number of keypoints. */
 	std::size_t size() const { return features.keypoints.size(); }
 	/** Whether keypoint i may be used for pose and map: static and with usable depth. */
-	bool usable(std::size_t i, double maxDepth) const
-	{
-		return !features.dynamic[i] && features.depth[i] > 0 && features.depth[i] <= maxDepth;
-	}
+	bool usable(std::size_t i, double maxDepth) const { return features.usable(i, maxDepth); }
 	/** The 3D point of keypoint i in the camera frame (needs depth). */
 	cv::Point3d backProject(std::size_t i) const;
 };

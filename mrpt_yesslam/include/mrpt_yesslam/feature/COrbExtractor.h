@@ -20,6 +20,8 @@ struct TFeatures
 	std::vector<bool> dynamic;	//!< inside the dynamic mask (eq. 3): not used for pose
 	/** Number of keypoints that are not dynamic (N_sp of the keyframe selection). */
 	std::size_t numStatic() const;
+	/** Whether keypoint i may be used for pose and map: static and with depth in (0, maxDepth]. */
+	bool usable(std::size_t i, double maxDepth) const { return !dynamic[i] && depth[i] > 0 && depth[i] <= maxDepth; }
 };
 
 /** Detects and describes ORB features with an even spatial distribution. */
