@@ -47,7 +47,11 @@ class CLocalMapper
 		double depthNoise = 0.0025;
 		double cullFoundRatio = 0.25;  //!< young points found in fewer than this share of views are culled
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
-		std::size_t fuseKeyFrames = 10;	 //!< neighbours searched for duplicates (ORB-SLAM2, RGB-D: 10); 0 = no fusion
+		/** Neighbours searched for duplicates (ORB-SLAM2, RGB-D: 10); 0 = no fusion. Off by default:
+		 * measured on unseen yesslam-sim sequences it halves the map points but raised the ATE by
+		 * 4-22 % (README), so it stays an option until the fused points' descriptors and positions
+		 * are refreshed as ORB-SLAM2 does. */
+		std::size_t fuseKeyFrames = 0;
 		double fuseRadius = 3;	//!< pixels at level 0 (x scale^octave), ORB-SLAM2's Fuse
 		int fuseMaxHamming = 50;  //!< ORB-SLAM2's TH_LOW
 		bool keyFrameCulling = true;  //!< erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)
