@@ -330,3 +330,40 @@ TEST(SparseMap, FusionAddsObservationsAndMergesDuplicates)
 	for (std::size_t j = 0; j < 20; j++) EXPECT_EQ(map.keyFrame(1).mapPoints[j], map.keyFrame(0).mapPoints[j]);
 	expectGraphMatchesObservations(map);
 }
+
+TEST(SparseMap, LocalKeyFramesFollowTheFramesMatchesNotTheNewestKeyFrame)
+{
+	// Place A: kf0 creates points 0-99, kf1 sees 0-79 and adds 100-119. Place B, seen from far
+	// away: kf2 creates 120-219, kf3 sees 120-199 and adds 220-239. No point is shared between the places.
+	std::mt19937 rng(7);
+	const auto a = wall(100), b = wall(100, 6.0);
+	CSparseMap map;
+	std::vector<TPointId> none(100, -1), ids1(100, -1), ids3(100, -1);
+	for (int j = 0; j < 80; j++) ids1[j] = j;
+	for (int j = 0; j < 80; j++) ids3[j] = 120 + j;
+	addView(map, 0, {}, a, none, rng);
+	addView(map, 1, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), a, ids1, rng);
+	addView(map, 2, {}, b, none, rng);
+	addView(map, 3, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), b, ids3, rng);
+	ASSERT_EQ(map.numPoints(), 240u);
+
+	// A frame back at place A (the newest keyframe, kf3, is at B): the local map is place A's,
+	// most shared first (a tie goes to the newer keyframe). kf2, sharing nothing, hangs under kf1
+	// in the spanning tree and joins as its child (ORB-SLAM2 adds children and parent); kf3 does not.
+	EXPECT_EQ(map.localKeyFrames(range(0, 50), 3, 10), (std::vector<TKeyFrameId>{1, 0, 2}));
+	EXPECT_EQ(map.localKeyFrames(range(85, 100), 3, 10), (std::vector<TKeyFrameId>{0, 1}));
+	// Only kf1 sees 100-119: kf0 joins as its covisible neighbour.
+	EXPECT_EQ(map.localKeyFrames(range(100, 120), 3, 10), (std::vector<TKeyFrameId>{1, 0, 2}));
+	EXPECT_EQ(map.localKeyFrames(range(100, 120), 3, 10, 0), (std::vector<TKeyFrameId>{1, 2, 0}));  // no neighbours: child, parent
+	// The cap holds; without seeds the fallback keyframe and its neighbours.
+	EXPECT_EQ(map.localKeyFrames(range(0, 50), 3, 1), (std::vector<TKeyFrameId>{1}));
+	EXPECT_EQ(map.localKeyFrames({}, 3, 10), (std::vector<TKeyFrameId>{3, 2}));
+	// An erased fallback resolves to its good ancestor; erased keyframes never take part.
+	map.eraseKeyFrame(3);
+	EXPECT_EQ(map.localKeyFrames({}, 3, 10), (std::vector<TKeyFrameId>{2, 1}));
+	EXPECT_EQ(map.localKeyFrames(range(120, 140), 3, 10), (std::vector<TKeyFrameId>{2, 1}));
+	// The points of a local map: each once, only good ones.
+	const TLocalMapPoints pts = map.pointsOfKeyFrames({0, 1});
+	EXPECT_EQ(pts.ids.size(), 120u);
+	EXPECT_EQ(pts.descriptors.rows, 120);
+}

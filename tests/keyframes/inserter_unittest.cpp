@@ -121,3 +121,24 @@ TEST(KeyFrameInserter, ForcedKeyFrameRestartsTheSemanticInterval)
 	EXPECT_EQ(chosen[0], 4u);
 	for (std::size_t i = 1; i < chosen.size(); i++) EXPECT_GT(chosen[i], chosen[i - 1]) << "keyframes out of time order";
 }
+
+// Beyond the paper (ORB-SLAM2's c2): Algorithm 1 chooses a frame every interval wherever the camera
+// is; the choice becomes a keyframe only if that frame sees more than the map already holds.
+TEST(KeyFrameInserter, SemanticChoiceCoveredByTheMapIsNotInserted)
+{
+	const CKeyFrameInserter::TReference ref{0, 400};
+	const auto decisions = [&](double refRatio, std::size_t inliers)
+	{
+		CKeyFrameInserter::TOptions o;
+		o.semanticRefRatio = refRatio;
+		CKeyFrameInserter ins(o);
+		EXPECT_TRUE(ins.addFrame(tracked(0, 400), ref, 0));	 // the first reference is never judged
+		std::size_t n = 0;
+		for (std::size_t i = 1; i <= 20; i++) n += ins.addFrame(tracked(i, inliers), ref, 0.05).has_value();
+		EXPECT_EQ(ins.redundantChoices(), 4 - n);
+		return n;
+	};
+	EXPECT_EQ(decisions(0.9, 300), 4u);	 // 75 % of the reference's points: new content, one per interval
+	EXPECT_EQ(decisions(0.9, 380), 0u);	 // 95 %: the map covers the view
+	EXPECT_EQ(decisions(1.0, 380), 4u);	 // the check off: the paper's Algorithm 1 alone
+}

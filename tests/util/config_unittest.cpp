@@ -139,3 +139,87 @@ TEST(Config, ShippedSequenceConfigsHaveOnlyKnownKeys)
 		EXPECT_NO_THROW(o.loadFromFile(path));
 	}
 }
+
+namespace
+{
+/** Every options struct of a SLAM run, as its table, bound to `o`. */
+std::vector<COptionTable> allTables(TYesSlamOptions& o)
+{
+	return {o.input.table(),   o.detector.table(), o.masker.table(),  o.orb.table(),
+			o.tracking.table(), o.keyFrames.table(), o.mapping.table(), o.system.table()};
+}
+}  // namespace
+
+TEST(Config, EveryKeyInAFileReachesItsOption)
+{
+	// For every key of every section: a file that sets it to another valid value changes exactly
+	// that option, and the dump shows it (the table cannot list a key it does not load).
+	TYesSlamOptions defaults;
+	TempDir d("cfg-keys");
+	std::size_t checked = 0;
+	for (const COptionTable& t : allTables(defaults))
+		for (const auto& e : t.entries())
+		{
+			SCOPED_TRACE(t.section() + "." + e.key);
+			const std::string value = e.other();
+			ASSERT_NE(value, e.get());
+			writeText(d / "one.ini", "[" + t.section() + "]\n" + e.key + " = " + value + "\n");
+			TYesSlamOptions loaded;
+			loaded.loadFromFile(d / "one.ini");
+			std::size_t changed = 0;
+			auto lt = allTables(loaded);
+			auto dt = allTables(defaults);
+			for (std::size_t i = 0; i < lt.size(); i++)
+				for (std::size_t j = 0; j < lt[i].entries().size(); j++)
+				{
+					const auto& le = lt[i].entries()[j];
+					if (le.get() == dt[i].entries()[j].get()) continue;
+					changed++;
+					EXPECT_EQ(le.key, e.key);
+					EXPECT_EQ(le.get(), value);
+				}
+			EXPECT_EQ(changed, 1u);
+			EXPECT_NE(loaded.dump(), defaults.dump());
+			checked++;
+		}
+	EXPECT_GT(checked, 80u);
+}
+
+TEST(Config, NegativeCountsAndOutOfRangeValuesAreErrors)
+{
+	TempDir d("cfg-range");
+	const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+		{"[Tracking]\nlocalKeyFrames = -1\n", {"bad.ini", "[Tracking] localKeyFrames = '-1'", "whole number in [1, 10000]"}},
+		{"[System]\nframeBuffer = -3\n", {"[System] frameBuffer", "whole number"}},
+		{"[LocalMapping]\nfuseKeyFrames = 2.5\n", {"fuseKeyFrames", "whole number"}},
+		{"[Input]\nprefetch = 65\n", {"[Input] prefetch = '65'", "in [0, 64]"}},
+		{"[Detector]\nconfThreshold = 1.5\n", {"confThreshold", "number in [0, 1]"}},
+		{"[KeyFrames]\npolicy = random\n", {"policy = 'random'", "one of semantic, orbslam"}},
+		{"[DynamicMask]\nfallbackToBox = maybe\n", {"fallbackToBox", "true or false"}},
+		{"[ORB]\nscaleFactor = nan\n", {"scaleFactor", "expected a number"}}};
+	for (const auto& [text, words] : cases)
+	{
+		SCOPED_TRACE(text);
+		writeText(d / "bad.ini", text);
+		TYesSlamOptions o;
+		auto w = words;
+		expectInputError([&] { o.loadFromFile(d / "bad.ini"); }, w);
+	}
+}
+
+TEST(Config, TheDumpOfARunLoadsBackToTheSameOptions)
+{
+	// config_used.ini reruns a job: the dump is a valid config giving the same options.
+	TYesSlamOptions a;
+	a.tracking.localKeyFrames = 33;
+	a.keyFrames.policy = "orbslam";
+	a.masker.method = "box";
+	a.input.camera = "fr2";
+	TempDir d("cfg-dump");
+	writeText(d / "used.ini", a.dump());
+	TYesSlamOptions b;
+	testing::internal::CaptureStderr();
+	b.loadFromFile(d / "used.ini");
+	EXPECT_EQ(testing::internal::GetCapturedStderr(), "");  // no unknown key
+	EXPECT_EQ(b.dump(), a.dump());
+}

@@ -4,6 +4,7 @@
 #include <mutex>
 #include <set>
 #include <stdexcept>
+#include <unordered_set>
 
 namespace mrpt_yesslam
 {
@@ -227,6 +228,11 @@ bool CSparseMap::isBad(TKeyFrameId id) const
 TKeyFrameId CSparseMap::goodAncestor(TKeyFrameId id) const
 {
 	ReadLock lk(mtx_);
+	return goodAncestorLocked(id);
+}
+
+TKeyFrameId CSparseMap::goodAncestorLocked(TKeyFrameId id) const
+{
 	for (std::size_t hops = 0; hops <= keyFrames_.size(); hops++)
 	{
 		const CKeyFrame& kf = *keyFrames_.at(id);
@@ -269,17 +275,70 @@ std::vector<TKeyFrameId> CSparseMap::covisible(TKeyFrameId id, std::size_t max, 
 TLocalMapPoints CSparseMap::localPoints(TKeyFrameId id, std::size_t numCovisible) const
 {
 	ReadLock lk(mtx_);
-	TLocalMapPoints out;
-	if (!keyFrames_.count(id)) return out;
+	if (!keyFrames_.count(id)) return {};
 	auto kfs = covisibleLocked(id, numCovisible, 1);
 	kfs.insert(kfs.begin(), id);
-	std::set<TPointId> seen;
-	for (TKeyFrameId k : kfs)
-		for (TPointId pid : keyFrames_.at(k)->mapPoints)
+	return pointsOfKeyFramesLocked(kfs);
+}
+
+TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids) const
+{
+	ReadLock lk(mtx_);
+	return pointsOfKeyFramesLocked(ids);
+}
+
+TLocalMapPoints CSparseMap::pointsOfKeyFramesLocked(const std::vector<TKeyFrameId>& ids) const
+{
+	TLocalMapPoints out;
+	std::unordered_set<TPointId> seen;
+	for (TKeyFrameId k : ids)
+	{
+		const auto it = keyFrames_.find(k);
+		if (it == keyFrames_.end() || it->second->bad) continue;
+		for (TPointId pid : it->second->mapPoints)
 		{
 			if (pid < 0 || !seen.insert(pid).second) continue;
 			if (const CMapPoint* p = goodPoint(pid)) appendPoint(out, *p);
 		}
+	}
+	return out;
+}
+
+std::vector<TKeyFrameId> CSparseMap::localKeyFrames(
+	const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours) const
+{
+	ReadLock lk(mtx_);
+	std::unordered_map<TKeyFrameId, int> shared;
+	for (TPointId pid : seeds)
+		if (const CMapPoint* p = goodPoint(pid))
+			for (const auto& [k, kp] : p->observations)
+				if (!keyFrames_.at(k)->bad) shared[k]++;
+	// Most shared first; ties to the newer keyframe (closer in time to the frame).
+	std::vector<std::pair<int, TKeyFrameId>> order;
+	for (const auto& [k, n] : shared) order.emplace_back(n, k);
+	std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second > b.second; });
+	std::vector<TKeyFrameId> out;
+	std::unordered_set<TKeyFrameId> in;
+	const auto add = [&](TKeyFrameId k) {
+		if (out.size() >= maxKeyFrames || in.count(k)) return;
+		const auto it = keyFrames_.find(k);
+		if (it == keyFrames_.end() || it->second->bad) return;
+		in.insert(k);
+		out.push_back(k);
+	};
+	for (const auto& [n, k] : order) add(k);
+	if (out.empty())
+		if (keyFrames_.count(fallback)) add(goodAncestorLocked(fallback));
+	// K2: around the keyframes that share points with the frame (ORB-SLAM2 takes 10 covisible,
+	// one child and the parent of each; all children here, the tree is shallow in our maps).
+	const std::size_t k1 = out.size();
+	for (std::size_t i = 0; i < k1 && out.size() < maxKeyFrames; i++)
+	{
+		const CKeyFrame& kf = *keyFrames_.at(out[i]);
+		for (TKeyFrameId n : covisibleLocked(kf.id, neighbours, 1)) add(n);
+		for (TKeyFrameId c : kf.children) add(c);
+		if (kf.parent) add(*kf.parent);
+	}
 	return out;
 }
 
@@ -302,7 +361,7 @@ TLocalMapPoints CSparseMap::keyFramePoints(TKeyFrameId id, std::vector<std::size
 	return out;
 }
 
-std::size_t CSparseMap::numKeyFramePoints(TKeyFrameId id) const
+std::size_t CSparseMap::numKeyFramePoints(TKeyFrameId id, std::size_t minObservations) const
 {
 	ReadLock lk(mtx_);
 	const auto it = keyFrames_.find(id);
@@ -310,7 +369,8 @@ std::size_t CSparseMap::numKeyFramePoints(TKeyFrameId id) const
 	std::size_t n = 0;
 	for (TPointId pid : it->second->mapPoints)
 		if (pid >= 0)
-			if (auto pit = points_.find(pid); pit != points_.end() && !pit->second.bad) n++;
+			if (auto pit = points_.find(pid); pit != points_.end() && !pit->second.bad && pit->second.observations.size() >= minObservations)
+				n++;
 	return n;
 }
 

@@ -2,6 +2,8 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <limits>
+
 #include <algorithm>
 
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
@@ -12,45 +14,23 @@
 
 namespace mrpt_yesslam
 {
-void CObjectDetector::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable CObjectDetector::TOptions::table()
 {
-	MRPT_LOAD_CONFIG_VAR(backend, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(model, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(weights, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(names, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(format, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(inputSize, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(confThreshold, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(nmsThreshold, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(dynamicClasses, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(file, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(fileMaxDiff, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(threads, int, c, s);
-}
-
-void CObjectDetector::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	o << "[Detector]\n";
-	o << "backend        = " << backend << "  ; yolo | file | hog | none\n";
-	o << "model          = " << model << "  ; yolo: .cfg (darknet) or .onnx (YOLOv5/v7/v8, YOLOX)\n";
-	o << "weights        = " << weights << "  ; yolo darknet: .weights\n";
-	o << "names          = " << names << "  ; class names, one per line\n";
-	o << "format         = " << format << "  ; auto | darknet | yolov5 | yolov8 | yolox\n";
-	o << "inputSize      = " << inputSize << "  ; network input side, 0 = from the model\n";
-	o << "confThreshold  = " << confThreshold << "\n";
-	o << "nmsThreshold   = " << nmsThreshold << "\n";
-	o << "dynamicClasses = " << dynamicClasses << "\n";
-	o << "file           = " << file << "  ; file backend: detections.txt\n";
-	o << "fileMaxDiff    = " << fileMaxDiff << "  ; file backend: stamp tolerance, s\n";
-	o << "threads        = " << threads << "  ; OpenCV threads, 0 = default\n";
-}
-
-std::vector<TConfigKey> CObjectDetector::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"backend", T::Text},		{"model", T::Text},		  {"weights", T::Text},			{"names", T::Text},
-			{"format", T::Text},		{"inputSize", T::Integer}, {"confThreshold", T::Number}, {"nmsThreshold", T::Number},
-			{"dynamicClasses", T::Text}, {"file", T::Text},		  {"fileMaxDiff", T::Number},	{"threads", T::Integer}};
+	constexpr double kBig = std::numeric_limits<double>::max();
+	COptionTable t("Detector");
+	t.text("backend", backend, "detector", {"yolo", "file", "hog", "none", "auto"});
+	t.text("model", model, "yolo: .cfg (darknet) or .onnx");
+	t.text("weights", weights, "yolo darknet: .weights");
+	t.text("names", names, "class names file, one per line (COCO order for COCO models)");
+	t.text("format", format, "yolo output layout", {"auto", "darknet", "yolov5", "yolov7", "yolov8", "yolox", "fastestdet", "nanodet"});
+	t.integer("inputSize", inputSize, 0, 4096, "network input side in pixels; 0 = from the model (darknet cfg) or found by probing");
+	t.real("confThreshold", confThreshold, 0, 1, "boxes below this confidence are dropped (the paper: 0.6)");
+	t.real("nmsThreshold", nmsThreshold, 0, 1, "class-wise non-maximum suppression IoU");
+	t.text("dynamicClasses", dynamicClasses, "comma-separated class names treated as dynamic");
+	t.text("file", file, "file backend: detections.txt (empty = the one beside the input)");
+	t.real("fileMaxDiff", fileMaxDiff, 0, kBig, "file backend: largest frame/detection stamp difference, s");
+	t.integer("threads", threads, 0, 256, "OpenCV threads for inference (0 = OpenCV's default)");
+	return t;
 }
 
 std::string CObjectDetector::className(int id) const

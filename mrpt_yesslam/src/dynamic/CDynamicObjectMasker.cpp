@@ -10,56 +10,26 @@
 
 namespace mrpt_yesslam
 {
-void CDynamicObjectMasker::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable CDynamicObjectMasker::TOptions::table()
 {
-	MRPT_LOAD_CONFIG_VAR(method, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(loDiff, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(upDiff, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(laplacianGain, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(laplacianKernel, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(blurSigma, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(boxMargin, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(maxFillRatio, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(minFillRatio, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(fallbackToBox, bool, c, s);
-	MRPT_LOAD_CONFIG_VAR(dilatePixels, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(maxDepth, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(maxDepthRange, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(downsample, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(holdFrames, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(holdGrow, double, c, s);
-}
-
-void CDynamicObjectMasker::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	o << "[DynamicMask]\n";
-	o << "method          = " << method << "  ; edge_fill | fill | box\n";
-	o << "loDiff          = " << loDiff << "  ; m, between neighbours\n";
-	o << "upDiff          = " << upDiff << "  ; m, between neighbours\n";
-	o << "laplacianGain   = " << laplacianGain << "\n";
-	o << "laplacianKernel = " << laplacianKernel << "\n";
-	o << "blurSigma       = " << blurSigma << "  ; px\n";
-	o << "boxMargin       = " << boxMargin << "  ; share of the box size\n";
-	o << "maxFillRatio    = " << maxFillRatio << "\n";
-	o << "minFillRatio    = " << minFillRatio << "\n";
-	o << "fallbackToBox   = " << (fallbackToBox ? "true" : "false") << "\n";
-	o << "dilatePixels    = " << dilatePixels << "\n";
-	o << "maxDepth        = " << maxDepth << "  ; m\n";
-	o << "maxDepthRange   = " << maxDepthRange << "  ; m from the seed depth, 0 = unlimited\n";
-	o << "downsample      = " << downsample << "  ; fill at 1/N resolution (1 or 2)\n";
-	o << "holdFrames      = " << holdFrames << "  ; mask missed dynamic objects this many frames (0 = off)\n";
-	o << "holdGrow        = " << holdGrow << "  ; held boxes grow by this share per frame\n";
-}
-
-std::vector<TConfigKey> CDynamicObjectMasker::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"method", T::Text},		 {"loDiff", T::Number},			 {"upDiff", T::Number},
-			{"laplacianGain", T::Number}, {"laplacianKernel", T::Integer}, {"blurSigma", T::Number},
-			{"boxMargin", T::Number},	 {"maxFillRatio", T::Number},	 {"minFillRatio", T::Number},
-			{"fallbackToBox", T::Boolean}, {"dilatePixels", T::Integer},	 {"maxDepth", T::Number},
-			{"maxDepthRange", T::Number}, {"downsample", T::Integer},	 {"holdFrames", T::Integer},
-			{"holdGrow", T::Number}};
+	COptionTable t("DynamicMask");
+	t.text("method", method, "edge_fill: the paper's Laplacian-enhanced fill; fill: plain depth flood fill; box: the whole box", {"edge_fill", "fill", "box"});
+	t.real("loDiff", loDiff, 0, 10, "fill tolerance towards the camera between neighbours, m (the paper's 5 grey levels: about 0.13)");
+	t.real("upDiff", upDiff, 0, 10, "fill tolerance away from the camera between neighbours, m");
+	t.real("laplacianGain", laplacianGain, 0, 100, "k in f - k * lap(f) (eq. 4)");
+	t.integer("laplacianKernel", laplacianKernel, 1, 7, "aperture of the Laplacian (1, 3, 5, 7)");
+	t.real("blurSigma", blurSigma, 0, 100, "sigma of the Gaussian blur (eq. 5), pixels at the fill resolution");
+	t.real("boxMargin", boxMargin, 0, 1, "the fill may leave the box by this share of its size");
+	t.real("maxFillRatio", maxFillRatio, 0, 1, "a fill covering more of the box than this leaked: use the box");
+	t.real("minFillRatio", minFillRatio, 0, 1, "a fill covering less of the box than this failed: use the box");
+	t.flag("fallbackToBox", fallbackToBox, "on a failed fill mask the whole box (false: mask nothing)");
+	t.integer("dilatePixels", dilatePixels, 0, 100, "grow each object's mask by about this many full-resolution pixels");
+	t.real("maxDepth", maxDepth, 0.1, 100, "depth beyond this is treated as missing, m");
+	t.real("maxDepthRange", maxDepthRange, 0, 100, "the fill never takes depth farther than this from the seed's, m (0 = no limit)");
+	t.integer("downsample", downsample, 1, 4, "fill at 1/downsample of the image side (1 = full resolution)");
+	t.integer("holdFrames", holdFrames, 0, 300, "a missed dynamic object stays masked this many frames after its last detection (0 = off)");
+	t.real("holdGrow", holdGrow, 0, 1, "each frame a held box grows by this share of its size on every side");
+	return t;
 }
 
 CDynamicObjectMasker::CDynamicObjectMasker(const TOptions& o) : opts_(o)

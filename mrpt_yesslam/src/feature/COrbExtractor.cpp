@@ -11,36 +11,19 @@
 
 namespace mrpt_yesslam
 {
+COptionTable COrbExtractor::TOptions::table()
+{
+	COptionTable t("ORB");
+	t.integer("numFeatures", numFeatures, 10, 100000, "keypoints per frame");
+	t.integer("numLevels", numLevels, 1, 16, "pyramid levels");
+	t.real("scaleFactor", scaleFactor, 1.001, 1.999, "pyramid scale between levels (search windows and sigmas follow it)");
+	t.integer("fastThreshold", fastThreshold, 1, 100, "FAST threshold: low (ORB-SLAM's retry value) so weak texture still gives corners");
+	t.integer("cellSize", cellSize, 8, 1024, "grid cell side in pixels of each pyramid level");
+	t.flag("excludeMasked", excludeMasked, "false: keypoints in the mask are detected and flagged dynamic (eq. 3); true: not detected there");
+	return t;
+}
+
 std::size_t TFeatures::numStatic() const { return static_cast<std::size_t>(std::count(dynamic.begin(), dynamic.end(), false)); }
-
-void COrbExtractor::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-	MRPT_LOAD_CONFIG_VAR(numFeatures, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(numLevels, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(scaleFactor, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(fastThreshold, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(cellSize, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(excludeMasked, bool, c, s);
-}
-
-void COrbExtractor::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	o << "[ORB]\n";
-	o << "numFeatures      = " << numFeatures << "\n";
-	o << "numLevels        = " << numLevels << "\n";
-	o << "scaleFactor      = " << scaleFactor << "\n";
-	o << "fastThreshold    = " << fastThreshold << "\n";
-	o << "cellSize         = " << cellSize << "\n";
-	o << "excludeMasked    = " << (excludeMasked ? "true" : "false") << "\n";
-}
-
-std::vector<TConfigKey> COrbExtractor::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"numFeatures", T::Integer},   {"numLevels", T::Integer}, {"scaleFactor", T::Number},
-			{"fastThreshold", T::Integer}, {"cellSize", T::Integer},
-			{"excludeMasked", T::Boolean}};
-}
 
 COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 {

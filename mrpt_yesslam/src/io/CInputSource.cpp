@@ -13,28 +13,14 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-void CInputSource::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable CInputSource::TOptions::table()
 {
-	MRPT_LOAD_CONFIG_VAR(camera, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(maxDiff, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(sensorLabel, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(prefetch, int, c, s);
-	if (prefetch < 0 || prefetch > 64) throw InputError("", "[Input] prefetch must be 0..64, got " + std::to_string(prefetch));
-}
-
-std::vector<TConfigKey> CInputSource::TOptions::configKeys()
-{
-	return {{"camera", TConfigKey::Type::Text}, {"maxDiff", TConfigKey::Type::Number}, {"sensorLabel", TConfigKey::Type::Text},
-			{"prefetch", TConfigKey::Type::Integer}};
-}
-
-void CInputSource::TOptions::dumpToTextStream(std::ostream& out) const
-{
-	out << "[Input]\n";
-	out << "camera      = " << camera << "  ; TUM: fr1|fr2|fr3|camera file; empty = calibration.txt or folder name\n";
-	out << "maxDiff     = " << maxDiff << "  ; TUM rgb/depth pairing window, s\n";
-	out << "sensorLabel = " << sensorLabel << "  ; rawlog: only this sensor (empty = all)\n";
-	out << "prefetch    = " << prefetch << "  ; frames decoded ahead on a reader thread (0 = none)\n";
+	COptionTable t("Input");
+	t.text("camera", camera, "TUM folders: fr1, fr2, fr3 or a camera file; empty = calibration.txt in the folder, else the freiburg name in its path");
+	t.real("maxDiff", maxDiff, 0, 1, "TUM folders: largest rgb/depth stamp difference to pair them, s (associate.py)");
+	t.text("sensorLabel", sensorLabel, "rawlogs: only frames with this sensor label (empty = all 3D range scans)");
+	t.integer("prefetch", prefetch, 0, 64, "frames decoded ahead on a reader thread (0 = read in the processing thread)");
+	return t;
 }
 
 std::unique_ptr<CInputSource> openInputSource(const std::string& path, const CInputSource::TOptions& opts)

@@ -4,43 +4,22 @@
 
 #include "mrpt_yesslam/util/Error.h"
 
+#include <algorithm>
+
 namespace mrpt_yesslam
 {
-void CKeyFrameInserter::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable CKeyFrameInserter::TOptions::table()
 {
-	semantic.loadFromConfigFile(c, s);
-	MRPT_LOAD_CONFIG_VAR(policy, string, c, s);
-	MRPT_LOAD_CONFIG_VAR(forceTrackedRatio, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(orbMaxFrames, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(orbMinFrames, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(orbRefRatio, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(closeDepth, double, c, s);
-}
-
-void CKeyFrameInserter::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	semantic.dumpToTextStream(o);
-	o << "policy            = " << policy << "\n";
-	o << "forceTrackedRatio = " << forceTrackedRatio << "\n";
-	o << "orbMaxFrames      = " << orbMaxFrames << "\n";
-	o << "orbMinFrames      = " << orbMinFrames << "\n";
-	o << "orbRefRatio       = " << orbRefRatio << "\n";
-	o << "closeDepth        = " << closeDepth << "\n";
-}
-
-std::vector<TConfigKey> CKeyFrameInserter::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	auto k = CSemanticKeyFrameSelector::TOptions::configKeys();
-	for (const auto& e : std::vector<TConfigKey>{
-			 {"policy", T::Text},
-			 {"forceTrackedRatio", T::Number},
-			 {"orbMaxFrames", T::Integer},
-			 {"orbMinFrames", T::Integer},
-			 {"orbRefRatio", T::Number},
-			 {"closeDepth", T::Number}})
-		k.push_back(e);
-	return k;
+	COptionTable t("KeyFrames");
+	t.append(semantic.table());
+	t.text("policy", policy, "semantic: the paper's Algorithm 1; orbslam: ORB-SLAM2's NeedNewKeyFrame", {"semantic", "orbslam"});
+	t.real("forceTrackedRatio", forceTrackedRatio, 0, 0.999, "semantic: insert at once when inliers fall below this share of the reference keyframe's points");
+	t.real("semanticRefRatio", semanticRefRatio, 0.01, 1, "semantic: Algorithm 1's choice is inserted only if it tracks fewer than this share of the reference's points (1 = always)");
+	t.integer("orbMaxFrames", orbMaxFrames, 1, 100000, "orbslam: a keyframe at least this often (ORB-SLAM2: the frame rate)");
+	t.integer("orbMinFrames", orbMinFrames, 0, 100000, "orbslam: no keyframe sooner than this");
+	t.real("orbRefRatio", orbRefRatio, 0, 1, "orbslam: c2 threshold on inliers / reference points");
+	t.real("closeDepth", closeDepth, 0.1, 100, "close points for the need-close-points test (ORB-SLAM2's ThDepth, 40 baselines), m");
+	return t;
 }
 
 CKeyFrameInserter::CKeyFrameInserter(const TOptions& opts) : opts_(opts), selector_(opts.semantic)
@@ -49,8 +28,21 @@ CKeyFrameInserter::CKeyFrameInserter(const TOptions& opts) : opts_(opts), select
 		throw InputError("", "[KeyFrames] policy must be semantic or orbslam, not '" + opts_.policy + "'");
 	if (!(opts_.forceTrackedRatio >= 0 && opts_.forceTrackedRatio < 1))
 		throw InputError("", "[KeyFrames] forceTrackedRatio must be in [0,1)");
+	if (!(opts_.semanticRefRatio > 0 && opts_.semanticRefRatio <= 1))
+		throw InputError("", "[KeyFrames] semanticRefRatio must be in (0,1]");
 	if (opts_.orbMaxFrames < 1 || opts_.orbMinFrames < 0)
 		throw InputError("", "[KeyFrames] orbMaxFrames must be >= 1 and orbMinFrames >= 0");
+}
+
+bool CKeyFrameInserter::needsClosePoints(const TFrame& f) const
+{
+	std::size_t trackedClose = 0, untrackedClose = 0;
+	for (std::size_t i = 0; i < f.size(); i++)
+	{
+		if (!f.usable(i, opts_.closeDepth)) continue;
+		(i < f.mapPoints.size() && f.mapPoints[i] >= 0 ? trackedClose : untrackedClose)++;
+	}
+	return trackedClose < 100 && untrackedClose > 70;
 }
 
 std::optional<CKeyFrameInserter::TDecision> CKeyFrameInserter::addFrame(const TFrame& f, const TReference& ref, double motion)
@@ -61,13 +53,7 @@ std::optional<CKeyFrameInserter::TDecision> CKeyFrameInserter::addFrame(const TF
 	if (opts_.policy == "orbslam")
 	{
 		const std::size_t since = lastKeyFrame_ ? f.id - *lastKeyFrame_ : f.id + 1;
-		std::size_t trackedClose = 0, untrackedClose = 0;
-		for (std::size_t i = 0; i < f.size(); i++)
-		{
-			if (!f.usable(i, opts_.closeDepth)) continue;
-			(f.mapPoints[i] >= 0 ? trackedClose : untrackedClose)++;
-		}
-		const bool needClose = trackedClose < 100 && untrackedClose > 70;
+		const bool needClose = needsClosePoints(f);
 		const bool c1a = since >= static_cast<std::size_t>(opts_.orbMaxFrames);
 		const bool c1b = since >= static_cast<std::size_t>(opts_.orbMinFrames);	// mapping is never busy here
 		const bool c1c = inliers < 0.25 * refPoints || needClose;
@@ -88,9 +74,29 @@ std::optional<CKeyFrameInserter::TDecision> CKeyFrameInserter::addFrame(const TF
 		// The forced keyframe becomes the selector's reference and opens a new interval: a frame of
 		// the interval it cut short must not become a keyframe after it (ids would leave time order).
 		selector_.restart(in);
+		coverage_.clear();
 		return TDecision{f.id, true};
 	}
-	if (const auto d = selector_.addFrame(in)) return TDecision{d->frameId, false};
-	return std::nullopt;
+	// Judged now, while `ref` is the reference this frame was tracked against.
+	// (The selector's first choice, its first reference, is not judged: there is no map yet.)
+	const bool first = !selector_.referenceId();
+	coverage_.push_back({f.id, first || inliers < opts_.semanticRefRatio * refPoints || needsClosePoints(f)});
+	const auto d = selector_.addFrame(in);
+	if (!d)
+	{
+		// Only the open interval's frames can be chosen (the selector restarts with each interval).
+		while (coverage_.size() > static_cast<std::size_t>(std::max(opts_.semantic.interval, opts_.semantic.shortInterval)) * 2)
+			coverage_.pop_front();
+		return std::nullopt;
+	}
+	const auto it = std::find_if(coverage_.begin(), coverage_.end(), [&](const TCoverage& c) { return c.frameId == d->frameId; });
+	const bool seesNew = it == coverage_.end() || it->seesNewContent;
+	coverage_.clear();
+	if (!seesNew)
+	{
+		redundantChoices_++;
+		return std::nullopt;
+	}
+	return TDecision{d->frameId, false};
 }
 }  // namespace mrpt_yesslam

@@ -11,6 +11,23 @@
 
 namespace mrpt_yesslam
 {
+COptionTable CSemanticKeyFrameSelector::TOptions::table()
+{
+	COptionTable t("KeyFrames");
+	t.integer("gridCols", gridCols, 1, 64, "semantic regions across the image (eq. 9: n = cols x rows)");
+	t.integer("gridRows", gridRows, 1, 64, "semantic regions down the image");
+	t.real("gamma", gamma, 0, 1, "eq. 10 weight of the Jaccard similarity J against eta");
+	t.integer("interval", interval, 1, 1000, "N_I: frames per keyframe interval (Algorithm 1)");
+	t.integer("shortInterval", shortInterval, 1, 1000, "N_I after excessiveFrames consecutive frames with D >= maxMotion");
+	t.integer("excessiveFrames", excessiveFrames, 1, 1000, "consecutive frames of excessive motion that shorten the interval");
+	t.real("minMotion", minMotion, 0, 100, "D_min (m + rad): frames moving less are not candidates");
+	t.real("maxMotion", maxMotion, 0, 100, "D_max (m + rad): excessive motion");
+	t.real("minStaticRatio", minStaticRatio, 0, 1, "frames with N_sp <= this x N_p are skipped");
+	t.count("minInliers", minInliers, 0, 100000, "a candidate needs more tracked inliers than this");
+	t.flag("etaAsWritten", etaAsWritten, "eq. 8 literally (max 0.5) instead of the Dice form");
+	return t;
+}
+
 std::vector<std::set<int>> semanticRegionVectors(const std::vector<TDetection>& dets, cv::Size image, int cols, int rows)
 {
 	std::vector<std::set<int>> v(static_cast<std::size_t>(std::max(1, cols) * std::max(1, rows)));
@@ -97,46 +114,6 @@ bool rigidMotionFromPoints(
 	R = a.R;
 	t = a.t;
 	return true;
-}
-
-void CSemanticKeyFrameSelector::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-	MRPT_LOAD_CONFIG_VAR(gridCols, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(gridRows, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(gamma, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(interval, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(shortInterval, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(excessiveFrames, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(minMotion, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(maxMotion, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(minStaticRatio, double, c, s);
-	minInliers = static_cast<std::size_t>(c.read_int(s, "minInliers", static_cast<int>(minInliers)));
-	MRPT_LOAD_CONFIG_VAR(etaAsWritten, bool, c, s);
-}
-
-void CSemanticKeyFrameSelector::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	o << "[KeyFrames]\n";
-	o << "gridCols        = " << gridCols << "\n";
-	o << "gridRows        = " << gridRows << "\n";
-	o << "gamma           = " << gamma << "\n";
-	o << "interval        = " << interval << "\n";
-	o << "shortInterval   = " << shortInterval << "\n";
-	o << "excessiveFrames = " << excessiveFrames << "\n";
-	o << "minMotion       = " << minMotion << "\n";
-	o << "maxMotion       = " << maxMotion << "\n";
-	o << "minStaticRatio  = " << minStaticRatio << "\n";
-	o << "minInliers      = " << minInliers << "\n";
-	o << "etaAsWritten    = " << (etaAsWritten ? "true" : "false") << "\n";
-}
-
-std::vector<TConfigKey> CSemanticKeyFrameSelector::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"gridCols", T::Integer},	  {"gridRows", T::Integer},		 {"gamma", T::Number},
-			{"interval", T::Integer},	  {"shortInterval", T::Integer},	 {"excessiveFrames", T::Integer},
-			{"minMotion", T::Number},	  {"maxMotion", T::Number},		 {"minStaticRatio", T::Number},
-			{"minInliers", T::Integer}, {"etaAsWritten", T::Boolean}};
 }
 
 CSemanticKeyFrameSelector::CSemanticKeyFrameSelector(const TOptions& o) : opts_(o), intervalLen_(o.interval)

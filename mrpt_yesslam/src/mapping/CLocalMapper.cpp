@@ -14,48 +14,23 @@
 
 namespace mrpt_yesslam
 {
-void CLocalMapper::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable CLocalMapper::TOptions::table()
 {
-	MRPT_LOAD_CONFIG_VAR(bundleAdjustment, bool, c, s);
-	covisibleKeyFrames = static_cast<std::size_t>(c.read_int(s, "covisibleKeyFrames", static_cast<int>(covisibleKeyFrames)));
-	maxFixedKeyFrames = static_cast<std::size_t>(c.read_int(s, "maxFixedKeyFrames", static_cast<int>(maxFixedKeyFrames)));
-	MRPT_LOAD_CONFIG_VAR(iterations, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(depthNoise, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(cullFoundRatio, double, c, s);
-	cullMinObservations = static_cast<std::size_t>(c.read_int(s, "cullMinObservations", static_cast<int>(cullMinObservations)));
-	fuseKeyFrames = static_cast<std::size_t>(c.read_int(s, "fuseKeyFrames", static_cast<int>(fuseKeyFrames)));
-	MRPT_LOAD_CONFIG_VAR(fuseRadius, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(fuseMaxHamming, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(keyFrameCulling, bool, c, s);
-	MRPT_LOAD_CONFIG_VAR(redundantRatio, double, c, s);
-	redundantObservers = static_cast<std::size_t>(c.read_int(s, "redundantObservers", static_cast<int>(redundantObservers)));
-}
-
-void CLocalMapper::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	o << "[LocalMapping]\n";
-	o << "bundleAdjustment    = " << (bundleAdjustment ? "true" : "false") << "\n";
-	o << "covisibleKeyFrames  = " << covisibleKeyFrames << "\n";
-	o << "maxFixedKeyFrames   = " << maxFixedKeyFrames << "\n";
-	o << "iterations          = " << iterations << "\n";
-	o << "depthNoise          = " << depthNoise << "\n";
-	o << "cullFoundRatio      = " << cullFoundRatio << "\n";
-	o << "cullMinObservations = " << cullMinObservations << "\n";
-	o << "fuseKeyFrames       = " << fuseKeyFrames << "\n";
-	o << "fuseRadius          = " << fuseRadius << "\n";
-	o << "fuseMaxHamming      = " << fuseMaxHamming << "\n";
-	o << "keyFrameCulling     = " << (keyFrameCulling ? "true" : "false") << "\n";
-	o << "redundantRatio      = " << redundantRatio << "\n";
-	o << "redundantObservers  = " << redundantObservers << "\n";
-}
-
-std::vector<TConfigKey> CLocalMapper::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"bundleAdjustment", T::Boolean}, {"covisibleKeyFrames", T::Integer}, {"maxFixedKeyFrames", T::Integer},
-			{"iterations", T::Integer},		  {"depthNoise", T::Number},				   {"cullFoundRatio", T::Number},
-			{"cullMinObservations", T::Integer}, {"fuseKeyFrames", T::Integer}, {"fuseRadius", T::Number}, {"fuseMaxHamming", T::Integer}, {"keyFrameCulling", T::Boolean}, {"redundantRatio", T::Number},
-			{"redundantObservers", T::Integer}};
+	COptionTable t("LocalMapping");
+	t.flag("bundleAdjustment", bundleAdjustment, "local bundle adjustment after each keyframe");
+	t.count("covisibleKeyFrames", covisibleKeyFrames, 0, 1000, "keyframes optimised besides the new one");
+	t.count("maxFixedKeyFrames", maxFixedKeyFrames, 0, 1000, "other keyframes seeing the points, held fixed");
+	t.integer("iterations", iterations, 1, 1000, "Ceres iterations");
+	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only");
+	t.real("cullFoundRatio", cullFoundRatio, 0, 1, "young points found in fewer than this share of the frames that should see them are culled");
+	t.count("cullMinObservations", cullMinObservations, 0, 1000, "young points seen by fewer keyframes are culled");
+	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000, "neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, README)");
+	t.real("fuseRadius", fuseRadius, 0.5, 100, "fusion search radius, pixels at level 0 (x scale^octave)");
+	t.integer("fuseMaxHamming", fuseMaxHamming, 0, 256, "fusion: largest descriptor distance (ORB-SLAM2's TH_LOW)");
+	t.flag("keyFrameCulling", keyFrameCulling, "erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)");
+	t.real("redundantRatio", redundantRatio, 0, 1, "a keyframe goes when more than this share of its close points ...");
+	t.count("redundantObservers", redundantObservers, 1, 1000, "... is seen by at least this many other keyframes at the same or finer scale");
+	return t;
 }
 
 CLocalMapper::CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor, double maxDepth)

@@ -18,44 +18,29 @@
 
 namespace mrpt_yesslam
 {
-void TYesSlamOptions::TSystem::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable TYesSlamOptions::TSystem::table()
 {
-	MRPT_LOAD_CONFIG_VAR(parallel, bool, c, s);
-	MRPT_LOAD_CONFIG_VAR(dynamicFilter, bool, c, s);
-	minInitPoints = static_cast<std::size_t>(c.read_int(s, "minInitPoints", static_cast<int>(minInitPoints)));
-	frameBuffer = static_cast<std::size_t>(c.read_int(s, "frameBuffer", static_cast<int>(frameBuffer)));
-	MRPT_LOAD_CONFIG_VAR(asyncDetection, bool, c, s);
-	mappingQueue = static_cast<std::size_t>(c.read_int(s, "mappingQueue", static_cast<int>(mappingQueue)));
-}
-
-void TYesSlamOptions::TSystem::dumpToTextStream(std::ostream& o) const
-{
-	o << "[System]\n";
-	o << "parallel      = " << (parallel ? "true" : "false") << "\n";
-	o << "dynamicFilter = " << (dynamicFilter ? "true" : "false") << "\n";
-	o << "minInitPoints = " << minInitPoints << "\n";
-	o << "frameBuffer   = " << frameBuffer << "\n";
-	o << "asyncDetection = " << (asyncDetection ? "true" : "false") << "\n";
-	o << "mappingQueue  = " << mappingQueue << "\n";
-}
-
-std::vector<TConfigKey> TYesSlamOptions::TSystem::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"parallel", T::Boolean}, {"dynamicFilter", T::Boolean}, {"minInitPoints", T::Integer}, {"frameBuffer", T::Integer},
-			{"asyncDetection", T::Boolean}, {"mappingQueue", T::Integer}};
+	COptionTable t("System");
+	t.flag("parallel", parallel, "local mapping in its own thread (false: sequential, deterministic)");
+	t.flag("dynamicFilter", dynamicFilter, "mask dynamic objects (false: every feature is used, as ORB-SLAM2)");
+	t.count("minInitPoints", minInitPoints, 10, 100000, "static keypoints with depth needed for the first keyframe");
+	t.count("frameBuffer", frameBuffer, 1, 10000, "recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)");
+	t.flag("asyncDetection", asyncDetection, "detect on a worker thread while ORB features are extracted");
+	t.count("mappingQueue", mappingQueue, 1, 10000, "parallel: keyframes waiting for local mapping before tracking waits");
+	return t;
 }
 
 void TYesSlamOptions::loadFromFile(const std::string& path)
 {
-	loadOptionsFromFile(path, "Input", input, CInputSource::TOptions::configKeys());
-	loadOptionsFromFile(path, "Detector", detector, CObjectDetector::TOptions::configKeys());
-	loadOptionsFromFile(path, "DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
-	loadOptionsFromFile(path, "ORB", orb, COrbExtractor::TOptions::configKeys());
-	loadOptionsFromFile(path, "Tracking", tracking, CTracker::TOptions::configKeys());
-	loadOptionsFromFile(path, "KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
-	loadOptionsFromFile(path, "LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
-	loadOptionsFromFile(path, "System", system, TSystem::configKeys());
+	const auto cfg = loadConfigFile(path);  // parsed once for all sections
+	loadOptions(*cfg, path, "Input", input, CInputSource::TOptions::configKeys());
+	loadOptions(*cfg, path, "Detector", detector, CObjectDetector::TOptions::configKeys());
+	loadOptions(*cfg, path, "DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
+	loadOptions(*cfg, path, "ORB", orb, COrbExtractor::TOptions::configKeys());
+	loadOptions(*cfg, path, "Tracking", tracking, CTracker::TOptions::configKeys());
+	loadOptions(*cfg, path, "KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
+	loadOptions(*cfg, path, "LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
+	loadOptions(*cfg, path, "System", system, TSystem::configKeys());
 }
 
 std::string TYesSlamOptions::dump() const
@@ -275,6 +260,9 @@ TFrameReport CYesSlamSystem::processFrame(
 	{
 		const auto ref = tracker_.referenceKeyFrame();
 		CKeyFrameInserter::TReference refInfo;
+		// All the reference's points, not only those three keyframes see as ORB-SLAM2 counts: without
+		// point fusion our points gain observations slowly, and that count stays near zero for the
+		// first keyframes (measured: no second keyframe was ever inserted).
 		if (ref) refInfo.points = map_.numKeyFramePoints(*ref);
 		const double D = opts_.keyFrames.policy == "semantic" ? motionToReference(*frame) : 0.0;
 		decision = inserter_.addFrame(*frame, refInfo, D);

@@ -10,6 +10,19 @@
 
 namespace mrpt_yesslam
 {
+COptionTable CPoseOptimizer::TOptions::table()
+{
+	COptionTable t("Tracking");
+	t.real("chi2Threshold", chi2Threshold, 0.1, 1000, "pose from static features (eq. 7): Huber reprojection error, outliers re-classified above this chi-square");
+	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only (eq. 7)");
+	t.integer("rounds", rounds, 1, 100, "optimise, re-classify outliers, repeat");
+	t.integer("iterationsPerRound", iterationsPerRound, 1, 1000, "Levenberg-Marquardt iterations per round");
+	t.integer("ransacIterations", ransacIterations, 1, 100000, "PnP RANSAC iterations (initialisation, relocalisation)");
+	t.real("ransacPixels", ransacPixels, 0.1, 100, "PnP RANSAC inlier threshold, pixels");
+	t.count("minInliers", minInliers, 3, 100000, "fewer inliers: the pose is not trusted");
+	return t;
+}
+
 template <typename T>
 bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T* r) const
 {
@@ -38,36 +51,6 @@ bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T*
 }
 
 template bool TReprojectionResidual::operator()<double>(const double* const, const double* const, double*) const;
-
-void CPoseOptimizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-	MRPT_LOAD_CONFIG_VAR(chi2Threshold, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(depthNoise, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(iterationsPerRound, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(ransacIterations, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(ransacPixels, double, c, s);
-	minInliers = static_cast<std::size_t>(c.read_int(s, "minInliers", static_cast<int>(minInliers)));
-}
-
-void CPoseOptimizer::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	o << "[Tracking]\n";
-	o << "chi2Threshold      = " << chi2Threshold << "\n";
-	o << "depthNoise         = " << depthNoise << "\n";
-	o << "rounds             = " << rounds << "\n";
-	o << "iterationsPerRound = " << iterationsPerRound << "\n";
-	o << "ransacIterations   = " << ransacIterations << "\n";
-	o << "ransacPixels       = " << ransacPixels << "\n";
-	o << "minInliers         = " << minInliers << "\n";
-}
-
-std::vector<TConfigKey> CPoseOptimizer::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	return {{"chi2Threshold", T::Number},	 {"depthNoise", T::Number},	 {"rounds", T::Integer},		 {"iterationsPerRound", T::Integer},
-			{"ransacIterations", T::Integer}, {"ransacPixels", T::Number}, {"minInliers", T::Integer}};
-}
 
 void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
 {

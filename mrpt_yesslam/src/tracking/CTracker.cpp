@@ -7,47 +7,20 @@
 
 namespace mrpt_yesslam
 {
-void CTracker::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+COptionTable CTracker::TOptions::table()
 {
-	pose.loadFromConfigFile(c, s);
-	MRPT_LOAD_CONFIG_VAR(maxDepth, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(motionRadius, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(localRadius, double, c, s);
-	MRPT_LOAD_CONFIG_VAR(maxHamming, int, c, s);
-	MRPT_LOAD_CONFIG_VAR(ratio, double, c, s);
-	localKeyFrames = static_cast<std::size_t>(c.read_int(s, "localKeyFrames", static_cast<int>(localKeyFrames)));
-	minTrackedInliers = static_cast<std::size_t>(c.read_int(s, "minTrackedInliers", static_cast<int>(minTrackedInliers)));
-	relocKeyFrames = static_cast<std::size_t>(c.read_int(s, "relocKeyFrames", static_cast<int>(relocKeyFrames)));
-}
-
-void CTracker::TOptions::dumpToTextStream(std::ostream& o) const
-{
-	pose.dumpToTextStream(o);
-	o << "maxDepth           = " << maxDepth << "\n";
-	o << "motionRadius       = " << motionRadius << "\n";
-	o << "localRadius        = " << localRadius << "\n";
-	o << "maxHamming         = " << maxHamming << "\n";
-	o << "ratio              = " << ratio << "\n";
-	o << "localKeyFrames     = " << localKeyFrames << "\n";
-	o << "minTrackedInliers  = " << minTrackedInliers << "\n";
-	o << "relocKeyFrames     = " << relocKeyFrames << "\n";
-}
-
-std::vector<TConfigKey> CTracker::TOptions::configKeys()
-{
-	using T = TConfigKey::Type;
-	auto k = CPoseOptimizer::TOptions::configKeys();
-	for (const auto& e : std::vector<TConfigKey>{
-			 {"maxDepth", T::Number},
-			 {"motionRadius", T::Number},
-			 {"localRadius", T::Number},
-			 {"maxHamming", T::Integer},
-			 {"ratio", T::Number},
-			 {"localKeyFrames", T::Integer},
-			 {"minTrackedInliers", T::Integer},
-			 {"relocKeyFrames", T::Integer}})
-		k.push_back(e);
-	return k;
+	COptionTable t("Tracking");
+	t.append(pose.table());
+	t.real("maxDepth", maxDepth, 0.1, 100, "keypoints deeper than this are not used (Kinect noise grows with z^2), m");
+	t.real("motionRadius", motionRadius, 1, 1000, "pixel search radius around motion-model projections (ORB-SLAM2: 15)");
+	t.real("localRadius", localRadius, 0.5, 1000, "pixel search radius for the local map");
+	t.integer("maxHamming", maxHamming, 0, 256, "largest descriptor distance of a match (ORB-SLAM2's TH_HIGH)");
+	t.real("ratio", ratio, 0.1, 1, "nearest / second-nearest distance ratio for projection search (ORB-SLAM2: 0.9)");
+	t.count("localKeyFrames", localKeyFrames, 1, 10000, "most keyframes in the local map (ORB-SLAM2: 80)");
+	t.count("localNeighbours", localNeighbours, 0, 1000, "best covisible keyframes added around each keyframe that sees the frame's matches");
+	t.count("minTrackedInliers", minTrackedInliers, 3, 100000, "fewer inliers against the local map: tracking failed for this frame");
+	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "newest keyframes tried by relocalisation (0 = all)");
+	return t;
 }
 
 std::vector<TPoseObservation> makePoseObservations(
@@ -135,11 +108,16 @@ TLocalMapPoints CTracker::lastFramePoints(const mrpt::poses::CPose3D& lastPose) 
 	return out;
 }
 
-bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResult& r)
+bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r)
 {
 	const auto ref = referenceKeyFrame();
 	if (!ref) return false;
-	const TLocalMapPoints local = map_.localPoints(*ref, opts_.localKeyFrames);
+	// ORB-SLAM2's local map: the keyframes that see what the frame already matched and their
+	// neighbours, not only the newest keyframe's. Back in a place mapped long ago, tracking then
+	// finds the old points again instead of the map growing a second copy of the place.
+	const std::vector<TKeyFrameId> kfs = map_.localKeyFrames(seeds, *ref, opts_.localKeyFrames, opts_.localNeighbours);
+	if (kfs.empty()) return false;
+	const TLocalMapPoints local = map_.pointsOfKeyFrames(kfs);
 	std::vector<std::size_t> inView;
 	const auto m = matcher_.searchByProjection(f, guess, local, opts_.localRadius, &inView, false, scaleFactor_);
 	r.localMatches = m.size();
@@ -156,6 +134,7 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResu
 			found.push_back(local.ids[m[k].point]);
 		}
 	map_.countTracking(visible, found);
+	refKf_ = kfs.front();  // the keyframe sharing most points with the frame (ORB-SLAM2)
 	f.numInliers = e.numInliers;
 	r.inliers = e.numInliers;
 	return true;
@@ -178,7 +157,7 @@ bool CTracker::relocalise(TFrame& f, TResult& r)
 		if (!pnp.ok) continue;
 		const auto prevRef = refKf_;
 		refKf_ = k;
-		if (trackLocalMap(f, pnp.cameraInWorld, r))
+		if (trackLocalMap(f, pnp.cameraInWorld, {}, r))
 		{
 			r.relocalised = true;
 			return true;
@@ -226,8 +205,12 @@ CTracker::TResult CTracker::track(TFrame& f)
 		}
 		if (e.ok) guess = e.cameraInWorld;
 	}
+	std::vector<TPointId> seeds;
+	if (guess)
+		for (std::size_t k = 0; k < used.size(); k++)
+			if (e.inlier[k] && pts.ids[used[k].point] >= 0) seeds.push_back(pts.ids[used[k].point]);
 	// 2. The local map, from the motion-model pose (or the prediction, when there is none).
-	if (trackLocalMap(f, guess ? *guess : predicted, r))
+	if (trackLocalMap(f, guess ? *guess : predicted, seeds, r))
 	{
 		f.tracked = true;
 		r.ok = true;

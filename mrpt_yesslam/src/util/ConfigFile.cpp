@@ -157,10 +157,21 @@ void loadOptionsFromFile(
 	const std::vector<TConfigKey>& keys)
 {
 	const auto cfg = loadConfigFile(path);
-	for (const auto& w : validateConfigSection(*cfg, path, section, keys)) std::fprintf(stderr, "warning: %s\n", w.c_str());
+	loadOptions(*cfg, path, section, opts, keys);
+}
+
+void loadOptions(
+	const mrpt::config::CConfigFileBase& cfg, const std::string& path, const std::string& section,
+	mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
+{
+	for (const auto& w : validateConfigSection(cfg, path, section, keys)) std::fprintf(stderr, "warning: %s\n", w.c_str());
 	try
 	{
-		opts.loadFromConfigFile(*cfg, section);
+		opts.loadFromConfigFile(cfg, section);
+	}
+	catch (const InputError& e)
+	{
+		throw InputError(path, e.what());
 	}
 	catch (const std::exception& e)
 	{

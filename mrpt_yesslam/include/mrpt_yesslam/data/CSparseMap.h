@@ -101,10 +101,19 @@ class CSparseMap
 	std::vector<TKeyFrameId> covisible(TKeyFrameId id, std::size_t max, int minWeight = 1) const;
 	/** Points seen by keyframe `id` and its `numCovisible` best covisible keyframes. */
 	TLocalMapPoints localPoints(TKeyFrameId id, std::size_t numCovisible) const;
+	/** ORB-SLAM2's local keyframes (Tracking::UpdateLocalKeyFrames): the good keyframes observing
+	 * `seeds` (the frame's matched points), most shared first, then for each of those its
+	 * `neighbours` best covisible keyframes, its children and its parent, at most `maxKeyFrames` in
+	 * all. The first is the keyframe sharing most points: the frame's new reference. With no seed
+	 * observed by a good keyframe, `fallback` (or its good ancestor) takes the seeds' place. */
+	std::vector<TKeyFrameId> localKeyFrames(
+		const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours = 10) const;
+	/** The good points the keyframes `ids` observe, each once. */
+	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids) const;
 	/** Points of one keyframe with their keypoint index (relocalisation). */
 	TLocalMapPoints keyFramePoints(TKeyFrameId id, std::vector<std::size_t>* keypoints = nullptr) const;
-	/** Number of good points keyframe `id` observes. */
-	std::size_t numKeyFramePoints(TKeyFrameId id) const;
+	/** Number of good points keyframe `id` observes that at least `minObservations` keyframes see. */
+	std::size_t numKeyFramePoints(TKeyFrameId id, std::size_t minObservations = 1) const;
 	/** The good points among `ids` (in that order; bad or unknown ids are left out; a fused point
 	 * is followed to the point that replaced it). */
 	TLocalMapPoints pointsById(const std::vector<TPointId>& ids) const;
@@ -167,6 +176,8 @@ class CSparseMap
 	const CMapPoint* goodPoint(TPointId id) const;
 	mrpt::poses::CPose3D poseLocked(TKeyFrameId id) const;
 	std::vector<TKeyFrameId> covisibleLocked(TKeyFrameId id, std::size_t max, int minWeight) const;
+	TKeyFrameId goodAncestorLocked(TKeyFrameId id) const;
+	TLocalMapPoints pointsOfKeyFramesLocked(const std::vector<TKeyFrameId>& ids) const;
 
 	mutable std::shared_mutex mtx_;
 	std::map<TKeyFrameId, std::shared_ptr<CKeyFrame>> keyFrames_;

@@ -13,6 +13,7 @@
 
 #include "mrpt_yesslam/types.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -21,7 +22,7 @@ class CObjectDetector
 {
    public:
 	/** Section [Detector] of the config. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		std::string backend = "yolo";  //!< yolo | file | hog | none
 		std::string model;	//!< yolo: .cfg (darknet) or .onnx
@@ -37,10 +38,8 @@ class CObjectDetector
 		double fileMaxDiff = 0.005;	 //!< file backend: largest frame/detection stamp difference, s
 		int threads = 0;  //!< OpenCV threads for inference (0 = OpenCV's default)
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	virtual ~CObjectDetector() = default;

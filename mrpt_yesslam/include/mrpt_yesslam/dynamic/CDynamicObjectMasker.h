@@ -31,6 +31,7 @@
 
 #include "mrpt_yesslam/types.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -58,7 +59,7 @@ class CDynamicObjectMasker
 {
    public:
 	/** Section [DynamicMask] of the config. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		/** edge_fill (the paper's method) | fill (plain depth flood fill) | box (whole box) */
 		std::string method = "edge_fill";
@@ -89,10 +90,8 @@ class CDynamicObjectMasker
 		/** Each frame a held box grows by this share of its size on every side. */
 		double holdGrow = 0.05;
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	CDynamicObjectMasker() : CDynamicObjectMasker(TOptions()) {}

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -29,7 +30,7 @@ class COrbExtractor
 {
    public:
 	/** Section [ORB]. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		int numFeatures = 1000;
 		int numLevels = 8;
@@ -42,10 +43,8 @@ class COrbExtractor
 		 * true = do not detect there at all, so the feature budget goes to the static scene. */
 		bool excludeMasked = false;
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	COrbExtractor() : COrbExtractor(TOptions()) {}

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -16,7 +17,7 @@ class CInputSource
 {
    public:
 	/** Settings shared by all sources; section [Input] of the config. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		/** TUM folders: camera name (fr1, fr2, fr3) or camera file; empty = calibration.txt in the
 		 * folder, else the freiburg name in the folder path. */
@@ -29,10 +30,8 @@ class CInputSource
 		 * in the processing thread. */
 		int prefetch = 4;
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		/** The keys loadFromConfigFile reads, with their types, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
-		void dumpToTextStream(std::ostream& out) const override;
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	virtual ~CInputSource() = default;

@@ -24,6 +24,7 @@
 
 #include "mrpt_yesslam/types.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -65,7 +66,7 @@ class CSemanticKeyFrameSelector
 {
    public:
 	/** Section [KeyFrames]. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		int gridCols = 2, gridRows = 2;	 //!< n = cols x rows regions (the paper's example: 4)
 		double gamma = 0.5;	 //!< eq. 10 weight of J
@@ -78,10 +79,8 @@ class CSemanticKeyFrameSelector
 		std::size_t minInliers = 20;  //!< a candidate needs N_in > this
 		bool etaAsWritten = false;	//!< eq. 8 literally (max 0.5) instead of the Dice form
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	/** A decision: the frame that became a keyframe (possibly an earlier frame of the interval). */

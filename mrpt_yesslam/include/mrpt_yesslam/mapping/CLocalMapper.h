@@ -12,6 +12,7 @@
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -37,7 +38,7 @@ class CLocalMapper
 {
    public:
 	/** Section [LocalMapping]. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		bool bundleAdjustment = true;
 		std::size_t covisibleKeyFrames = 10;  //!< optimised besides the new keyframe
@@ -58,10 +59,8 @@ class CLocalMapper
 		double redundantRatio = 0.9;  //!< a keyframe goes when more than this share of its close points ...
 		std::size_t redundantObservers = 3;	 //!< ... is seen by at least this many other keyframes at the same or finer scale
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor; sigma of an observation = scale ^ octave);

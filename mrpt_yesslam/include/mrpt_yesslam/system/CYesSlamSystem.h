@@ -30,6 +30,7 @@
 #include "mrpt_yesslam/system/CFrameBuilder.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -37,7 +38,7 @@ namespace mrpt_yesslam
 struct TYesSlamOptions
 {
 	/** Section [System]. */
-	struct TSystem : public mrpt::config::CLoadableOptions
+	struct TSystem : public TTableOptions<TSystem>
 	{
 		bool parallel = true;  //!< local mapping in its own thread (false: sequential, deterministic)
 		bool dynamicFilter = true;	//!< mask dynamic objects (false: every feature is used, as ORB-SLAM2)
@@ -46,10 +47,8 @@ struct TYesSlamOptions
 		bool asyncDetection = true;	 //!< detect on a worker thread while ORB features are extracted
 		std::size_t mappingQueue = 4;  //!< parallel: keyframes waiting for local mapping before tracking waits
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	CInputSource::TOptions input;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mrpt_yesslam/util/ConfigFile.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -62,7 +63,7 @@ class CPoseOptimizer
 {
    public:
 	/** Section [Tracking] (the pose part). */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		double chi2Threshold = 5.991;  //!< 2-DoF chi-square at 95% (ORB-SLAM2); 7.815 (3-DoF) with depth
 		/** Depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only, as eq. 7. */
@@ -73,10 +74,8 @@ class CPoseOptimizer
 		double ransacPixels = 4.0;	//!< PnP RANSAC inlier threshold
 		std::size_t minInliers = 10;  //!< fewer: the estimate is not trusted (ok = false)
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads, for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	CPoseOptimizer() : CPoseOptimizer(TOptions()) {}

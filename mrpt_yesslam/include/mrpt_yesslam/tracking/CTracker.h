@@ -20,6 +20,7 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/feature/COrbMatcher.h"
 #include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
@@ -28,7 +29,7 @@ class CTracker
 {
    public:
 	/** Section [Tracking]: the pose optimiser's keys plus these. */
-	struct TOptions : public mrpt::config::CLoadableOptions
+	struct TOptions : public TTableOptions<TOptions>
 	{
 		CPoseOptimizer::TOptions pose;
 		double maxDepth = 4.0;	//!< keypoints farther than this are not used (Kinect noise grows with z^2), m
@@ -36,14 +37,13 @@ class CTracker
 		double localRadius = 4;	 //!< pixel search radius for the local map
 		int maxHamming = 100;  //!< ORB-SLAM2's TH_HIGH
 		double ratio = 0.9;	 //!< nearest/second-nearest ratio for projection search (ORB-SLAM2: 0.9)
-		std::size_t localKeyFrames = 10;  //!< covisible keyframes forming the local map
+		std::size_t localKeyFrames = 40;  //!< most keyframes in the local map (ORB-SLAM2: 80)
+		std::size_t localNeighbours = 10;  //!< best covisible keyframes added around each keyframe that sees the frame's matches
 		std::size_t minTrackedInliers = 20;	 //!< fewer inliers after the local map: tracking failed
 		std::size_t relocKeyFrames = 60;  //!< newest keyframes tried by relocalisation (0 = all)
 
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void dumpToTextStream(std::ostream& out) const override;
-		/** The keys loadFromConfigFile reads (with the pose optimiser's), for validateConfigSection. */
-		static std::vector<TConfigKey> configKeys();
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
 	};
 
 	/** How one frame went. */
@@ -61,9 +61,11 @@ class CTracker
 	/** Tracks `f` (features filled in): sets pose, tracked, mapPoints and numInliers. Never throws
 	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
 	TResult track(TFrame& f);
-	/** Makes keyframe `kf` the reference (the newest keyframe, or the one relocalisation found). */
+	/** Makes keyframe `kf` the reference (a new keyframe); tracking then moves it to the keyframe
+	 * sharing most points with each frame. */
 	void setReferenceKeyFrame(TKeyFrameId kf) { refKf_ = kf; }
-	/** The reference keyframe: the one set last, or its nearest good ancestor once it was erased. */
+	/** The reference keyframe: the one sharing most points with the last tracked frame (or the newest
+	 * keyframe), or its nearest good ancestor once it was erased. */
 	std::optional<TKeyFrameId> referenceKeyFrame() const;
 	/** The frame tracking saw last, for the next prediction; its pose is kept relative to the
 	 * reference keyframe at this moment. */
@@ -79,7 +81,10 @@ class CTracker
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
 	/** Local-map search and refinement from `guess`; on success fills the frame. */
-	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, TResult& r);
+	/** Matches the local map around the keyframes that see `seeds` (the points the frame already
+	 * matched; none: around the reference keyframe) and refines from `guess`; on success the
+	 * keyframe sharing most points becomes the reference. */
+	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r);
 
 	TOptions opts_;
 	CSparseMap& map_;

@@ -45,4 +45,8 @@ std::vector<std::string> validateConfigSection(
 void loadOptionsFromFile(
 	const std::string& path, const std::string& section, mrpt::config::CLoadableOptions& opts,
 	const std::vector<TConfigKey>& keys);
+/** The same for a file parsed already (`path` names it in messages): one parse for many sections. */
+void loadOptions(
+	const mrpt::config::CConfigFileBase& cfg, const std::string& path, const std::string& section,
+	mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys);
 }  // namespace mrpt_yesslam
