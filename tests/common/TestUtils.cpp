@@ -7,12 +7,25 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
 namespace fs = std::filesystem;
+
+#ifdef YESSLAM_TSAN
+// ThreadSanitizer builds only: OpenCV's parallel_for_ runs on Debian's libtbb, which is not built
+// with TSan, so TSan cannot see how TBB hands work between its threads and reports the chunks of
+// one parallel_for_ (the simulator's ray caster) as racing. With one OpenCV thread parallel_for_
+// runs inline. Every thread of ours (worker pool, mapping stage, asynchronous detector, prefetching
+// reader, PNG writers) is still checked.
+namespace
+{
+[[maybe_unused]] const bool kOpenCvInline = (cv::setNumThreads(1), true);
+}
+#endif
 
 namespace yesslam_test
 {

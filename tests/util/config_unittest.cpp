@@ -105,6 +105,8 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("Detector", CObjectDetector::TOptions::configKeys(), det, CObjectDetector::TOptions());
 	CDynamicObjectMasker::TOptions mask;
 	check("DynamicMask", CDynamicObjectMasker::TOptions::configKeys(), mask, CDynamicObjectMasker::TOptions());
+	CGeometricDynamicCheck::TOptions geo;
+	check("GeometricCheck", CGeometricDynamicCheck::TOptions::configKeys(), geo, CGeometricDynamicCheck::TOptions());
 	COrbExtractor::TOptions orb;
 	check("ORB", COrbExtractor::TOptions::configKeys(), orb, COrbExtractor::TOptions());
 	CTracker::TOptions trk;
@@ -128,6 +130,7 @@ TEST(Config, ShippedSequenceConfigsHaveOnlyKnownKeys)
 		const std::vector<std::pair<std::string, std::vector<TConfigKey>>> sections = {
 			{"Input", CInputSource::TOptions::configKeys()},		 {"Detector", CObjectDetector::TOptions::configKeys()},
 			{"DynamicMask", CDynamicObjectMasker::TOptions::configKeys()}, {"ORB", COrbExtractor::TOptions::configKeys()},
+			{"GeometricCheck", CGeometricDynamicCheck::TOptions::configKeys()},
 			{"Tracking", CTracker::TOptions::configKeys()},		 {"KeyFrames", CKeyFrameInserter::TOptions::configKeys()},
 			{"LocalMapping", CLocalMapper::TOptions::configKeys()},	 {"System", TYesSlamOptions::TSystem::configKeys()}};
 		std::vector<std::string> all;
@@ -145,7 +148,7 @@ namespace
 /** Every options struct of a SLAM run, as its table, bound to `o`. */
 std::vector<COptionTable> allTables(TYesSlamOptions& o)
 {
-	return {o.input.table(),   o.detector.table(), o.masker.table(),  o.orb.table(),
+	return {o.input.table(),   o.detector.table(), o.masker.table(),  o.geometric.table(), o.orb.table(),
 			o.tracking.table(), o.keyFrames.table(), o.mapping.table(), o.system.table()};
 }
 }  // namespace

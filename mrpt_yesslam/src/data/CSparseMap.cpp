@@ -165,7 +165,8 @@ TKeyFrameId CSparseMap::addKeyFrame(const std::shared_ptr<const TFrame>& frame, 
 				continue;
 			}
 		}
-		if (!frame->usable(i, maxDepth)) continue;
+		// A keypoint the mask was unsure of never starts a map point (CGeometricDynamicCheck).
+		if (!frame->usable(i, maxDepth) || frame->features.isUncertain(i)) continue;
 		const cv::Point3d pc = frame->backProject(i);
 		CMapPoint p;
 		p.id = nextPoint_++;

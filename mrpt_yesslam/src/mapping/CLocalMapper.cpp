@@ -154,6 +154,17 @@ TBundleStats CLocalMapper::bundleAdjust(TKeyFrameId kf)
 			problem.AddResidualBlock(cost, loss, pp.data(), pp.data() + 3, X[i].data());
 		}
 	st.observations = all.size();
+	// A point that no keyframe of the window measured with depth is constrained only by its rays,
+	// and with a short baseline (a still camera: walking_static) not at all along them: Ceres then
+	// moves it anywhere (measured: points 100+ m away, which later made a pose solve collapse and
+	// relocalisation jump by metres). Such points keep their position; ORB-SLAM2's stereo/RGB-D
+	// edges always carry the right-image coordinate for the same reason.
+	std::vector<char> hasDepth(w.points.size(), 0);
+	for (const auto& o : all)
+		if (o.hasDepth) hasDepth[o.point] = 1;
+	for (std::size_t i = 0; i < X.size(); i++)
+		if (opts_.depthNoise > 0 && !hasDepth[i] && problem.HasParameterBlock(X[i].data()))
+			problem.SetParameterBlockConstant(X[i].data());
 	for (TKeyFrameId k : w.fixedKeyFrames)
 	{
 		auto& pp = poseParams.at(k);

@@ -15,8 +15,8 @@ double msSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 
 CFrameBuilder::CFrameBuilder(
 	std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker, const COrbExtractor::TOptions& orb,
-	bool dynamicFilter, bool asyncDetection)
-	: masker_(masker), extractor_(orb), dynamicFilter_(dynamicFilter)
+	bool dynamicFilter, bool asyncDetection, const CGeometricDynamicCheck::TOptions& check)
+	: masker_(masker), extractor_(orb), check_(check), dynamicFilter_(dynamicFilter)
 {
 	// Overlapping needs features extracted without the mask, which excludeMasked forbids.
 	if (detector && asyncDetection && !orb.excludeMasked)
@@ -77,6 +77,7 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		ms["orb"] = msSince(t0);
 	}
 	t0 = Clock::now();
+	if (dynamicFilter_) check_.classify(f->features, f->detections, bgr.size());  // at the raw keypoints, as the mask
 	// Colours (and, in the extractor, depth and mask) are looked up at the raw keypoint, in the
 	// image as it is; only then are keypoints undistorted: tracking works in undistorted pixels.
 	f->colors.reserve(f->size());

@@ -36,6 +36,7 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	loadOptions(*cfg, path, "Input", input, CInputSource::TOptions::configKeys());
 	loadOptions(*cfg, path, "Detector", detector, CObjectDetector::TOptions::configKeys());
 	loadOptions(*cfg, path, "DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
+	loadOptions(*cfg, path, "GeometricCheck", geometric, CGeometricDynamicCheck::TOptions::configKeys());
 	loadOptions(*cfg, path, "ORB", orb, COrbExtractor::TOptions::configKeys());
 	loadOptions(*cfg, path, "Tracking", tracking, CTracker::TOptions::configKeys());
 	loadOptions(*cfg, path, "KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
@@ -47,7 +48,7 @@ std::string TYesSlamOptions::dump() const
 {
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
-			 &input, &detector, &masker, &orb, &tracking, &keyFrames, &mapping, &system})
+			 &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &system})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";
@@ -71,8 +72,8 @@ double percentile(std::vector<double> v, double q)
 
 CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	: opts_(opts),
-	  builder_(createObjectDetector(opts.detector), opts.masker, opts.orb, opts.system.dynamicFilter, opts.system.asyncDetection),
-	  tracker_(opts.tracking, map_, opts.orb.scaleFactor),
+	  builder_(createObjectDetector(opts.detector), opts.masker, opts.orb, opts.system.dynamicFilter, opts.system.asyncDetection, opts.geometric),
+	  tracker_(opts.tracking, map_, opts.orb.scaleFactor, opts.geometric),
 	  inserter_(opts.keyFrames),
 	  mapper_(opts.mapping, map_, opts.orb.scaleFactor, opts.tracking.maxDepth)
 {

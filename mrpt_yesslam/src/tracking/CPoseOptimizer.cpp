@@ -106,8 +106,7 @@ TPoseEstimate CPoseOptimizer::refine(
 	double rv[3], t[3];
 	cameraPoseToParams(initial, rv, t);
 	// 3 degrees of freedom with depth: the 2-DoF threshold scaled as 7.815 / 5.991.
-	auto threshold = [&](const TPoseObservation& o)
-	{ return o.sigmaZ > 0 && o.depth > 0 ? opts_.chi2Threshold * (7.815 / 5.991) : opts_.chi2Threshold; };
+	auto threshold = [&](const TPoseObservation& o) { return chi2Limit(o); };
 	for (int round = 0; round < std::max(1, opts_.rounds); round++)
 	{
 		ceres::Problem problem;
@@ -150,6 +149,24 @@ TPoseEstimate CPoseOptimizer::refine(
 	out.rmsPixels = out.numInliers ? std::sqrt(se / static_cast<double>(out.numInliers)) : 0;
 	out.cameraInWorld = cameraPoseFromParams(rv, t);
 	out.ok = out.numInliers >= opts_.minInliers;
+	return out;
+}
+
+double CPoseOptimizer::chi2Limit(const TPoseObservation& o) const
+{
+	// 3 degrees of freedom with depth: the 2-DoF threshold scaled as 7.815 / 5.991.
+	return o.sigmaZ > 0 && o.depth > 0 ? opts_.chi2Threshold * (7.815 / 5.991) : opts_.chi2Threshold;
+}
+
+std::vector<bool> CPoseOptimizer::consistent(
+	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const
+{
+	double rv[3], t[3];
+	cameraPoseToParams(Twc, rv, t);
+	const auto c = chi2All(obs, K, rv, t);
+	std::vector<bool> out(obs.size());
+	for (std::size_t i = 0; i < obs.size(); i++)
+		out[i] = c[i] <= chi2Limit(obs[i]);
 	return out;
 }
 

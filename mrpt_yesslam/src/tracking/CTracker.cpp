@@ -47,8 +47,8 @@ std::vector<TPoseObservation> makePoseObservations(
 	return obs;
 }
 
-CTracker::CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor)
-	: opts_(opts), map_(map), optimizer_(opts.pose), matcher_(opts.maxHamming, opts.ratio), scaleFactor_(scaleFactor)
+CTracker::CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor, const CGeometricDynamicCheck::TOptions& check)
+	: opts_(opts), map_(map), optimizer_(opts.pose), check_(check), matcher_(opts.maxHamming, opts.ratio), scaleFactor_(scaleFactor)
 {
 }
 
@@ -79,7 +79,9 @@ mrpt::poses::CPose3D CTracker::lastFramePose() const
 TPoseEstimate CTracker::refineWith(
 	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const
 {
-	return optimizer_.refine(makePoseObservations(f, m, pts, scaleFactor_, opts_.pose.depthNoise), f.camera, guess);
+	std::vector<bool> uncertain(m.size());
+	for (std::size_t k = 0; k < m.size(); k++) uncertain[k] = f.features.isUncertain(m[k].keypoint);
+	return check_.refine(optimizer_, makePoseObservations(f, m, pts, scaleFactor_, opts_.pose.depthNoise), uncertain, f.camera, guess);
 }
 
 TLocalMapPoints CTracker::lastFramePoints(const mrpt::poses::CPose3D& lastPose) const
@@ -199,7 +201,7 @@ CTracker::TResult CTracker::track(TFrame& f)
 			const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
 			if (pnp.ok)
 			{
-				e = optimizer_.refine(obs, f.camera, pnp.cameraInWorld);
+				e = refineWith(f, used, pts, pnp.cameraInWorld);
 				r.recoveredByPnP = e.ok;
 			}
 		}
@@ -210,7 +212,8 @@ CTracker::TResult CTracker::track(TFrame& f)
 		for (std::size_t k = 0; k < used.size(); k++)
 			if (e.inlier[k] && pts.ids[used[k].point] >= 0) seeds.push_back(pts.ids[used[k].point]);
 	// 2. The local map, from the motion-model pose (or the prediction, when there is none).
-	if (trackLocalMap(f, guess ? *guess : predicted, seeds, r))
+	const bool okLocal = trackLocalMap(f, guess ? *guess : predicted, seeds, r);
+	if (okLocal)
 	{
 		f.tracked = true;
 		r.ok = true;

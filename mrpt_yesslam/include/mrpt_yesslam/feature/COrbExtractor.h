@@ -19,6 +19,11 @@ struct TFeatures
 	cv::Mat descriptors;  //!< CV_8U, 32 bytes per row
 	std::vector<float> depth;  //!< metres at each keypoint, 0 = no depth
 	std::vector<bool> dynamic;	//!< inside the dynamic mask (eq. 3): not used for pose
+	/** In a dynamic detection's box but outside its mask (CGeometricDynamicCheck): used for pose only
+	 * when consistent with the rest, never a new map point. Empty = none. */
+	std::vector<bool> uncertain;
+	/** Whether keypoint i is uncertain. */
+	bool isUncertain(std::size_t i) const { return i < uncertain.size() && uncertain[i]; }
 	/** Number of keypoints that are not dynamic (N_sp of the keyframe selection). */
 	std::size_t numStatic() const;
 	/** Whether keypoint i may be used for pose and map: static and with depth in (0, maxDepth]. */

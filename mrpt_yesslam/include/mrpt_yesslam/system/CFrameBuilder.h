@@ -10,6 +10,7 @@
 #include "mrpt_yesslam/data/TFrame.h"
 #include "mrpt_yesslam/detection/CAsyncDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
+#include "mrpt_yesslam/dynamic/CGeometricDynamicCheck.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
 
 namespace mrpt_yesslam
@@ -22,7 +23,7 @@ class CFrameBuilder
 	 * `asyncDetection`: detect on a worker thread while ORB runs (same frames as without). */
 	CFrameBuilder(
 		std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker, const COrbExtractor::TOptions& orb,
-		bool dynamicFilter, bool asyncDetection);
+		bool dynamicFilter, bool asyncDetection, const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions());
 
 	/** A frame with id `id`: features (undistorted keypoints, depth, dynamic flags), colours at the
 	 * raw keypoints, detections. `stageMs` (may be null) gets the time of detect, mask and orb. */
@@ -39,6 +40,7 @@ class CFrameBuilder
 	std::unique_ptr<CAsyncDetector> async_;	 //!< or asynchronous use (owns the detector)
 	CDynamicObjectMasker masker_;
 	COrbExtractor extractor_;
+	CGeometricDynamicCheck check_;
 	bool dynamicFilter_;
 };
 }  // namespace mrpt_yesslam

@@ -54,6 +54,7 @@ struct TYesSlamOptions
 	CInputSource::TOptions input;
 	CObjectDetector::TOptions detector;
 	CDynamicObjectMasker::TOptions masker;
+	CGeometricDynamicCheck::TOptions geometric;	//!< section [GeometricCheck]
 	COrbExtractor::TOptions orb;
 	CTracker::TOptions tracking;
 	CKeyFrameInserter::TOptions keyFrames;

@@ -83,6 +83,9 @@ class CPoseOptimizer
 
 	/** PnP + RANSAC from scratch (no prior pose), for initialisation and relocalisation. */
 	TPoseEstimate solvePnPRansac(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K) const;
+	/** Whether each observation agrees with pose `Twc`: its chi-square passes the same test that
+	 * refine() uses to tell inliers from outliers. */
+	std::vector<bool> consistent(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const;
 
 	/** Eq. 7: refines `initial` (T_w_c) with Huber reprojection error over rounds of outlier
 	 * re-classification. */
@@ -92,6 +95,8 @@ class CPoseOptimizer
 	const TOptions& options() const { return opts_; }
 
    private:
+	/** The chi-square an observation must not exceed to be an inlier. */
+	double chi2Limit(const TPoseObservation& o) const;
 	TOptions opts_;
 };
 }  // namespace mrpt_yesslam

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/dynamic/CGeometricDynamicCheck.h"
 #include "mrpt_yesslam/feature/COrbMatcher.h"
 #include "mrpt_yesslam/tracking/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/OptionTable.h"
@@ -56,7 +57,9 @@ class CTracker
 	};
 
 	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor): search windows and observation sigmas scale with it. */
-	CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2);
+	CTracker(
+		const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2,
+		const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions());
 
 	/** Tracks `f` (features filled in): sets pose, tracked, mapPoints and numInliers. Never throws
 	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
@@ -89,6 +92,7 @@ class CTracker
 	TOptions opts_;
 	CSparseMap& map_;
 	CPoseOptimizer optimizer_;
+	CGeometricDynamicCheck check_;
 	COrbMatcher matcher_;
 	double scaleFactor_;
 	std::shared_ptr<const TFrame> last_;
