@@ -98,3 +98,33 @@ TEST(Tracker, KeepsGoingWhenAPersonCoversTheWholeImage)
 	// The two blind frames got the constant-velocity pose: the whole run stays within a few cm.
 	EXPECT_LT(computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse, 0.03);
 }
+
+// Issue 14 (blinded camera): frames with no usable view are lost, and their poses continue the
+// last measured motion, damped, instead of stopping dead while the camera moves on (fr1_desk moves
+// about 0.4 m/s: two held frames are a centimetre or more off).
+TEST(Tracker, LostFramesContinueTheLastMotion)
+{
+	const std::string dir = sharedFile("data/tum_fr1_desk_9frames");
+	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
+	auto src = openInputSource(dir, realOptions().input);
+	std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> frames;
+	while (auto obs = src->next()) frames.push_back(obs);
+	ASSERT_EQ(frames.size(), 9u);
+	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
+	const auto worstError = [&](double damping)
+	{
+		TYesSlamOptions o = realOptions();
+		o.tracking.lostDamping = damping;
+		CYesSlamSystem sys(o);
+		for (std::size_t i = 0; i < frames.size(); i++)
+			if (i == 4 || i == 5)
+				EXPECT_FALSE(sys.processFrame(black, noDepth, observationTime(*frames[i]), frames[i]->cameraParamsIntensity).tracked);
+			else
+				EXPECT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
+		EXPECT_EQ(sys.stats().lostFrames, 2u);
+		return computeAte(gt, sys.trajectory(), TEvalOptions()).stats.max;
+	};
+	const double coasting = worstError(0.9), held = worstError(0.0);
+	EXPECT_GT(held, 0.008);
+	EXPECT_LT(coasting, 0.6 * held);
+}

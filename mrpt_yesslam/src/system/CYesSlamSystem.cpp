@@ -378,6 +378,7 @@ std::string CYesSlamSystem::statsJson() const
 	o << "  \"tracked_frames\": " << s.trackedFrames << ",\n";
 	std::snprintf(buf, sizeof(buf), "%.4f", s.frames ? static_cast<double>(s.trackedFrames) / static_cast<double>(s.frames) : 0.0);
 	o << "  \"tracking_rate\": " << buf << ",\n";
+	o << "  \"lost_frames\": " << s.lostFrames << ",\n";
 	o << "  \"relocalisations\": " << s.relocalisations << ",\n";
 	o << "  \"keyframes\": " << s.keyFrames << ",\n";
 	o << "  \"forced_keyframes\": " << s.forcedKeyFrames << ",\n";

@@ -1,6 +1,7 @@
 #include "mrpt_yesslam/tracking/CTracker.h"
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/poses/Lie/SE.h>
 
 #include <algorithm>
 #include <numeric>
@@ -20,6 +21,8 @@ COptionTable CTracker::TOptions::table()
 	t.count("localNeighbours", localNeighbours, 0, 1000, "best covisible keyframes added around each keyframe that sees the frame's matches");
 	t.count("minTrackedInliers", minTrackedInliers, 3, 100000, "fewer inliers against the local map: tracking failed for this frame");
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "newest keyframes tried by relocalisation (0 = all)");
+	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
+	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
 	return t;
 }
 
@@ -61,9 +64,25 @@ std::optional<TKeyFrameId> CTracker::referenceKeyFrame() const
 void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 {
 	if (last_ && last_->tracked && f->tracked)
+	{
 		velocity_ = f->pose - last_->pose;	// T_{k-1,k} = T_w_{k-1}^-1 T_w_k
+		lostRun_ = 0;
+	}
 	else if (!f->tracked)
-		velocity_.reset();	// a guessed pose must not feed the next guess
+	{
+		// Lost (a person fills the view, or matching failed): the camera does not stop, so the next
+		// guess continues the last velocity measured on tracked frames, damped each frame, for a
+		// while (ORB-SLAM2 keeps predicting with its motion model too); then the pose is held.
+		// Guessed poses never feed the velocity.
+		if (velocity_ && ++lostRun_ <= opts_.lostCoastFrames && opts_.lostDamping > 0)
+		{
+			auto v = mrpt::poses::Lie::SE<3>::log(*velocity_);
+			for (int k = 0; k < 6; k++) v[k] *= opts_.lostDamping;
+			velocity_ = mrpt::poses::Lie::SE<3>::exp(v);
+		}
+		else
+			velocity_.reset();
+	}
 	last_ = f;
 	lastRef_ = referenceKeyFrame();
 	if (lastRef_) lastRelative_ = f->pose - map_.keyFramePose(*lastRef_);

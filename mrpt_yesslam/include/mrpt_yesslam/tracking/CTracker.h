@@ -42,6 +42,8 @@ class CTracker
 		std::size_t localNeighbours = 10;  //!< best covisible keyframes added around each keyframe that sees the frame's matches
 		std::size_t minTrackedInliers = 20;	 //!< fewer inliers after the local map: tracking failed
 		std::size_t relocKeyFrames = 60;  //!< newest keyframes tried by relocalisation (0 = all)
+		std::size_t lostCoastFrames = 30;  //!< lost frames that still continue the last velocity
+		double lostDamping = 0.9;  //!< per lost frame, the velocity is scaled by this (0 = hold at once)
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -99,6 +101,7 @@ class CTracker
 	std::optional<TKeyFrameId> lastRef_;	//!< the last frame's reference keyframe ...
 	mrpt::poses::CPose3D lastRelative_;	//!< ... and its pose relative to it, T_ref_last
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
+	std::size_t lostRun_ = 0;  //!< consecutive lost frames so far
 	std::optional<TKeyFrameId> refKf_;
 };
 
