@@ -44,6 +44,8 @@ int main(int argc, char** argv)
 			cl.flag("motion-blur", "blur colour images along the camera motion", &o.motionBlur);
 			cl.flag("auto-exposure", "vary image brightness slowly, like auto exposure", &o.autoExposure);
 			cl.flag("moving-chair", "also push a chair across the room (a dynamic object that is not a person)", &o.movingChair);
+			cl.count("undetected-people", "K", "K of the moving people never appear in detections.txt (movers the detector never reports)", &o.undetectedPeople);
+			cl.number("miss-rate", "P", "also drop each detection of a moving object with probability P (0..1)", &o.missRate);
 			cl.flag("no-rawlog", "do not write sequence.rawlog", &noRawlog);
 			cl.flag("overlays", "also write labels/overlay/: colour images with labels tinted and object boxes drawn", &o.overlays);
 			cl.flag("list-presets", "print the presets and exit", &list);

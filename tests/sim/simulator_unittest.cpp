@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -330,4 +331,66 @@ TEST(Simulator, BadOptions)
 	expectInputError([&] { runSimulation(o); }, {"traj.txt", "line 1", "expected 8"});
 	writeText(d / "file", "");
 	expectInputError([&] { runSimulation(quick(d / "file/sub", "walking_xyz", 2)); }, {"cannot create output folder"});
+}
+
+// Issue 14: movers the detector never reports, and a high miss rate, for testing the geometric
+// dynamic check where the semantic mask cannot help.
+TEST(Simulator, UndetectedPeopleNeverReachTheDetections)
+{
+	const auto detectedIds = [](const std::string& dir)
+	{
+		std::map<int, std::size_t> n;
+		for (const auto& r : parseDetectionsText(slurp(fs::path(dir) / "detections.txt"), "detections.txt")) n[r.det.instanceId]++;
+		return n;
+	};
+	const auto movingPeople = [](const std::string& dir)
+	{
+		std::set<int> ids;
+		std::ifstream f(fs::path(dir) / "objects.txt");
+		std::string line;
+		while (std::getline(f, line))
+		{
+			if (line.empty() || line[0] == '#') continue;
+			std::istringstream ss(line);
+			std::string t;
+			int id, cls, moving;
+			double px, frac, x, y, w, h;
+			ss >> t >> id >> cls >> px >> frac >> x >> y >> w >> h >> moving;
+			if (cls == 0 && moving) ids.insert(id);
+		}
+		return ids;
+	};
+	TempDir d("sim_undetected");
+	auto o = quick(d / "all", "walking_xyz", 12);
+	o.detNoise = "none";
+	o.writeRawlog = false;
+	runSimulation(o);
+	const auto people = movingPeople(d / "all");
+	ASSERT_GE(people.size(), 2u);
+	const auto all = detectedIds(d / "all");
+	ASSERT_TRUE(all.count(*people.begin()));
+
+	o.outDir = d / "one";
+	o.undetectedPeople = 1;
+	runSimulation(o);
+	const auto one = detectedIds(d / "one");
+	EXPECT_EQ(one.count(*people.begin()), 0u) << "the undetected person was reported";
+	EXPECT_EQ(movingPeople(d / "one"), people);	 // still there, still moving
+	for (auto it = std::next(people.begin()); it != people.end(); ++it) EXPECT_EQ(one.count(*it), all.count(*it));
+
+	o.outDir = d / "missing";
+	o.undetectedPeople = 0;
+	o.missRate = 0.5;
+	runSimulation(o);
+	std::size_t before = 0, after = 0;
+	for (int id : people)
+	{
+		before += all.count(id) ? all.at(id) : 0;
+		after += detectedIds(d / "missing").count(id) ? detectedIds(d / "missing").at(id) : 0;
+	}
+	EXPECT_LT(after, before * 3 / 4);
+	EXPECT_GT(after, before / 4);
+
+	o.undetectedPeople = 99;
+	expectInputError([&] { runSimulation(o); }, {"--undetected-people 99", "moving people"});
 }

@@ -5,6 +5,7 @@
 #include <mrpt/opengl/COpenGLScene.h>
 
 #include <algorithm>
+#include <set>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -340,6 +341,13 @@ TSimSummary runSimulation(
 	std::vector<double> shares;
 	cv::Mat scratch(cam.intrinsics.nrows, cam.intrinsics.ncols, CV_8U);
 	const auto& objs = world.objects();
+	if (!(o.missRate >= 0 && o.missRate <= 1)) throw InputError("", "--miss-rate must be in [0, 1]");
+	std::set<int> undetected;  // the first undetectedPeople moving people never reach detections.txt
+	for (const auto& ob : objs)
+		if (undetected.size() < o.undetectedPeople && ob.classId == 0 && ob.moves) undetected.insert(ob.id);
+	if (undetected.size() < o.undetectedPeople)
+		throw InputError("", "--undetected-people " + std::to_string(o.undetectedPeople) + ": the scene has only " +
+								 std::to_string(undetected.size()) + " moving people");
 
 	CAsyncPngWriter pngs(2, 16);
 	clock.lap("setup");
@@ -435,6 +443,9 @@ TSimSummary runSimulation(
 			std::snprintf(line, sizeof(line), "%s %d %d %zu %.3f %d %d %d %d %d\n", stampText(stamps[k]).c_str(), ob.id, ob.classId,
 						  visible[id], frac, b.x, b.y, b.width, b.height, ob.moves ? 1 : 0);
 			objectsTxt += line;
+			if (undetected.count(ob.id)) continue;
+			// Drawn only when asked, so that sequences without it stay byte-identical.
+			if (o.missRate > 0 && ob.moves && uu(rng) < o.missRate) continue;
 			TDetectionRecord r;
 			r.t = stamps[k];
 			r.det.classId = ob.classId;
@@ -572,6 +583,7 @@ TSimSummary runSimulation(
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
 		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
 	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
+	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
 	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";
 	meta += "  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, \"depth_scale\": 5000},\n";
 	meta += "  \"labels\": {\"class_png\": \"COCO class id + 1 (0 = room structure or nothing)\", \"instance_png\": \"instance id (objects.txt), 0 = nothing\"},\n";

@@ -38,6 +38,10 @@ struct TSimOptions
 	bool motionBlur = false;
 	bool autoExposure = false;
 	bool movingChair = false;  //!< a chair pushed across the room (not a person)
+	/** This many of the moving people (lowest instance ids first) never appear in detections.txt:
+	 * movers the detector never reports, which only a geometric check can reject (issue 14). */
+	std::size_t undetectedPeople = 0;
+	double missRate = 0;  //!< each detection of a moving object is also dropped with this probability
 	bool writeRawlog = true;
 	bool overlays = false;	//!< also write labels/overlay/ (colour with labels and boxes drawn)
 	std::string commandLine;  //!< recorded in meta.json
