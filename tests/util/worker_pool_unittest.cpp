@@ -90,8 +90,9 @@ TEST(WorkerPool, PngWriterWritesTheSameBytesAndReportsErrors)
 
 	// A file that cannot be written: finish() names it; the other files are still written.
 	CAsyncPngWriter w(2, 4);
-	w.write(d / "no/such/folder/x.png", img);
+	// The good file first: a write after the bad one may already raise its error (below).
 	w.write(d / "ok.png", img);
+	w.write(d / "no/such/folder/x.png", img);
 	try
 	{
 		w.finish();
