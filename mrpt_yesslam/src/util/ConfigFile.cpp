@@ -10,22 +10,19 @@
 
 namespace mrpt_yesslam
 {
-namespace
-{
-std::string lower(std::string s)
+std::string lowerAscii(std::string s)
 {
 	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
 	return s;
 }
 
-std::string trim(const std::string& s)
+std::string trimConfigValue(const std::string& s)
 {
 	const auto b = s.find_first_not_of(" \t\r\n\"'");
 	if (b == std::string::npos) return {};
 	const auto e = s.find_last_not_of(" \t\r\n\"'");
 	return s.substr(b, e - b + 1);
 }
-}  // namespace
 
 // Our YAML configs are two levels: "Section:" then indented "key: value" lines. We convert them to
 // INI text ourselves because MRPT 2.5.8's CConfigFileMemory::setContentFromYAML throws on every
@@ -61,8 +58,8 @@ std::string yamlToIni(const std::string& text, const std::string& name)
 		const auto colon = l.find(':', first);
 		if (l[first] == '-') throw InputError(name, where + "YAML lists are not used in our configs");
 		if (colon == std::string::npos) throw InputError(name, where + "expected 'key: value' or 'Section:'");
-		const std::string key = trim(l.substr(first, colon - first));
-		const std::string value = trim(l.substr(colon + 1));
+		const std::string key = trimConfigValue(l.substr(first, colon - first));
+		const std::string value = trimConfigValue(l.substr(colon + 1));
 		if (key.empty()) throw InputError(name, where + "empty key");
 		if (first == 0)
 		{
@@ -103,7 +100,7 @@ std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path)
 {
 	const std::string text = readTextFile(path);
-	const std::string l = lower(path);
+	const std::string l = lowerAscii(path);
 	const bool yaml = (l.size() > 5 && l.substr(l.size() - 5) == ".yaml") || (l.size() > 4 && l.substr(l.size() - 4) == ".yml");
 	return parseConfigText(text, yaml, path);
 }
@@ -120,13 +117,13 @@ std::vector<std::string> validateConfigSection(
 	for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k.name;
 	for (const auto& key : present)
 	{
-		const auto it = std::find_if(keys.begin(), keys.end(), [&](const TConfigKey& k) { return lower(k.name) == lower(key); });
+		const auto it = std::find_if(keys.begin(), keys.end(), [&](const TConfigKey& k) { return lowerAscii(k.name) == lowerAscii(key); });
 		if (it == keys.end())
 		{
 			warnings.push_back(file + ": [" + section + "] unknown key '" + key + "' ignored (known: " + known + ")");
 			continue;
 		}
-		const std::string v = trim(cfg.read_string(section, key, ""));
+		const std::string v = trimConfigValue(cfg.read_string(section, key, ""));
 		const std::string where = "[" + section + "] " + key + " = '" + v + "': ";
 		double d = 0;
 		switch (it->type)
@@ -140,7 +137,7 @@ std::vector<std::string> validateConfigSection(
 				break;
 			case TConfigKey::Type::Boolean:
 			{
-				const std::string b = lower(v);
+				const std::string b = lowerAscii(v);
 				if (b != "true" && b != "false" && b != "1" && b != "0" && b != "yes" && b != "no")
 					throw InputError(file, where + "expected true or false");
 				break;

@@ -16,19 +16,6 @@ namespace mrpt_yesslam
 {
 namespace
 {
-std::string lowerCase(std::string s)
-{
-	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	return s;
-}
-
-std::string trimmed(const std::string& s)
-{
-	const auto b = s.find_first_not_of(" \t\r\n");
-	if (b == std::string::npos) return "";
-	return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
 template <class T>
 std::string str(const T& v)
 {
@@ -100,7 +87,7 @@ COptionTable& COptionTable::flag(const std::string& key, bool& v, const std::str
 		{key, TConfigKey::Type::Boolean, help,
 		 [&v](const std::string& s)
 		 {
-			 const std::string b = lowerCase(s);
+			 const std::string b = lowerAscii(s);
 			 if (b == "true" || b == "1" || b == "yes")
 				 v = true;
 			 else if (b == "false" || b == "0" || b == "no")
@@ -148,9 +135,9 @@ void COptionTable::load(const mrpt::config::CConfigFileBase& c, const std::strin
 	for (const TEntry& e : entries_)
 	{
 		// Keys match case-insensitively, as validateConfigSection and MRPT's INI reader.
-		const auto it = std::find_if(present.begin(), present.end(), [&](const std::string& k) { return lowerCase(k) == lowerCase(e.key); });
+		const auto it = std::find_if(present.begin(), present.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(e.key); });
 		if (it == present.end()) continue;
-		const std::string v = trimmed(c.read_string(section, *it, ""));
+		const std::string v = trimConfigValue(c.read_string(section, *it, ""));
 		try
 		{
 			e.set(v);

@@ -26,6 +26,11 @@ struct TConfigKey
 	Type type = Type::Text;
 };
 
+/** `s` in lower case (ASCII): config keys match case-insensitively. */
+std::string lowerAscii(std::string s);
+/** A config value without surrounding whitespace and quotes. */
+std::string trimConfigValue(const std::string& s);
+
 /** Parses config text: YAML when `yaml` is true, INI otherwise. Throws InputError(name, ...) for
  * text MRPT cannot parse. */
 std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
