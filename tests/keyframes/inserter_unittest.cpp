@@ -112,7 +112,10 @@ TEST(KeyFrameInserter, ForcedKeyFrameRestartsTheSemanticInterval)
 		f.detections.push_back(d);
 		if (const auto dec = ins.addFrame(f, ref, 0.05))
 		{
-			if (dec->forced) EXPECT_EQ(dec->frameId, 4u);
+			if (dec->forced)
+			{
+				EXPECT_EQ(dec->frameId, 4u);
+			}
 			chosen.push_back(dec->frameId);
 			ins.keyFrameInserted(dec->frameId);
 		}

@@ -273,15 +273,6 @@ std::vector<TKeyFrameId> CSparseMap::covisible(TKeyFrameId id, std::size_t max, 
 	return covisibleLocked(id, max, minWeight);
 }
 
-TLocalMapPoints CSparseMap::localPoints(TKeyFrameId id, std::size_t numCovisible) const
-{
-	ReadLock lk(mtx_);
-	if (!keyFrames_.count(id)) return {};
-	auto kfs = covisibleLocked(id, numCovisible, 1);
-	kfs.insert(kfs.begin(), id);
-	return pointsOfKeyFramesLocked(kfs);
-}
-
 TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids) const
 {
 	ReadLock lk(mtx_);

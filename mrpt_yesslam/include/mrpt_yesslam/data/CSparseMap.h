@@ -99,8 +99,6 @@ class CSparseMap
 	/** Covisible keyframes of `id` from the stored graph, heaviest first: at most `max`, each
 	 * sharing at least `minWeight` points. */
 	std::vector<TKeyFrameId> covisible(TKeyFrameId id, std::size_t max, int minWeight = 1) const;
-	/** Points seen by keyframe `id` and its `numCovisible` best covisible keyframes. */
-	TLocalMapPoints localPoints(TKeyFrameId id, std::size_t numCovisible) const;
 	/** ORB-SLAM2's local keyframes (Tracking::UpdateLocalKeyFrames): the good keyframes observing
 	 * `seeds` (the frame's matched points), most shared first, then for each of those its
 	 * `neighbours` best covisible keyframes, its children and its parent, at most `maxKeyFrames` in
