@@ -120,3 +120,125 @@ TEST(GeometricCheck, AViewFilledByAPersonGivesNoPose)
 	EXPECT_TRUE(CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), truth, &st).ok);
 	EXPECT_FALSE(st.blinded);
 }
+
+namespace
+{
+// Certain observations of points in the image window [u0, u1] x [v0, v1] at depths [z0, z1] seen
+// from `Twc`, matched to map points displaced by `shift` (zero: static).
+void observeWindow(
+	std::vector<TPoseObservation>& obs, const mrpt::poses::CPose3D& Twc, int n, double u0, double u1, double v0, double v1,
+	double z0, double z1, const Eigen::Vector3d& shift, std::mt19937& rng)
+{
+	const auto K = fr3Camera();
+	std::uniform_real_distribution<double> uu(u0, u1), vv(v0, v1), zz(z0, z1);
+	std::normal_distribution<double> px(0, 0.5), dz(0, 1);
+	for (int i = 0; i < n; i++)
+	{
+		const double u = uu(rng), v = vv(rng), z = zz(rng);
+		const double x = (u - K.cx()) / K.fx() * z, y = (v - K.cy()) / K.fy() * z;
+		double wx, wy, wz;
+		Twc.composePoint(x, y, z, wx, wy, wz);
+		TPoseObservation o;
+		o.world = Eigen::Vector3d(wx, wy, wz) + shift;
+		o.pixel = {u + px(rng), v + px(rng)};
+		o.sigmaZ = 0.0025 * z * z;
+		o.depth = z + 0.3 * o.sigmaZ * dz(rng);
+		obs.push_back(o);
+	}
+}
+}  // namespace
+
+TEST(GeometricCheck, AnUndetectedMoverCloseToTheCameraIsLeftOut)
+{
+	// A person no detector reported, 1.2-1.5 m from the camera in front of a room 2.5-4 m away,
+	// moved 2 cm since its map points were made. Its depth and parallax outweigh the room's, so the
+	// plain solve bends towards it while most of its matches pass the chi-square test; the mover
+	// check must find the group and leave it out.
+	std::mt19937 rng(7);
+	const mrpt::poses::CPose3D truth(0.2, 0.1, -0.05, 0.05, -0.02, 0.01);
+	std::vector<TPoseObservation> obs;
+	observeWindow(obs, truth, 140, 0, 640, 0, 480, 2.5, 4.0, Eigen::Vector3d::Zero(), rng);
+	const std::size_t firstMover = obs.size();
+	observeWindow(obs, truth, 70, 380, 560, 80, 420, 1.2, 1.5, Eigen::Vector3d(0.012, 0.0, 0.016), rng);
+	const std::vector<bool> certain(obs.size(), false);
+	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
+	const auto K = fr3Camera();
+
+	CGeometricDynamicCheck::TOptions noMovers;
+	noMovers.movers = false;
+	const TPoseEstimate dragged = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, certain, K, truth);
+	ASSERT_TRUE(dragged.ok);
+	std::size_t moverInliers = 0;
+	for (std::size_t i = firstMover; i < obs.size(); i++) moverInliers += dragged.inlier[i];
+	EXPECT_GT(moverInliers, (obs.size() - firstMover) / 2) << "the mover's matches should pass one by one";
+	EXPECT_GT(translationError(dragged.cameraInWorld, truth), 0.006) << "the mover should drag the plain solve";
+
+	CGeometricDynamicCheck::TStats st;
+	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, certain, K, truth, &st);
+	ASSERT_TRUE(e.ok);
+	// As good as a solve that knew which matches are static.
+	const std::vector<TPoseObservation> staticOnly(obs.begin(), obs.begin() + static_cast<std::ptrdiff_t>(firstMover));
+	const TPoseEstimate oracle = optimizer.refine(staticOnly, K, truth);
+	EXPECT_LT(translationError(e.cameraInWorld, truth), translationError(oracle.cameraInWorld, truth) + 0.001);
+	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.5 * translationError(dragged.cameraInWorld, truth));
+	EXPECT_GE(st.movingGroups, 1u);
+	std::size_t moverFlagged = 0, staticFlagged = 0, moverIn = 0;
+	for (std::size_t i = 0; i < obs.size(); i++)
+	{
+		(i >= firstMover ? moverFlagged : staticFlagged) += e.isMoving(i);
+		if (i >= firstMover) moverIn += e.inlier[i];
+	}
+	EXPECT_GE(moverFlagged, (obs.size() - firstMover) * 8 / 10);
+	EXPECT_LE(staticFlagged, 5u);
+	EXPECT_EQ(moverIn, 0u);
+}
+
+TEST(GeometricCheck, StaticSurfacesAtManyDepthsAreNotMovers)
+{
+	// A static scene with near and far surfaces: no group may be taken for a mover.
+	std::mt19937 rng(8);
+	const mrpt::poses::CPose3D truth(-0.1, 0.05, 0.02, -0.03, 0.02, 0.0);
+	std::vector<TPoseObservation> obs;
+	observeWindow(obs, truth, 120, 0, 640, 0, 480, 2.5, 4.0, Eigen::Vector3d::Zero(), rng);
+	observeWindow(obs, truth, 60, 380, 560, 80, 420, 1.2, 1.5, Eigen::Vector3d::Zero(), rng);
+	observeWindow(obs, truth, 40, 20, 200, 300, 470, 0.8, 1.0, Eigen::Vector3d::Zero(), rng);
+	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
+	CGeometricDynamicCheck::TStats st;
+	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions())
+								.refine(optimizer, obs, std::vector<bool>(obs.size(), false), fr3Camera(), truth, &st);
+	ASSERT_TRUE(e.ok);
+	EXPECT_EQ(st.movingGroups, 0u);
+	EXPECT_GE(e.numInliers, obs.size() * 9 / 10);
+	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.002);
+}
+
+TEST(GeometricCheck, MoverRegionsMakeTheNextFramesKeypointsUncertain)
+{
+	// Moving keypoints at two depths give two regions; a later frame's keypoints inside a region
+	// and at its depth become uncertain, the wall behind the same box does not.
+	TFeatures f;
+	for (const auto& [p, z] : std::vector<std::pair<cv::Point2f, float>>{
+			 {{100, 100}, 1.2f}, {{140, 200}, 1.3f}, {{400, 300}, 2.9f}, {{420, 320}, 3.0f}, {{300, 50}, 3.5f}})
+	{
+		f.keypoints.emplace_back(p, 7.f);
+		f.depth.push_back(z);
+	}
+	f.dynamic.assign(f.keypoints.size(), false);
+	CGeometricDynamicCheck check{CGeometricDynamicCheck::TOptions()};
+	const auto regions = check.moverRegions(f, {0, 1, 2, 3});
+	ASSERT_EQ(regions.size(), 2u);
+	EXPECT_FLOAT_EQ(regions[0].zMin, 1.2f);
+	EXPECT_FLOAT_EQ(regions[0].zMax, 1.3f);
+	EXPECT_EQ(regions[0].box, cv::Rect2f(100, 100, 40, 100));
+
+	TFeatures next;
+	for (const auto& [p, z] : std::vector<std::pair<cv::Point2f, float>>{
+			 {{120, 150}, 1.25f}, {{120, 150}, 3.2f}, {{410, 310}, 2.95f}, {{600, 450}, 1.25f}})
+	{
+		next.keypoints.emplace_back(p, 7.f);
+		next.depth.push_back(z);
+	}
+	next.dynamic.assign(next.keypoints.size(), false);
+	check.markMovers(next, regions);
+	EXPECT_EQ(next.uncertain, (std::vector<bool>{true, false, true, false}));
+}

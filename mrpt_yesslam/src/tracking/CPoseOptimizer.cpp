@@ -98,10 +98,14 @@ std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt
 }  // namespace
 
 TPoseEstimate CPoseOptimizer::refine(
-	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial) const
+	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial,
+	const std::vector<bool>* start) const
 {
 	TPoseEstimate out;
-	out.inlier.assign(obs.size(), true);
+	if (start && start->size() == obs.size())
+		out.inlier = *start;
+	else
+		out.inlier.assign(obs.size(), true);
 	if (obs.size() < 4) return out;
 	double rv[3], t[3];
 	cameraPoseToParams(initial, rv, t);
@@ -158,12 +162,18 @@ double CPoseOptimizer::chi2Limit(const TPoseObservation& o) const
 	return o.sigmaZ > 0 && o.depth > 0 ? opts_.chi2Threshold * (7.815 / 5.991) : opts_.chi2Threshold;
 }
 
-std::vector<bool> CPoseOptimizer::consistent(
+std::vector<double> CPoseOptimizer::chi2(
 	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const
 {
 	double rv[3], t[3];
 	cameraPoseToParams(Twc, rv, t);
-	const auto c = chi2All(obs, K, rv, t);
+	return chi2All(obs, K, rv, t);
+}
+
+std::vector<bool> CPoseOptimizer::consistent(
+	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const
+{
+	const auto c = chi2(obs, K, Twc);
 	std::vector<bool> out(obs.size());
 	for (std::size_t i = 0; i < obs.size(); i++)
 		out[i] = c[i] <= chi2Limit(obs[i]);

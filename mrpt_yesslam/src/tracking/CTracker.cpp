@@ -155,10 +155,34 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 			found.push_back(local.ids[m[k].point]);
 		}
 	map_.countTracking(visible, found);
+	// Matches of a group the check found moving: their map points are culled (a person who stood
+	// still and walks away leaves none behind), the mover's keypoints never become map points, and
+	// where it is stays uncertain for the next frames.
+	std::vector<std::size_t> moving;
+	for (std::size_t k = 0; k < m.size(); k++)
+		if (e.isMoving(k))
+		{
+			moving.push_back(m[k].keypoint);
+			map_.erasePoint(local.ids[m[k].point]);
+		}
+	updateMovers(f, moving);
 	refKf_ = kfs.front();  // the keyframe sharing most points with the frame (ORB-SLAM2)
 	f.numInliers = e.numInliers;
 	r.inliers = e.numInliers;
 	return true;
+}
+
+void CTracker::updateMovers(TFrame& f, const std::vector<std::size_t>& moving)
+{
+	// Kept a few frames after the check last saw the mover move (the masker's holdFrames idea):
+	// its keypoints are uncertain meanwhile, so they are not in the groups the check tests.
+	constexpr int kHoldFrames = 5;
+	std::vector<CGeometricDynamicCheck::TMoverRegion> next;
+	for (auto r : movers_)
+		if (++r.age <= kHoldFrames) next.push_back(r);
+	for (const auto& r : check_.moverRegions(f.features, moving)) next.push_back(r);
+	movers_ = std::move(next);
+	check_.markMovers(f.features, movers_);
 }
 
 bool CTracker::relocalise(TFrame& f, TResult& r)
@@ -198,6 +222,7 @@ CTracker::TResult CTracker::track(TFrame& f)
 	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
 	f.pose = predicted;
 	if (!refKf_) return r;
+	check_.markMovers(f.features, movers_);
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).
 	std::optional<mrpt::poses::CPose3D> guess;

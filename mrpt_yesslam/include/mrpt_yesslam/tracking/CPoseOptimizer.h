@@ -32,6 +32,10 @@ struct TPoseEstimate
 	std::vector<bool> inlier;  //!< per observation
 	std::size_t numInliers = 0;
 	double rmsPixels = 0;  //!< reprojection RMS over inliers
+	/** Per observation: in a group that CGeometricDynamicCheck found moving (empty = none). */
+	std::vector<bool> moving;
+	/** Whether observation i was found moving. */
+	bool isMoving(std::size_t i) const { return i < moving.size() && moving[i]; }
 };
 
 /** Residual of one observation for a world-to-camera pose (angle-axis, translation): pixel
@@ -87,16 +91,21 @@ class CPoseOptimizer
 	 * refine() uses to tell inliers from outliers. */
 	std::vector<bool> consistent(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const;
 
+	/** Squared whitened residual (pixel and depth) of each observation at pose `Twc`. */
+	std::vector<double> chi2(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const;
+	/** The chi-square an observation must not exceed to be an inlier. */
+	double chi2Limit(const TPoseObservation& o) const;
+
 	/** Eq. 7: refines `initial` (T_w_c) with Huber reprojection error over rounds of outlier
-	 * re-classification. */
+	 * re-classification. `start`, when given, says which observations the first round uses (the
+	 * others may join from the second round on, if they agree with the pose). */
 	TPoseEstimate refine(
-		const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial) const;
+		const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial,
+		const std::vector<bool>* start = nullptr) const;
 
 	const TOptions& options() const { return opts_; }
 
    private:
-	/** The chi-square an observation must not exceed to be an inlier. */
-	double chi2Limit(const TPoseObservation& o) const;
 	TOptions opts_;
 };
 }  // namespace mrpt_yesslam

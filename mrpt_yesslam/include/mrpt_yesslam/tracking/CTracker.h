@@ -85,6 +85,8 @@ class CTracker
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
+	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
+	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
 	/** Local-map search and refinement from `guess`; on success fills the frame. */
 	/** Matches the local map around the keyframes that see `seeds` (the points the frame already
 	 * matched; none: around the reference keyframe) and refines from `guess`; on success the
@@ -103,6 +105,8 @@ class CTracker
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
 	std::size_t lostRun_ = 0;  //!< consecutive lost frames so far
 	std::optional<TKeyFrameId> refKf_;
+	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
+	std::vector<CGeometricDynamicCheck::TMoverRegion> movers_;
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with
