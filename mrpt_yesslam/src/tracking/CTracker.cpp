@@ -12,7 +12,7 @@ COptionTable CTracker::TOptions::table()
 {
 	COptionTable t("Tracking");
 	t.append(pose.table());
-	t.real("maxDepth", maxDepth, 0.1, 100, "keypoints deeper than this are not used (Kinect noise grows with z^2), m");
+	t.real("maxDepth", maxDepth, 0.1, 100, "keypoints deeper than this are not used (nearer ones are weighted by the depth noise model), m");
 	t.real("motionRadius", motionRadius, 1, 1000, "pixel search radius around motion-model projections (ORB-SLAM2: 15)");
 	t.real("localRadius", localRadius, 0.5, 1000, "pixel search radius for the local map");
 	t.integer("maxHamming", maxHamming, 0, 256, "largest descriptor distance of a match (ORB-SLAM2's TH_HIGH)");
