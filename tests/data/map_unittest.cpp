@@ -367,3 +367,26 @@ TEST(SparseMap, LocalKeyFramesFollowTheFramesMatchesNotTheNewestKeyFrame)
 	EXPECT_EQ(pts.ids.size(), 120u);
 	EXPECT_EQ(pts.descriptors.rows, 120);
 }
+
+TEST(SparseMap, PointsSeenThroughInConsecutiveFramesAreErased)
+{
+	std::mt19937 rng(9);
+	CSparseMap map;
+	addView(map, 0, {}, wall(10), std::vector<TPointId>(10, -1), rng);
+	const std::vector<TPointId> all = range(0, 10);
+	// Point 0 is seen through three frames in a row: erased at the third. Point 1 twice, then found
+	// (the count starts again), then twice more: kept. Point 2 never: kept.
+	EXPECT_EQ(map.countTracking(all, {}, {0, 1}, 3), 0u);
+	EXPECT_EQ(map.countTracking(all, {}, {0, 1}, 3), 0u);
+	EXPECT_EQ(map.countTracking(all, {1}, {0}, 3), 1u);
+	EXPECT_TRUE(map.point(0).bad);
+	EXPECT_TRUE(map.point(0).observations.empty());
+	EXPECT_EQ(map.countTracking(all, {}, {0, 1}, 3), 0u);	// a bad point is not erased twice
+	EXPECT_EQ(map.countTracking(all, {}, {1}, 3), 0u);
+	EXPECT_FALSE(map.point(1).bad);
+	EXPECT_FALSE(map.point(2).bad);
+	EXPECT_EQ(map.numPoints(), 9u);
+	// 0 frames: the test is off.
+	for (int k = 0; k < 5; k++) EXPECT_EQ(map.countTracking(all, {}, {2}, 0), 0u);
+	EXPECT_FALSE(map.point(2).bad);
+}

@@ -375,13 +375,34 @@ TLocalMapPoints CSparseMap::pointsById(const std::vector<TPointId>& ids) const
 	return out;
 }
 
-void CSparseMap::countTracking(const std::vector<TPointId>& visible, const std::vector<TPointId>& found)
+std::size_t CSparseMap::countTracking(
+	const std::vector<TPointId>& visible, const std::vector<TPointId>& found, const std::vector<TPointId>& seenThrough,
+	int seeThroughFrames)
 {
 	WriteLock lk(mtx_);
 	for (TPointId id : visible)
 		if (auto it = points_.find(id); it != points_.end()) it->second.visible++;
 	for (TPointId id : found)
-		if (auto it = points_.find(id); it != points_.end()) it->second.found++;
+		if (auto it = points_.find(id); it != points_.end())
+		{
+			it->second.found++;
+			it->second.seenThrough = 0;
+		}
+	std::size_t erased = 0;
+	for (TPointId id : seenThrough)
+	{
+		auto it = points_.find(id);
+		if (it == points_.end() || it->second.bad) continue;
+		CMapPoint& p = it->second;
+		if (seeThroughFrames <= 0 || ++p.seenThrough < seeThroughFrames) continue;
+		p.bad = true;
+		numGoodPoints_--;
+		const auto obs = p.observations;
+		for (const auto& [k, kp] : obs) eraseObservation(p, k);
+		erased++;
+	}
+	if (erased) reorderDirty();
+	return erased;
 }
 
 std::size_t CSparseMap::cullRecentPoints(TKeyFrameId currentKf, double minFoundRatio, std::size_t minObservations)
@@ -420,16 +441,17 @@ std::size_t CSparseMap::numRecentPoints() const
 	return recent_.size();
 }
 
-void CSparseMap::erasePoint(TPointId id)
+bool CSparseMap::erasePoint(TPointId id)
 {
 	WriteLock lk(mtx_);
 	auto it = points_.find(id);
-	if (it == points_.end() || it->second.bad) return;
+	if (it == points_.end() || it->second.bad) return false;
 	it->second.bad = true;
 	numGoodPoints_--;
 	const auto obs = it->second.observations;
 	for (const auto& [k, kp] : obs) eraseObservation(it->second, k);
 	reorderDirty();
+	return true;
 }
 
 bool CSparseMap::replacePoint(TPointId oldId, TPointId newId)

@@ -231,6 +231,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	{
 		const auto r = tracker_.track(*f);
 		rep.relocalised = r.relocalised;
+		rep.movingPointsErased = r.movingPointsErased;
 	}
 	ms["track"] = msSince(t0);
 	// The trajectory stores the pose relative to the reference keyframe as tracking saw it, before
@@ -300,6 +301,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	else
 		stats_.lostFrames++;
 	if (rep.relocalised) stats_.relocalisations++;
+	stats_.movingPointsErased += rep.movingPointsErased;
 	for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
 	return rep;
 }
@@ -387,6 +389,7 @@ std::string CYesSlamSystem::statsJson() const
 	o << "  \"culled_keyframes\": " << s.culledKeyFrames << ",\n";
 	o << "  \"keyframes_in_map\": " << s.keyFramesInMap << ",\n";
 	o << "  \"map_points\": " << s.mapPoints << ",\n";
+	o << "  \"moving_points_erased\": " << s.movingPointsErased << ",\n";
 	o << "  \"keyframe_policy\": \"" << opts_.keyFrames.policy << "\",\n";
 	o << "  \"dynamic_filter\": " << (opts_.system.dynamicFilter ? "true" : "false") << ",\n";
 	o << "  \"stages_ms\": {";

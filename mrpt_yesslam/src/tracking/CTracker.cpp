@@ -4,6 +4,7 @@
 #include <mrpt/poses/Lie/SE.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 namespace mrpt_yesslam
@@ -23,6 +24,7 @@ COptionTable CTracker::TOptions::table()
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "newest keyframes tried by relocalisation (0 = all)");
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
 	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
+	t.integer("seeThroughFrames", seeThroughFrames, 0, 1000, "a map point with farther surfaces measured around it in this many consecutive frames has moved away: erased (0 = never)");
 	return t;
 }
 
@@ -154,7 +156,7 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 			f.mapPoints[m[k].keypoint] = local.ids[m[k].point];
 			found.push_back(local.ids[m[k].point]);
 		}
-	map_.countTracking(visible, found);
+	r.movingPointsErased += map_.countTracking(visible, found, seenThrough(f, local, inView, found), opts_.seeThroughFrames);
 	// Matches of a group the check found moving: their map points are culled (a person who stood
 	// still and walks away leaves none behind), the mover's keypoints never become map points, and
 	// where it is stays uncertain for the next frames.
@@ -163,13 +165,69 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 		if (e.isMoving(k))
 		{
 			moving.push_back(m[k].keypoint);
-			map_.erasePoint(local.ids[m[k].point]);
+			r.movingPointsErased += map_.erasePoint(local.ids[m[k].point]);
 		}
 	updateMovers(f, moving);
 	refKf_ = kfs.front();  // the keyframe sharing most points with the frame (ORB-SLAM2)
 	f.numInliers = e.numInliers;
 	r.inliers = e.numInliers;
 	return true;
+}
+
+std::vector<TPointId> CTracker::seenThrough(
+	const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView, const std::vector<TPointId>& found) const
+{
+	std::vector<TPointId> out;
+	if (opts_.seeThroughFrames <= 0) return out;
+	// The nearest keypoint depth (every keypoint: a person in front is a surface too) per cell.
+	constexpr int kCell = 16;
+	const int cols = (static_cast<int>(f.camera.ncols) + kCell - 1) / kCell, rows = (static_cast<int>(f.camera.nrows) + kCell - 1) / kCell;
+	if (cols <= 0 || rows <= 0) return out;
+	std::vector<float> nearest(static_cast<std::size_t>(cols * rows), std::numeric_limits<float>::infinity());
+	std::vector<int> count(nearest.size(), 0);
+	for (std::size_t i = 0; i < f.size(); i++)
+	{
+		const float z = i < f.features.depth.size() ? f.features.depth[i] : 0.f;
+		const auto& p = f.features.keypoints[i].pt;
+		const int cu = static_cast<int>(p.x) / kCell, cv = static_cast<int>(p.y) / kCell;
+		if (!(z > 0) || cu < 0 || cv < 0 || cu >= cols || cv >= rows) continue;
+		const auto c = static_cast<std::size_t>(cu + cols * cv);
+		nearest[c] = std::min(nearest[c], z);
+		count[c]++;
+	}
+	std::vector<TPointId> sortedFound = found;
+	std::sort(sortedFound.begin(), sortedFound.end());
+	const mrpt::poses::CPose3D Tcw = -f.pose;
+	const double noise = opts_.pose.depthNoise;
+	for (std::size_t j : inView)
+	{
+		const TPointId id = local.ids[j];
+		if (std::binary_search(sortedFound.begin(), sortedFound.end(), id)) continue;
+		const auto& P = local.positions[j];
+		double x, y, z;
+		Tcw.composePoint(P.x, P.y, P.z, x, y, z);
+		if (z <= 0) continue;
+		const double u = f.camera.fx() * x / z + f.camera.cx(), v = f.camera.fy() * y / z + f.camera.cy();
+		const int cu = static_cast<int>(u) / kCell, cv = static_cast<int>(v) / kCell;
+		if (u < 0 || v < 0 || cu >= cols || cv >= rows) continue;
+		// Keypoints are sparse (about one per cell): the 3 x 3 cells around it. Two or more surfaces
+		// measured there, all well behind the point (3 sigma of the depth noise, at least 20 cm): the
+		// space it should fill is empty. A nearer surface would only hide it (occlusion is no
+		// evidence), and one in the neighbourhood vetoes, so depth edges stay conservative.
+		float near = std::numeric_limits<float>::infinity();
+		int n = 0;
+		for (int dv = -1; dv <= 1; dv++)
+			for (int du = -1; du <= 1; du++)
+			{
+				const int a = cu + du, b = cv + dv;
+				if (a < 0 || b < 0 || a >= cols || b >= rows) continue;
+				const auto c = static_cast<std::size_t>(a + cols * b);
+				near = std::min(near, nearest[c]);
+				n += count[c];
+			}
+		if (n >= 2 && near > z + std::max(0.2, 3 * noise * z * z)) out.push_back(id);
+	}
+	return out;
 }
 
 void CTracker::updateMovers(TFrame& f, const std::vector<std::size_t>& moving)

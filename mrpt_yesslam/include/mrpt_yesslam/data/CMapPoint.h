@@ -27,6 +27,9 @@ struct CMapPoint
 	TKeyFrameId firstKeyFrame = 0;	//!< the keyframe that created it
 	int visible = 1;  //!< times it was inside a tracked frame's view
 	int found = 1;	//!< times tracking matched it
+	/** Consecutive tracked frames that saw through it: farther surfaces measured where it should be
+	 * in front (it has moved away). Not saved: a tracking statistic. */
+	int seenThrough = 0;
 	bool bad = false;  //!< culled, fused or left without observations; kept only so that old ids resolve
 	TPointId replacedBy = -1;  //!< after a fusion: the point that took its observations
 

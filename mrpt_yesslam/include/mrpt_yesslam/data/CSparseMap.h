@@ -115,8 +115,13 @@ class CSparseMap
 	/** The good points among `ids` (in that order; bad or unknown ids are left out; a fused point
 	 * is followed to the point that replaced it). */
 	TLocalMapPoints pointsById(const std::vector<TPointId>& ids) const;
-	/** Tracking statistics for culling: `visible` points were in view, `found` were matched. */
-	void countTracking(const std::vector<TPointId>& visible, const std::vector<TPointId>& found);
+	/** Tracking statistics for culling: `visible` points were in view, `found` were matched (which
+	 * clears their see-through count), `seenThrough` had farther surfaces measured where they should
+	 * be in front; a point seen through in `seeThroughFrames` consecutive tracked frames has moved
+	 * away (a person who stood still and left) and is erased (0 = never). Returns how many. */
+	std::size_t countTracking(
+		const std::vector<TPointId>& visible, const std::vector<TPointId>& found, const std::vector<TPointId>& seenThrough = {},
+		int seeThroughFrames = 0);
 
 	/** ORB-SLAM2's culling of recent points: found/visible below `minFoundRatio`, or fewer than
 	 * `minObservations` keyframes two keyframes after creation. Only the points created in the last
@@ -134,8 +139,8 @@ class CSparseMap
 	 * spanning tree, its measurements are dropped; its pose is kept relative to its parent. Returns
 	 * false for keyframe 0, an unknown or an already bad keyframe. */
 	bool eraseKeyFrame(TKeyFrameId id);
-	/** Marks point `id` bad and removes its observations. */
-	void erasePoint(TPointId id);
+	/** Marks point `id` bad and removes its observations; false when unknown or already bad. */
+	bool erasePoint(TPointId id);
 	/** Fuses `oldId` into `newId`: every observation of the old point moves to the new one (unless
 	 * that keyframe already observes the new one), tracking counts are added, the old point is bad
 	 * and `replacedBy` names the new one. Returns false when either is unknown or bad. */

@@ -72,6 +72,7 @@ struct TFrameReport
 {
 	std::size_t frameId = 0;
 	bool tracked = false, initialised = false, keyFrame = false, relocalised = false;
+	std::size_t movingPointsErased = 0;	 //!< map points this frame found moving (erased)
 	std::size_t features = 0, staticFeatures = 0, detections = 0, dynamicDetections = 0, inliers = 0;
 };
 
@@ -82,6 +83,8 @@ struct TSlamStats
 	std::size_t keyFrames = 0, forcedKeyFrames = 0, mapPoints = 0;
 	std::size_t culledKeyFrames = 0;  //!< erased as redundant by local mapping
 	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames
+	/** Map points tracking erased as moving: in a group the geometric check found moving, or seen through. */
+	std::size_t movingPointsErased = 0;
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
 	std::map<std::string, std::vector<double>> stageMs;
 };

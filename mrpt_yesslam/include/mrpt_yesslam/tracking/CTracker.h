@@ -49,6 +49,9 @@ class CTracker
 		std::size_t relocKeyFrames = 60;  //!< newest keyframes tried by relocalisation (0 = all)
 		std::size_t lostCoastFrames = 30;  //!< lost frames that still continue the last velocity
 		double lostDamping = 0.9;  //!< per lost frame, the velocity is scaled by this (0 = hold at once)
+		/** A map point behind which farther surfaces are measured in this many consecutive tracked
+		 * frames has moved away and is erased (0 = never). */
+		int seeThroughFrames = 3;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -61,6 +64,8 @@ class CTracker
 		bool relocalised = false;
 		bool recoveredByPnP = false;  //!< the motion model failed, PnP on the last frame's points worked
 		std::size_t motionMatches = 0, localMatches = 0, inliers = 0;
+		/** Map points erased as moving: in a group the geometric check found moving, or seen through. */
+		std::size_t movingPointsErased = 0;
 	};
 
 	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor): search windows and observation sigmas scale with it. */
@@ -90,6 +95,10 @@ class CTracker
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
+	/** Local map points in view but not found whose place `f` sees through (farther keypoints
+	 * measured all around where the point should be in front). */
+	std::vector<TPointId> seenThrough(const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView,
+		const std::vector<TPointId>& found) const;
 	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
 	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
 	/** Local-map search and refinement from `guess`; on success fills the frame. */
