@@ -226,3 +226,45 @@ TEST(Config, TheDumpOfARunLoadsBackToTheSameOptions)
 	EXPECT_EQ(testing::internal::GetCapturedStderr(), "");  // no unknown key
 	EXPECT_EQ(b.dump(), a.dump());
 }
+
+TEST(Config, CommentsAfterValuesAreNotPartOfThem)
+{
+	// Issue 18 item 2: "maxDiff = 0.02  ; pairing window" failed as "expected a number".
+	TempDir d("cfg_inline");
+	writeText(d / "c.ini",
+		"; a whole-line comment\n"
+		"[Input]\n"
+		"maxDiff = 0.03  ; TUM rgb/depth pairing window, s\n"
+		"[Tracking]\n"
+		"maxDepth = 5\t# far enough\n"
+		"motionRadius = 12 // pixels\n"
+		"[Detector]\n"
+		"dynamicClasses = \"person; chair\"  ; quoted: the ';' inside stays\n");
+	TYesSlamOptions o;
+	o.loadFromFile(d / "c.ini");
+	EXPECT_DOUBLE_EQ(o.input.maxDiff, 0.03);
+	EXPECT_DOUBLE_EQ(o.tracking.maxDepth, 5.0);
+	EXPECT_DOUBLE_EQ(o.tracking.motionRadius, 12.0);
+	EXPECT_EQ(stripInlineIniComments("a = \"x ; y\" ; c\n"), "a = \"x ; y\"\n");
+	EXPECT_EQ(stripInlineIniComments("path = /data//x\n"), "path = /data//x\n") << "'//' inside a value is no comment";
+}
+
+TEST(Config, IgnoredLinesAndUnknownSectionsWarn)
+{
+	const auto w = iniStructureWarnings("maxDepth = 3\n[Tracking\nrounds = 2\n[ORB]\nnumFeatures = 900\n", "c.ini");
+	ASSERT_EQ(w.size(), 2u);
+	EXPECT_NE(w[0].find("c.ini:1"), std::string::npos) << w[0];
+	EXPECT_NE(w[0].find("before any [Section]"), std::string::npos) << w[0];
+	EXPECT_NE(w[1].find("c.ini:2"), std::string::npos) << w[1];
+	EXPECT_NE(w[1].find("closing ']'"), std::string::npos) << w[1];
+
+	TempDir d("cfg_sections");
+	writeText(d / "c.ini", "[Trackng]\nmaxDepth = 3\n[ORB]\nnumFeatures = 900\n");
+	TYesSlamOptions o;
+	testing::internal::CaptureStderr();
+	o.loadFromFile(d / "c.ini");
+	const std::string err = testing::internal::GetCapturedStderr();
+	EXPECT_NE(err.find("unknown section [Trackng]"), std::string::npos) << err;
+	EXPECT_NE(err.find("Tracking"), std::string::npos) << err;	 // the known ones are listed
+	EXPECT_EQ(o.orb.numFeatures, 900);
+}

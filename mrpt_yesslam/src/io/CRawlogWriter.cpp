@@ -10,9 +10,13 @@
 
 namespace mrpt_yesslam
 {
-CRawlogWriter::CRawlogWriter(const std::string& path, int compressionLevel)
-	: path_(path), tmp_(temporaryPathFor(path))
+CRawlogWriter::CRawlogWriter(const std::string& path, int compressionLevel) : path_(path)
 {
+	// A link is followed; a device or pipe is written through and never renamed over (AtomicFile.h).
+	const TOutputTarget target = outputTarget(path);
+	target_ = target.path;
+	direct_ = target.direct;
+	tmp_ = direct_ ? target_ : temporaryPathFor(target_);
 	out_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
 	std::string err;
 	if (!out_->open(tmp_, compressionLevel, err))
@@ -24,7 +28,7 @@ CRawlogWriter::~CRawlogWriter()
 	if (!committed_)
 	{
 		out_.reset();
-		std::remove(tmp_.c_str());
+		if (!direct_) std::remove(tmp_.c_str());
 	}
 }
 
@@ -46,10 +50,15 @@ std::uintmax_t CRawlogWriter::commit()
 {
 	out_->close();
 	std::error_code ec;
-	std::filesystem::rename(tmp_, path_, ec);
-	if (ec) throw InputError(path_, "cannot move the finished rawlog into place (" + ec.message() + ")");
 	committed_ = true;
-	const auto sz = std::filesystem::file_size(path_, ec);
+	if (direct_) return 0;
+	std::filesystem::rename(tmp_, target_, ec);
+	if (ec)
+	{
+		committed_ = false;
+		throw InputError(path_, "cannot move the finished rawlog into place (" + ec.message() + ")");
+	}
+	const auto sz = std::filesystem::file_size(target_, ec);
 	return ec ? 0 : sz;
 }
 }  // namespace mrpt_yesslam

@@ -14,6 +14,8 @@
 #include <sstream>
 
 #include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam
@@ -33,6 +35,26 @@ COptionTable TYesSlamOptions::TSystem::table()
 void TYesSlamOptions::loadFromFile(const std::string& path)
 {
 	const auto cfg = loadConfigFile(path);  // parsed once for all sections
+	// What MRPT would ignore without a word: a broken section line, keys before any section, and a
+	// section we do not read (a misspelt [Trackng] would leave every key in it at its default).
+	std::vector<std::string> warnings;
+	const std::string l = lowerAscii(path);
+	const bool yaml = (l.size() > 5 && l.substr(l.size() - 5) == ".yaml") || (l.size() > 4 && l.substr(l.size() - 4) == ".yml");
+	if (!yaml) warnings = iniStructureWarnings(readTextFile(path), path);
+	const std::vector<std::string> known = {"Input", "Detector", "DynamicMask", "GeometricCheck", "ORB", "Tracking", "KeyFrames", "LocalMapping", "System"};
+	std::vector<std::string> sections;
+	cfg->getAllSections(sections);
+	for (const auto& sec : sections)
+	{
+		if (sec.empty()) continue;
+		if (std::none_of(known.begin(), known.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(sec); }))
+		{
+			std::string list;
+			for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+			warnings.push_back(path + ": unknown section [" + sec + "] ignored (known: " + list + ")");
+		}
+	}
+	for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 	loadOptions(*cfg, path, "Input", input, CInputSource::TOptions::configKeys());
 	loadOptions(*cfg, path, "Detector", detector, CObjectDetector::TOptions::configKeys());
 	loadOptions(*cfg, path, "DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());

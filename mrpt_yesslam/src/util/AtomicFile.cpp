@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
@@ -14,9 +15,34 @@ namespace mrpt_yesslam
 {
 std::string temporaryPathFor(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
 
+TOutputTarget outputTarget(const std::string& path)
+{
+	namespace fs = std::filesystem;
+	TOutputTarget t;
+	t.path = path;
+	std::error_code ec;
+	// Follow links (also chains, and relative ones) to the file they name, existing or not.
+	for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(t.path, ec)); hops++)
+	{
+		const fs::path target = fs::read_symlink(t.path, ec);
+		if (ec) break;
+		t.path = (target.is_absolute() ? target : fs::path(t.path).parent_path() / target).lexically_normal().string();
+	}
+	const fs::file_status st = fs::status(t.path, ec);
+	if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
+	t.direct = fs::exists(st) && !fs::is_regular_file(st);
+	return t;
+}
+
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& writer)
 {
-	const std::string tmp = temporaryPathFor(path);
+	const TOutputTarget target = outputTarget(path);
+	if (target.direct)
+	{
+		writer(target.path);  // a device or pipe: nothing to replace, nothing half-written to hide
+		return;
+	}
+	const std::string tmp = temporaryPathFor(target.path);
 	try
 	{
 		writer(tmp);
@@ -26,7 +52,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
 		std::remove(tmp.c_str());
 		throw;
 	}
-	if (std::rename(tmp.c_str(), path.c_str()) != 0)
+	if (std::rename(tmp.c_str(), target.path.c_str()) != 0)
 	{
 		const std::string why = std::strerror(errno);
 		std::remove(tmp.c_str());

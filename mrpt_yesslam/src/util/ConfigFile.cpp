@@ -77,13 +77,73 @@ std::string yamlToIni(const std::string& text, const std::string& name)
 	return ini;
 }
 
+std::string stripInlineIniComments(const std::string& text)
+{
+	std::string out;
+	for (const std::string& line : splitLines(text))
+	{
+		std::string l = line;
+		const auto first = l.find_first_not_of(" \t");
+		const bool wholeLineComment = first != std::string::npos && (l[first] == ';' || l[first] == '#' || l.compare(first, 2, "//") == 0);
+		if (!wholeLineComment)
+		{
+			// A comment after a value starts at ';', '#' or "//" that follows whitespace, outside quotes.
+			char quote = 0;
+			for (std::size_t k = 1; k < l.size(); k++)
+			{
+				if (quote)
+				{
+					if (l[k] == quote) quote = 0;
+					continue;
+				}
+				if (l[k] == '"' || l[k] == '\'')
+				{
+					quote = l[k];
+					continue;
+				}
+				const bool afterSpace = l[k - 1] == ' ' || l[k - 1] == '\t';
+				if (afterSpace && (l[k] == ';' || l[k] == '#' || l.compare(k, 2, "//") == 0))
+				{
+					l.erase(k);
+					break;
+				}
+			}
+			const auto e = l.find_last_not_of(" \t\r");
+			l = e == std::string::npos ? std::string() : l.substr(0, e + 1);
+		}
+		out += l + "\n";
+	}
+	return out;
+}
+
+std::vector<std::string> iniStructureWarnings(const std::string& text, const std::string& name)
+{
+	std::vector<std::string> w;
+	bool inSection = false;
+	const auto lines = splitLines(stripInlineIniComments(text));
+	for (std::size_t i = 0; i < lines.size(); i++)
+	{
+		const std::string l = trimConfigValue(lines[i]);
+		if (l.empty() || l[0] == ';' || l[0] == '#' || l.compare(0, 2, "//") == 0) continue;
+		const std::string where = name + ":" + std::to_string(i + 1) + ": ";
+		if (l[0] == '[')
+		{
+			if (l.back() != ']') w.push_back(where + "section line '" + l + "' has no closing ']': its keys are ignored");
+			inSection = true;
+		}
+		else if (!inSection)
+			w.push_back(where + "'" + l + "' comes before any [Section]: ignored");
+	}
+	return w;
+}
+
 std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 	const std::string& text, bool yaml, const std::string& name)
 {
 	auto cfg = std::make_unique<mrpt::config::CConfigFileMemory>();
 	try
 	{
-		cfg->setContent(yaml ? yamlToIni(text, name) : text);
+		cfg->setContent(yaml ? yamlToIni(text, name) : stripInlineIniComments(text));
 	}
 	catch (const InputError&)
 	{

@@ -29,6 +29,8 @@ class CRawlogWriter
 
    private:
 	std::string path_, tmp_;
+	std::string target_;  //!< path_ with links followed
+	bool direct_ = false;  //!< a device or pipe: written in place
 	std::unique_ptr<mrpt::io::CFileGZOutputStream> out_;
 	std::size_t count_ = 0;
 	bool committed_ = false;

@@ -1,6 +1,9 @@
 #pragma once
 // Atomic output: everything we write goes to "<path>.tmp.<pid>" first and is renamed into place,
-// so an interrupted run never leaves a half-written file under the final name.
+// so an interrupted run never leaves a half-written file under the final name. Only regular files
+// are replaced that way: a symbolic link is followed (its target is replaced, the link stays) and a
+// device, FIFO or socket (/dev/null, /dev/stdout, a pipe) is written through, never replaced by a
+// regular file (run as root, a rename over /dev/null would replace the device itself).
 #include <functional>
 #include <opencv2/core.hpp>
 #include <string>
@@ -25,4 +28,15 @@ void writePngAtomically(const std::string& path, const cv::Mat& img, int compres
 
 /** The temporary name used for `path` by this process. */
 std::string temporaryPathFor(const std::string& path);
+
+/** Where a write of `path` really goes: `path` with symbolic links followed, and whether it must
+ * be written in place (`direct`: an existing device, FIFO or socket) rather than renamed into
+ * place. Throws InputError for a directory. */
+struct TOutputTarget
+{
+	std::string path;
+	bool direct = false;
+};
+/** See TOutputTarget. */
+TOutputTarget outputTarget(const std::string& path);
 }  // namespace mrpt_yesslam

@@ -31,7 +31,14 @@ std::string lowerAscii(std::string s);
 /** A config value without surrounding whitespace and quotes. */
 std::string trimConfigValue(const std::string& s);
 
-/** Parses config text: YAML when `yaml` is true, INI otherwise. Throws InputError(name, ...) for
+/** INI text with comments after values removed ("maxDiff = 0.02  ; pairing window"): ';', '#' or
+ * "//" after whitespace, outside quotes, as MRPT's own INI files write them. */
+std::string stripInlineIniComments(const std::string& text);
+/** One warning per INI line MRPT would silently ignore: a section line without its closing ']',
+ * a key before any section ("FILE:LINE: ..."). */
+std::vector<std::string> iniStructureWarnings(const std::string& text, const std::string& nameForErrors);
+
+/** Parses config text: YAML when `yaml` is true, INI otherwise (comments after values removed). Throws InputError(name, ...) for
  * text MRPT cannot parse. */
 std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 	const std::string& text, bool yaml, const std::string& nameForErrors);
