@@ -293,3 +293,23 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	fails({"--input", desk, "--out", d / "x", "--config", d / "bad.ini"}, {"bad.ini", "maxDepth"});
 	fails({"--input", desk, "--out", d / "x", "--gt", d / "bad.ini", "--detector", "none"}, {"bad.ini"});
 }
+
+TEST(Tools, ShippedConfigsRunWithTheDocumentedDetectorDefault)
+{
+	// Issue 18 item 3: "--config tum_fr1.ini" (or default.ini) failed with "the yolo detector needs
+	// [Detector] model" although --help says the detector defaults to auto. Without a detections.txt
+	// and without a model, auto picks the HOG people detector.
+	TempDir d("tool_shipped_cfg");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	for (const char* cfg : {"default.ini", "tum_fr1.ini", "tum_fr3.ini"})
+	{
+		const std::string out = d / cfg;
+		const auto r = runTool("yesslam", {"--input", desk, "--config", std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/" + cfg,
+											  "--out", out, "--max-frames", "3", "--quiet"});
+		EXPECT_EQ(r.exitCode, 0) << cfg << ": " << r.err;
+		EXPECT_TRUE(fs::exists(out + "/trajectory.txt")) << cfg;
+		std::ifstream used(out + "/config_used.ini");
+		const std::string text((std::istreambuf_iterator<char>(used)), std::istreambuf_iterator<char>());
+		EXPECT_NE(text.find("backend = hog"), std::string::npos) << cfg;
+	}
+}

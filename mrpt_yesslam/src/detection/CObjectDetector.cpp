@@ -108,6 +108,14 @@ std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOp
 	if (o.backend == "file") return std::make_unique<CDetectionsFileDetector>(o);
 	if (o.backend == "hog") return std::make_unique<CHogPeopleDetector>(o);
 	if (o.backend == "none") return std::make_unique<CNoDetector>(o);
+	if (o.backend == "auto")
+	{
+		// Without an input to look beside (resolveDetector does that): the configured file, else the
+		// configured model, else HOG, as resolveDetector decides.
+		CObjectDetector::TOptions r = o;
+		r.backend = !o.file.empty() ? "file" : !o.model.empty() ? "yolo" : "hog";
+		return createObjectDetector(r);
+	}
 	throw InputError("", "unknown detector backend '" + o.backend + "' (yolo, file, hog or none)");
 }
 }  // namespace mrpt_yesslam

@@ -24,7 +24,9 @@ class CObjectDetector
 	/** Section [Detector] of the config. */
 	struct TOptions : public TTableOptions<TOptions>
 	{
-		std::string backend = "yolo";  //!< yolo | file | hog | none
+		/** auto | yolo | file | hog | none. auto (resolveDetector, when the input is known):
+		 * detections.txt beside the input, else yolo when a model is set, else hog. */
+		std::string backend = "auto";
 		std::string model;	//!< yolo: .cfg (darknet) or .onnx
 		std::string weights;  //!< yolo darknet: .weights
 		std::string names;	//!< class names file, one per line (COCO order for COCO models)
