@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <fstream>
 #include <sstream>
 
 #include "TestUtils.h"
@@ -11,6 +12,7 @@
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
 #include "mrpt_yesslam/detection/CYoloDnnDetector.h"
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/util/ShareDir.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
@@ -78,6 +80,31 @@ TEST(Detector, YoloFastestDarknetFindsThePeople)
 	EXPECT_EQ(yolo->format(), CYoloDnnDetector::Format::Darknet);
 	EXPECT_EQ(yolo->inputSize(), 320);
 	EXPECT_EQ(det->classNames().size(), 80u);
+	expectFindsPeople(*det);
+}
+
+TEST(Detector, TheShippedModelIsTheDefaultAndFindsThePeople)
+{
+	// Issue 16 item 6: yolo (or auto) with no model configured uses share/mrpt_yesslam's
+	// Yolo-Fastest-1.1 COCO (the same files as ../shared's; Darknet YOLO licence, public domain).
+	CObjectDetector::TOptions o;
+	o.backend = "yolo";
+	auto det = createObjectDetector(o);
+	auto* yolo = dynamic_cast<CYoloDnnDetector*>(det.get());
+	ASSERT_TRUE(yolo);
+	EXPECT_EQ(yolo->format(), CYoloDnnDetector::Format::Darknet);
+	EXPECT_EQ(det->classNames().size(), 80u);
+	EXPECT_NE(det->description().find("yolo-fastest-1.1.cfg"), std::string::npos) << det->description();
+	o.backend = "auto";
+	EXPECT_TRUE(dynamic_cast<CYoloDnnDetector*>(createObjectDetector(o).get()));
+	// The shipped files are byte for byte the shared ones.
+	const auto bytes = [](const std::string& path)
+	{
+		std::ifstream f(path, std::ios::binary);
+		return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	};
+	EXPECT_EQ(bytes(shareDir() + "/models/yolo-fastest-1.1/yolo-fastest-1.1.weights"),
+		bytes(sharedFile("models/yolo_fastest_darknet/yolo-fastest-1.1.weights")));
 	expectFindsPeople(*det);
 }
 

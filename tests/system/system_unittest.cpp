@@ -189,7 +189,8 @@ TEST(System, MaxFramesAndMissingInputs)
 	expectInputError([&] { runSlamJob(o); }, {"nothing_here"});
 	o.input = walkingSequence();
 	o.slam.detector.backend = "yolo";
-	expectInputError([&] { runSlamJob(o); }, {"model"});
+	o.slam.detector.model = d / "no_such_model.cfg";
+	expectInputError([&] { runSlamJob(o); }, {"no_such_model.cfg"});
 }
 
 // A sequence whose depth is zero everywhere (a sensor that gives no depth): the run ends normally

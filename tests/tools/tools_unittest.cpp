@@ -286,7 +286,8 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 		for (const auto& f : fragments) EXPECT_NE(e.err.find(f), std::string::npos) << f << " in: " << e.err;
 	};
 	fails({"--input", d / "missing", "--out", d / "x"}, {"yesslam: error", "missing"});
-	fails({"--input", desk, "--out", d / "x", "--detector", "yolo"}, {"model"});
+	writeText(d / "nomodel.ini", "[Detector]\nmodel = " + (d / "missing.cfg") + "\n");
+	fails({"--input", desk, "--out", d / "x", "--config", d / "nomodel.ini", "--detector", "yolo"}, {"missing.cfg"});
 	fails({"--input", desk, "--out", d / "x", "--max-frames", "many"}, {"--max-frames"});
 	fails({"--input", desk, "--out", d / "x", "--policy", "often", "--detector", "none"}, {"policy", "often"});
 	writeText(d / "bad.ini", "[Tracking]\nmaxDepth = far\n");
@@ -298,7 +299,7 @@ TEST(Tools, ShippedConfigsRunWithTheDocumentedDetectorDefault)
 {
 	// Issue 18 item 3: "--config tum_fr1.ini" (or default.ini) failed with "the yolo detector needs
 	// [Detector] model" although --help says the detector defaults to auto. Without a detections.txt
-	// and without a model, auto picks the HOG people detector.
+	// and without a model, auto picks the shipped Yolo-Fastest (issue 16 item 6).
 	TempDir d("tool_shipped_cfg");
 	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
 	for (const char* cfg : {"default.ini", "tum_fr1.ini", "tum_fr3.ini"})
@@ -310,6 +311,7 @@ TEST(Tools, ShippedConfigsRunWithTheDocumentedDetectorDefault)
 		EXPECT_TRUE(fs::exists(out + "/trajectory.txt")) << cfg;
 		std::ifstream used(out + "/config_used.ini");
 		const std::string text((std::istreambuf_iterator<char>(used)), std::istreambuf_iterator<char>());
-		EXPECT_NE(text.find("backend = hog"), std::string::npos) << cfg;
+		EXPECT_NE(text.find("backend = yolo"), std::string::npos) << cfg;
+		EXPECT_NE(text.find("share/mrpt_yesslam/models/yolo-fastest-1.1/yolo-fastest-1.1.cfg"), std::string::npos) << cfg;
 	}
 }

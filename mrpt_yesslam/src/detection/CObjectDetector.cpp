@@ -1,5 +1,9 @@
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 
+#include <filesystem>
+
+#include "mrpt_yesslam/util/ShareDir.h"
+
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <limits>
@@ -100,8 +104,26 @@ class CNoDetector : public CObjectDetector
 };
 }  // namespace
 
-std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOptions& o)
+bool useShippedModel(CObjectDetector::TOptions& o)
 {
+	if (!o.model.empty()) return true;
+	const std::string share = shareDir();
+	if (share.empty()) return false;
+	const std::string dir = share + "/models/yolo-fastest-1.1/";
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	if (!fs::exists(dir + "yolo-fastest-1.1.weights", ec)) return false;
+	o.model = dir + "yolo-fastest-1.1.cfg";
+	o.weights = dir + "yolo-fastest-1.1.weights";
+	if (o.names.empty()) o.names = dir + "coco.names";
+	if (o.format == "auto") o.format = "darknet";
+	return true;
+}
+
+std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOptions& opts)
+{
+	CObjectDetector::TOptions o = opts;
+	if (o.backend == "yolo") useShippedModel(o);
 	if (!(o.confThreshold >= 0 && o.confThreshold <= 1)) throw InputError("", "[Detector] confThreshold must be in [0,1]");
 	if (!(o.nmsThreshold > 0 && o.nmsThreshold <= 1)) throw InputError("", "[Detector] nmsThreshold must be in (0,1]");
 	if (o.backend == "yolo") return std::make_unique<CYoloDnnDetector>(o);
@@ -111,9 +133,9 @@ std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOp
 	if (o.backend == "auto")
 	{
 		// Without an input to look beside (resolveDetector does that): the configured file, else the
-		// configured model, else HOG, as resolveDetector decides.
+		// configured or shipped model, else HOG, as resolveDetector decides.
 		CObjectDetector::TOptions r = o;
-		r.backend = !o.file.empty() ? "file" : !o.model.empty() ? "yolo" : "hog";
+		r.backend = !o.file.empty() ? "file" : useShippedModel(r) ? "yolo" : "hog";
 		return createObjectDetector(r);
 	}
 	throw InputError("", "unknown detector backend '" + o.backend + "' (yolo, file, hog or none)");

@@ -21,7 +21,7 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 	{
 		if (!det.file.empty() || fs::exists(beside))
 			det.backend = "file";
-		else if (!det.model.empty())
+		else if (useShippedModel(det))	// the configured model, else the shipped Yolo-Fastest
 			det.backend = "yolo";
 		else
 			det.backend = "hog";
@@ -32,8 +32,8 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 			throw InputError(beside.string(), "not found: the file detector needs [Detector] file or a detections.txt beside the input");
 		det.file = beside.string();
 	}
-	if (det.backend == "yolo" && det.model.empty())
-		throw InputError("", "the yolo detector needs [Detector] model (and names); or use --detector file, hog or none");
+	if (det.backend == "yolo" && !useShippedModel(det))
+		throw InputError("", "the yolo detector needs [Detector] model (and names): the shipped share/mrpt_yesslam/models was not found (set YESSLAM_SHARE_DIR); or use --detector file, hog or none");
 }
 
 namespace

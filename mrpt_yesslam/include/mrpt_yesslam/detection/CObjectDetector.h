@@ -25,7 +25,7 @@ class CObjectDetector
 	struct TOptions : public TTableOptions<TOptions>
 	{
 		/** auto | yolo | file | hog | none. auto (resolveDetector, when the input is known):
-		 * detections.txt beside the input, else yolo when a model is set, else hog. */
+		 * detections.txt beside the input, else yolo (the set model, else the shipped one), else hog. */
 		std::string backend = "auto";
 		std::string model;	//!< yolo: .cfg (darknet) or .onnx
 		std::string weights;  //!< yolo darknet: .weights
@@ -78,6 +78,11 @@ class CObjectDetector
  * count must match (a names file for another model is a common mistake). Throws InputError. */
 std::vector<std::string> readClassNames(const std::string& path, std::size_t expectedCount = 0);
 
-/** Creates the backend the options name; throws InputError for unknown backends or bad files. */
+/** Fills an empty `model` (and `weights`, `names`) with the shipped Yolo-Fastest-1.1 COCO
+ * (share/mrpt_yesslam/models); false when no model is set and none is shipped. */
+bool useShippedModel(CObjectDetector::TOptions& o);
+
+/** Creates the backend the options name (yolo without a model: the shipped one); throws
+ * InputError for unknown backends or bad files. */
 std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOptions& opts);
 }  // namespace mrpt_yesslam
