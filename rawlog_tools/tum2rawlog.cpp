@@ -72,7 +72,7 @@ int main(int argc, char** argv)
 			if (sum.interrupted)
 			{
 				std::fprintf(stderr, "tum2rawlog: interrupted; the rawlog holds the %zu frames converted so far\n", sum.frames);
-				return 130;
+				return interruptExitCode();
 			}
 			return 0;
 		});

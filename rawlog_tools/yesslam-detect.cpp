@@ -89,7 +89,7 @@ int main(int argc, char** argv)
 			if (sum.interrupted)
 			{
 				std::fprintf(stderr, "yesslam-detect: interrupted; results cover the first %zu frames\n", sum.frames);
-				return 130;
+				return interruptExitCode();
 			}
 			return 0;
 		});

@@ -90,7 +90,7 @@ int main(int argc, char** argv)
 			if (s.interrupted)
 			{
 				std::fprintf(stderr, "yesslam-sim: interrupted; %s holds the first %zu frames\n", o.outDir.c_str(), s.frames);
-				return 130;
+				return interruptExitCode();
 			}
 			return 0;
 		});

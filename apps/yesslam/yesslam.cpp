@@ -87,7 +87,7 @@ int main(int argc, char** argv)
 			if (s.interrupted)
 			{
 				std::fprintf(stderr, "yesslam: interrupted; results cover the first %zu frames\n", st.frames);
-				return 130;
+				return interruptExitCode();
 			}
 			return 0;
 		});

@@ -56,9 +56,10 @@ struct TInterrupted
 	}
 };
 
-// Runs one of our tools with `args`, waits (at most 60 s) until `ready()`, presses Ctrl-C (SIGINT)
-// and waits for it to end.
-TInterrupted interruptWhen(const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready)
+// Runs one of our tools with `args`, waits (at most 60 s) until `ready()`, presses Ctrl-C (SIGINT,
+// or sends `sig`) and waits for it to end.
+TInterrupted interruptWhen(
+	const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready, int sig = SIGINT)
 {
 	TempDir tmp("sigint_log");
 	const std::string log = tmp / "stdout.txt", path = std::string(YESSLAM_TOOLS_DIR) + "/" + tool;
@@ -78,7 +79,7 @@ TInterrupted interruptWhen(const std::string& tool, const std::vector<std::strin
 	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
 	while (std::chrono::steady_clock::now() < deadline && !(r.ready = ready()))
 		std::this_thread::sleep_for(std::chrono::milliseconds(50));
-	kill(pid, SIGINT);
+	kill(pid, sig);
 	int status = 0;
 	if (waitpid(pid, &status, 0) == pid && WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
 	std::ifstream f(log);
@@ -169,4 +170,36 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	for (const char* name : {"keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini"}) EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
 	for (const auto& e : fs::directory_iterator(out))
 		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
+}
+
+TEST(Interrupt, SigtermEndsTheRunCleanlyWithExitCode143)
+{
+	// A service manager stops a run with SIGTERM: the outputs are saved as for Ctrl-C, and the exit
+	// code says which signal it was (128 + 15), as a shell reports it.
+	TempDir d("sigterm_slam");
+	const std::string src = sharedFile("data/tum_fr1_desk_9frames");
+	const std::string folder = d / "seq";
+	fs::create_directories(folder + "/rgb");
+	fs::create_directories(folder + "/depth");
+	std::ifstream rl(src + "/rgb.txt"), dl(src + "/depth.txt");
+	auto firstFile = [](std::ifstream& in)
+	{
+		std::string line;
+		while (std::getline(in, line))
+			if (!line.empty() && line[0] != '#') return line.substr(line.find(' ') + 1);
+		return std::string();
+	};
+	const std::string rgbFile = firstFile(rl), depthFile = firstFile(dl);
+	fs::copy_file(src + "/" + rgbFile, folder + "/rgb/0.png");
+	fs::copy_file(src + "/" + depthFile, folder + "/depth/0.png");
+	fs::copy_file(src + "/calibration.txt", folder + "/calibration.txt");
+	writeRepeatedLists(folder, "rgb/0.png", "depth/0.png", 3000, 0.001);
+	const std::string out = d / "run";
+	const auto start = std::chrono::steady_clock::now();
+	const auto r = interruptWhen(
+		"yesslam", {"--input", folder, "--out", out, "--detector", "none", "--quiet"},
+		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(3); }, SIGTERM);
+	EXPECT_EQ(r.exitCode, 143) << "-1: killed by the signal";
+	EXPECT_GT(r.frames(), 0);
+	EXPECT_EQ(static_cast<long>(mrpt_yesslam::readTumTrajectory(out + "/trajectory.txt").size()), r.frames());
 }

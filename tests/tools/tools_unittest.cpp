@@ -315,3 +315,23 @@ TEST(Tools, ShippedConfigsRunWithTheDocumentedDetectorDefault)
 		EXPECT_NE(text.find("share/mrpt_yesslam/models/yolo-fastest-1.1/yolo-fastest-1.1.cfg"), std::string::npos) << cfg;
 	}
 }
+
+TEST(Tools, EveryToolHasVersionAndAForgottenValueIsNamed)
+{
+	// Issue 18 item 5: --version on every tool (project, MRPT and OpenCV versions), and
+	// "yesslam --input --out x" says that --input needs a value (it took "--out" as the input).
+	for (const char* tool : {"yesslam", "yesslam-sim", "yesslam-eval", "yesslam-detect", "yesslam-render", "yesslam-cloud", "tum2rawlog"})
+	{
+		const auto r = runTool(tool, {"--version"});
+		EXPECT_EQ(r.exitCode, 0) << tool << ": " << r.err;
+		EXPECT_EQ(r.out.rfind(std::string(tool) + " 0.", 0), 0u) << r.out;
+		EXPECT_NE(r.out.find("MRPT 2.5"), std::string::npos) << r.out;
+		EXPECT_NE(r.out.find("OpenCV 4"), std::string::npos) << r.out;
+		EXPECT_NE(runTool(tool, {"--help"}).out.find("--version"), std::string::npos) << tool;
+	}
+	TempDir d("tool_forgotten_value");
+	const auto r = runTool("yesslam", {"--input", "--out", d / "x"});
+	EXPECT_EQ(r.exitCode, 1);
+	EXPECT_NE(r.err.find("--input needs a value"), std::string::npos) << r.err;
+	EXPECT_FALSE(fs::exists(d / "x"));
+}

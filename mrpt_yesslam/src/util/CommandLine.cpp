@@ -1,6 +1,9 @@
 #include "mrpt_yesslam/util/CommandLine.h"
 
+#include <mrpt/version.h>
+
 #include <atomic>
+#include <opencv2/core/version.hpp>
 #include <csignal>
 #include <cstdio>
 #include <sstream>
@@ -90,6 +93,11 @@ bool CommandLine::parse(int argc, char** argv)
 			std::fputs(help().c_str(), stdout);
 			return false;
 		}
+		if (a == "--version")
+		{
+			std::printf("%s %s\n", program_.c_str(), versionText().c_str());
+			return false;
+		}
 		if (a.rfind("--", 0) != 0)
 			throw InputError("", "unexpected argument '" + a + "' (options start with --; see --help)");
 		std::string name = a.substr(2), value;
@@ -106,7 +114,9 @@ bool CommandLine::parse(int argc, char** argv)
 		if (!o) throw InputError("", "unknown option --" + name + " (see --help)");
 		if (o->takesValue && !inlineValue)
 		{
-			if (i + 1 >= argc) throw InputError("", "option --" + name + " needs a value " + o->metavar);
+			// "--input --out x": the next word is another option, not the value the user forgot.
+			const bool nextIsOption = i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) == 0 && std::string(argv[i + 1]).size() > 2;
+			if (i + 1 >= argc || nextIsOption) throw InputError("", "option --" + name + " needs a value " + o->metavar);
 			value = argv[++i];
 		}
 		if (!o->takesValue && inlineValue) throw InputError("", "option --" + name + " takes no value");
@@ -142,6 +152,7 @@ std::string CommandLine::help() const
 		h += left + text + "\n";
 	}
 	h += "  --help                  Show this help and exit.\n";
+	h += "  --version               Show the version (and the MRPT and OpenCV it was built with) and exit.\n";
 	if (!examples_.empty())
 	{
 		h += "\nExamples:\n";
@@ -153,8 +164,11 @@ std::string CommandLine::help() const
 namespace
 {
 std::atomic<int> g_interrupts{0};
+std::atomic<int> g_firstSignal{0};
 extern "C" void onSignal(int sig)
 {
+	int none = 0;
+	g_firstSignal.compare_exchange_strong(none, sig);
 	if (g_interrupts.fetch_add(1) >= 1)
 	{
 		std::signal(sig, SIG_DFL);
@@ -170,6 +184,20 @@ void installInterruptHandler()
 }
 
 bool interruptRequested() { return g_interrupts.load() > 0; }
+
+int interruptExitCode()
+{
+	const int sig = g_firstSignal.load();
+	return 128 + (sig > 0 ? sig : SIGINT);
+}
+
+std::string versionText()
+{
+	char buf[160];
+	std::snprintf(buf, sizeof(buf), "%s (MRPT %d.%d.%d, OpenCV %s)", YESSLAM_VERSION, (MRPT_VERSION >> 8) & 0xf, (MRPT_VERSION >> 4) & 0xf,
+		MRPT_VERSION & 0xf, CV_VERSION);
+	return buf;
+}
 
 int runTool(const std::string& program, const std::function<int()>& body)
 {

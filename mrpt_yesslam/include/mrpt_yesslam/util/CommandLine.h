@@ -55,4 +55,9 @@ int runTool(const std::string& program, const std::function<int()>& body);
 void installInterruptHandler();
 /** True once Ctrl-C (or SIGTERM) has been received. */
 bool interruptRequested();
+/** The exit code of a run stopped by a signal, as shells report it: 128 + the first signal's
+ * number (130 for Ctrl-C, 143 for SIGTERM). */
+int interruptExitCode();
+/** "0.1.0 (MRPT 2.5.8, OpenCV 4.6.0)": what --version prints after the program name. */
+std::string versionText();
 }  // namespace mrpt_yesslam
