@@ -54,15 +54,16 @@ TempDir::~TempDir()
 	fs::remove_all(path_, ec);
 }
 
-namespace
+std::string readText(const std::string& path)
 {
-std::string slurp(const std::string& path)
-{
-	std::ifstream f(path);
+	std::ifstream f(path, std::ios::binary);
 	std::stringstream ss;
 	ss << f.rdbuf();
 	return ss.str();
 }
+
+namespace
+{
 std::string quote(const std::string& s)
 {
 	std::string q = "'";
@@ -85,8 +86,8 @@ RunResult runCommand(const std::string& program, const std::vector<std::string>&
 	const int st = std::system(cmd.c_str());
 	RunResult r;
 	r.exitCode = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-	r.out = slurp(tmp / "out");
-	r.err = slurp(tmp / "err");
+	r.out = readText(tmp / "out");
+	r.err = readText(tmp / "err");
 	return r;
 }
 

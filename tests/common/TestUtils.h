@@ -79,6 +79,8 @@ void expectInputError(F&& f, const std::vector<std::string>& fragments)
 
 /** Writes a text file. */
 void writeText(const std::string& path, const std::string& content);
+/** A whole file's bytes ("" when it cannot be read). */
+std::string readText(const std::string& path);
 
 /** The TUM fr3 colour camera (640x480, no distortion). */
 mrpt::img::TCamera fr3Camera();

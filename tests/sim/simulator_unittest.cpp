@@ -31,13 +31,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-std::string slurp(const fs::path& p)
-{
-	std::ifstream f(p, std::ios::binary);
-	std::stringstream ss;
-	ss << f.rdbuf();
-	return ss.str();
-}
 
 TSimOptions quick(const std::string& dir, const std::string& preset, std::size_t frames)
 {
@@ -245,7 +238,7 @@ TEST(Simulator, ExactDetectorSeesEveryVisiblePerson)
 		if (cls == 0 && frac > 0.3) people[{t, id}] = false;
 	}
 	ASSERT_GT(people.size(), 5u);
-	for (const auto& r : parseDetectionsText(slurp(d / "detections.txt"), "detections.txt"))
+	for (const auto& r : parseDetectionsText(readText(d / "detections.txt"), "detections.txt"))
 	{
 		const auto it = people.find({[&] {
 										 char b[64];
@@ -273,7 +266,7 @@ TEST(Simulator, SameArgumentsGiveByteIdenticalOutput)
 		if (!e.is_regular_file()) continue;
 		const auto rel = fs::relative(e.path(), a.path());
 		ASSERT_TRUE(fs::exists(b.path() / rel)) << rel;
-		EXPECT_EQ(slurp(e.path()), slurp(b.path() / rel)) << rel << " differs";
+		EXPECT_EQ(readText(e.path()), readText(b.path() / rel)) << rel << " differs";
 		files++;
 	}
 	EXPECT_GT(files, 25u);
@@ -340,7 +333,7 @@ TEST(Simulator, UndetectedPeopleNeverReachTheDetections)
 	const auto detectedIds = [](const std::string& dir)
 	{
 		std::map<int, std::size_t> n;
-		for (const auto& r : parseDetectionsText(slurp(fs::path(dir) / "detections.txt"), "detections.txt")) n[r.det.instanceId]++;
+		for (const auto& r : parseDetectionsText(readText(fs::path(dir) / "detections.txt"), "detections.txt")) n[r.det.instanceId]++;
 		return n;
 	};
 	const auto movingPeople = [](const std::string& dir)

@@ -77,6 +77,19 @@ double ateOf(const TSlamJobSummary& s)
 	EXPECT_TRUE(s.evaluated) << s.evalProblem;
 	return s.eval.ate.stats.rmse;
 }
+
+// ATE of a sequential run of `seq` with the geometric check's mover test on or off.
+double ateWithMoverCheck(const std::string& seq, bool movers)
+{
+	TempDir d(movers ? "system_movers_on" : "system_movers_off");
+	TSlamJobOptions o;
+	o.input = seq;
+	o.outDir = d.path();
+	o.slam.detector.backend = "auto";
+	o.slam.system.parallel = false;
+	o.slam.geometric.movers = movers;
+	return ateOf(runSlamJob(o));
+}
 }  // namespace
 
 TEST(System, WalkingSequenceIsTrackedAccurately)
@@ -299,18 +312,7 @@ TEST(System, AnUndetectedWalkerCannotDragTheCamera)
 	sim.frames = 60;
 	sim.undetectedPeople = 1;
 	const std::string seq = cachedSequence("system_undetected_60", sim);
-	const auto ate = [&](bool movers)
-	{
-		TempDir d(movers ? "system_und_on" : "system_und_off");
-		TSlamJobOptions o;
-		o.input = seq;
-		o.outDir = d.path();
-		o.slam.detector.backend = "auto";
-		o.slam.system.parallel = false;
-		o.slam.geometric.movers = movers;
-		return ateOf(runSlamJob(o));
-	};
-	const double with = ate(true), without = ate(false);
+	const double with = ateWithMoverCheck(seq, true), without = ateWithMoverCheck(seq, false);
 	EXPECT_LT(with, 0.03);
 	EXPECT_GT(without, 0.08) << "the undetected walker should drag the camera without the check";
 }
@@ -321,17 +323,6 @@ TEST(System, AStaticSequenceIsNotMadeWorseByTheMoverCheck)
 	sim.preset = "static_office";
 	sim.frames = 60;
 	const std::string seq = cachedSequence("system_static_60", sim);
-	const auto ate = [&](bool movers)
-	{
-		TempDir d(movers ? "system_static_on" : "system_static_off");
-		TSlamJobOptions o;
-		o.input = seq;
-		o.outDir = d.path();
-		o.slam.detector.backend = "auto";
-		o.slam.system.parallel = false;
-		o.slam.geometric.movers = movers;
-		return ateOf(runSlamJob(o));
-	};
-	const double with = ate(true), without = ate(false);
+	const double with = ateWithMoverCheck(seq, true), without = ateWithMoverCheck(seq, false);
 	EXPECT_LT(with, without * 1.15 + 0.001);
 }

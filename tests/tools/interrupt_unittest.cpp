@@ -42,6 +42,30 @@ void writeRepeatedLists(const std::string& folder, const std::string& rgbFile, c
 	writeText(folder + "/depth.txt", depth.str());
 }
 
+// A real Kinect frame pair (TUM fr1_desk, CC BY 4.0) listed 3000 times in `folder`: a still
+// camera, minutes of work. Returns the folder ("" when the shared frames are missing).
+std::string stillDeskSequence(const std::string& folder)
+{
+	const std::string src = sharedFile("data/tum_fr1_desk_9frames");
+	fs::create_directories(folder + "/rgb");
+	fs::create_directories(folder + "/depth");
+	std::ifstream rl(src + "/rgb.txt"), dl(src + "/depth.txt");
+	auto firstFile = [](std::ifstream& in)
+	{
+		std::string line;
+		while (std::getline(in, line))
+			if (!line.empty() && line[0] != '#') return line.substr(line.find(' ') + 1);
+		return std::string();
+	};
+	const std::string rgbFile = firstFile(rl), depthFile = firstFile(dl);
+	if (rgbFile.empty() || depthFile.empty()) return {};
+	fs::copy_file(src + "/" + rgbFile, folder + "/rgb/0.png");
+	fs::copy_file(src + "/" + depthFile, folder + "/depth/0.png");
+	fs::copy_file(src + "/calibration.txt", folder + "/calibration.txt");
+	writeRepeatedLists(folder, "rgb/0.png", "depth/0.png", 3000, 0.001);
+	return folder;
+}
+
 /** What an interrupted tool left: its exit code (or -1 if a signal killed it) and its stdout. */
 struct TInterrupted
 {
@@ -133,24 +157,8 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	// A real Kinect frame pair (TUM fr1_desk, CC BY 4.0) listed 3000 times: a still camera, minutes
 	// of work. Ctrl-C after a few seconds must leave a complete trajectory of the frames done.
 	TempDir d("sigint_slam");
-	const std::string src = sharedFile("data/tum_fr1_desk_9frames");
-	const std::string folder = d / "seq";
-	fs::create_directories(folder + "/rgb");
-	fs::create_directories(folder + "/depth");
-	std::ifstream rl(src + "/rgb.txt"), dl(src + "/depth.txt");
-	auto firstFile = [](std::ifstream& in)
-	{
-		std::string line;
-		while (std::getline(in, line))
-			if (!line.empty() && line[0] != '#') return line.substr(line.find(' ') + 1);
-		return std::string();
-	};
-	const std::string rgbFile = firstFile(rl), depthFile = firstFile(dl);
-	ASSERT_FALSE(rgbFile.empty());
-	fs::copy_file(src + "/" + rgbFile, folder + "/rgb/0.png");
-	fs::copy_file(src + "/" + depthFile, folder + "/depth/0.png");
-	fs::copy_file(src + "/calibration.txt", folder + "/calibration.txt");
-	writeRepeatedLists(folder, "rgb/0.png", "depth/0.png", 3000, 0.001);
+	const std::string folder = stillDeskSequence(d / "seq");
+	ASSERT_FALSE(folder.empty());
 
 	// Ctrl-C after 5 s of work.
 	const std::string out = d / "run";
@@ -177,23 +185,8 @@ TEST(Interrupt, SigtermEndsTheRunCleanlyWithExitCode143)
 	// A service manager stops a run with SIGTERM: the outputs are saved as for Ctrl-C, and the exit
 	// code says which signal it was (128 + 15), as a shell reports it.
 	TempDir d("sigterm_slam");
-	const std::string src = sharedFile("data/tum_fr1_desk_9frames");
-	const std::string folder = d / "seq";
-	fs::create_directories(folder + "/rgb");
-	fs::create_directories(folder + "/depth");
-	std::ifstream rl(src + "/rgb.txt"), dl(src + "/depth.txt");
-	auto firstFile = [](std::ifstream& in)
-	{
-		std::string line;
-		while (std::getline(in, line))
-			if (!line.empty() && line[0] != '#') return line.substr(line.find(' ') + 1);
-		return std::string();
-	};
-	const std::string rgbFile = firstFile(rl), depthFile = firstFile(dl);
-	fs::copy_file(src + "/" + rgbFile, folder + "/rgb/0.png");
-	fs::copy_file(src + "/" + depthFile, folder + "/depth/0.png");
-	fs::copy_file(src + "/calibration.txt", folder + "/calibration.txt");
-	writeRepeatedLists(folder, "rgb/0.png", "depth/0.png", 3000, 0.001);
+	const std::string folder = stillDeskSequence(d / "seq");
+	ASSERT_FALSE(folder.empty());
 	const std::string out = d / "run";
 	const auto start = std::chrono::steady_clock::now();
 	const auto r = interruptWhen(

@@ -26,6 +26,15 @@ TYesSlamOptions realOptions()
 	o.input.camera = "fr1";
 	return o;
 }
+
+// The 9 real fr1_desk frames, in order.
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> deskFrames()
+{
+	auto src = openInputSource(sharedFile("data/tum_fr1_desk_9frames"), realOptions().input);
+	std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> frames;
+	while (auto obs = src->next()) frames.push_back(obs);
+	return frames;
+}
 }  // namespace
 
 TEST(Tracker, RealFr1DeskFramesMatchMotionCapture)
@@ -109,11 +118,8 @@ TEST(Tracker, KeepsGoingWhenAPersonCoversTheWholeImage)
 // about 0.4 m/s: two held frames are a centimetre or more off).
 TEST(Tracker, LostFramesContinueTheLastMotion)
 {
-	const std::string dir = sharedFile("data/tum_fr1_desk_9frames");
 	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
-	auto src = openInputSource(dir, realOptions().input);
-	std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> frames;
-	while (auto obs = src->next()) frames.push_back(obs);
+	const auto frames = deskFrames();
 	ASSERT_EQ(frames.size(), 9u);
 	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
 	const auto worstError = [&](double damping)
@@ -170,11 +176,8 @@ void paintBoard(cv::Mat& bgr, cv::Mat& depth, const mrpt::img::TCamera& K, const
 // the points are erased. With both the see-through test and the mover check off they stay.
 TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 {
-	const std::string dir = sharedFile("data/tum_fr1_desk_9frames");
 	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
-	auto src = openInputSource(dir, realOptions().input);
-	std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> frames;
-	while (auto obs = src->next()) frames.push_back(obs);
+	const auto frames = deskFrames();
 	ASSERT_EQ(frames.size(), 9u);
 	const auto poseAt = [&](double t)
 	{

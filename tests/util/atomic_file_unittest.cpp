@@ -19,23 +19,13 @@ using namespace mrpt_yesslam;
 using namespace yesslam_test;
 namespace fs = std::filesystem;
 
-namespace
-{
-std::string slurp(const std::string& path)
-{
-	std::ifstream f(path, std::ios::binary);
-	std::stringstream ss;
-	ss << f.rdbuf();
-	return ss.str();
-}
-}  // namespace
 
 TEST(AtomicFile, RegularFileIsReplacedWithoutLeftovers)
 {
 	TempDir d("atomic_regular");
 	writeFileAtomically(d / "a.txt", std::string("old"));
 	writeFileAtomically(d / "a.txt", std::string("new"));
-	EXPECT_EQ(slurp(d / "a.txt"), "new");
+	EXPECT_EQ(readText(d / "a.txt"), "new");
 	std::size_t entries = 0;
 	for (const auto& e : fs::directory_iterator(d.path())) entries += e.path().filename() != "";
 	EXPECT_EQ(entries, 1u);
@@ -49,12 +39,12 @@ TEST(AtomicFile, ASymlinkIsFollowedAndKept)
 	fs::create_symlink("data/target.txt", d / "link.txt");	// relative, as users make them
 	writeFileAtomically(d / "link.txt", std::string("through the link"));
 	EXPECT_TRUE(fs::is_symlink(fs::symlink_status(d / "link.txt")));
-	EXPECT_EQ(slurp(d / "data/target.txt"), "through the link");
+	EXPECT_EQ(readText(d / "data/target.txt"), "through the link");
 	// A dangling link: its target is created.
 	fs::create_symlink(d / "data/new.txt", d / "dangling.txt");
 	writeFileAtomically(d / "dangling.txt", std::string("created"));
 	EXPECT_TRUE(fs::is_symlink(fs::symlink_status(d / "dangling.txt")));
-	EXPECT_EQ(slurp(d / "data/new.txt"), "created");
+	EXPECT_EQ(readText(d / "data/new.txt"), "created");
 	// A rawlog through a link too.
 	fs::create_symlink("data/out.rawlog", d / "out.rawlog");
 	{
@@ -70,7 +60,7 @@ TEST(AtomicFile, AFifoIsWrittenThroughNotReplaced)
 	TempDir d("atomic_fifo");
 	const std::string fifo = d / "pipe";
 	ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-	auto reader = std::async(std::launch::async, [&] { return slurp(fifo); });
+	auto reader = std::async(std::launch::async, [&] { return readText(fifo); });
 	writeFileAtomically(fifo, std::string("to the reader"));
 	EXPECT_EQ(reader.get(), "to the reader");
 	EXPECT_TRUE(fs::is_fifo(fs::symlink_status(fifo)));
