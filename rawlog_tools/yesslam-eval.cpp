@@ -1,5 +1,6 @@
 // yesslam-eval: ATE and RPE of an estimated trajectory against ground truth, with the numbers the
 // TUM RGB-D benchmark tools print.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -44,6 +45,8 @@ int main(int argc, char** argv)
 			o.rpeDeltaInFrames = unit == "f";
 			if (!(o.maxDiff > 0)) throw InputError("", "--max-diff must be positive");
 			if (!(o.rpeDelta > 0)) throw InputError("", "--rpe-delta must be positive");
+			if (o.rpeDeltaInFrames && o.rpeDelta != std::floor(o.rpeDelta))
+				throw InputError("", "--rpe-delta counts frames with --rpe-unit f: a whole number, got " + std::to_string(o.rpeDelta));
 
 			const TTrajectory gt = readTumTrajectory(gtPath);
 			const TTrajectory est = readTumTrajectory(estPath);

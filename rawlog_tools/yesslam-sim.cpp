@@ -59,8 +59,9 @@ int main(int argc, char** argv)
 				return 0;
 			}
 			if (o.outDir.empty()) throw InputError("", "missing required option --out (see --help)");
+			if (quiet && verbose) throw InputError("", "--quiet and --verbose contradict each other: give one");
 			if (seed > 0xffffffffu) throw InputError("", "--seed must fit in 32 bits");
-			if (!(people >= -1 && people <= 20 && people == static_cast<int>(people))) throw InputError("", "--people must be an integer 0..20");
+			if (!(people >= -1 && people <= 20 && people == static_cast<int>(people))) throw InputError("", "--people must be an integer -1..20 (-1: the preset's own number)");
 			o.seed = static_cast<uint32_t>(seed);
 			o.frames = frames;
 			o.people = static_cast<int>(people);

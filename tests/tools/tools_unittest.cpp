@@ -335,3 +335,21 @@ TEST(Tools, EveryToolHasVersionAndAForgottenValueIsNamed)
 	EXPECT_NE(r.err.find("--input needs a value"), std::string::npos) << r.err;
 	EXPECT_FALSE(fs::exists(d / "x"));
 }
+
+TEST(Tools, ContradictoryOrOutOfRangeOptionsSayWhy)
+{
+	// Issue 18 item 5: a fractional frame count, --quiet with --verbose, and --people's real range.
+	TempDir d("tool_option_msgs");
+	const std::string gt = sharedFile("data/tum_eval_trajectories/evo_fr2_desk_groundtruth.txt");
+	const auto frac = runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--rpe-unit", "f", "--rpe-delta", "1.5"});
+	EXPECT_EQ(frac.exitCode, 1);
+	EXPECT_NE(frac.err.find("whole number"), std::string::npos) << frac.err;
+	EXPECT_EQ(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--rpe-unit", "f", "--rpe-delta", "2"}).exitCode, 0);
+	const auto both = runTool("yesslam-sim", {"--out", d / "s", "--quiet", "--verbose", "--frames", "1"});
+	EXPECT_EQ(both.exitCode, 1);
+	EXPECT_NE(both.err.find("--quiet and --verbose"), std::string::npos) << both.err;
+	EXPECT_FALSE(fs::exists(d / "s"));
+	const auto people = runTool("yesslam-sim", {"--out", d / "p", "--people", "-2", "--frames", "1"});
+	EXPECT_EQ(people.exitCode, 1);
+	EXPECT_NE(people.err.find("-1..20"), std::string::npos) << people.err;
+}
