@@ -51,6 +51,7 @@ int main(int argc, char** argv)
 				if (cl.given("camera")) in.camera = cli.camera;
 			}
 			if (stride < 1 || step < 1) throw InputError("", "--stride and --frame-step must be at least 1");
+			if (!(o.maxDepth > 0)) throw InputError("", "--max-depth must be positive (metres)");
 			o.pixelStride = static_cast<int>(stride);
 			o.frameStep = step;
 

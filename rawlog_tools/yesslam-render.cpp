@@ -56,7 +56,15 @@ int main(int argc, char** argv)
 				parse3(lookAt, "look-at", v);
 				o.lookAt = mrpt::math::TPoint3D(v[0], v[1], v[2]);
 			}
-			if (!background.empty()) parse3(background, "background", o.background);
+			if (!background.empty())
+			{
+				parse3(background, "background", o.background);
+				for (double c : o.background)
+					if (!(c >= 0 && c <= 1))
+						throw InputError("", "--background components are in 0..1 (not 0..255), got '" + background + "'");
+			}
+			if (!(o.fovDeg > 0 && o.fovDeg < 180)) throw InputError("", "--fov must be between 0 and 180 degrees (exclusive)");
+			if (!(o.elevationDeg >= -90 && o.elevationDeg <= 90)) throw InputError("", "--elevation must be in -90..90 degrees");
 			const double share = renderSceneFileToPng(scenePath, outPath, o);
 			std::printf("wrote %s (%ux%u, %.1f%% of pixels show the scene)\n", outPath.c_str(), o.width, o.height, 100.0 * share);
 			if (share == 0.0) std::fprintf(stderr, "yesslam-render: warning: the picture is blank; check the camera options\n");

@@ -353,3 +353,23 @@ TEST(Tools, ContradictoryOrOutOfRangeOptionsSayWhy)
 	EXPECT_EQ(people.exitCode, 1);
 	EXPECT_NE(people.err.find("-1..20"), std::string::npos) << people.err;
 }
+
+TEST(Tools, RenderAndCloudRefuseOutOfRangeValues)
+{
+	// Issue 18 item 2: these were accepted and gave empty or odd pictures and clouds silently.
+	TempDir d("tool_ranges");
+	const auto fails = [](const std::string& tool, const std::vector<std::string>& args, const std::string& fragment)
+	{
+		const auto r = runTool(tool, args);
+		EXPECT_EQ(r.exitCode, 1) << tool << " " << fragment;
+		EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+	};
+	const std::string scene = d / "none.3Dscene", png = d / "x.png";
+	fails("yesslam-render", {"--scene", scene, "--out", png, "--fov", "0"}, "--fov");
+	fails("yesslam-render", {"--scene", scene, "--out", png, "--fov", "180"}, "--fov");
+	fails("yesslam-render", {"--scene", scene, "--out", png, "--elevation", "500"}, "--elevation");
+	fails("yesslam-render", {"--scene", scene, "--out", png, "--background", "255,255,255"}, "0..1");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	fails("yesslam-cloud", {"--input", desk, "--poses", desk + "/groundtruth.txt", "--out", d / "c.ply", "--max-depth", "-1"}, "--max-depth");
+	EXPECT_FALSE(fs::exists(png));
+}
