@@ -3,15 +3,20 @@
 # whose walkers are never detected and one with a high miss rate, runs yesslam with the default
 # configuration and with sim.ini, each as {paper mask only, mask + geometric check, whole box}, and
 # prints ATE RMSE, RPE RMSE (1 s), the worst 1-second burst (largest RPE over 1 s: a person dragging
-# the camera shows there even when the RMSE looks fine), lost frames and the tracking median.
-# Runs are --sequential, so each figure is exact and repeatable (a median of identical runs).
+# the camera shows there even when the RMSE looks fine), the share of tracking's inlier keypoints
+# that lie on people and the share of static keypoints the mask keeps (both against the simulator's
+# labels: bench_keypoint_use runs yesslam exactly as `yesslam --sequential --detector auto` does),
+# lost frames and the tracking median.
+# Runs are sequential, so each accuracy figure is exact and repeatable (a median of identical runs).
 # Usage: bench/bench_dynamic.sh [FRAMES] [SEED]   (sequences are kept in bench_out/dynamic/)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
 FRAMES="${1:-600}"; SEED="${2:-21}"
 SIMCFG="$ROOT/share/mrpt_yesslam/config/sim.ini"
-for t in yesslam yesslam-sim yesslam-eval; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
+for t in yesslam-sim yesslam-eval; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
+USE="$ROOT/build/bench/bench_keypoint_use"
+[ -x "$USE" ] || { echo "bench: build the benchmarks first (cmake --build build --target bench_keypoint_use)" >&2; exit 1; }
 OUT="$ROOT/bench_out/dynamic"; mkdir -p "$OUT/runs" "$OUT/cfg"
 # A config: the base (empty = defaults, or sim.ini) with some sections' keys replaced.
 mkcfg() {  # mkcfg OUT BASE "Section.key=value ..."
@@ -29,10 +34,10 @@ declare -A SEQS=(
   [walking_halfsphere]="--preset walking_halfsphere"
   [undetected]="--preset walking_xyz --undetected-people 1"
   [miss_rate]="--preset walking_xyz --miss-rate 0.5")
-echo "frames $FRAMES, seed $SEED; ATE / RPE RMSE / worst 1 s RPE in mm; lost frames; tracking median ms"
+echo "frames $FRAMES, seed $SEED; ATE / RPE RMSE / worst 1 s RPE in mm; people among the inlier keypoints and static keypoints kept, %; lost frames; tracking median ms"
 echo
-echo "| sequence | config | variant | ATE | RPE | worst 1 s | lost | track ms |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| sequence | config | variant | ATE | RPE | worst 1 s | people in inliers | static kept | lost | track ms |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 for name in walking_xyz walking_static walking_rpy walking_halfsphere undetected miss_rate; do
   seq="$OUT/${name}_${FRAMES}f_s${SEED}"
   [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" ${SEQS[$name]} --seed "$SEED" --frames "$FRAMES" --no-rawlog --quiet --out "$seq" > /dev/null
@@ -46,12 +51,13 @@ for name in walking_xyz walking_static walking_rpy walking_halfsphere undetected
       esac
       c="$OUT/cfg/$cfg-$variant.ini"; mkcfg "$c" "$base" $ovr
       run="$OUT/runs/$name-${FRAMES}f_s${SEED}-$cfg-$variant"
-      "$BIN/yesslam" --input "$seq" --config "$c" --detector auto --out "$run" --sequential --quiet > "$run.log" 2>&1 || { echo "| $name | $cfg | $variant | failed: $(tail -1 "$run.log") |"; continue; }
+      "$USE" --input "$seq" --config "$c" --out "$run" > "$run.log" 2>&1 || { echo "| $name | $cfg | $variant | failed: $(tail -1 "$run.log") |"; continue; }
       "$BIN/yesslam-eval" --gt "$seq/groundtruth.txt" --est "$run/trajectory.txt" --rpe-delta 1 --rpe-unit s > "$run.eval"
       f() { awk -v k="$1:" '$1 == k {printf "%.1f", 1000 * $2}' "$run.eval"; }
       lost=$(grep -o '"lost_frames": [0-9]*' "$run/stats.json" | awk '{print $2}')
       trk=$(grep -o '"track": {"median": [0-9.]*' "$run/stats.json" | awk '{print $3}')
-      echo "| $name | $cfg | $variant | $(f ate_rmse) | $(f rpe_trans_rmse) | $(f rpe_trans_max) | $lost | $trk |"
+      pct() { awk -v k="$1:" '$1 == k {printf "%.1f", 100 * $2}' "$run.log"; }
+      echo "| $name | $cfg | $variant | $(f ate_rmse) | $(f rpe_trans_rmse) | $(f rpe_trans_max) | $(pct person_share) | $(pct static_kept) | $lost | $trk |"
     done
   done
 done

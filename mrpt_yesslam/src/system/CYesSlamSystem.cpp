@@ -316,15 +316,18 @@ TFrameReport CYesSlamSystem::processFrame(
 
 	rep.tracked = frame->tracked;
 	rep.inliers = frame->numInliers;
-	std::lock_guard<std::mutex> sl(statsMtx_);
-	stats_.frames++;
-	if (frame->tracked)
-		stats_.trackedFrames++;
-	else
-		stats_.lostFrames++;
-	if (rep.relocalised) stats_.relocalisations++;
-	stats_.movingPointsErased += rep.movingPointsErased;
-	for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
+	{
+		std::lock_guard<std::mutex> sl(statsMtx_);
+		stats_.frames++;
+		if (frame->tracked)
+			stats_.trackedFrames++;
+		else
+			stats_.lostFrames++;
+		if (rep.relocalised) stats_.relocalisations++;
+		stats_.movingPointsErased += rep.movingPointsErased;
+		for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
+	}
+	if (frameCallback_) frameCallback_(*frame);	 // outside the lock: it may ask for stats()
 	return rep;
 }
 

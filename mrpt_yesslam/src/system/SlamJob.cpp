@@ -67,6 +67,7 @@ TSlamJobSummary runSlamJob(
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder");
 
 	CYesSlamSystem sys(opts);
+	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	sum.detector = sys.detector()->description();
 	const auto t0 = std::chrono::steady_clock::now();
 	std::size_t done = 0;

@@ -114,6 +114,10 @@ class CYesSlamSystem
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
 	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }
+	/** Called on the caller's thread at the end of each processFrame with the frame as tracking left
+	 * it (features with their dynamic and uncertain flags, the map point of each inlier, the pose):
+	 * for viewers and for benchmarks that score the frame against labels. */
+	void setFrameCallback(std::function<void(const TFrame&)> cb) { frameCallback_ = std::move(cb); }
 
 	/** A pose for every processed frame: its reference keyframe's current (optimised) pose composed
 	 * with the frame's pose relative to it, as ORB-SLAM2 saves trajectories. */
@@ -145,6 +149,7 @@ class CYesSlamSystem
 	CKeyFrameInserter inserter_;
 	CLocalMapper mapper_;
 	std::function<void(TKeyFrameId)> keyFrameCallback_;
+	std::function<void(const TFrame&)> frameCallback_;
 
 	struct TFrameRecord
 	{

@@ -18,6 +18,8 @@ struct TSlamJobOptions
 	std::string groundTruth;
 	std::size_t maxFrames = 0;	//!< 0 = all
 	TYesSlamOptions slam;
+	/** Optional: called after each frame (CYesSlamSystem::setFrameCallback). */
+	std::function<void(const TFrame&)> onFrame;
 };
 
 /** What a run produced. */
