@@ -326,3 +326,25 @@ TEST(System, AStaticSequenceIsNotMadeWorseByTheMoverCheck)
 	const double with = ateWithMoverCheck(seq, true), without = ateWithMoverCheck(seq, false);
 	EXPECT_LT(with, without * 1.15 + 0.001);
 }
+
+TEST(System, TheFrameCallbackSeesEveryFrameAsTrackingLeftIt)
+{
+	TempDir d("system_frame_cb");
+	auto o = jobFor(d.path(), false);
+	o.maxFrames = 12;
+	std::size_t calls = 0, withInliers = 0;
+	double lastStamp = 0;
+	o.onFrame = [&](const TFrame& f)
+	{
+		calls++;
+		EXPECT_GT(f.timestamp, lastStamp);
+		lastStamp = f.timestamp;
+		std::size_t n = 0;
+		for (TPointId id : f.mapPoints) n += id >= 0;
+		if (f.tracked && n == f.numInliers && n > 0) withInliers++;
+	};
+	const auto s = runSlamJob(o);
+	EXPECT_EQ(calls, 12u);
+	EXPECT_GE(withInliers, 10u) << "tracked frames carry their inliers' map points";
+	EXPECT_EQ(s.stats.frames, 12u);
+}
