@@ -373,3 +373,28 @@ TEST(Tools, RenderAndCloudRefuseOutOfRangeValues)
 	fails("yesslam-cloud", {"--input", desk, "--poses", desk + "/groundtruth.txt", "--out", d / "c.ply", "--max-depth", "-1"}, "--max-depth");
 	EXPECT_FALSE(fs::exists(png));
 }
+
+TEST(Tools, AFailedStartLeavesNoFolderAndNoStaleEvaluation)
+{
+	// Issue 18 item 4 (part): a run that cannot start creates no output folder; a run without
+	// ground truth in a folder an earlier evaluated run used leaves no eval.json from that run.
+	TempDir d("tool_no_leftovers");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	const auto bogus = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "bogus"});
+	EXPECT_EQ(bogus.exitCode, 1);
+	EXPECT_NE(bogus.err.find("auto, yolo, file, hog or none"), std::string::npos) << bogus.err;
+	EXPECT_FALSE(fs::exists(d / "run"));
+	const auto sim = runTool("yesslam-sim", {"--out", d / "sim", "--textures", d / "nonexistent", "--frames", "1"});
+	EXPECT_EQ(sim.exitCode, 1);
+	EXPECT_FALSE(fs::exists(d / "sim"));
+
+	const auto first = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
+	ASSERT_EQ(first.exitCode, 0) << first.err;
+	ASSERT_TRUE(fs::exists(d / "run/eval.json"));
+	// The same frames without ground truth (a copy of the folder without groundtruth.txt).
+	fs::copy(desk, d / "nogt", fs::copy_options::recursive);
+	fs::remove(d / "nogt/groundtruth.txt");
+	const auto second = runTool("yesslam", {"--input", d / "nogt", "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
+	ASSERT_EQ(second.exitCode, 0) << second.err;
+	EXPECT_FALSE(fs::exists(d / "run/eval.json")) << "a stale evaluation was left in place";
+}

@@ -138,6 +138,6 @@ std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOp
 		r.backend = !o.file.empty() ? "file" : useShippedModel(r) ? "yolo" : "hog";
 		return createObjectDetector(r);
 	}
-	throw InputError("", "unknown detector backend '" + o.backend + "' (yolo, file, hog or none)");
+	throw InputError("", "unknown detector backend '" + o.backend + "' (auto, yolo, file, hog or none)");
 }
 }  // namespace mrpt_yesslam

@@ -295,6 +295,8 @@ TSimSummary runSimulation(
 		}
 	}
 
+	// Inputs first: a run that cannot start leaves no output folder behind.
+	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
 	std::error_code ec;
 	fs::create_directories(fs::path(o.outDir), ec);
 	if (ec || !fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create output folder");
@@ -306,7 +308,6 @@ TSimSummary runSimulation(
 	const fs::path out(o.outDir);
 
 	// The world and its people.
-	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
 	CSimWorld world(o.seed, photos);
 	std::mt19937 layout(o.seed * 2654435761u + 11);
 	std::uniform_real_distribution<double> u(0, 1);

@@ -62,11 +62,14 @@ TSlamJobSummary runSlamJob(
 	sum.groundTruth = o.groundTruth.empty() ? findGroundTruthFor(o.input) : o.groundTruth;
 	TTrajectory gt;
 	if (!sum.groundTruth.empty()) gt = readTumTrajectory(sum.groundTruth);	// bad ground truth: fail before the long run
+	// The system (detector model, options) first: a run that cannot start leaves no output folder.
+	CYesSlamSystem sys(opts);
 	std::error_code ec;
 	fs::create_directories(o.outDir, ec);
-	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder");
+	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+	// An evaluation left by an earlier run in this folder must not pass for this run's.
+	fs::remove(fs::path(o.outDir) / "eval.json", ec);
 
-	CYesSlamSystem sys(opts);
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	sum.detector = sys.detector()->description();
 	const auto t0 = std::chrono::steady_clock::now();
