@@ -39,7 +39,9 @@ int main(int argc, char** argv)
 			cl.text("names", "FILE", "class names, one per line, in the model's order", &o.detector.names, true);
 			cl.number("conf", "P", "drop detections below this confidence (the paper: 0.6)", &conf);
 			cl.text("dynamic", "NAMES", "comma-separated classes treated as dynamic and masked", &o.detector.dynamicClasses);
-			cl.text("format", "F", "output layout: auto, darknet, yolov5 (also v7), yolov8, yolox", &o.detector.format);
+			std::string formats;
+			for (const auto& f : yoloOutputFormats()) formats += (formats.empty() ? "" : ", ") + f;
+			cl.text("format", "F", "output layout: " + formats, &o.detector.format);
 			cl.count("input-size", "PX", "network input side (0 = from the model)", &inputSize);
 			cl.text("mask-method", "M", "masking: edge_fill (paper), fill, box", &o.masker.method);
 			cl.text("input", "PATH", "image file, TUM RGB-D folder or .rawlog", &o.input, true);

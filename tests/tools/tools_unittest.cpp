@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 
 using namespace yesslam_test;
@@ -397,4 +398,13 @@ TEST(Tools, AFailedStartLeavesNoFolderAndNoStaleEvaluation)
 	const auto second = runTool("yesslam", {"--input", d / "nogt", "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
 	ASSERT_EQ(second.exitCode, 0) << second.err;
 	EXPECT_FALSE(fs::exists(d / "run/eval.json")) << "a stale evaluation was left in place";
+}
+
+TEST(Tools, DetectHelpListsEveryOutputFormat)
+{
+	// Issue 18 item 5: --format's help listed 5 of the 8 layouts the config accepts.
+	const auto help = runTool("yesslam-detect", {"--help"}).out;
+	const auto line = help.substr(help.find("--format"), help.find('\n', help.find("--format")) - help.find("--format"));
+	for (const auto& f : mrpt_yesslam::yoloOutputFormats()) EXPECT_NE(line.find(f), std::string::npos) << f << " missing in: " << line;
+	EXPECT_EQ(mrpt_yesslam::yoloOutputFormats().size(), 8u);
 }

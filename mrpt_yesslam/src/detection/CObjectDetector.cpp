@@ -18,6 +18,12 @@
 
 namespace mrpt_yesslam
 {
+const std::vector<std::string>& yoloOutputFormats()
+{
+	static const std::vector<std::string> f{"auto", "darknet", "yolov5", "yolov7", "yolov8", "yolox", "fastestdet", "nanodet"};
+	return f;
+}
+
 COptionTable CObjectDetector::TOptions::table()
 {
 	constexpr double kBig = std::numeric_limits<double>::max();
@@ -26,7 +32,7 @@ COptionTable CObjectDetector::TOptions::table()
 	t.text("model", model, "yolo: .cfg (darknet) or .onnx");
 	t.text("weights", weights, "yolo darknet: .weights");
 	t.text("names", names, "class names file, one per line (COCO order for COCO models)");
-	t.text("format", format, "yolo output layout", {"auto", "darknet", "yolov5", "yolov7", "yolov8", "yolox", "fastestdet", "nanodet"});
+	t.text("format", format, "yolo output layout", yoloOutputFormats());
 	t.integer("inputSize", inputSize, 0, 4096, "network input side in pixels; 0 = from the model (darknet cfg) or found by probing");
 	t.real("confThreshold", confThreshold, 0, 1, "boxes below this confidence are dropped (the paper: 0.6)");
 	t.real("nmsThreshold", nmsThreshold, 0, 1, "class-wise non-maximum suppression IoU");

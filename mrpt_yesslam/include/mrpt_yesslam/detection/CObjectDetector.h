@@ -78,6 +78,9 @@ class CObjectDetector
  * count must match (a names file for another model is a common mistake). Throws InputError. */
 std::vector<std::string> readClassNames(const std::string& path, std::size_t expectedCount = 0);
 
+/** The `[Detector] format` values (auto first): one list for the config table and the tools' help. */
+const std::vector<std::string>& yoloOutputFormats();
+
 /** Fills an empty `model` (and `weights`, `names`) with the shipped Yolo-Fastest-1.1 COCO
  * (share/mrpt_yesslam/models); false when no model is set and none is shipped. */
 bool useShippedModel(CObjectDetector::TOptions& o);
