@@ -7,6 +7,13 @@
 
 namespace mrpt_yesslam
 {
+namespace
+{
+// Two depths belong to different surfaces (a person in front of the wall): the one rule for the
+// mover check's groups and for the regions it hands to the next frames.
+bool depthGap(double a, double b) { return std::abs(a - b) > std::max(0.15, 0.1 * std::min(a, b)); }
+}  // namespace
+
 COptionTable CGeometricDynamicCheck::TOptions::table()
 {
 	COptionTable t("GeometricCheck");
@@ -58,7 +65,7 @@ std::vector<CGeometricDynamicCheck::TMoverRegion> CGeometricDynamicCheck::moverR
 	{
 		const float z = f.depth[v[k]];
 		const cv::Point2f& p = f.keypoints[v[k]].pt;
-		if (k == 0 || z - f.depth[v[k - 1]] > std::max(0.15f, 0.1f * f.depth[v[k - 1]]))
+		if (k == 0 || depthGap(f.depth[v[k - 1]], z))
 		{
 			out.emplace_back();
 			out.back().zMin = z;
@@ -179,7 +186,6 @@ std::vector<std::vector<std::size_t>> CGeometricDynamicCheck::depthCoherentGroup
 	const double side = opts_.moverCell;
 	const int cols = std::max(1, static_cast<int>(std::ceil(K.ncols / side)));
 	const int rows = std::max(1, static_cast<int>(std::ceil(K.nrows / side)));
-	const auto gap = [](double a, double b) { return std::abs(a - b) > std::max(0.15, 0.1 * std::min(a, b)); };
 	// Nodes: each cell's RGB-D matches split where their sorted depths jump.
 	std::vector<std::vector<std::size_t>> byCell(static_cast<std::size_t>(cols * rows));
 	for (std::size_t i = 0; i < obs.size(); i++)
@@ -197,7 +203,7 @@ std::vector<std::vector<std::size_t>> CGeometricDynamicCheck::depthCoherentGroup
 		std::sort(v.begin(), v.end(), [&](std::size_t a, std::size_t b) { return obs[a].depth < obs[b].depth; });
 		for (std::size_t k = 0; k < v.size(); k++)
 		{
-			if (k == 0 || gap(obs[v[k - 1]].depth, obs[v[k]].depth))
+			if (k == 0 || depthGap(obs[v[k - 1]].depth, obs[v[k]].depth))
 			{
 				cellNodes[c].push_back(nodes.size());
 				nodes.emplace_back();
@@ -220,7 +226,7 @@ std::vector<std::vector<std::size_t>> CGeometricDynamicCheck::depthCoherentGroup
 					if ((dr == 0 && dc <= 0) || c + dc < 0 || c + dc >= cols || r + dr >= rows) continue;
 					for (std::size_t a : cellNodes[static_cast<std::size_t>(c + cols * r)])
 						for (std::size_t b : cellNodes[static_cast<std::size_t>(c + dc + cols * (r + dr))])
-							if (!gap(median(nodes[a]), median(nodes[b]))) parent[findRoot(parent, a)] = findRoot(parent, b);
+							if (!depthGap(median(nodes[a]), median(nodes[b]))) parent[findRoot(parent, a)] = findRoot(parent, b);
 				}
 	std::vector<std::vector<std::size_t>> groups;
 	std::vector<std::size_t> slot(nodes.size(), nodes.size());

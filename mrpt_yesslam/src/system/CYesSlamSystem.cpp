@@ -14,7 +14,6 @@
 #include <sstream>
 
 #include "mrpt_yesslam/io/RgbdObservation.h"
-#include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -34,36 +33,35 @@ COptionTable TYesSlamOptions::TSystem::table()
 
 void TYesSlamOptions::loadFromFile(const std::string& path)
 {
-	const auto cfg = loadConfigFile(path);  // parsed once for all sections
-	// What MRPT would ignore without a word: a broken section line, keys before any section, and a
-	// section we do not read (a misspelt [Trackng] would leave every key in it at its default).
+	// What MRPT would ignore without a word also warns: a broken section line, keys before any
+	// section, and a section we do not read (a misspelt [Trackng] leaves its keys at their defaults).
 	std::vector<std::string> warnings;
-	const std::string l = lowerAscii(path);
-	const bool yaml = (l.size() > 5 && l.substr(l.size() - 5) == ".yaml") || (l.size() > 4 && l.substr(l.size() - 4) == ".yml");
-	if (!yaml) warnings = iniStructureWarnings(readTextFile(path), path);
-	const std::vector<std::string> known = {"Input", "Detector", "DynamicMask", "GeometricCheck", "ORB", "Tracking", "KeyFrames", "LocalMapping", "System"};
+	const auto cfg = loadConfigFile(path, &warnings);  // parsed once for all sections
+	for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+	warnings.clear();
+	std::vector<std::string> known;
+	const auto load = [&](const char* section, mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
+	{
+		known.push_back(section);
+		loadOptions(*cfg, path, section, opts, keys);
+	};
+	load("Input", input, CInputSource::TOptions::configKeys());
+	load("Detector", detector, CObjectDetector::TOptions::configKeys());
+	load("DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
+	load("GeometricCheck", geometric, CGeometricDynamicCheck::TOptions::configKeys());
+	load("ORB", orb, COrbExtractor::TOptions::configKeys());
+	load("Tracking", tracking, CTracker::TOptions::configKeys());
+	load("KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
+	load("LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
+	load("System", system, TSystem::configKeys());
 	std::vector<std::string> sections;
 	cfg->getAllSections(sections);
+	std::string list;
+	for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
 	for (const auto& sec : sections)
-	{
-		if (sec.empty()) continue;
-		if (std::none_of(known.begin(), known.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(sec); }))
-		{
-			std::string list;
-			for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+		if (!sec.empty() && std::none_of(known.begin(), known.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(sec); }))
 			warnings.push_back(path + ": unknown section [" + sec + "] ignored (known: " + list + ")");
-		}
-	}
 	for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-	loadOptions(*cfg, path, "Input", input, CInputSource::TOptions::configKeys());
-	loadOptions(*cfg, path, "Detector", detector, CObjectDetector::TOptions::configKeys());
-	loadOptions(*cfg, path, "DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
-	loadOptions(*cfg, path, "GeometricCheck", geometric, CGeometricDynamicCheck::TOptions::configKeys());
-	loadOptions(*cfg, path, "ORB", orb, COrbExtractor::TOptions::configKeys());
-	loadOptions(*cfg, path, "Tracking", tracking, CTracker::TOptions::configKeys());
-	loadOptions(*cfg, path, "KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
-	loadOptions(*cfg, path, "LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
-	loadOptions(*cfg, path, "System", system, TSystem::configKeys());
 }
 
 std::string TYesSlamOptions::dump() const

@@ -157,11 +157,13 @@ std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 	return cfg;
 }
 
-std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path)
+std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path, std::vector<std::string>* warnings)
 {
 	const std::string text = readTextFile(path);
 	const std::string l = lowerAscii(path);
 	const bool yaml = (l.size() > 5 && l.substr(l.size() - 5) == ".yaml") || (l.size() > 4 && l.substr(l.size() - 4) == ".yml");
+	if (warnings && !yaml)
+		for (auto& w : iniStructureWarnings(text, path)) warnings->push_back(std::move(w));
 	return parseConfigText(text, yaml, path);
 }
 

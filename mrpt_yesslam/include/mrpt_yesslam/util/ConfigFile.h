@@ -43,8 +43,9 @@ std::vector<std::string> iniStructureWarnings(const std::string& text, const std
 std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 	const std::string& text, bool yaml, const std::string& nameForErrors);
 
-/** Loads a config file; ".yaml"/".yml" files are YAML, anything else INI. */
-std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path);
+/** Loads a config file; ".yaml"/".yml" files are YAML, anything else INI. With `warnings`, an INI
+ * file's lines MRPT would ignore are added to it (iniStructureWarnings; the file is read once). */
+std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 /** Checks one section against the keys its TOptions reads. Returns one warning per unknown key
  * ("FILE: [Section] unknown key 'maxdif' (known: ...)"); throws InputError for a value of the wrong
