@@ -47,6 +47,17 @@ void CommandLine::text(
 	o.set = [target](const std::string& v) { *target = v; };
 }
 
+void CommandLine::texts(
+	const std::string& name, const std::string& metavar, const std::string& help, std::vector<std::string>* target, bool required)
+{
+	Opt& o = add(name);
+	o.metavar = metavar;
+	o.help = help + " (repeatable)";
+	o.takesValue = true;
+	o.required = required;
+	o.set = [target](const std::string& v) { target->push_back(v); };
+}
+
 void CommandLine::number(
 	const std::string& name, const std::string& metavar, const std::string& help, double* target, bool required)
 {

@@ -22,6 +22,8 @@ class CommandLine
 	void text(const std::string& name, const std::string& metavar, const std::string& help, std::string* target, bool required = false);
 	/** A finite floating-point option. */
 	void number(const std::string& name, const std::string& metavar, const std::string& help, double* target, bool required = false);
+	/** A text option that may be given several times; each value is appended. */
+	void texts(const std::string& name, const std::string& metavar, const std::string& help, std::vector<std::string>* target, bool required = false);
 	/** A non-negative integer option. */
 	void count(const std::string& name, const std::string& metavar, const std::string& help, std::size_t* target);
 
