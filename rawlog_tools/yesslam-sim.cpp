@@ -43,6 +43,7 @@ int main(int argc, char** argv)
 			cl.flag("no-noise", "no sensor noise (exact depth and colour)", &noNoise);
 			cl.flag("motion-blur", "blur colour images along the camera motion", &o.motionBlur);
 			cl.flag("auto-exposure", "vary image brightness slowly, like auto exposure", &o.autoExposure);
+			cl.number("speed", "F", "the preset's camera moves F times faster (0.1..10; the path is the same, frames stay 30 Hz)", &o.speed);
 			cl.flag("moving-chair", "also push a chair across the room (a dynamic object that is not a person)", &o.movingChair);
 			cl.count("undetected-people", "K", "K of the moving people never appear in detections.txt (movers the detector never reports)", &o.undetectedPeople);
 			cl.number("miss-rate", "P", "also drop each detection of a moving object with probability P (0..1)", &o.missRate);

@@ -15,7 +15,7 @@ int main(int argc, char** argv)
 		{
 			TSlamJobOptions o;
 			std::string config, detector = "auto", policy, camera;
-			bool noDynamic = false, sequential = false, quiet = false;
+			bool noDynamic = false, noLoop = false, sequential = false, quiet = false;
 			CommandLine cl(
 				"yesslam",
 				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
@@ -40,6 +40,7 @@ int main(int argc, char** argv)
 				"detector", "B",
 				"auto (detections.txt beside the input, else yolo if a model is configured, else hog), yolo, file, hog, none",
 				&detector);
+			cl.flag("no-loop-closure", "do not detect or close loops ([LoopClosing] enabled=false)", &noLoop);
 			cl.flag("no-dynamic-filter", "use every feature, people included (the baseline the method is compared with)", &noDynamic);
 			cl.text("policy", "P", "keyframe policy: semantic (the paper's Algorithm 1) or orbslam (ORB-SLAM2's rules)", &policy);
 			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);
@@ -51,6 +52,7 @@ int main(int argc, char** argv)
 			if (!config.empty()) o.slam.loadFromFile(config);
 			if (cl.given("detector") || config.empty()) o.slam.detector.backend = detector;
 			if (noDynamic) o.slam.system.dynamicFilter = false;
+			if (noLoop) o.slam.loop.detection.enabled = false;
 			if (!policy.empty()) o.slam.keyFrames.policy = policy;
 			if (!camera.empty()) o.slam.input.camera = camera;
 			if (sequential) o.slam.system.parallel = false;

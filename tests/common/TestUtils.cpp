@@ -201,4 +201,22 @@ std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
 	f->mapPoints = std::move(ids);
 	return f;
 }
+std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOptions& opts)
+{
+	namespace fs = std::filesystem;
+	const std::string path = std::string(YESSLAM_TEST_CACHE_DIR) + "/" + name;
+	if (!fs::exists(path + "/meta.json"))
+	{
+		fs::create_directories(YESSLAM_TEST_CACHE_DIR);
+		const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+		mrpt_yesslam::TSimOptions o = opts;
+		o.outDir = tmp;
+		o.writeRawlog = false;
+		mrpt_yesslam::runSimulation(o);
+		std::error_code ec;
+		fs::rename(tmp, path, ec);
+		if (ec) fs::remove_all(tmp);  // another process was first
+	}
+	return path;
+}
 }  // namespace yesslam_test

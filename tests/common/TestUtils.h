@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mrpt_yesslam/data/TFrame.h"
+#include "mrpt_yesslam/sim/CSequenceSimulator.h"
 
 namespace yesslam_test
 {
@@ -89,4 +90,9 @@ mrpt::img::TCamera fr3Camera();
 std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
 	std::size_t id, const mrpt::poses::CPose3D& Twc, const std::vector<mrpt::math::TPoint3D>& world,
 	std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng, int octave = 0);
+
+/** A yesslam-sim sequence rendered once into the build tree's cache (ctest runs every test in its
+ * own process): rendered into a private folder renamed into place, so that tests running in
+ * parallel never see half a sequence. Returns its folder. */
+std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOptions& opts);
 }  // namespace yesslam_test

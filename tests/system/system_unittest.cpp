@@ -25,29 +25,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-// One walking_xyz sequence for the whole suite (rendering it is the slow part). ctest runs every
-// test in its own process, so it is cached in the build tree: rendered into a private folder and
-// renamed into place, so that tests running in parallel never see half a sequence.
-// A simulated sequence rendered once into the build tree's cache: into a private folder renamed
-// into place, so that tests running in parallel never see half a sequence.
-std::string cachedSequence(const std::string& name, const TSimOptions& opts)
-{
-	const std::string path = std::string(YESSLAM_TEST_CACHE_DIR) + "/" + name;
-	if (!fs::exists(path + "/meta.json"))
-	{
-		fs::create_directories(YESSLAM_TEST_CACHE_DIR);
-		const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-		TSimOptions o = opts;
-		o.outDir = tmp;
-		o.writeRawlog = false;
-		runSimulation(o);
-		std::error_code ec;
-		fs::rename(tmp, path, ec);
-		if (ec) fs::remove_all(tmp);  // another process was first
-	}
-	return path;
-}
-
 // One walking_xyz sequence for the whole suite (rendering it is the slow part; ctest runs every
 // test in its own process, hence the cache).
 const std::string& walkingSequence()

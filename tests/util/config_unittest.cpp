@@ -115,6 +115,8 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("KeyFrames", CKeyFrameInserter::TOptions::configKeys(), kf, CKeyFrameInserter::TOptions());
 	CLocalMapper::TOptions lm;
 	check("LocalMapping", CLocalMapper::TOptions::configKeys(), lm, CLocalMapper::TOptions());
+	CLoopCloser::TOptions loop;
+	check("LoopClosing", CLoopCloser::TOptions::configKeys(), loop, CLoopCloser::TOptions());
 	TYesSlamOptions::TSystem sys;
 	check("System", TYesSlamOptions::TSystem::configKeys(), sys, TYesSlamOptions::TSystem());
 }

@@ -199,6 +199,15 @@ TKeyFrameId CSparseMap::addKeyFrame(const std::shared_ptr<const TFrame>& frame, 
 	return kf.id;
 }
 
+bool CSparseMap::setKeyFrameBow(TKeyFrameId id, std::shared_ptr<const TBow> bow)
+{
+	WriteLock lk(mtx_);
+	const auto it = keyFrames_.find(id);
+	if (it == keyFrames_.end() || it->second->bad) return false;
+	it->second->bow = std::move(bow);
+	return true;
+}
+
 std::size_t CSparseMap::numKeyFrames() const
 {
 	ReadLock lk(mtx_);
@@ -574,6 +583,7 @@ void CSparseMap::eraseKeyFrameLocked(CKeyFrame& kf)
 	kf.orderedConnections.clear();
 	// The measurements are what costs memory; a bad keyframe keeps only what resolves its pose.
 	kf.features.reset();
+	kf.bow.reset();
 	kf.colors.clear();
 	kf.colors.shrink_to_fit();
 	kf.mapPoints.clear();
@@ -723,6 +733,148 @@ std::uint64_t CSparseMap::beginCorrection()
 {
 	WriteLock lk(mtx_);
 	return ++generation_;
+}
+
+bool CSparseMap::addLoopEdge(TKeyFrameId a, TKeyFrameId b)
+{
+	WriteLock lk(mtx_);
+	const auto ia = keyFrames_.find(a), ib = keyFrames_.find(b);
+	if (ia == keyFrames_.end() || ib == keyFrames_.end() || a == b) return false;
+	ia->second->loopEdges.insert(b);
+	ib->second->loopEdges.insert(a);
+	return true;
+}
+
+std::vector<std::pair<TKeyFrameId, TKeyFrameId>> CSparseMap::essentialGraph(int minWeight) const
+{
+	ReadLock lk(mtx_);
+	std::set<std::pair<TKeyFrameId, TKeyFrameId>> edges;
+	auto add = [&](TKeyFrameId a, TKeyFrameId b)
+	{
+		if (a == b) return;
+		const auto ia = keyFrames_.find(a), ib = keyFrames_.find(b);
+		if (ia == keyFrames_.end() || ib == keyFrames_.end() || ia->second->bad || ib->second->bad) return;
+		edges.insert({std::min(a, b), std::max(a, b)});
+	};
+	for (const auto& [id, kf] : keyFrames_)
+	{
+		if (kf->bad) continue;
+		if (kf->parent) add(id, *kf->parent);
+		for (const auto& [other, w] : kf->connections)
+			if (w >= minWeight) add(id, other);
+		for (const auto other : kf->loopEdges) add(id, other);
+	}
+	return {edges.begin(), edges.end()};
+}
+
+void CSparseMap::correctLocked(
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate, const std::set<TPointId>& skip)
+{
+	// Each moved keyframe's correction D = T_new (T_old)^-1, applied to what moves with it.
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> delta;
+	for (const auto& [id, p] : poses)
+		if (auto it = keyFrames_.find(id); it != keyFrames_.end() && !it->second->bad) delta[id] = p + (-it->second->pose);
+	if (propagate)
+		for (const auto& [id, kf] : keyFrames_)
+		{
+			if (kf->bad || delta.count(id)) continue;
+			std::optional<TKeyFrameId> a = kf->parent;
+			for (std::size_t hops = 0; a && !delta.count(*a) && hops <= keyFrames_.size(); hops++) a = keyFrames_.at(*a)->parent;
+			if (a && delta.count(*a)) delta[id] = delta.at(*a);
+		}
+	for (auto& [pid, p] : points_)
+	{
+		if (p.bad || skip.count(pid)) continue;
+		const mrpt::poses::CPose3D* D = nullptr;
+		if (propagate)
+		{
+			if (keyFrames_.count(p.firstKeyFrame))
+				if (auto it = delta.find(goodAncestorLocked(p.firstKeyFrame)); it != delta.end()) D = &it->second;
+		}
+		else
+			for (const auto& [k, kp] : p.observations)
+				if (auto it = delta.find(k); it != delta.end())
+				{
+					D = &it->second;
+					break;
+				}
+		if (!D) continue;
+		mrpt::math::TPoint3D q;
+		D->composePoint(p.position, q);
+		p.position = q;
+	}
+	for (const auto& [id, D] : delta)
+	{
+		auto& kf = *keyFrames_.at(id);
+		kf.pose = D + kf.pose;
+	}
+	generation_++;
+}
+
+void CSparseMap::correctKeyFrames(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses)
+{
+	WriteLock lk(mtx_);
+	correctLocked(poses, false);
+}
+
+void CSparseMap::applyCorrection(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses)
+{
+	WriteLock lk(mtx_);
+	correctLocked(poses, true);
+}
+
+TBundleWindow CSparseMap::globalBundleWindow() const
+{
+	ReadLock lk(mtx_);
+	TBundleWindow w;
+	w.generation = generation_;
+	for (const auto& [id, kf] : keyFrames_)
+	{
+		if (kf->bad) continue;
+		(id == keyFrames_.begin()->first ? w.fixedKeyFrames : w.keyFrames).push_back(id);
+		w.poses[id] = kf->pose;
+		w.features[id] = kf->features;
+		w.cameras[id] = kf->camera;
+	}
+	for (const auto& [pid, p] : points_)
+	{
+		if (p.bad) continue;
+		std::map<TKeyFrameId, std::size_t> obs;
+		for (const auto& [k, kp] : p.observations)
+			if (w.poses.count(k)) obs[k] = kp;
+		if (obs.empty()) continue;
+		w.points.push_back(pid);
+		w.positions.push_back(p.position);
+		w.observations.push_back(std::move(obs));
+	}
+	return w;
+}
+
+bool CSparseMap::applyGlobalBundle(
+	const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+{
+	WriteLock lk(mtx_);
+	if (w.generation != generation_) return false;
+	// Keyframes and points made since the copy follow their ancestors' correction (ORB-SLAM2's
+	// RunGlobalBundleAdjustment), the window's points take their optimised positions.
+	const std::set<TPointId> optimised(w.points.begin(), w.points.end());
+	correctLocked(poses, true, optimised);
+	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
+		if (auto it = points_.find(w.points[i]); it != points_.end() && !it->second.bad) it->second.position = positions[i];
+	for (const auto& [pid, k] : outliers)
+	{
+		auto it = points_.find(pid);
+		if (it == points_.end() || it->second.bad) continue;
+		eraseObservation(it->second, k);
+		if (it->second.observations.empty())
+		{
+			it->second.bad = true;
+			numGoodPoints_--;
+		}
+	}
+	reorderDirty();
+	return true;
 }
 
 std::vector<TKeyFramePose> CSparseMap::keyFramePoses() const

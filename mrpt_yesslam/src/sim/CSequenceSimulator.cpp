@@ -43,7 +43,9 @@ const std::vector<TSimPreset>& simPresets()
 		{"sitting_xyz", "two people sit at desks; camera translates along x, y, z (fr3/sitting_xyz)", "xyz", 0, 2, 900},
 		{"sitting_halfsphere", "two people sit at desks; camera moves on a half sphere (fr3/sitting_halfsphere)", "halfsphere", 0, 2, 900},
 		{"static_office", "the office without people; camera translates along x, y, z (a static reference)", "xyz", 0, 0, 600},
-		{"office_loop", "one person walks; camera goes round a loop and is back at its start after 24 s (loop closure)", "loop", 1, 0, 900},
+		{"office_loop", "one person walks; camera goes round a small loop, never losing sight of its start (back there after 24 s)", "loop", 1, 0, 900},
+		{"office_tour", "two people walk; camera turns a full circle round the room centre, looking at every wall, and sees its start again after 32 s from 7 cm further out (loop closure)", "tour", 2, 0, 1200},
+		{"static_tour", "the office_tour camera path without people (loop closure in a static room)", "tour", 0, 0, 1200},
 	};
 	return p;
 }
@@ -99,6 +101,27 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 		mrpt::math::CVectorFixedDouble<3> tv;
 		for (int i = 0; i < 3; i++) tv[i] = p[i] - (c - Eigen::Vector3d(0, 0, 1.0))[i];
 		return CPose3D(R, tv);
+	}
+	if (motion == "tour")
+	{
+		// A full turn in 32 s on a circle round (2.6, 2.5), looking outwards (8 degrees down) at
+		// each wall in turn: after about a third of the turn the start is out of sight, so only loop
+		// closing can tie the end of the turn to its start. The radius grows slowly (0.45 m at the
+		// start, 0.52 m a turn later), so the place is seen again from a slightly different viewpoint.
+		const double th = s * t / 32.0, r = 0.45 + 0.0022 * t, a = -8.0 * M_PI / 180;
+		const Eigen::Vector3d p(2.6 + r * std::cos(th), 2.5 + r * std::sin(th), 1.3 + 0.05 * std::sin(s * t / 13.0));
+		const Eigen::Vector3d z(std::cos(a) * std::cos(th), std::cos(a) * std::sin(th), std::sin(a)), x(std::sin(th), -std::cos(th), 0);
+		const Eigen::Vector3d y = z.cross(x);
+		mrpt::math::CMatrixDouble33 R;
+		mrpt::math::CVectorFixedDouble<3> tv;
+		for (int i = 0; i < 3; i++)
+		{
+			R(i, 0) = x[i];
+			R(i, 1) = y[i];
+			R(i, 2) = z[i];
+			tv[i] = p[i];
+		}
+		return -basePose() + CPose3D(R, tv);  // relative to the base pose, as the other motions
 	}
 	if (motion == "loop")
 	{
@@ -266,6 +289,7 @@ TSimSummary runSimulation(
 	const TSimPreset& preset = *pit;
 	if (o.detNoise != "none" && o.detNoise != "yolo") throw InputError("", "--det-noise must be none or yolo, got '" + o.detNoise + "'");
 	if (o.outDir.empty()) throw InputError("", "no output folder given (--out)");
+	if (!(o.speed >= 0.1 && o.speed <= 10)) throw InputError("", "--speed must be in 0.1..10");
 
 	// Frame stamps and camera poses: the preset's motion at 30 Hz, or a replayed TUM trajectory.
 	std::vector<double> stamps;
@@ -286,12 +310,12 @@ TSimSummary runSimulation(
 	}
 	else
 	{
-		const std::size_t n = o.frames ? o.frames : preset.frames;
+		const std::size_t n = o.frames ? o.frames : static_cast<std::size_t>(std::ceil(static_cast<double>(preset.frames) / o.speed));
 		for (std::size_t k = 0; k < n; k++)
 		{
 			const double t = k / 30.0;
 			stamps.push_back(epoch + t);
-			poses.push_back(base + presetMotion(preset.motion, t, o.seed));
+			poses.push_back(base + presetMotion(preset.motion, t * o.speed, o.seed));
 		}
 	}
 
@@ -316,7 +340,11 @@ TSimSummary runSimulation(
 	using P2 = mrpt::math::TPoint2D;
 	for (int k = 0; k < walkers; k++)
 	{
-		if (k == 0)	 // comes close to the camera: covers much of the image for a while
+		// The tour's camera circles the room centre: its people cross the far and near halves of
+		// the room, in front of the walls the camera looks at, never through the camera.
+		if (preset.motion == "tour" && k < 2)
+			world.addWalkingPerson(k == 0 ? std::vector<P2>{P2(4.1, 0.9), P2(4.3, 4.1)} : std::vector<P2>{P2(1.1, 4.0), P2(1.0, 1.0)}, 0.9, 2.0 * k);
+		else if (k == 0)	 // comes close to the camera: covers much of the image for a while
 			world.addWalkingPerson({P2(4.4, 1.2), P2(2.95, 2.3), P2(4.4, 3.8)}, 0.8, 0.0);
 		else if (k == 1)
 			world.addWalkingPerson({P2(3.5, 0.7), P2(3.6, 4.3)}, 1.1, 1.0);
@@ -584,6 +612,7 @@ TSimSummary runSimulation(
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
 		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
 	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
+	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n";
 	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
 	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";
 	meta += "  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, \"depth_scale\": 5000},\n";

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -53,6 +54,7 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	load("Tracking", tracking, CTracker::TOptions::configKeys());
 	load("KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
 	load("LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
+	load("LoopClosing", loop, CLoopCloser::TOptions::configKeys());
 	load("System", system, TSystem::configKeys());
 	std::vector<std::string> sections;
 	cfg->getAllSections(sections);
@@ -68,7 +70,7 @@ std::string TYesSlamOptions::dump() const
 {
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
-			 &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &system})
+			 &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &loop, &system})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";
@@ -105,7 +107,38 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 			"", "[System] frameBuffer (" + std::to_string(opts_.system.frameBuffer) + ") must be at least [KeyFrames] interval (" +
 					std::to_string(longest) + "): a keyframe chosen in the interval would be lost");
 	if (opts_.system.mappingQueue < 1) throw InputError("", "[System] mappingQueue must be >= 1");
-	if (opts_.system.parallel) mappingStage_ = std::make_unique<CWorkerPool>(1, opts_.system.mappingQueue);
+	// Place recognition. Loop closing needs the vocabulary, and so does a vocabulary the user names;
+	// without either, the shipped one still serves relocalisation when it is there.
+	const bool required = opts_.loop.detection.enabled || !opts_.loop.detection.vocabulary.empty();
+	const std::string vocabPath = !opts_.loop.detection.vocabulary.empty() ? opts_.loop.detection.vocabulary : CVocabulary::shippedPath();
+	if (vocabPath.empty())
+	{
+		if (required)
+			throw InputError("", "no vocabulary for loop closing: the shipped share/mrpt_yesslam/vocabulary was not found (set YESSLAM_SHARE_DIR or [LoopClosing] vocabulary), or run with loop closing off");
+	}
+	else if (required || std::filesystem::exists(vocabPath))
+	{
+		vocabulary_ = std::make_shared<const CVocabulary>(CVocabulary::load(vocabPath));
+		bowDatabase_ = std::make_shared<CBowDatabase>(vocabulary_->numWords());
+		tracker_.setPlaceRecognition(vocabulary_, bowDatabase_);
+		if (opts_.loop.detection.enabled)
+		{
+			loopDetector_ = std::make_unique<CLoopDetector>(
+				opts_.loop.detection, map_, vocabulary_, bowDatabase_, opts_.keyFrames.semantic, opts_.orb.scaleFactor, opts_.tracking.maxDepth);
+			loopCloser_ = std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.mapping.depthNoise);
+		}
+	}
+	if (opts_.system.parallel)
+	{
+		gbaStage_ = std::make_unique<CWorkerPool>(1);
+		mappingStage_ = std::make_unique<CWorkerPool>(1, opts_.system.mappingQueue);
+	}
+}
+
+std::vector<TLoop> CYesSlamSystem::loops() const
+{
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	return loops_;
 }
 
 CYesSlamSystem::~CYesSlamSystem()
@@ -113,18 +146,110 @@ CYesSlamSystem::~CYesSlamSystem()
 	// Let the queued keyframes finish (their futures would otherwise break), ignoring failures: a
 	// destructor must not throw, and a failure has been or will not be reported.
 	if (mappingStage_) mappingStage_->waitIdle();
+	if (gbaStage_) gbaStage_->waitIdle();
+}
+
+void CYesSlamSystem::runGlobalBundle()
+{
+	const auto t0 = Clock::now();
+	const TBundleStats st = loopCloser_->globalBundleAdjust();
+	const double ms = msSince(t0);
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	stats_.globalBundleRuns++;
+	if (st.applied) stats_.globalBundleApplied++;
+	stats_.stageMs["global_ba"].push_back(ms);
+}
+
+void CYesSlamSystem::requestGlobalBundle()
+{
+	if (!loopCloser_ || !opts_.loop.globalBundleAdjustment) return;
+	if (!gbaStage_)
+	{
+		runGlobalBundle();
+		return;
+	}
+	std::lock_guard<std::mutex> lk(gbaMtx_);
+	gbaPending_ = true;
+	if (gbaRunning_) return;
+	gbaRunning_ = true;
+	gbaTasks_.push_back(gbaStage_->submit(
+		[this]
+		{
+			for (;;)
+			{
+				{
+					std::lock_guard<std::mutex> l(gbaMtx_);
+					if (!gbaPending_)
+					{
+						gbaRunning_ = false;
+						return;
+					}
+					gbaPending_ = false;
+				}
+				try
+				{
+					runGlobalBundle();
+				}
+				catch (...)
+				{
+					std::lock_guard<std::mutex> l(gbaMtx_);
+					gbaRunning_ = gbaPending_ = false;
+					throw;
+				}
+			}
+		}));
 }
 
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
-	const auto t0 = Clock::now();
+	auto t0 = Clock::now();
+	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
+	// detection find it; culled keyframes leave the database with the map.
+	if (vocabulary_)
+	{
+		const CKeyFrame k = map_.keyFrame(kf);
+		if (!k.bad && k.features)
+		{
+			auto bow = vocabulary_->bowOf(*k.features, opts_.loop.detection.directLevel);
+			if (map_.setKeyFrameBow(kf, bow)) bowDatabase_->add(kf, std::move(bow));
+		}
+	}
 	const TMappingStats st = mapper_.step(kf);
+	if (bowDatabase_)
+		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
 	const double ms = msSince(t0);
+	std::optional<TLoop> loop;
+	double loopMs = 0;
+	if (loopDetector_)
+	{
+		t0 = Clock::now();
+		loop = loopDetector_->detect(kf);
+		loopMs = msSince(t0);
+	}
+	std::optional<double> correctMs;
+	if (loop)
+	{
+		t0 = Clock::now();
+		loopCloser_->correct(*loop);
+		correctMs = msSince(t0);
+	}
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.stageMs["mapping"].push_back(ms);
 		stats_.culledKeyFrames += st.erasedKeyFrames.size();
+		if (loopDetector_)
+		{
+			stats_.stageMs["loop_detect"].push_back(loopMs);
+			stats_.loops = loopDetector_->stats();
+		}
+		if (loop)
+		{
+			loops_.push_back(*loop);
+			stats_.loopCorrections++;
+			stats_.stageMs["loop_correct"].push_back(*correctMs);
+		}
 	}
+	if (loop) requestGlobalBundle();
 	if (keyFrameCallback_) keyFrameCallback_(kf);
 }
 
@@ -147,7 +272,29 @@ void CYesSlamSystem::collectMapping(bool wait)
 	}
 }
 
-void CYesSlamSystem::waitForMapping() { collectMapping(true); }
+void CYesSlamSystem::waitForMapping()
+{
+	collectMapping(true);
+	// Then the global BA the last keyframes may have asked for.
+	for (;;)
+	{
+		std::future<void> f;
+		{
+			std::lock_guard<std::mutex> lk(gbaMtx_);
+			if (gbaTasks_.empty()) return;
+			f = std::move(gbaTasks_.front());
+			gbaTasks_.pop_front();
+		}
+		try
+		{
+			f.get();
+		}
+		catch (const std::exception& e)
+		{
+			throw std::runtime_error(std::string("global bundle adjustment failed: ") + e.what());
+		}
+	}
+}
 
 void CYesSlamSystem::pauseMapping()
 {
@@ -413,6 +560,10 @@ std::string CYesSlamSystem::statsJson() const
 	o << "  \"keyframes_in_map\": " << s.keyFramesInMap << ",\n";
 	o << "  \"map_points\": " << s.mapPoints << ",\n";
 	o << "  \"moving_points_erased\": " << s.movingPointsErased << ",\n";
+	o << "  \"loop_closing\": " << (opts_.loop.detection.enabled ? "true" : "false") << ",\n";
+	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent << ", \"accepted\": " << s.loops.accepted
+	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
+	  << ", \"global_ba_runs\": " << s.globalBundleRuns << ", \"global_ba_applied\": " << s.globalBundleApplied << "},\n";
 	o << "  \"keyframe_policy\": \"" << opts_.keyFrames.policy << "\",\n";
 	o << "  \"dynamic_filter\": " << (opts_.system.dynamicFilter ? "true" : "false") << ",\n";
 	o << "  \"stages_ms\": {";

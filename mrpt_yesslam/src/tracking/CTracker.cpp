@@ -245,13 +245,24 @@ void CTracker::updateMovers(TFrame& f, const std::vector<std::size_t>& moving)
 
 bool CTracker::relocalise(TFrame& f, TResult& r)
 {
-	const std::vector<TKeyFrameId> ids = map_.keyFrameIds();
-	const std::size_t n = ids.size();
-	const std::size_t first = opts_.relocKeyFrames == 0 || n <= opts_.relocKeyFrames ? 0 : n - opts_.relocKeyFrames;
-	// Newest first: after a short loss the camera is most likely where it just was.
-	for (std::size_t j = n; j-- > first;)
+	std::vector<TKeyFrameId> order;
+	if (vocabulary_ && database_ && database_->size() > 0)
 	{
-		const TKeyFrameId k = ids[j];
+		// The keyframes that look like the frame, best covisibility group first (ORB-SLAM2).
+		const auto bow = vocabulary_->bowOf(f.features);
+		for (const auto& c : groupCandidates(database_->query(bow->words), map_))
+			if (opts_.relocKeyFrames == 0 || order.size() < opts_.relocKeyFrames) order.push_back(c.keyFrame);
+	}
+	else
+	{
+		// Newest first: after a short loss the camera is most likely where it just was.
+		const std::vector<TKeyFrameId> ids = map_.keyFrameIds();
+		const std::size_t n = ids.size();
+		const std::size_t first = opts_.relocKeyFrames == 0 || n <= opts_.relocKeyFrames ? 0 : n - opts_.relocKeyFrames;
+		for (std::size_t j = n; j-- > first;) order.push_back(ids[j]);
+	}
+	for (const TKeyFrameId k : order)
+	{
 		const TLocalMapPoints pts = map_.keyFramePoints(k);
 		const auto m = matcher_.matchBruteForce(f, pts.descriptors);
 		if (m.size() < 15) continue;

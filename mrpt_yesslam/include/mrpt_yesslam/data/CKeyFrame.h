@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mrpt_yesslam/data/CMapPoint.h"
+#include "mrpt_yesslam/data/TBow.h"
 #include "mrpt_yesslam/data/TFrame.h"
 
 namespace mrpt_yesslam
@@ -33,6 +34,9 @@ struct CKeyFrame
 	std::vector<TDetection> detections;
 	mrpt::poses::CPose3D pose;	//!< T_w_c; written only by the map (insertion, optimisers)
 	std::vector<TPointId> mapPoints;  //!< per keypoint, -1 = none
+	/** Its words (place recognition), set by local mapping once computed; null before, or without
+	 * a vocabulary. Shared read-only like the features. */
+	std::shared_ptr<const TBow> bow;
 	bool bad = false;  //!< erased (redundant): measurements dropped, pose kept relative to the parent
 
 	/** Covisibility graph: keyframe -> number of map points both observe (> 0), kept up to date by the map. */
@@ -42,6 +46,8 @@ struct CKeyFrame
 	/** Spanning tree (ORB-SLAM2's essential graph backbone): the best-connected older keyframe at insertion. */
 	std::optional<TKeyFrameId> parent;
 	std::set<TKeyFrameId> children;
+	/** Keyframes it closed a loop with (kept in the essential graph of later corrections). */
+	std::set<TKeyFrameId> loopEdges;
 	/** Once bad: its pose relative to its parent (T_parent_this), so frames tracked from it still resolve. */
 	mrpt::poses::CPose3D poseInParent;
 

@@ -15,6 +15,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <set>
 #include <opencv2/core.hpp>
 #include <shared_mutex>
 #include <unordered_map>
@@ -76,6 +77,9 @@ class CSparseMap
 	 * covisibility graph and hangs the keyframe in the spanning tree under its best-connected
 	 * keyframe. Ids increase with every call. */
 	TKeyFrameId addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth, std::size_t* newPoints = nullptr);
+
+	/** Stores the words of keyframe `id` (computed off the map's lock); false when unknown or bad. */
+	bool setKeyFrameBow(TKeyFrameId id, std::shared_ptr<const TBow> bow);
 
 	/** Number of keyframes that are not bad. */
 	std::size_t numKeyFrames() const;
@@ -165,6 +169,29 @@ class CSparseMap
 	/** Starts a new correction generation (call when writing a map-wide correction); returns it. */
 	std::uint64_t beginCorrection();
 
+	/** Records a loop closed between keyframes `a` and `b` (both ways); false when either is unknown. */
+	bool addLoopEdge(TKeyFrameId a, TKeyFrameId b);
+	/** ORB-SLAM2's essential graph over the good keyframes: spanning-tree edges, covisibility edges
+	 * of weight >= `minWeight`, and loop edges; each once, as (smaller id, larger id). */
+	std::vector<std::pair<TKeyFrameId, TKeyFrameId>> essentialGraph(int minWeight) const;
+	/** Moves the listed keyframes to the given poses, and every good point one of them observes
+	 * rigidly with the first of them that observes it (ORB-SLAM2's correction of the loop's
+	 * keyframe group before fusion). Starts a new correction generation. */
+	void correctKeyFrames(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses);
+	/** A map-wide correction (pose graph): the listed keyframes get the given poses; every other
+	 * good keyframe (one added while the correction was computed) moves rigidly with its nearest
+	 * listed ancestor in the spanning tree; every good point moves with the keyframe that created it
+	 * (or that keyframe's good ancestor). Starts a new correction generation. */
+	void applyCorrection(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses);
+	/** Every good keyframe (the first fixed) and every good point: ORB-SLAM2's global BA window. */
+	TBundleWindow globalBundleWindow() const;
+	/** Writes a global BA result back as applyBundle does, and moves the keyframes and points created
+	 * since the window was copied with their ancestors (as applyCorrection). Refused (false) when a
+	 * correction was applied meanwhile. Starts a new correction generation. */
+	bool applyGlobalBundle(
+		const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+		const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
+
 	/** Poses and times of all keyframes (bad ones resolved through their parents), by id. */
 	std::vector<TKeyFramePose> keyFramePoses() const;
 	/** Copies of all good points. */
@@ -176,6 +203,11 @@ class CSparseMap
 	void eraseKeyFrameLocked(CKeyFrame& kf);
 	bool replacePointLocked(TPointId oldId, TPointId newId);
 	void reorderDirty();
+	/** Sets keyframe poses and moves points (see applyCorrection); `propagate` false: only the
+	 * listed keyframes move, and the points they observe (correctKeyFrames). Points in `skip` keep
+	 * their position. */
+	void correctLocked(
+		const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate, const std::set<TPointId>& skip = {});
 	const CMapPoint* goodPoint(TPointId id) const;
 	mrpt::poses::CPose3D poseLocked(TKeyFrameId id) const;
 	std::vector<TKeyFrameId> covisibleLocked(TKeyFrameId id, std::size_t max, int minWeight) const;

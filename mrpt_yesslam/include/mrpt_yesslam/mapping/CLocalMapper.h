@@ -11,19 +11,12 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/mapping/BundleAdjustment.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
 {
-/** What one bundle adjustment did. */
-struct TBundleStats
-{
-	std::size_t keyFrames = 0, fixedKeyFrames = 0, points = 0, observations = 0, outliers = 0;
-	double initialCost = 0, finalCost = 0;
-	bool applied = false;  //!< false: the map was corrected meanwhile and the result was dropped
-};
-
 /** What one local-mapping step did. */
 struct TMappingStats
 {

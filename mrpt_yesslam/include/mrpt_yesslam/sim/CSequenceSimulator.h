@@ -38,6 +38,9 @@ struct TSimOptions
 	bool motionBlur = false;
 	bool autoExposure = false;
 	bool movingChair = false;  //!< a chair pushed across the room (not a person)
+	/** The preset's camera motion runs this many times faster (frames stay at 30 Hz): a shorter
+	 * sequence with the same path (tests), or a harder one. People keep their pace. */
+	double speed = 1.0;
 	/** This many of the moving people (lowest instance ids first) never appear in detections.txt:
 	 * movers the detector never reports, which only a geometric check can reject (issue 14). */
 	std::size_t undetectedPeople = 0;

@@ -26,6 +26,10 @@
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/keyframes/CKeyFrameInserter.h"
+#include "mrpt_yesslam/loop/CBowDatabase.h"
+#include "mrpt_yesslam/loop/CLoopCloser.h"
+#include "mrpt_yesslam/loop/CLoopDetector.h"
+#include "mrpt_yesslam/loop/CVocabulary.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/system/CFrameBuilder.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
@@ -59,6 +63,7 @@ struct TYesSlamOptions
 	CTracker::TOptions tracking;
 	CKeyFrameInserter::TOptions keyFrames;
 	CLocalMapper::TOptions mapping;
+	CLoopCloser::TOptions loop;	 //!< section [LoopClosing]
 	TSystem system;
 
 	/** Loads every section from a config file (unknown keys warn on stderr; wrong types throw). */
@@ -85,6 +90,9 @@ struct TSlamStats
 	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames
 	/** Map points tracking erased as moving: in a group the geometric check found moving, or seen through. */
 	std::size_t movingPointsErased = 0;
+	TLoopDetectionStats loops;	//!< loop detection counts
+	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
+	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
 	std::map<std::string, std::vector<double>> stageMs;
 };
@@ -132,6 +140,10 @@ class CYesSlamSystem
 	std::string statsJson() const;
 	const CSparseMap& map() const { return map_; }
 	const CObjectDetector* detector() const { return builder_.detector(); }
+	/** The vocabulary of place recognition (null when none could be loaded and none was required). */
+	std::shared_ptr<const CVocabulary> vocabulary() const { return vocabulary_; }
+	/** The loops accepted so far, oldest first. */
+	std::vector<TLoop> loops() const;
 	const TYesSlamOptions& options() const { return opts_; }
 
    private:
@@ -141,6 +153,10 @@ class CYesSlamSystem
 	void mapKeyFrame(TKeyFrameId kf);
 	/** Collects finished mapping tasks (all queued ones with `wait`); rethrows the first failure. */
 	void collectMapping(bool wait);
+	/** Asks for a global BA: inline in sequential mode, else on the global-BA stage (one at a
+	 * time; a request while one runs makes it run once more afterwards). */
+	void requestGlobalBundle();
+	void runGlobalBundle();
 
 	TYesSlamOptions opts_;
 	CFrameBuilder builder_;
@@ -148,6 +164,11 @@ class CYesSlamSystem
 	CTracker tracker_;
 	CKeyFrameInserter inserter_;
 	CLocalMapper mapper_;
+	std::shared_ptr<const CVocabulary> vocabulary_;
+	std::shared_ptr<CBowDatabase> bowDatabase_;
+	std::unique_ptr<CLoopDetector> loopDetector_;  //!< used on the mapping stage only
+	std::unique_ptr<CLoopCloser> loopCloser_;	//!< corrections on the mapping stage, global BA on its own
+	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
 	std::function<void(TKeyFrameId)> keyFrameCallback_;
 	std::function<void(const TFrame&)> frameCallback_;
 
@@ -166,6 +187,12 @@ class CYesSlamSystem
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;
+
+	// Global BA stage (parallel mode): requested by the mapping stage, collected by the caller.
+	std::mutex gbaMtx_;
+	bool gbaPending_ = false, gbaRunning_ = false;
+	std::deque<std::future<void>> gbaTasks_;  //!< guarded by gbaMtx_
+	std::unique_ptr<CWorkerPool> gbaStage_;
 
 	// Local mapping stage (parallel mode): futures of queued keyframes, collected by the caller.
 	std::deque<std::future<void>> mappingTasks_;

@@ -20,6 +20,8 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/dynamic/CGeometricDynamicCheck.h"
 #include "mrpt_yesslam/feature/COrbMatcher.h"
+#include "mrpt_yesslam/loop/CBowDatabase.h"
+#include "mrpt_yesslam/loop/CVocabulary.h"
 #include "mrpt_yesslam/tracking/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
@@ -46,7 +48,9 @@ class CTracker
 		std::size_t localKeyFrames = 40;  //!< most keyframes in the local map (ORB-SLAM2: 80)
 		std::size_t localNeighbours = 10;  //!< best covisible keyframes added around each keyframe that sees the frame's matches
 		std::size_t minTrackedInliers = 20;	 //!< fewer inliers after the local map: tracking failed
-		std::size_t relocKeyFrames = 60;  //!< newest keyframes tried by relocalisation (0 = all)
+		/** Relocalisation tries at most this many keyframes: the best place-recognition candidates
+		 * (with a vocabulary), else the newest keyframes (0 = all). */
+		std::size_t relocKeyFrames = 60;
 		std::size_t lostCoastFrames = 30;  //!< lost frames that still continue the last velocity
 		double lostDamping = 0.9;  //!< per lost frame, the velocity is scaled by this (0 = hold at once)
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
@@ -85,6 +89,13 @@ class CTracker
 	/** The frame tracking saw last, for the next prediction; its pose is kept relative to the
 	 * reference keyframe at this moment. */
 	void setLastFrame(const std::shared_ptr<const TFrame>& f);
+	/** Relocalisation by place recognition (ORB-SLAM2's: BoW candidates of the keyframe database,
+	 * grouped by covisibility, then PnP RANSAC) instead of trying the newest keyframes. */
+	void setPlaceRecognition(std::shared_ptr<const CVocabulary> vocabulary, std::shared_ptr<const CBowDatabase> database)
+	{
+		vocabulary_ = std::move(vocabulary);
+		database_ = std::move(database);
+	}
 	const TOptions& options() const { return opts_; }
 
    private:
@@ -121,6 +132,8 @@ class CTracker
 	std::optional<TKeyFrameId> refKf_;
 	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
 	std::vector<CGeometricDynamicCheck::TMoverRegion> movers_;
+	std::shared_ptr<const CVocabulary> vocabulary_;
+	std::shared_ptr<const CBowDatabase> database_;
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with

@@ -1,0 +1,127 @@
+#pragma once
+// Loop detection (paper section 2.4, eq. 18-23, with ORB-SLAM2's LoopClosing::DetectLoop and
+// ComputeSim3 where the paper is silent). For each new keyframe:
+// 1. candidates: keyframes of the database sharing words with it, except those covisible with it
+//    (N_cov > 15 shared points, and any direct neighbour, as ORB-SLAM2); each scored with
+//    S_Loop = alpha s_BoW + (1 - alpha) S_G (eq. 19), alpha = 0.45 when the keyframe holds at least
+//    five semantic objects, else 0.65 (eq. 20); a candidate must score at least the lowest S_Loop of
+//    the keyframe's own covisible keyframes (ORB-SLAM2's minScore), and covisibility groups keep the
+//    best keyframe of each group scoring >= 0.75 of the best group; keyframes younger than
+//    minLoopAge seconds are not candidates (as stella_vslam's minimum distance on the graph);
+// 2. consistency (eq. 21-22): a candidate's group (it and its covisible keyframes) must overlap a
+//    group of the previous keyframe's candidates in N_c >= 3 consecutive keyframes;
+// 3. geometric verification: keypoints matched through the vocabulary's direct index, then a rigid
+//    transform by RANSAC on their 3D points (eq. 23 with s = 1: RGB-D measures scale, so ORB-SLAM2's
+//    Sim3 becomes SE3; inliers judged by reprojection in both keyframes, ORB-SLAM2's Sim3Solver
+//    test), refined on the inliers; finally the map points of the candidate's group, projected with
+//    the corrected pose, must match enough keypoints (ORB-SLAM2: 40).
+// S_G uses the static semantic objects only: a person says nothing about where the camera is.
+#include <mrpt/poses/CPose3D.h>
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
+#include "mrpt_yesslam/loop/CBowDatabase.h"
+#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/util/OptionTable.h"
+
+namespace mrpt_yesslam
+{
+/** A verified loop: keyframe `current` sees again the place of keyframe `matched`. */
+struct TLoop
+{
+	TKeyFrameId current = 0, matched = 0;
+	double score = 0;  //!< S_Loop of the pair
+	/** Pose of the current camera in the matched one's frame, T_matched_current (from RANSAC). */
+	mrpt::poses::CPose3D relative;
+	/** T_w_current that makes the current keyframe agree with the matched place. */
+	mrpt::poses::CPose3D correctedPose;
+	std::size_t ransacInliers = 0;
+	/** Keypoint of the current keyframe -> map point of the matched place (loop fusion). */
+	std::vector<std::pair<std::size_t, TPointId>> pointMatches;
+};
+
+/** Counts of loop detection (stats.json). */
+struct TLoopDetectionStats
+{
+	std::size_t queries = 0;  //!< keyframes looked up
+	std::size_t consistent = 0;	 //!< candidates that passed the consistency test (detected)
+	std::size_t accepted = 0;  //!< passed geometric verification
+	std::size_t rejectedGeometry = 0;  //!< detected, refused by the geometry
+};
+
+/** Finds loop candidates for new keyframes and verifies them. Not thread-safe: one caller. */
+class CLoopDetector
+{
+   public:
+	/** Section [LoopClosing]. */
+	struct TOptions : public TTableOptions<TOptions>
+	{
+		bool enabled = true;  //!< detect and close loops (the command line's --no-loop-closure sets false)
+		std::string vocabulary;	 //!< vocabulary file; empty = the shipped one
+		int directLevel = 2;  //!< depth of the direct index's nodes (ORB-SLAM2: 2 of 6 levels)
+		int covisibleWeight = 15;  //!< N_cov: keyframes sharing more points are covisible, never candidates
+		double alphaRich = 0.45;  //!< eq. 20: alpha with at least `richObjects` semantic objects ...
+		double alphaPoor = 0.65;  //!< ... and with fewer
+		std::size_t richObjects = 5;  //!< N_sw threshold of eq. 20
+		std::size_t consistency = 3;  //!< N_c: consecutive keyframes whose candidate groups overlap
+		/** Candidates must be at least this many seconds older than the keyframe: keyframes of a few
+		 * seconds ago that no longer share points look alike by chance or are the place tracking
+		 * just left, not a loop (stella_vslam excludes them by distance in the graph). */
+		double minLoopAge = 5;
+		std::size_t minKeyFrames = 10;	//!< no detection before the map has this many keyframes (ORB-SLAM2)
+		int maxHamming = 50;  //!< direct-index matching (ORB-SLAM2's TH_LOW)
+		double ratio = 0.75;  //!< nearest / second nearest (ORB-SLAM2's loop matching)
+		std::size_t minMatches = 20;  //!< direct-index matches needed to try RANSAC (ORB-SLAM2: 20)
+		std::size_t minInliers = 20;  //!< RANSAC inliers needed (ORB-SLAM2: 20)
+		std::size_t ransacIterations = 300;	 //!< ORB-SLAM2's Sim3 RANSAC
+		std::size_t minProjectionMatches = 40;	//!< matches of the group's points with the corrected pose (ORB-SLAM2: 40)
+		double projectionRadius = 10;  //!< pixels at level 0 for that search (ORB-SLAM2: 10)
+
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
+	};
+
+	/** `semantic`: the [KeyFrames] options whose grid and gamma define S_G (eq. 9-10);
+	 * `scaleFactor`: the ORB pyramid's; `maxDepth`: tracking's. */
+	CLoopDetector(
+		const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
+		std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic,
+		double scaleFactor = 1.2, double maxDepth = 6.0);
+
+	/** Looks for a loop closed by keyframe `kf` (its words in the database already). */
+	std::optional<TLoop> detect(TKeyFrameId kf);
+	/** S_Loop (eq. 19) of two keyframes with their words. */
+	double loopScore(const CKeyFrame& a, const CKeyFrame& b) const;
+	/** S_G (eq. 10) of two keyframes on their static detections. */
+	double semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b) const;
+	/** The consistent candidates of the last call to detect() (before geometry), for evaluation. */
+	const std::vector<TKeyFrameId>& lastConsistent() const { return lastConsistent_; }
+	/** Geometric verification of `kf` against `candidate` alone (no consistency test). */
+	std::optional<TLoop> verify(TKeyFrameId kf, TKeyFrameId candidate) const;
+	const TLoopDetectionStats& stats() const { return stats_; }
+	const TOptions& options() const { return opts_; }
+
+   private:
+	struct TGroup
+	{
+		std::set<TKeyFrameId> members;
+		std::size_t consistency = 0;
+	};
+
+	TOptions opts_;
+	const CSparseMap& map_;
+	std::shared_ptr<const CVocabulary> vocabulary_;
+	std::shared_ptr<const CBowDatabase> database_;
+	CSemanticKeyFrameSelector::TOptions semantic_;
+	double scaleFactor_, maxDepth_;
+	std::vector<TGroup> groups_;  //!< candidate groups of the previous keyframe
+	std::vector<TKeyFrameId> lastConsistent_;
+	TLoopDetectionStats stats_;
+};
+}  // namespace mrpt_yesslam

@@ -1,0 +1,44 @@
+#pragma once
+// Bundle adjustment of a window copied out of the map (paper eq. 24), shared by local mapping (a
+// keyframe and its covisible keyframes) and loop closing (the whole map, ORB-SLAM2's global BA):
+// RGB-D reprojection + depth residuals in Ceres with a Huber loss, then the observations still
+// outside the chi-square 95 % bound listed as outliers. The caller writes the result back.
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "mrpt_yesslam/data/CSparseMap.h"
+
+namespace mrpt_yesslam
+{
+/** What one bundle adjustment did. */
+struct TBundleStats
+{
+	std::size_t keyFrames = 0, fixedKeyFrames = 0, points = 0, observations = 0, outliers = 0;
+	double initialCost = 0, finalCost = 0;
+	bool applied = false;  //!< false: the map was corrected meanwhile and the result was dropped
+};
+
+/** How to solve. */
+struct TBundleSolveOptions
+{
+	double scaleFactor = 1.2;  //!< ORB pyramid: pixel sigma = scale ^ octave
+	double depthNoise = 0.0025;	 //!< sigma_z = depthNoise z^2; 0 = reprojection only
+	int iterations = 10;
+	/** Sparse Schur for many cameras (global BA); dense Schur is faster for a local window. */
+	bool sparse = false;
+	int threads = 1;
+};
+
+/** The optimised window. */
+struct TBundleSolution
+{
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;	//!< the window's optimised keyframes
+	std::vector<mrpt::math::TPoint3D> positions;  //!< per window point
+	std::vector<std::pair<TPointId, TKeyFrameId>> outliers;
+	TBundleStats stats;
+};
+
+/** Optimises the window's keyframes (not the fixed ones) and points. */
+TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o);
+}  // namespace mrpt_yesslam

@@ -1,0 +1,288 @@
+#include "mrpt_yesslam/loop/CLoopDetector.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "mrpt_yesslam/feature/COrbMatcher.h"
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+COptionTable CLoopDetector::TOptions::table()
+{
+	COptionTable t("LoopClosing");
+	t.flag("enabled", enabled, "detect and close loops (--no-loop-closure sets false)");
+	t.text("vocabulary", vocabulary, "ORB vocabulary file (yesslam-vocab); empty = the shipped share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc");
+	t.integer("directLevel", directLevel, 0, 10, "tree depth of the direct index used to match keyframes (ORB-SLAM2: 2 of 6 levels)");
+	t.integer("covisibleWeight", covisibleWeight, 0, 100000, "N_cov: keyframes sharing more map points with the current one are covisible, never loop candidates");
+	t.real("alphaRich", alphaRich, 0, 1, "eq. 20: weight of the BoW score in S_Loop when the keyframe has at least richObjects semantic objects");
+	t.real("alphaPoor", alphaPoor, 0, 1, "eq. 20: weight of the BoW score in S_Loop with fewer objects");
+	t.count("richObjects", richObjects, 0, 1000, "N_sw threshold of eq. 20 (static semantic objects in the keyframe)");
+	t.count("consistency", consistency, 1, 100, "N_c: consecutive keyframes whose candidate groups must overlap (eq. 21-22)");
+	t.real("minLoopAge", minLoopAge, 0, 1e6, "candidates must be at least this many seconds older than the keyframe (a place left moments ago is tracking's, not a loop)");
+	t.count("minKeyFrames", minKeyFrames, 0, 1000000, "no loop detection before the map has this many keyframes");
+	t.integer("maxHamming", maxHamming, 0, 256, "largest descriptor distance when matching keyframes (ORB-SLAM2's TH_LOW)");
+	t.real("ratio", ratio, 0.1, 1, "nearest / second-nearest descriptor distance ratio when matching keyframes");
+	t.count("minMatches", minMatches, 3, 100000, "matched keypoints with depth needed to try RANSAC");
+	t.count("minInliers", minInliers, 3, 100000, "RANSAC inliers needed to accept the transform");
+	t.count("ransacIterations", ransacIterations, 1, 1000000, "RANSAC iterations of the 3D-3D transform");
+	t.count("minProjectionMatches", minProjectionMatches, 0, 100000, "map points of the loop's place matched with the corrected pose, needed to accept");
+	t.real("projectionRadius", projectionRadius, 0.5, 1000, "pixel radius (level 0) of that search");
+	return t;
+}
+
+CLoopDetector::CLoopDetector(
+	const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
+	std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic, double scaleFactor,
+	double maxDepth)
+	: opts_(opts),
+	  map_(map),
+	  vocabulary_(std::move(vocabulary)),
+	  database_(std::move(database)),
+	  semantic_(semantic),
+	  scaleFactor_(scaleFactor),
+	  maxDepth_(maxDepth)
+{
+	if (!vocabulary_ || !database_) throw std::invalid_argument("CLoopDetector needs a vocabulary and a database");
+}
+
+namespace
+{
+std::vector<TDetection> staticDetections(const CKeyFrame& k)
+{
+	std::vector<TDetection> out;
+	for (const auto& d : k.detections)
+		if (!d.dynamic) out.push_back(d);
+	return out;
+}
+}  // namespace
+
+double CLoopDetector::semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b) const
+{
+	const auto da = staticDetections(a), db = staticDetections(b);
+	const cv::Size size(static_cast<int>(a.camera.ncols), static_cast<int>(a.camera.nrows));
+	const double J = jaccardSimilarity(
+		semanticRegionVectors(da, size, semantic_.gridCols, semantic_.gridRows),
+		semanticRegionVectors(db, size, semantic_.gridCols, semantic_.gridRows));
+	return globalSimilarity(J, areaSimilarity(da, db, semantic_.etaAsWritten), semantic_.gamma);
+}
+
+double CLoopDetector::loopScore(const CKeyFrame& a, const CKeyFrame& b) const
+{
+	if (!a.bow || !b.bow) return 0;
+	const double alpha = staticDetections(a).size() >= opts_.richObjects ? opts_.alphaRich : opts_.alphaPoor;
+	return alpha * CVocabulary::score(a.bow->words, b.bow->words) + (1 - alpha) * semanticSimilarity(a, b);
+}
+
+std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
+{
+	lastConsistent_.clear();
+	if (!opts_.enabled || map_.numKeyFrames() < opts_.minKeyFrames || !map_.hasKeyFrame(id) || map_.isBad(id))
+	{
+		groups_.clear();
+		return std::nullopt;
+	}
+	const CKeyFrame kf = map_.keyFrame(id);
+	if (!kf.bow) return std::nullopt;
+	stats_.queries++;
+	// Covisible keyframes are the same place seen moments ago, not a loop: excluded, and the lowest
+	// score among them is the bar a candidate must clear (ORB-SLAM2's minScore).
+	std::set<TKeyFrameId> exclude{id};
+	double minScore = 1;
+	bool anyNeighbour = false;
+	for (const auto& [other, weight] : kf.connections)
+	{
+		exclude.insert(other);
+		if (weight < opts_.covisibleWeight) continue;
+		const CKeyFrame o = map_.keyFrame(other);
+		if (o.bad || !o.bow) continue;
+		minScore = std::min(minScore, loopScore(kf, o));
+		anyNeighbour = true;
+	}
+	if (!anyNeighbour) minScore = 0;
+	auto cands = database_->query(kf.bow->words, exclude);
+	std::vector<TBowCandidate> scored;
+	for (auto& c : cands)
+	{
+		if (!map_.hasKeyFrame(c.keyFrame) || map_.isBad(c.keyFrame)) continue;
+		const CKeyFrame o = map_.keyFrame(c.keyFrame);
+		if (kf.timestamp - o.timestamp < opts_.minLoopAge) continue;
+		c.score = loopScore(kf, o);
+		if (c.score >= minScore) scored.push_back(c);
+	}
+	const auto grouped = groupCandidates(scored, map_);
+
+	// Consistency (eq. 21-22): each candidate's group against the previous keyframe's groups.
+	std::vector<TGroup> current;
+	std::vector<TKeyFrameId> consistent;
+	for (const auto& c : grouped)
+	{
+		TGroup g;
+		g.members.insert(c.keyFrame);
+		for (const auto n : map_.covisible(c.keyFrame, 1000000, opts_.covisibleWeight)) g.members.insert(n);
+		std::size_t best = 0;
+		for (const auto& prev : groups_)
+			if (std::any_of(g.members.begin(), g.members.end(), [&](TKeyFrameId m) { return prev.members.count(m) != 0; }))
+				best = std::max(best, prev.consistency);
+		g.consistency = best + 1;
+		if (g.consistency >= opts_.consistency) consistent.push_back(c.keyFrame);
+		current.push_back(std::move(g));
+	}
+	groups_ = std::move(current);
+	lastConsistent_ = consistent;
+	if (consistent.empty()) return std::nullopt;
+	stats_.consistent++;
+	for (const auto c : consistent)
+		if (auto loop = verify(id, c))
+		{
+			loop->score = loopScore(kf, map_.keyFrame(c));
+			stats_.accepted++;
+			groups_.clear();  // a closed loop starts the consistency count afresh (ORB-SLAM2)
+			return loop;
+		}
+	stats_.rejectedGeometry++;
+	return std::nullopt;
+}
+
+std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate) const
+{
+	const CKeyFrame a = map_.keyFrame(id), b = map_.keyFrame(candidate);
+	if (a.bad || b.bad || !a.bow || !b.bow || !a.features || !b.features) return std::nullopt;
+	const TFeatures &fa = *a.features, &fb = *b.features;
+	// 1. Keypoints with depth matched within the nodes of the direct index.
+	std::vector<std::pair<std::size_t, std::size_t>> matches;
+	{
+		std::map<std::size_t, std::pair<int, std::size_t>> bestForB;  // b keypoint -> (distance, a keypoint)
+		auto ia = a.bow->direct.begin(), ib = b.bow->direct.begin();
+		while (ia != a.bow->direct.end() && ib != b.bow->direct.end())
+		{
+			if (ia->first < ib->first)
+			{
+				++ia;
+				continue;
+			}
+			if (ib->first < ia->first)
+			{
+				++ib;
+				continue;
+			}
+			for (const auto i : ia->second)
+			{
+				if (!fa.usable(i, maxDepth_)) continue;
+				int best = 256, second = 256;
+				std::size_t bestJ = 0;
+				for (const auto j : ib->second)
+				{
+					if (!fb.usable(j, maxDepth_)) continue;
+					const int d = orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)), fb.descriptors.ptr<unsigned char>(static_cast<int>(j)));
+					if (d < best)
+						second = best, best = d, bestJ = j;
+					else if (d < second)
+						second = d;
+				}
+				if (best > opts_.maxHamming || best >= opts_.ratio * second) continue;
+				const auto [it, fresh] = bestForB.try_emplace(bestJ, best, i);
+				if (!fresh && best < it->second.first) it->second = {best, i};
+			}
+			++ia, ++ib;
+		}
+		for (const auto& [j, di] : bestForB) matches.emplace_back(di.second, j);
+	}
+	if (matches.size() < opts_.minMatches) return std::nullopt;
+
+	// 2. RANSAC on the 3D points (eq. 23, s = 1): p_b = R p_a + t.
+	const CPinholeCamera Ka(a.camera), Kb(b.camera);
+	std::vector<Eigen::Vector3d> pa, pb;
+	std::vector<double> sa, sb;	 // pixel sigmas (scale ^ octave)
+	for (const auto& [i, j] : matches)
+	{
+		const cv::Point3d x = a.backProject(i), y = b.backProject(j);
+		pa.emplace_back(x.x, x.y, x.z);
+		pb.emplace_back(y.x, y.y, y.z);
+		sa.push_back(std::pow(scaleFactor_, std::max(0, fa.keypoints[i].octave)));
+		sb.push_back(std::pow(scaleFactor_, std::max(0, fb.keypoints[j].octave)));
+	}
+	auto inliersOf = [&](const Eigen::Matrix3d& R, const Eigen::Vector3d& t)
+	{
+		std::vector<std::size_t> in;
+		for (std::size_t k = 0; k < pa.size(); k++)
+		{
+			// ORB-SLAM2's Sim3Solver::CheckInliers: the reprojection error in both keyframes, chi2
+			// with 2 degrees of freedom at 99 % (9.21 sigma^2).
+			const Eigen::Vector3d qb = R * pa[k] + t, qa = R.transpose() * (pb[k] - t);
+			double u, v;
+			if (!Kb.project(qb.x(), qb.y(), qb.z(), u, v)) continue;
+			const auto& kb = fb.keypoints[matches[k].second].pt;
+			if ((u - kb.x) * (u - kb.x) + (v - kb.y) * (v - kb.y) > 9.21 * sb[k] * sb[k]) continue;
+			if (!Ka.project(qa.x(), qa.y(), qa.z(), u, v)) continue;
+			const auto& ka = fa.keypoints[matches[k].first].pt;
+			if ((u - ka.x) * (u - ka.x) + (v - ka.y) * (v - ka.y) > 9.21 * sa[k] * sa[k]) continue;
+			in.push_back(k);
+		}
+		return in;
+	};
+	std::mt19937 rng(static_cast<unsigned>(id * 7919 + candidate));
+	std::uniform_int_distribution<std::size_t> pick(0, pa.size() - 1);
+	std::vector<std::size_t> bestIn;
+	for (std::size_t it = 0; it < opts_.ransacIterations; it++)
+	{
+		std::size_t s[3];
+		s[0] = pick(rng);
+		do s[1] = pick(rng);
+		while (s[1] == s[0]);
+		do s[2] = pick(rng);
+		while (s[2] == s[0] || s[2] == s[1]);
+		Eigen::Matrix3d R;
+		Eigen::Vector3d t;
+		if (!rigidMotionFromPoints({pb[s[0]], pb[s[1]], pb[s[2]]}, {pa[s[0]], pa[s[1]], pa[s[2]]}, R, t)) continue;
+		auto in = inliersOf(R, t);
+		if (in.size() > bestIn.size()) bestIn = std::move(in);
+	}
+	if (bestIn.size() < opts_.minInliers) return std::nullopt;
+	// Refined on all inliers, and the inliers recounted with the refined transform.
+	Eigen::Matrix3d R;
+	Eigen::Vector3d t;
+	for (int refine = 0; refine < 2; refine++)
+	{
+		std::vector<Eigen::Vector3d> qa, qb;
+		for (const auto k : bestIn) qa.push_back(pa[k]), qb.push_back(pb[k]);
+		if (!rigidMotionFromPoints(qb, qa, R, t)) return std::nullopt;
+		auto in = inliersOf(R, t);
+		if (in.size() < opts_.minInliers) return std::nullopt;
+		bestIn = std::move(in);
+	}
+
+	TLoop loop;
+	loop.current = id;
+	loop.matched = candidate;
+	loop.ransacInliers = bestIn.size();
+	mrpt::math::CMatrixDouble44 T;
+	T.setIdentity();
+	for (int r = 0; r < 3; r++)
+	{
+		for (int c = 0; c < 3; c++) T(r, c) = R(r, c);
+		T(r, 3) = t(r);
+	}
+	loop.relative = mrpt::poses::CPose3D(T);  // T_b_a: the current camera in the matched one's frame
+	loop.correctedPose = b.pose + loop.relative;
+
+	// 3. The place's map points (the candidate and its covisible keyframes) projected with the
+	// corrected pose must find enough of the current keyframe's keypoints.
+	std::vector<TKeyFrameId> place{candidate};
+	for (const auto n : map_.covisible(candidate, 10)) place.push_back(n);
+	const TLocalMapPoints pts = map_.pointsOfKeyFrames(place);
+	TFrame f;
+	f.camera = a.camera;
+	f.features = fa;
+	f.mapPoints.assign(fa.keypoints.size(), -1);
+	const COrbMatcher matcher(opts_.maxHamming, opts_.ratio);
+	const auto found = matcher.searchByProjection(f, loop.correctedPose, pts, opts_.projectionRadius, nullptr, false, scaleFactor_);
+	if (found.size() < opts_.minProjectionMatches) return std::nullopt;
+	for (const auto& m : found) loop.pointMatches.emplace_back(m.keypoint, pts.ids[m.point]);
+	return loop;
+}
+}  // namespace mrpt_yesslam
