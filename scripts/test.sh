@@ -42,9 +42,10 @@ elif [ "$mode" = sanitize ]; then
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$ROOT/tests/sanitizer/ubsan.supp"
   # Leaks inside Mesa's OpenGL driver only (tests/sanitizer/lsan.supp says which and why).
   export LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizer/lsan.supp"
-  # The sequential loop-closing runs go through the same code as the parallel one, which stays:
+  # The whole-sequence loop-closing and relocalisation runs go through the same code as the
+  # parallel loop-closing test, which stays:
   # under ASan each whole-sequence run costs minutes of the CI budget.
-  FILTER=(-E "LoopClosing\\.(ARevisit|SequentialRuns)")
+  FILTER=(-E "LoopClosing\\.ARevisit|Relocalisation\\.AKidnapped")
 else
   BUILD="$ROOT/build"
   ./scripts/build.sh "$BUILD" -DYESSLAM_BUILD_TESTS=ON

@@ -321,7 +321,7 @@ TEST(Tools, EveryToolHasVersionAndAForgottenValueIsNamed)
 {
 	// Issue 18 item 5: --version on every tool (project, MRPT and OpenCV versions), and
 	// "yesslam --input --out x" says that --input needs a value (it took "--out" as the input).
-	for (const char* tool : {"yesslam", "yesslam-sim", "yesslam-eval", "yesslam-detect", "yesslam-render", "yesslam-cloud", "tum2rawlog"})
+	for (const char* tool : {"yesslam", "yesslam-sim", "yesslam-eval", "yesslam-detect", "yesslam-render", "yesslam-cloud", "yesslam-vocab", "tum2rawlog"})
 	{
 		const auto r = runTool(tool, {"--version"});
 		EXPECT_EQ(r.exitCode, 0) << tool << ": " << r.err;

@@ -21,6 +21,7 @@ COptionTable CLoopDetector::TOptions::table()
 	t.integer("covisibleWeight", covisibleWeight, 0, 100000, "N_cov: keyframes sharing more map points with the current one are covisible, never loop candidates");
 	t.real("alphaRich", alphaRich, 0, 1, "eq. 20: weight of the BoW score in S_Loop when the keyframe has at least richObjects semantic objects");
 	t.real("alphaPoor", alphaPoor, 0, 1, "eq. 20: weight of the BoW score in S_Loop with fewer objects");
+	t.flag("normaliseBow", normaliseBow, "divide s_BoW by the keyframe's best score with its covisible keyframes before eq. 19 (DBoW2's normalised score), so it weighs as much as S_G");
 	t.count("richObjects", richObjects, 0, 1000, "N_sw threshold of eq. 20 (static semantic objects in the keyframe)");
 	t.count("consistency", consistency, 1, 100, "N_c: consecutive keyframes whose candidate groups must overlap (eq. 21-22)");
 	t.real("minLoopAge", minLoopAge, 0, 1e6, "candidates must be at least this many seconds older than the keyframe (a place left moments ago is tracking's, not a loop)");
@@ -71,11 +72,34 @@ double CLoopDetector::semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b)
 	return globalSimilarity(J, areaSimilarity(da, db, semantic_.etaAsWritten), semantic_.gamma);
 }
 
-double CLoopDetector::loopScore(const CKeyFrame& a, const CKeyFrame& b) const
+double CLoopDetector::alphaOf(const CKeyFrame& k) const
+{
+	return staticDetections(k).size() >= opts_.richObjects ? opts_.alphaRich : opts_.alphaPoor;
+}
+
+double CLoopDetector::referenceScore(const CKeyFrame& k) const
+{
+	double best = 0;
+	if (!k.bow) return 0;
+	for (const auto& [other, w] : k.connections)
+	{
+		const CKeyFrame o = map_.keyFrame(other);
+		if (!o.bad && o.bow) best = std::max(best, CVocabulary::score(k.bow->words, o.bow->words));
+	}
+	return best;
+}
+
+double CLoopDetector::loopScore(const CKeyFrame& a, const CKeyFrame& b, double reference) const
 {
 	if (!a.bow || !b.bow) return 0;
-	const double alpha = staticDetections(a).size() >= opts_.richObjects ? opts_.alphaRich : opts_.alphaPoor;
-	return alpha * CVocabulary::score(a.bow->words, b.bow->words) + (1 - alpha) * semanticSimilarity(a, b);
+	const double alpha = alphaOf(a);
+	double s = CVocabulary::score(a.bow->words, b.bow->words);
+	if (opts_.normaliseBow)
+	{
+		if (reference < 0) reference = referenceScore(a);
+		if (reference > 0) s = std::min(1.0, s / reference);
+	}
+	return alpha * s + (1 - alpha) * semanticSimilarity(a, b);
 }
 
 std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
@@ -92,6 +116,7 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 	// Covisible keyframes are the same place seen moments ago, not a loop: excluded, and the lowest
 	// score among them is the bar a candidate must clear (ORB-SLAM2's minScore).
 	std::set<TKeyFrameId> exclude{id};
+	const double reference = opts_.normaliseBow ? referenceScore(kf) : 0;
 	double minScore = 1;
 	bool anyNeighbour = false;
 	for (const auto& [other, weight] : kf.connections)
@@ -100,7 +125,7 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 		if (weight < opts_.covisibleWeight) continue;
 		const CKeyFrame o = map_.keyFrame(other);
 		if (o.bad || !o.bow) continue;
-		minScore = std::min(minScore, loopScore(kf, o));
+		minScore = std::min(minScore, loopScore(kf, o, reference));
 		anyNeighbour = true;
 	}
 	if (!anyNeighbour) minScore = 0;
@@ -111,7 +136,7 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 		if (!map_.hasKeyFrame(c.keyFrame) || map_.isBad(c.keyFrame)) continue;
 		const CKeyFrame o = map_.keyFrame(c.keyFrame);
 		if (kf.timestamp - o.timestamp < opts_.minLoopAge) continue;
-		c.score = loopScore(kf, o);
+		c.score = loopScore(kf, o, reference);
 		if (c.score >= minScore) scored.push_back(c);
 	}
 	const auto grouped = groupCandidates(scored, map_);

@@ -69,6 +69,11 @@ class CLoopDetector
 		double alphaRich = 0.45;  //!< eq. 20: alpha with at least `richObjects` semantic objects ...
 		double alphaPoor = 0.65;  //!< ... and with fewer
 		std::size_t richObjects = 5;  //!< N_sw threshold of eq. 20
+		/** Eq. 19 adds a BoW score (0.01-0.1 between different views) to S_G (0-1): the semantic term
+		 * then decides alone. With this, s_BoW is first divided by the query's best score with its
+		 * covisible keyframes (capped at 1), DBoW2's normalised similarity (Galvez-Lopez and Tardos
+		 * 2012), so both terms span [0, 1]. */
+		bool normaliseBow = true;
 		std::size_t consistency = 3;  //!< N_c: consecutive keyframes whose candidate groups overlap
 		/** Candidates must be at least this many seconds older than the keyframe: keyframes of a few
 		 * seconds ago that no longer share points look alike by chance or are the place tracking
@@ -96,8 +101,13 @@ class CLoopDetector
 
 	/** Looks for a loop closed by keyframe `kf` (its words in the database already). */
 	std::optional<TLoop> detect(TKeyFrameId kf);
-	/** S_Loop (eq. 19) of two keyframes with their words. */
-	double loopScore(const CKeyFrame& a, const CKeyFrame& b) const;
+	/** S_Loop (eq. 19) of keyframe `a` (the query) and `b`, with their words; `reference`: a's
+	 * referenceScore() when known (computed otherwise; only used with normaliseBow). */
+	double loopScore(const CKeyFrame& a, const CKeyFrame& b, double reference = -1) const;
+	/** Eq. 20's alpha for keyframe `k`. */
+	double alphaOf(const CKeyFrame& k) const;
+	/** The best BoW score between `k` and its covisible keyframes (0 without any). */
+	double referenceScore(const CKeyFrame& k) const;
 	/** S_G (eq. 10) of two keyframes on their static detections. */
 	double semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b) const;
 	/** The consistent candidates of the last call to detect() (before geometry), for evaluation. */
