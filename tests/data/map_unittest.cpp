@@ -390,3 +390,67 @@ TEST(SparseMap, PointsSeenThroughInConsecutiveFramesAreErased)
 	for (int k = 0; k < 5; k++) EXPECT_EQ(map.countTracking(all, {}, {2}, 0), 0u);
 	EXPECT_FALSE(map.point(2).bad);
 }
+
+TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
+{
+	std::mt19937 rng(3);
+	const auto world = wall(100);
+	CSparseMap map;
+	// kf0 creates points 0-99; kf1 (child of kf0) sees 0-59 and creates the rest anew; kf2 (child
+	// of kf1) sees kf1's new points.
+	std::vector<TPointId> none(100, -1), ids1(100, -1);
+	for (int j = 0; j < 60; j++) ids1[j] = j;
+	addView(map, 0, {}, world, none, rng);
+	addView(map, 1, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), world, ids1, rng);
+	const CKeyFrame k1 = map.keyFrame(1);
+	std::vector<TPointId> ids2(k1.mapPoints.begin(), k1.mapPoints.end());
+	for (int j = 0; j < 60; j++) ids2[j] = -1;
+	addView(map, 2, mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0), world, ids2, rng);
+	ASSERT_EQ(map.keyFrame(2).parent, std::optional<TKeyFrameId>(1));
+	const TPointId made1 = k1.mapPoints[80], seen0 = 10;
+	const auto before = map.point(made1).position, before0 = map.point(seen0).position;
+
+	// correctKeyFrames: only kf1 moves (10 cm up), with the points it observes; kf2 stays.
+	const auto g0 = map.generation();
+	const mrpt::poses::CPose3D up(0, 0, 0.1, 0, 0, 0);
+	map.correctKeyFrames({{1, up + map.keyFramePose(1)}});
+	EXPECT_GT(map.generation(), g0);
+	EXPECT_NEAR(map.keyFramePose(1).z(), 0.1, 1e-12);
+	EXPECT_NEAR(map.keyFramePose(2).z(), 0.0, 1e-12);
+	EXPECT_NEAR(map.point(made1).position.z, before.z + 0.1, 1e-9);
+	EXPECT_NEAR(map.point(seen0).position.z, before0.z + 0.1, 1e-9);	// kf1 observes it too
+
+	// applyCorrection: kf1 listed, kf2 not: kf2 follows its parent; kf0's points follow kf0 (unlisted
+	// root: no correction), kf1's points follow kf1.
+	map.applyCorrection({{1, mrpt::poses::CPose3D(0, 0, -0.1, 0, 0, 0) + map.keyFramePose(1)}});
+	EXPECT_NEAR(map.keyFramePose(1).z(), 0.0, 1e-12);
+	EXPECT_NEAR(map.keyFramePose(2).z(), -0.1, 1e-12);
+	EXPECT_NEAR(map.point(made1).position.z, before.z, 1e-9);
+	EXPECT_NEAR(map.point(seen0).position.z, before0.z + 0.1, 1e-9);
+
+	// The essential graph holds the spanning tree and, once recorded, the loop edge.
+	EXPECT_TRUE(map.addLoopEdge(2, 0));
+	EXPECT_FALSE(map.addLoopEdge(2, 99));
+	const auto edges = map.essentialGraph(1000);
+	for (const auto& e : {std::make_pair<TKeyFrameId, TKeyFrameId>(0, 1), {1, 2}, {0, 2}})
+		EXPECT_NE(std::find(edges.begin(), edges.end(), e), edges.end()) << e.first << "-" << e.second;
+	EXPECT_EQ(edges.size(), 3u);
+
+	// A global BA result copied before a correction is refused; one copied after is written, and a
+	// keyframe added meanwhile follows its ancestor.
+	const TBundleWindow stale = map.globalBundleWindow();
+	map.applyCorrection({});
+	EXPECT_FALSE(map.applyGlobalBundle(stale, stale.poses, stale.positions, {}));
+	TBundleWindow w = map.globalBundleWindow();
+	EXPECT_EQ(w.fixedKeyFrames, std::vector<TKeyFrameId>{0});
+	EXPECT_EQ(w.points.size(), map.numPoints());
+	std::vector<TPointId> ids3(100, -1);
+	addView(map, 3, mrpt::poses::CPose3D(0.1, 0, -0.1, 0, 0, 0), world, ids3, rng);
+	auto poses = w.poses;
+	for (auto& [k, p] : poses)
+		if (k != 0) p = mrpt::poses::CPose3D(0.2, 0, 0, 0, 0, 0) + p;
+	const double z3 = map.keyFramePose(3).x();
+	EXPECT_TRUE(map.applyGlobalBundle(w, poses, w.positions, {}));
+	EXPECT_NEAR(map.keyFramePose(3).x(), z3 + 0.2, 1e-9);
+	expectGraphMatchesObservations(map);
+}

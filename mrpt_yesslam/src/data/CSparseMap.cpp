@@ -698,16 +698,8 @@ TBundleWindow CSparseMap::bundleWindow(TKeyFrameId id, std::size_t numCovisible,
 	return w;
 }
 
-bool CSparseMap::applyBundle(
-	const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+void CSparseMap::eraseOutliersLocked(const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
 {
-	WriteLock lk(mtx_);
-	if (w.generation != generation_) return false;
-	for (const auto& [k, p] : poses)
-		if (auto it = keyFrames_.find(k); it != keyFrames_.end() && !it->second->bad) it->second->pose = p;
-	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
-		if (auto it = points_.find(w.points[i]); it != points_.end() && !it->second.bad) it->second.position = positions[i];
 	for (const auto& [pid, k] : outliers)
 	{
 		auto it = points_.find(pid);
@@ -720,6 +712,19 @@ bool CSparseMap::applyBundle(
 		}
 	}
 	reorderDirty();
+}
+
+bool CSparseMap::applyBundle(
+	const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+{
+	WriteLock lk(mtx_);
+	if (w.generation != generation_) return false;
+	for (const auto& [k, p] : poses)
+		if (auto it = keyFrames_.find(k); it != keyFrames_.end() && !it->second->bad) it->second->pose = p;
+	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
+		if (auto it = points_.find(w.points[i]); it != points_.end() && !it->second.bad) it->second.position = positions[i];
+	eraseOutliersLocked(outliers);
 	return true;
 }
 
@@ -862,18 +867,7 @@ bool CSparseMap::applyGlobalBundle(
 	correctLocked(poses, true, optimised);
 	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
 		if (auto it = points_.find(w.points[i]); it != points_.end() && !it->second.bad) it->second.position = positions[i];
-	for (const auto& [pid, k] : outliers)
-	{
-		auto it = points_.find(pid);
-		if (it == points_.end() || it->second.bad) continue;
-		eraseObservation(it->second, k);
-		if (it->second.observations.empty())
-		{
-			it->second.bad = true;
-			numGoodPoints_--;
-		}
-	}
-	reorderDirty();
+	eraseOutliersLocked(outliers);
 	return true;
 }
 

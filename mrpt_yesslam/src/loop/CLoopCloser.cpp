@@ -4,7 +4,7 @@
 #include <cmath>
 #include <set>
 
-#include "mrpt_yesslam/feature/COrbMatcher.h"
+#include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/loop/PoseGraph.h"
 
 namespace mrpt_yesslam
@@ -59,30 +59,13 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 	const TLocalMapPoints pts = map_.pointsOfKeyFrames(place);
 	std::vector<TFuseCandidate> cands;
 	for (const auto& [kp, pid] : loop.pointMatches) cands.push_back({pid, loop.current, kp});
-	const COrbMatcher matcher(opts_.detection.maxHamming, 1.0);
 	for (const auto g : group)
 	{
 		if (g == loop.current || !corrected.count(g)) continue;
 		const CKeyFrame kf = map_.keyFrame(g);
-		if (kf.bad || !kf.features) continue;
-		TFrame f;
-		f.camera = kf.camera;
-		f.features = *kf.features;
-		f.mapPoints = kf.mapPoints;
-		const mrpt::poses::CPose3D Tcw = -corrected.at(g);
-		for (const TMatch& m : matcher.searchByProjection(f, corrected.at(g), pts, opts_.fuseRadius, nullptr, false, scaleFactor_))
-		{
-			// The keypoint's own depth must agree with the point's (as local mapping's fusion).
-			const float d = f.features.depth[m.keypoint];
-			if (d > 0)
-			{
-				const auto& P = pts.positions[m.point];
-				double x, y, z;
-				Tcw.composePoint(P.x, P.y, P.z, x, y, z);
-				if (std::abs(d - z) > 0.02 + 3 * depthNoise_ * z * z) continue;
-			}
-			cands.push_back({pts.ids[m.point], g, m.keypoint});
-		}
+		if (kf.bad) continue;
+		const auto found = fuseCandidates(kf, corrected.at(g), pts, opts_.fuseRadius, opts_.detection.maxHamming, scaleFactor_, depthNoise_);
+		cands.insert(cands.end(), found.begin(), found.end());
 	}
 	c.fused = map_.fuse(cands);
 	map_.addLoopEdge(loop.current, loop.matched);

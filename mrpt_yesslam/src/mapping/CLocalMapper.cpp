@@ -49,47 +49,43 @@ TMappingStats CLocalMapper::step(TKeyFrameId kf)
 	return st;
 }
 
-namespace
+std::vector<TFuseCandidate> fuseCandidates(
+	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& pts, double radius, int maxHamming,
+	double scaleFactor, double depthNoise)
 {
-// A keyframe's measurements as the matcher takes them.
-TFrame asFrame(const CKeyFrame& kf)
-{
-	TFrame f;
-	f.id = kf.frameId;
-	f.camera = kf.camera;
-	f.features = *kf.features;
-	f.mapPoints = kf.mapPoints;
-	return f;
+	std::vector<TFuseCandidate> cands;
+	if (pts.ids.empty() || !into.features) return cands;
+	TFrame f;  // the keyframe's measurements as the matcher takes them
+	f.id = into.frameId;
+	f.camera = into.camera;
+	f.features = *into.features;
+	f.mapPoints = into.mapPoints;
+	const COrbMatcher matcher(maxHamming, 1.0);
+	const mrpt::poses::CPose3D Tcw = -Twc;
+	for (const TMatch& m : matcher.searchByProjection(f, Twc, pts, radius, nullptr, false, scaleFactor))
+	{
+		const float d = f.features.depth[m.keypoint];
+		if (d > 0)
+		{
+			const auto& P = pts.positions[m.point];
+			double x, y, z;
+			Tcw.composePoint(P.x, P.y, P.z, x, y, z);
+			if (std::abs(d - z) > 0.02 + 3 * depthNoise * z * z) continue;
+		}
+		cands.push_back({pts.ids[m.point], into.id, m.keypoint});
+	}
+	return cands;
 }
-}  // namespace
 
 std::size_t CLocalMapper::fuseWithNeighbours(TKeyFrameId kfId)
 {
 	const std::vector<TKeyFrameId> neighbours = map_.covisible(kfId, opts_.fuseKeyFrames, 1);
 	if (neighbours.empty()) return 0;
-	// Projection search as tracking's, with ORB-SLAM2's Fuse thresholds: a small window and TH_LOW,
-	// no ratio test (the best match within the window is taken).
-	const COrbMatcher matcher(opts_.fuseMaxHamming, 1.0);
 	std::vector<TFuseCandidate> cands;
 	auto search = [&](const TLocalMapPoints& pts, const CKeyFrame& into)
 	{
-		if (pts.ids.empty() || !into.features) return;
-		const TFrame f = asFrame(into);
-		const mrpt::poses::CPose3D Tcw = -into.pose;
-		for (const TMatch& m : matcher.searchByProjection(f, into.pose, pts, opts_.fuseRadius, nullptr, false, scaleFactor_))
-		{
-			// RGB-D: the keypoint's own depth must agree with the point's (3 sigma of the Kinect model
-			// plus 2 cm), as ORB-SLAM2 checks the right-image coordinate.
-			const float d = f.features.depth[m.keypoint];
-			if (d > 0)
-			{
-				const auto& P = pts.positions[m.point];
-				double x, y, z;
-				Tcw.composePoint(P.x, P.y, P.z, x, y, z);
-				if (std::abs(d - z) > 0.02 + 3 * opts_.depthNoise * z * z) continue;
-			}
-			cands.push_back({pts.ids[m.point], into.id, m.keypoint});
-		}
+		const auto c = fuseCandidates(into, into.pose, pts, opts_.fuseRadius, opts_.fuseMaxHamming, scaleFactor_, opts_.depthNoise);
+		cands.insert(cands.end(), c.begin(), c.end());
 	};
 	const CKeyFrame cur = map_.keyFrame(kfId);
 	const TLocalMapPoints curPts = map_.keyFramePoints(kfId);

@@ -44,7 +44,7 @@ const std::vector<TSimPreset>& simPresets()
 		{"sitting_halfsphere", "two people sit at desks; camera moves on a half sphere (fr3/sitting_halfsphere)", "halfsphere", 0, 2, 900},
 		{"static_office", "the office without people; camera translates along x, y, z (a static reference)", "xyz", 0, 0, 600},
 		{"office_loop", "one person walks; camera goes round a small loop, never losing sight of its start (back there after 24 s)", "loop", 1, 0, 900},
-		{"office_tour", "two people walk; camera turns a full circle round the room centre, looking at every wall, and sees its start again after 32 s from 7 cm further out (loop closure)", "tour", 2, 0, 1200},
+		{"office_tour", "two people walk; camera turns round the room centre looking at every wall, back at its start every 16 s from a little further out, 2.5 turns (loop closure)", "tour", 2, 0, 1200},
 		{"static_tour", "the office_tour camera path without people (loop closure in a static room)", "tour", 0, 0, 1200},
 	};
 	return p;
@@ -104,12 +104,13 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 	}
 	if (motion == "tour")
 	{
-		// A full turn in 32 s on a circle round (2.6, 2.5), looking outwards (8 degrees down) at
-		// each wall in turn: after about a third of the turn the start is out of sight, so only loop
-		// closing can tie the end of the turn to its start. The radius grows slowly (0.45 m at the
-		// start, 0.52 m a turn later), so the place is seen again from a slightly different viewpoint.
-		const double th = s * t / 32.0, r = 0.45 + 0.0022 * t, a = -8.0 * M_PI / 180;
-		const Eigen::Vector3d p(2.6 + r * std::cos(th), 2.5 + r * std::sin(th), 1.3 + 0.05 * std::sin(s * t / 13.0));
+		// A full turn in 16 s (22 degrees/s, a handheld pace) on a circle round (2.6, 2.5), looking
+		// outwards (8 degrees down) at each wall in turn: after about a third of the turn the start
+		// is out of sight, so only loop closing can tie the end of the turn to its start. The radius
+		// grows slowly (0.45 m at the start, 0.52 m a turn later), so each place is seen again from
+		// a slightly different viewpoint; 1200 frames make two and a half turns.
+		const double th = s * t / 16.0, r = 0.45 + 0.0044 * t, a = -8.0 * M_PI / 180;
+		const Eigen::Vector3d p(2.6 + r * std::cos(th), 2.5 + r * std::sin(th), 1.3 + 0.05 * std::sin(s * t / 6.5));
 		const Eigen::Vector3d z(std::cos(a) * std::cos(th), std::cos(a) * std::sin(th), std::sin(a)), x(std::sin(th), -std::cos(th), 0);
 		const Eigen::Vector3d y = z.cross(x);
 		mrpt::math::CMatrixDouble33 R;

@@ -203,6 +203,9 @@ class CSparseMap
 	void eraseKeyFrameLocked(CKeyFrame& kf);
 	bool replacePointLocked(TPointId oldId, TPointId newId);
 	void reorderDirty();
+	/** Removes the listed (point, keyframe) observations of a bundle result; a point left without
+	 * observations goes bad. */
+	void eraseOutliersLocked(const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
 	/** Sets keyframe poses and moves points (see applyCorrection); `propagate` false: only the
 	 * listed keyframes move, and the points they observe (correctKeyFrames). Points in `skip` keep
 	 * their position. */
