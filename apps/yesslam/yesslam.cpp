@@ -22,11 +22,12 @@ int main(int argc, char** argv)
 				"[--no-dynamic-filter] [--max-frames N] [--gt GT.txt]",
 				"RGB-D SLAM for scenes with moving people (the YES-SLAM method): detects people, cuts them out of\n"
 				"the depth image with an edge-enhanced flood fill, tracks ORB features of the static scene only,\n"
-				"selects keyframes semantically and refines a local map with bundle adjustment (Ceres).\n"
+				"selects keyframes semantically, refines a local map with bundle adjustment (Ceres) and closes loops\n"
+				"(bag of words with the shipped vocabulary + semantic similarity, pose graph, global BA).\n"
 				"PATH is a .rawlog (CObservation3DRangeScan frames) or a TUM RGB-D folder (rgb.txt, depth.txt).\n"
 				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
-				"(frames, tracking rate, keyframes, per-stage median and p95 ms), config_used.ini, and with ground\n"
+				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), config_used.ini, and with ground\n"
 				"truth (--gt, or groundtruth.txt found beside the input) eval.json; ATE and RPE are printed.\n"
 				"Ctrl-C stops the run and saves everything up to that frame.",
 				{"yesslam --input sim_walking --out run1   (a yesslam-sim folder: uses its detections.txt)",
@@ -78,6 +79,12 @@ int main(int argc, char** argv)
 			std::printf(
 				"keyframes:       %zu inserted (%zu forced), %zu culled as redundant, %zu in the map; map points %zu\n", st.keyFrames,
 				st.forcedKeyFrames, st.culledKeyFrames, st.keyFramesInMap, st.mapPoints);
+			if (o.slam.loop.detection.enabled)
+				std::printf(
+					"loops:           %zu closed (%zu detected, %zu refused by geometry), %zu global BA\n", st.loopCorrections,
+					st.loops.consistent, st.loops.rejectedGeometry, st.globalBundleApplied);
+			else
+				std::printf("loops:           loop closing off\n");
 			std::printf("outputs:         %s/{trajectory.txt,keyframes.txt,map.3Dscene,stats.json,config_used.ini}\n", o.outDir.c_str());
 			if (s.evaluated)
 			{

@@ -176,6 +176,11 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	EXPECT_EQ(static_cast<long>(traj.size()), reported);
 	for (const auto& t : traj) EXPECT_LT(std::hypot(t.tx, t.ty, t.tz), 0.01);
 	for (const char* name : {"keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini"}) EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
+	// stats.json says the run was cut short (issue 18 item 4).
+	std::ifstream js(out + "/stats.json");
+	const std::string stats((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+	EXPECT_NE(stats.find("\"complete\": false"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"stop_reason\": \"interrupted after " + std::to_string(reported) + " frames\""), std::string::npos) << stats;
 	for (const auto& e : fs::directory_iterator(out))
 		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
 }

@@ -1,6 +1,7 @@
 // The command-line contract of the tools: outputs, exit codes, and one-line errors for bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -9,6 +10,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
+#include "mrpt_yesslam/io/Trajectory.h"
 
 using namespace yesslam_test;
 namespace fs = std::filesystem;
@@ -398,6 +400,53 @@ TEST(Tools, AFailedStartLeavesNoFolderAndNoStaleEvaluation)
 	const auto second = runTool("yesslam", {"--input", d / "nogt", "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
 	ASSERT_EQ(second.exitCode, 0) << second.err;
 	EXPECT_FALSE(fs::exists(d / "run/eval.json")) << "a stale evaluation was left in place";
+}
+
+TEST(Tools, ABadVocabularyStopsTheRunBeforeItStartsAndLoopClosingCanBeTurnedOff)
+{
+	// Issue 13: a vocabulary named in the config that is not one (damaged, or a DBoW3 file) is one
+	// line naming it, before any output; --no-loop-closure runs without looking for one, and the
+	// summary and stats.json say what loop closing did.
+	TempDir d("tool_vocab");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	const std::string dbow3 = sharedFile("models/dbow3_vocab_slambook2/vocabulary.yml.gz");
+	writeText(d / "v.ini", "[LoopClosing]\nvocabulary = " + dbow3 + "\n");
+	const auto bad = runTool("yesslam", {"--input", desk, "--out", d / "run", "--config", d / "v.ini", "--detector", "none"});
+	EXPECT_EQ(bad.exitCode, 1);
+	EXPECT_NE(bad.err.find(dbow3 + ": not a yesslam vocabulary"), std::string::npos) << bad.err;
+	EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+	EXPECT_FALSE(fs::exists(d / "run"));
+	const auto on = runTool("yesslam", {"--input", desk, "--out", d / "on", "--detector", "none", "--quiet"});
+	ASSERT_EQ(on.exitCode, 0) << on.err;
+	EXPECT_NE(on.out.find("loops:           0 closed"), std::string::npos) << on.out;
+	EXPECT_NE(readText(d / "on/stats.json").find("\"loop_closing\": true"), std::string::npos);
+	const auto off = runTool("yesslam", {"--input", desk, "--out", d / "off", "--detector", "none", "--quiet", "--no-loop-closure"});
+	ASSERT_EQ(off.exitCode, 0) << off.err;
+	EXPECT_NE(off.out.find("loop closing off"), std::string::npos) << off.out;
+	EXPECT_NE(readText(d / "off/stats.json").find("\"loop_closing\": false"), std::string::npos);
+}
+
+TEST(Tools, ARunThatFailsPartWaySaysSoInItsStats)
+{
+	// Issue 18 item 4: the depth PNG of the fifth frame is truncated. The run stops there with one
+	// line, keeps the four frames done, and stats.json says the run is not complete, why and where;
+	// a whole run says it is complete.
+	TempDir d("tool_partway");
+	fs::copy(sharedFile("data/tum_fr1_desk_9frames"), d / "seq", fs::copy_options::recursive);
+	const std::string png = d / "seq/depth/1305031453.505218.png";
+	const std::string bytes = readText(png);
+	writeText(png, bytes.substr(0, bytes.size() / 3));
+	const auto r = runTool("yesslam", {"--input", d / "seq", "--out", d / "run", "--detector", "none", "--quiet"});
+	EXPECT_EQ(r.exitCode, 1);
+	EXPECT_NE(r.err.find("1305031453.505218.png"), std::string::npos) << r.err;
+	const std::string stats = readText(d / "run/stats.json");
+	EXPECT_NE(stats.find("\"complete\": false"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"stop_reason\": \"error at frame 4: "), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"frames\": 4,"), std::string::npos) << stats;
+	EXPECT_EQ(mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt").size(), 4u);
+	const auto whole = runTool("yesslam", {"--input", sharedFile("data/tum_fr1_desk_9frames"), "--out", d / "whole", "--detector", "none", "--quiet"});
+	ASSERT_EQ(whole.exitCode, 0) << whole.err;
+	EXPECT_NE(readText(d / "whole/stats.json").find("\"complete\": true"), std::string::npos);
 }
 
 TEST(Tools, DetectHelpListsEveryOutputFormat)

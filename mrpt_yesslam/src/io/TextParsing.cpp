@@ -81,4 +81,18 @@ std::vector<std::string> splitLines(const std::string& text)
 	if (!lines.empty() && lines.back().empty()) lines.pop_back();
 	return lines;
 }
+std::string jsonEscape(const std::string& s)
+{
+	std::string o;
+	for (char c : s)
+	{
+		if (c == '"' || c == '\\')
+			o += '\\', o += c;
+		else if (static_cast<unsigned char>(c) < 0x20)
+			o += ' ';
+		else
+			o += c;
+	}
+	return o;
+}
 }  // namespace mrpt_yesslam

@@ -20,6 +20,7 @@
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include "mrpt_yesslam/sim/SimTextures.h"
@@ -245,20 +246,6 @@ std::string stampText(double t)
 	return b;
 }
 
-std::string jsonEscape(const std::string& s)
-{
-	std::string o;
-	for (char c : s)
-	{
-		if (c == '"' || c == '\\')
-			o += '\\', o += c;
-		else if (static_cast<unsigned char>(c) < 0x20)
-			o += ' ';
-		else
-			o += c;
-	}
-	return o;
-}
 }  // namespace
 
 mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K)

@@ -6,6 +6,7 @@
 
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -38,13 +39,20 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 
 namespace
 {
-void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum)
+// `stop`: why the run ended early (empty: it read the whole input, or --max-frames). stats.json
+// then starts with "complete": false, the reason and the frames done, so a run cut short is never
+// taken for a whole one.
+void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {})
 {
 	const fs::path d(dir);
+	std::string json = sys.statsJson();
+	std::string head = std::string("{\n  \"complete\": ") + (stop.empty() ? "true" : "false") + ",\n";
+	if (!stop.empty()) head += "  \"stop_reason\": \"" + jsonEscape(stop) + "\",\n";
+	json = head + json.substr(json.find('\n') + 1);
 	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
 	saveSceneAtomically(*sys.buildScene(), (d / "map.3Dscene").string());
-	writeFileAtomically((d / "stats.json").string(), sys.statsJson());
+	writeFileAtomically((d / "stats.json").string(), json);
 	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
 	sum.stats = sys.stats();
 }
@@ -98,7 +106,7 @@ TSlamJobSummary runSlamJob(
 			}
 		}
 	}
-	catch (const std::exception&)
+	catch (const std::exception& e)
 	{
 		// A bad frame, or a failure of the mapping stage: keep what was done up to here.
 		try
@@ -109,12 +117,12 @@ TSlamJobSummary runSlamJob(
 		{
 			// Already failing: the first error is the one reported.
 		}
-		writeOutputs(sys, o.outDir, sum);
+		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()));
 		throw;
 	}
 	sys.waitForMapping();
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	writeOutputs(sys, o.outDir, sum);
+	writeOutputs(sys, o.outDir, sum, sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string());
 	if (!gt.empty() && sum.stats.frames > 0)
 	{
 		try

@@ -18,6 +18,9 @@ bool parseFiniteDouble(const std::string& s, double& out);
 /** True for lines the TUM readers skip: empty, whitespace only, or starting with '#'. */
 bool isCommentOrBlank(const std::string& line);
 
+/** `s` as the inside of a JSON string: quotes and backslashes escaped, control characters as spaces. */
+std::string jsonEscape(const std::string& s);
+
 /** Splits text into lines (handles \n and \r\n). */
 std::vector<std::string> splitLines(const std::string& text);
 }  // namespace mrpt_yesslam
