@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 #include <sstream>
 
 #include "TestUtils.h"
@@ -447,6 +448,33 @@ TEST(Tools, ARunThatFailsPartWaySaysSoInItsStats)
 	const auto whole = runTool("yesslam", {"--input", sharedFile("data/tum_fr1_desk_9frames"), "--out", d / "whole", "--detector", "none", "--quiet"});
 	ASSERT_EQ(whole.exitCode, 0) << whole.err;
 	EXPECT_NE(readText(d / "whole/stats.json").find("\"complete\": true"), std::string::npos);
+}
+
+TEST(Tools, DetectionsAndMasksAgreeWhenAFrameCannotBeRead)
+{
+	// Issue 18 item 4: the fifth frame's depth PNG is truncated; yesslam-detect stops there with one
+	// line, and detections.txt (written anyway) covers the same frames as masks/: the first four.
+	// Model: the shipped Yolo-Fastest-1.1 (darknet YOLO licence); frames: TUM fr1/desk (CC BY 4.0).
+	TempDir d("detect_partway");
+	fs::copy(sharedFile("data/tum_fr1_desk_9frames"), d / "seq", fs::copy_options::recursive);
+	const std::string png = d / "seq/depth/1305031453.505218.png";
+	const std::string bytes = readText(png);
+	writeText(png, bytes.substr(0, bytes.size() / 3));
+	const std::string m = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/models/yolo-fastest-1.1/";
+	const auto r = runTool(
+		"yesslam-detect", {"--model", m + "yolo-fastest-1.1.cfg", "--weights", m + "yolo-fastest-1.1.weights", "--names",
+						   m + "coco.names", "--conf", "0.1", "--input", d / "seq", "--out", d / "det", "--quiet"});
+	EXPECT_EQ(r.exitCode, 1);
+	EXPECT_NE(r.err.find("1305031453.505218.png"), std::string::npos) << r.err;
+	ASSERT_TRUE(fs::exists(d / "det/detections.txt"));
+	std::set<std::string> masks, stamps;
+	for (const auto& e : fs::directory_iterator(d / "det/masks")) masks.insert(e.path().stem().string());
+	EXPECT_EQ(masks.size(), 4u);
+	std::istringstream lines(readText(d / "det/detections.txt"));
+	for (std::string line; std::getline(lines, line);)
+		if (!line.empty() && line[0] != '#') stamps.insert(line.substr(0, line.find(' ')));
+	EXPECT_FALSE(stamps.empty()) << "at conf 0.1 the desk frames have detections";
+	for (const auto& s : stamps) EXPECT_TRUE(masks.count(s)) << s << " has detections but no mask";
 }
 
 TEST(Tools, DetectHelpListsEveryOutputFormat)

@@ -117,17 +117,28 @@ TDetectJobSummary runDetectionJob(
 	{
 		auto src = openInputSource(o.input, o.source);
 		const std::size_t total = o.maxFrames ? std::min(o.maxFrames, src->sizeHint() ? src->sizeHint() : o.maxFrames) : src->sizeHint();
-		while (!o.maxFrames || sum.frames < o.maxFrames)
+		sum.detectionsFile = (fs::path(o.outDir) / "detections.txt").string();
+		try
 		{
-			if (cancel && cancel())
+			while (!o.maxFrames || sum.frames < o.maxFrames)
 			{
-				sum.interrupted = true;
-				break;
+				if (cancel && cancel())
+				{
+					sum.interrupted = true;
+					break;
+				}
+				auto obs = src->next();
+				if (!obs) break;
+				handle(obs->intensityImage.asCvMatRef(), depthInMetres(*obs), observationTime(*obs));
+				if (progress) progress(sum.frames, total);
 			}
-			auto obs = src->next();
-			if (!obs) break;
-			handle(obs->intensityImage.asCvMatRef(), depthInMetres(*obs), observationTime(*obs));
-			if (progress) progress(sum.frames, total);
+		}
+		catch (const std::exception&)
+		{
+			// A frame that cannot be read: detections.txt still covers exactly the frames whose
+			// masks were written, so the two agree.
+			writeDetectionsFile(sum.detectionsFile, records);
+			throw;
 		}
 	}
 	sum.detectionsFile = (fs::path(o.outDir) / "detections.txt").string();
