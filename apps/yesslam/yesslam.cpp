@@ -90,6 +90,7 @@ int main(int argc, char** argv)
 			{
 				std::printf("ground truth:    %s\n", s.groundTruth.c_str());
 				std::fputs(formatEvalKeyValues(s.eval).c_str(), stdout);
+				if (!s.eval.hasRpe) std::fprintf(stderr, "yesslam: note: no RPE (%s)\n", s.eval.rpeProblem.c_str());
 			}
 			else if (!s.evalProblem.empty())
 				std::fprintf(stderr, "yesslam: warning: no evaluation against %s: %s\n", s.groundTruth.c_str(), s.evalProblem.c_str());

@@ -395,6 +395,9 @@ TEST(Tools, AFailedStartLeavesNoFolderAndNoStaleEvaluation)
 	const auto first = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
 	ASSERT_EQ(first.exitCode, 0) << first.err;
 	ASSERT_TRUE(fs::exists(d / "run/eval.json"));
+	// Three frames span 0.07 s: no RPE pair 1 s apart, and yesslam says so as yesslam-eval does
+	// (issue 18 item 5).
+	EXPECT_NE(first.err.find("yesslam: note: no RPE ("), std::string::npos) << first.err;
 	// The same frames without ground truth (a copy of the folder without groundtruth.txt).
 	fs::copy(desk, d / "nogt", fs::copy_options::recursive);
 	fs::remove(d / "nogt/groundtruth.txt");
