@@ -105,6 +105,11 @@ TEST(Rawlog, TumToRawlogExternalImages)
 	fs::remove(d / "ext_Images/1000.000000.png");
 	CRawlogSource src2(o.output);
 	expectInputError([&] { src2.next(); }, {"ext.rawlog: frame 1", "cannot load external data", "ext_Images"});
+	// A missing images folder is named in full (issue 18 item 5).
+	fs::remove_all(d / "ext_Images");
+	CRawlogSource src3(o.output);
+	expectInputError(
+		[&] { src3.next(); }, {"ext.rawlog: frame 1", "the images folder '" + fs::absolute(d / "ext_Images").lexically_normal().string() + "' does not exist"});
 }
 
 TEST(Rawlog, ActionObservationFormatAndOtherSensors)

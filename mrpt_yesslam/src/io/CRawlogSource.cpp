@@ -77,6 +77,8 @@ CRawlogSource::CRawlogSource(const std::string& path, const TOptions& opts) : pa
 			break;
 		}
 	if (imagesDir_.empty()) imagesDir_ = mrpt::obs::CRawlog::detectImagesDirectory(path);
+	// None there: the conventional name, so that an error names the folder a user should create.
+	if (!fs::is_directory(imagesDir_, ec)) imagesDir_ = (dir / (p.stem().string() + "_Images")).string();
 	mrpt::img::CImage::setImagesPathBase(imagesDir_);
 }
 
@@ -171,7 +173,13 @@ mrpt::obs::CObservation3DRangeScan::Ptr CRawlogSource::next()
 	}
 	catch (const std::exception& e)
 	{
-		throw InputError(where, "cannot load external data (looked in '" + imagesDir_ + "'): " + exceptionSummary(e.what()));
+		// The folder in full: MRPT resolves it against the working directory, which is rarely where
+		// the user thinks it looked.
+		std::error_code ec;
+		const std::string dir = fs::absolute(imagesDir_.empty() ? fs::path(".") : fs::path(imagesDir_), ec).lexically_normal().string();
+		if (!fs::is_directory(dir, ec))
+			throw InputError(where, "cannot load external data: the images folder '" + dir + "' does not exist");
+		throw InputError(where, "cannot load external data (looked in '" + dir + "'): " + exceptionSummary(e.what()));
 	}
 	validateRgbdObservation(*obs, where);
 	return obs;
