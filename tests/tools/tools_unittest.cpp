@@ -162,6 +162,15 @@ TEST(Tools, RawlogsOpenInMrptsRawlogEdit)
 		EXPECT_EQ(field(pc, "Entries modified"), frames) << pc.out;
 		EXPECT_GT(fs::file_size(file + ".pc.rawlog"), fs::file_size(file)) << "no point clouds were added";
 	}
+	// Issue 18 item 7: MRPT resolves external images against the working directory, so
+	// rawlog-edit must run from the rawlog's folder to reach them (what README.md says): from there
+	// --de-externalize embeds the images; from elsewhere it silently writes a rawlog without them.
+	const auto here = runCommand("sh", {"-c", "cd '" + d.path() + "' && rawlog-edit -i ext.rawlog --de-externalize -o here.rawlog"});
+	ASSERT_EQ(here.exitCode, 0) << here.out << here.err;
+	EXPECT_GT(fs::file_size(d / "here.rawlog"), fs::file_size(d / "ext.rawlog") + 4 * 64 * 48) << "the images were not embedded";
+	const auto away = runCommand("sh", {"-c", "cd / && rawlog-edit -i '" + (d / "ext.rawlog") + "' --de-externalize -o '" + (d / "away.rawlog") + "'"});
+	ASSERT_EQ(away.exitCode, 0) << away.out << away.err;
+	EXPECT_LT(fs::file_size(d / "away.rawlog"), fs::file_size(d / "here.rawlog"));
 }
 
 TEST(Tools, Tum2RawlogBadInput)
