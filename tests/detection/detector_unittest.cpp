@@ -3,6 +3,8 @@
 // darknet YOLO licence / public domain; YOLOX-Nano: Apache-2.0).
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <opencv2/imgcodecs.hpp>
 #include <fstream>
 #include <sstream>
@@ -81,6 +83,19 @@ TEST(Detector, YoloFastestDarknetFindsThePeople)
 	EXPECT_EQ(yolo->inputSize(), 320);
 	EXPECT_EQ(det->classNames().size(), 80u);
 	expectFindsPeople(*det);
+}
+
+TEST(Detector, DarknetWeightsOfAnotherModelAreRefused)
+{
+	// Issue 18 item 5: yolo-fastest-1.1.cfg with the XL weights loaded without a word and detected
+	// nothing (OpenCV reads what the cfg asks for and ignores the rest). Each cfg's expected size
+	// matches its own weights (Yolo-Fastest, darknet YOLO licence; the body model is one class).
+	const std::string m = "models/yolo_fastest_darknet/";
+	for (const char* name : {"yolo-fastest-1.1", "yolo-fastest-1.1-xl", "yolo-fastest-1.1_body"})
+		EXPECT_EQ(darknetWeightsBytes(sharedFile(m + name + ".cfg")), std::filesystem::file_size(sharedFile(m + name + ".weights"))) << name;
+	CObjectDetector::TOptions o = yoloFastest();
+	o.model = sharedFile(m + "yolo-fastest-1.1.cfg");
+	expectInputError([&] { createObjectDetector(o); }, {"yolo-fastest-1.1-xl.weights", "weights do not match yolo-fastest-1.1.cfg"});
 }
 
 TEST(Detector, TheShippedModelIsTheDefaultAndFindsThePeople)

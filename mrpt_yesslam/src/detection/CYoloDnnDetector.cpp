@@ -14,6 +14,60 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
+std::size_t darknetWeightsBytes(const std::string& cfgPath)
+{
+	// Sections in order with their keys.
+	std::vector<std::pair<std::string, std::map<std::string, std::string>>> sections;
+	for (std::string line : splitLines(readTextFile(cfgPath)))
+	{
+		line.erase(std::remove_if(line.begin(), line.end(), [](unsigned char c) { return std::isspace(c); }), line.end());
+		if (line.empty() || line[0] == '#' || line[0] == ';') continue;
+		if (line[0] == '[')
+			sections.push_back({line.substr(1, line.find(']') - 1), {}});
+		else if (const auto eq = line.find('='); eq != std::string::npos && !sections.empty())
+			sections.back().second[line.substr(0, eq)] = line.substr(eq + 1);
+	}
+	auto integer = [](const std::map<std::string, std::string>& kv, const char* key, long dflt)
+	{
+		const auto it = kv.find(key);
+		return it == kv.end() ? dflt : std::strtol(it->second.c_str(), nullptr, 10);
+	};
+	if (sections.empty() || (sections[0].first != "net" && sections[0].first != "network")) return 0;
+	std::vector<long> channels;	 // output channels of each layer
+	long c = integer(sections[0].second, "channels", 3);
+	std::size_t floats = 0;
+	for (std::size_t i = 1; i < sections.size(); i++)
+	{
+		const auto& [type, kv] = sections[i];
+		if (type == "convolutional")
+		{
+			const long n = integer(kv, "filters", 1), size = integer(kv, "size", 1), groups = std::max(1L, integer(kv, "groups", 1));
+			floats += static_cast<std::size_t>(n * (integer(kv, "batch_normalize", 0) ? 4 : 1) + n * (c / groups) * size * size);
+			c = n;
+		}
+		else if (type == "route")
+		{
+			long sum = 0;
+			std::string list = kv.count("layers") ? kv.at("layers") : "";
+			for (std::size_t a = 0; a <= list.size();)
+			{
+				const auto b = std::min(list.find(',', a), list.size());
+				long idx = std::strtol(list.substr(a, b - a).c_str(), nullptr, 10);
+				if (idx < 0) idx += static_cast<long>(channels.size());
+				if (idx < 0 || idx >= static_cast<long>(channels.size())) return 0;
+				sum += channels[static_cast<std::size_t>(idx)];
+				a = b + 1;
+			}
+			c = sum / std::max(1L, integer(kv, "groups", 1));
+		}
+		else if (type != "shortcut" && type != "upsample" && type != "maxpool" && type != "dropout" && type != "yolo" &&
+				 type != "avgpool" && type != "region")
+			return 0;
+		channels.push_back(c);
+	}
+	return 20 + 4 * floats;	 // header: major, minor, revision (int32) and images seen (int64)
+}
+
 namespace
 {
 std::string shapeText(const cv::Mat& m)
@@ -87,6 +141,11 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 		{
 			if (o.weights.empty()) throw InputError(o.model, "darknet model needs [Detector] weights (.weights file)");
 			if (!fs::is_regular_file(o.weights, ec)) throw InputError(o.weights, "weights file not found");
+			if (const std::size_t expected = darknetWeightsBytes(o.model); expected && fs::file_size(o.weights, ec) != expected)
+				throw InputError(
+					o.weights, "weights do not match " + fs::path(o.model).filename().string() + " (that network needs " +
+								   std::to_string(expected) + " bytes, the file has " + std::to_string(fs::file_size(o.weights, ec)) +
+								   "): weights of another model?");
 			net_ = cv::dnn::readNetFromDarknet(o.model, o.weights);
 			format_ = Format::Darknet;
 		}

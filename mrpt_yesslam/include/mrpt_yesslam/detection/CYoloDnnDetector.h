@@ -9,6 +9,12 @@
 
 namespace mrpt_yesslam
 {
+/** The size in bytes a darknet .weights file must have for the network of `cfgPath` (header and
+ * every layer's parameters, as darknet's load_weights reads them), or 0 when the cfg holds a layer
+ * type this count does not know. OpenCV reads as many values as the cfg asks for and ignores the
+ * rest, so weights of another model load without error and detect nothing. */
+std::size_t darknetWeightsBytes(const std::string& cfgPath);
+
 /** Detector running a YOLO network with cv::dnn. */
 class CYoloDnnDetector : public CObjectDetector
 {
