@@ -39,7 +39,7 @@ int main(int argc, char** argv)
 			cl.number("rpe-delta", "D", "spacing of RPE pairs, in --rpe-unit", &o.rpeDelta);
 			cl.text("rpe-unit", "s|f", "RPE spacing unit: s = seconds, f = frames", &unit);
 			cl.text("json", "FILE", "also write all figures and the alignment as JSON", &jsonPath);
-			cl.text("plot", "FILE", "write a top-down PNG of ground truth and aligned estimate, coloured by error", &plotPath);
+			cl.text("plot", "FILE", "write a top-down picture (PNG, or JPEG for .jpg) of ground truth and aligned estimate, coloured by error", &plotPath);
 			if (!cl.parse(argc, argv)) return 0;
 			if (unit != "s" && unit != "f") throw InputError("", "--rpe-unit must be 's' or 'f', got '" + unit + "'");
 			o.rpeDeltaInFrames = unit == "f";

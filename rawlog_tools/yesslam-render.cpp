@@ -26,7 +26,7 @@ int main(int argc, char** argv)
 				{"yesslam-render --scene out/map.3Dscene --out map.png",
 				 "yesslam-render --scene map.3Dscene --out top.png --elevation 89 --width 1600 --height 1200"});
 			cl.text("scene", "FILE", ".3Dscene file to render", &scenePath, true);
-			cl.text("out", "FILE", "PNG to write (atomically)", &outPath, true);
+			cl.text("out", "FILE", "image to write (atomically): PNG, or JPEG for a .jpg/.jpeg name", &outPath, true);
 			cl.count("width", "PX", "image width", &width);
 			cl.count("height", "PX", "image height", &height);
 			cl.number("azimuth", "DEG", "camera azimuth around the vertical axis", &o.azimuthDeg);

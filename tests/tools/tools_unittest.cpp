@@ -218,6 +218,13 @@ TEST(Tools, CloudOfRealFramesRendersAndRejectsBadPoses)
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.out.find("of pixels show the scene"), std::string::npos);
 	EXPECT_EQ(r.out.find("(0.0% of pixels"), std::string::npos) << r.out;
+	// Issue 18 item 6: a .jpg name gets a JPEG, an unknown extension an error, never a mislabelled PNG.
+	ASSERT_EQ(runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.jpg", "--width", "200", "--height", "150"}).exitCode, 0);
+	EXPECT_EQ(readText(d / "desk.jpg").substr(0, 3), std::string("\xFF\xD8\xFF"));
+	expectCleanFailure(
+		runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.gif", "--width", "200", "--height", "150"}),
+		{"desk.gif", "unknown image type '.gif' (use .png or .jpg)"});
+	EXPECT_FALSE(fs::exists(d / "desk.gif"));
 
 	// Poses from another sequence: no frame has a pose, said clearly.
 	expectCleanFailure(

@@ -138,6 +138,6 @@ void plotAteTopDown(
 	std::snprintf(buf, sizeof(buf), "ATE RMSE %.4f m, %zu pairs", ate.stats.rmse, ate.stats.n);
 	cv::putText(img, buf, {left, 50}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 
-	writePngAtomically(pngPath, img);
+	writeImageAtomically(pngPath, img);
 }
 }  // namespace mrpt_yesslam

@@ -161,7 +161,7 @@ double renderSceneFileToPng(const std::string& scenePath, const std::string& png
 	mrpt::opengl::COpenGLScene scene;
 	loadScene(scenePath, scene);
 	const mrpt::img::CImage img = renderScene(scene, opts);
-	writePngAtomically(pngPath, img.asCvMatRef());
+	writeImageAtomically(pngPath, img.asCvMatRef());
 	return nonBackgroundShare(img, opts.background);
 }
 }  // namespace mrpt_yesslam

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -81,6 +82,16 @@ void writePngAtomically(const std::string& path, const cv::Mat& img, int compres
 	std::vector<uchar> buf;
 	const std::vector<int> params = compression < 0 ? std::vector<int>() : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, compression};
 	if (img.empty() || !cv::imencode(".png", img, buf, params)) throw InputError(path, "cannot encode PNG");
+	writeFileAtomically(path, buf.data(), buf.size());
+}
+void writeImageAtomically(const std::string& path, const cv::Mat& img)
+{
+	std::string ext = std::filesystem::path(path).extension().string();
+	std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	if (ext == ".png") return writePngAtomically(path, img);
+	if (ext != ".jpg" && ext != ".jpeg") throw InputError(path, "unknown image type '" + ext + "' (use .png or .jpg)");
+	std::vector<uchar> buf;
+	if (img.empty() || !cv::imencode(".jpg", img, buf, {cv::IMWRITE_JPEG_QUALITY, 92})) throw InputError(path, "cannot encode JPEG");
 	writeFileAtomically(path, buf.data(), buf.size());
 }
 }  // namespace mrpt_yesslam

@@ -26,6 +26,10 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
  * 0-9 picks a zlib level with libpng's adaptive filters. */
 void writePngAtomically(const std::string& path, const cv::Mat& img, int compression = -1);
 
+/** Writes `img` atomically as PNG or JPEG (quality 92) by the name's extension (.png, .jpg, .jpeg);
+ * throws InputError naming `path` for any other extension (a ".jpg" name must not hold a PNG). */
+void writeImageAtomically(const std::string& path, const cv::Mat& img);
+
 /** The temporary name used for `path` by this process. */
 std::string temporaryPathFor(const std::string& path);
 
