@@ -64,7 +64,7 @@ echo "| sequence (seed ${SEEDS%% *}) | loop detection ms per keyframe (median / 
 echo "|---|---|---|---|"
 for preset in office_tour static_tour; do
   js="$OUT/runs/${preset}_s${SEEDS%% *}_on/stats.json"
-  det=$(grep -o '"loop_detect": {[^}]*}' "$js" | grep -o '[0-9.]*' | head -2 | paste -sd/)
+  det=$(grep -o '"loop_detect": {[^}]*}' "$js" | grep -o '"\(median\|p95\)": [0-9.]*' | awk '{print $2}' | paste -sd/)
   cor=$(grep -o '"loop_correct": {[^}]*}' "$js" | grep -o '"median": [0-9.]*' | awk '{print $2}')
   gba=$(grep -o '"global_ba": {[^}]*}' "$js" | grep -o '"median": [0-9.]*' | awk '{print $2}')
   echo "| $preset | ${det:--} | ${cor:--} | ${gba:--} |"
