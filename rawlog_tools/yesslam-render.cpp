@@ -24,7 +24,8 @@ int main(int argc, char** argv)
 				"CFBORender through EGL: no X server or display is needed. The camera orbits the look-at point:\n"
 				"azimuth around the vertical axis, elevation above the horizon, at the given distance.",
 				{"yesslam-render --scene out/map.3Dscene --out map.png",
-				 "yesslam-render --scene map.3Dscene --out top.png --elevation 89 --width 1600 --height 1200"});
+				 "yesslam-render --scene map.3Dscene --out top.png --elevation 89 --width 1600 --height 1200",
+				 "yesslam-render --scene sim/scene.3Dscene --out inside.png --hide ceiling,wall --elevation 50"});
 			cl.text("scene", "FILE", ".3Dscene file to render", &scenePath, true);
 			cl.text("out", "FILE", "image to write (atomically): PNG, or JPEG for a .jpg/.jpeg name", &outPath, true);
 			cl.count("width", "PX", "image width", &width);
@@ -35,7 +36,15 @@ int main(int argc, char** argv)
 			cl.text("look-at", "X,Y,Z", "point the camera looks at [default: centre of the scene]", &lookAt);
 			cl.number("fov", "DEG", "vertical field of view", &o.fovDeg);
 			cl.text("background", "R,G,B", "background colour, components in 0..1 [default: 1,1,1 (white)]", &background);
+			std::string hide;
+			cl.text("hide", "NAMES", "comma-separated: leave out objects whose name starts with one of these (yesslam-sim scenes: ceiling, wall, desk, ...)", &hide);
 			if (!cl.parse(argc, argv)) return 0;
+			for (std::size_t a = 0; !hide.empty() && a <= hide.size();)
+			{
+				const auto b = std::min(hide.find(',', a), hide.size());
+				if (b > a) o.hide.push_back(hide.substr(a, b - a));
+				a = b + 1;
+			}
 			o.width = static_cast<unsigned>(width);
 			o.height = static_cast<unsigned>(height);
 			if (cl.given("distance"))
@@ -67,7 +76,11 @@ int main(int argc, char** argv)
 			if (!(o.elevationDeg >= -90 && o.elevationDeg <= 90)) throw InputError("", "--elevation must be in -90..90 degrees");
 			const double share = renderSceneFileToPng(scenePath, outPath, o);
 			std::printf("wrote %s (%ux%u, %.1f%% of pixels show the scene)\n", outPath.c_str(), o.width, o.height, 100.0 * share);
-			if (share == 0.0) std::fprintf(stderr, "yesslam-render: warning: the picture is blank; check the camera options\n");
+			// Almost nothing in view (a few stray pixels of a far object): as useless as a blank picture.
+			if (share < 0.005)
+				std::fprintf(
+					stderr, "yesslam-render: warning: the picture is %s; check --look-at, --distance, --azimuth and --elevation\n",
+					share == 0.0 ? "blank" : "almost blank (under 0.5% of pixels show the scene)");
 			return 0;
 		});
 }

@@ -225,6 +225,13 @@ TEST(Tools, CloudOfRealFramesRendersAndRejectsBadPoses)
 		runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.gif", "--width", "200", "--height", "150"}),
 		{"desk.gif", "unknown image type '.gif' (use .png or .jpg)"});
 	EXPECT_FALSE(fs::exists(d / "desk.gif"));
+	// A camera that sees only a corner of the cloud from far away: the blank-picture warning.
+	const auto corner = runTool(
+		"yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "corner.png", "--width", "200", "--height", "150", "--look-at",
+						   "30,30,30", "--distance", "5"});
+	ASSERT_EQ(corner.exitCode, 0) << corner.err;
+	EXPECT_NE(corner.err.find("warning: the picture is"), std::string::npos) << corner.out << corner.err;
+	EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
 
 	// Poses from another sequence: no frame has a pose, said clearly.
 	expectCleanFailure(

@@ -4,10 +4,12 @@
 #include <mrpt/opengl/COpenGLViewport.h>
 #include <mrpt/opengl/CPointCloud.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
 
 #include "mrpt_yesslam/util/AtomicFile.h"
@@ -17,8 +19,11 @@ namespace mrpt_yesslam
 {
 namespace
 {
-// The extent of everything in the main viewport. COpenGLScene::getBoundingBox() misses point
-// clouds before their first render (their box is built lazily), so clouds are measured here.
+// The extent of everything in the main viewport, in world coordinates. COpenGLScene::
+// getBoundingBox() misses point clouds before their first render (their box is built lazily), and
+// in MRPT 2.5 a CSetOfObjects' box leaves out its children's poses (yesslam-sim's objects are boxes
+// placed inside sets: the room came out centred on the origin), so sets are walked here with their
+// poses composed; a leaf's own box already includes its pose.
 bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& lo, mrpt::math::TPoint3D& hi)
 {
 	bool any = false;
@@ -30,40 +35,43 @@ bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& 
 		hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
 		any = true;
 	};
-	const auto vp = scene.getViewport("main");
-	if (!vp) return false;
-	for (const auto& o : *vp)
+	std::function<void(const mrpt::opengl::CRenderizable&, const mrpt::poses::CPose3D&)> add =
+		[&](const mrpt::opengl::CRenderizable& o, const mrpt::poses::CPose3D& parent)
 	{
-		if (!o) continue;
+		const mrpt::poses::CPose3D pose = parent + mrpt::poses::CPose3D(o.getPose());
 		auto addCloud = [&](const auto& pc)
 		{
 			for (std::size_t i = 0; i < pc.size(); i++)
 			{
 				const auto& p = pc.getPoint3Df(i);
-				grow(o->getPose().composePoint(mrpt::math::TPoint3D(p.x, p.y, p.z)));
+				grow(pose.composePoint(mrpt::math::TPoint3D(p.x, p.y, p.z)));
 			}
 		};
-		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloudColoured*>(o.get()))
+		if (const auto* set = dynamic_cast<const mrpt::opengl::CSetOfObjects*>(&o))
 		{
-			addCloud(*pc);
-			continue;
+			for (const auto& child : *set)
+				if (child) add(*child, pose);
+			return;
 		}
-		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloud*>(o.get()))
-		{
-			addCloud(*pc);
-			continue;
-		}
+		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloudColoured*>(&o)) return addCloud(*pc);
+		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloud*>(&o)) return addCloud(*pc);
 		try
 		{
-			const auto bb = o->getBoundingBox();
-			grow(bb.min);
-			grow(bb.max);
+			const auto bb = o.getBoundingBox();
+			// A leaf's box is in its parent's frame already (its own pose applied).
+			for (int c = 0; c < 8; c++)
+				grow(parent.composePoint(mrpt::math::TPoint3D(
+					(c & 1) ? bb.max.x : bb.min.x, (c & 2) ? bb.max.y : bb.min.y, (c & 4) ? bb.max.z : bb.min.z)));
 		}
 		catch (const std::exception&)
 		{
 			// Objects without extent (empty sets) do not count.
 		}
-	}
+	};
+	const auto vp = scene.getViewport("main");
+	if (!vp) return false;
+	for (const auto& o : *vp)
+		if (o) add(*o, mrpt::poses::CPose3D());
 	return any;
 }
 }  // namespace
@@ -91,6 +99,14 @@ mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOp
 		throw InputError("", "image size must be between 16 and 8192 pixels");
 	auto vp = scene.getViewport("main");
 	if (!vp) throw InputError("", "scene has no 'main' viewport");
+	if (!o.hide.empty())
+	{
+		std::vector<mrpt::opengl::CRenderizable::Ptr> drop;
+		for (const auto& obj : *vp)
+			if (obj && std::any_of(o.hide.begin(), o.hide.end(), [&](const std::string& h) { return !h.empty() && obj->getName().rfind(h, 0) == 0; }))
+				drop.push_back(obj);
+		for (const auto& obj : drop) vp->removeObject(obj);
+	}
 	vp->setCustomBackgroundColor(mrpt::img::TColorf(
 		static_cast<float>(o.background[0]), static_cast<float>(o.background[1]), static_cast<float>(o.background[2])));
 
@@ -108,9 +124,9 @@ mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOp
 		}
 	}
 	const double fov = std::clamp(o.fovDeg, 5.0, 150.0);
-	// The bounding-box diagonal overestimates what must fit in view; 0.8 of the enclosing-sphere distance
-	// frames typical maps well.
-	const double dist = o.distance.value_or(0.8 * radius / std::sin(0.5 * fov * M_PI / 180.0));
+	// The bounding sphere seen under the vertical field of view: everything is in the picture from
+	// any direction (0.8 of it, used before, cut a room seen from above: tests/render).
+	const double dist = o.distance.value_or(radius / std::sin(0.5 * fov * M_PI / 180.0));
 
 	std::unique_ptr<mrpt::opengl::CFBORender> fbo;
 	try

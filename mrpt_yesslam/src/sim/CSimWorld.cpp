@@ -320,6 +320,7 @@ void CSimWorld::animatePerson(const TSimPerson& p, double t, TSimObject& o) cons
 mrpt::opengl::CSetOfObjects::Ptr CSimWorld::buildObject(const TSimObject& o) const
 {
 	auto set = mrpt::opengl::CSetOfObjects::Create();
+	set->setName(o.name);  // yesslam-render --hide ceiling shows the room from inside
 	set->setPose(o.pose);
 	for (const auto& b : o.boxes)
 	{

@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace mrpt_yesslam
 {
@@ -18,6 +19,9 @@ struct TRenderOptions
 	std::optional<mrpt::math::TPoint3D> lookAt;	 //!< default: centre of the scene's bounding box
 	double fovDeg = 60.0;  //!< vertical field of view
 	double background[3] = {1.0, 1.0, 1.0};	 //!< RGB in [0,1]
+	/** Top-level objects whose name starts with one of these are left out (yesslam-sim names its
+	 * objects: "ceiling", "wall near", ... so that a room can be seen from inside). */
+	std::vector<std::string> hide;
 };
 
 /** Loads a .3Dscene file; throws InputError naming it when missing or not a scene. */
