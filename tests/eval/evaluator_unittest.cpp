@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
@@ -178,4 +179,17 @@ TEST(Evaluator, ReportKeysJsonAndPlot)
 		}
 	EXPECT_GT(coloured, 500);
 	EXPECT_GT(grey, 500);
+	// Nothing is cut at the picture's edges (issue 18 item 6: the legend was clipped on the right):
+	// the outermost columns and rows are background.
+	int drawnOnEdge = 0;
+	for (const cv::Rect edge : {cv::Rect(0, 0, 2, img.rows), cv::Rect(img.cols - 2, 0, 2, img.rows), cv::Rect(0, img.rows - 2, img.cols, 2)})
+	{
+		cv::Mat dark;
+		cv::inRange(img(edge), cv::Scalar(0, 0, 0), cv::Scalar(230, 230, 230), dark);
+		drawnOnEdge += cv::countNonZero(dark);
+	}
+	EXPECT_EQ(drawnOnEdge, 0);
+	// A .jpg name gives a JPEG.
+	plotAteTopDown(rep.ate, gt, d / "ate.jpg", "fr1/xyz");
+	EXPECT_EQ(readText(d / "ate.jpg").substr(0, 2), std::string("\xFF\xD8"));
 }

@@ -50,7 +50,13 @@ void plotAteTopDown(
 	int a0 = std::min(ax[0], ax[1]), a1 = std::max(ax[0], ax[1]);
 	const char* names = "xyz";
 
-	const int left = 90, right = 150, top = 60, bottom = 70;
+	// The right margin holds the colour bar and the legend, whose widest line sets it (a fixed 150 px
+	// cut "(Sim3-aligned)" at the picture's edge).
+	int base = 0;
+	const int legendText = std::max(
+		cv::getTextSize("(Sim3-aligned)", cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, &base).width,
+		cv::getTextSize("ground truth", cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, &base).width);
+	const int left = 90, right = std::max(150, 30 + 26 + legendText + 12), top = 60, bottom = 70;
 	const int pw = W - left - right, ph = H - top - bottom;
 	double spanX = std::max(ext[a0], 1e-3), spanY = std::max(ext[a1], 1e-3);
 	const double s = 0.92 * std::min(pw / spanX, ph / spanY);  // pixels per metre, equal aspect
