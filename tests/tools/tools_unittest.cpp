@@ -453,16 +453,23 @@ TEST(Tools, ABadVocabularyStopsTheRunBeforeItStartsAndLoopClosingCanBeTurnedOff)
 	EXPECT_NE(readText(d / "off/stats.json").find("\"loop_closing\": false"), std::string::npos);
 }
 
+// The 9 real fr1/desk frames (TUM RGB-D, CC BY 4.0) copied to `dir` with the fifth frame's depth
+// PNG (1305031453.505218.png) cut to a third: a sequence that fails part-way.
+static void copyDeskWithATruncatedFifthDepth(const std::string& dir)
+{
+	fs::copy(sharedFile("data/tum_fr1_desk_9frames"), dir, fs::copy_options::recursive);
+	const std::string png = dir + "/depth/1305031453.505218.png";
+	const std::string bytes = readText(png);
+	writeText(png, bytes.substr(0, bytes.size() / 3));
+}
+
 TEST(Tools, ARunThatFailsPartWaySaysSoInItsStats)
 {
 	// Issue 18 item 4: the depth PNG of the fifth frame is truncated. The run stops there with one
 	// line, keeps the four frames done, and stats.json says the run is not complete, why and where;
 	// a whole run says it is complete.
 	TempDir d("tool_partway");
-	fs::copy(sharedFile("data/tum_fr1_desk_9frames"), d / "seq", fs::copy_options::recursive);
-	const std::string png = d / "seq/depth/1305031453.505218.png";
-	const std::string bytes = readText(png);
-	writeText(png, bytes.substr(0, bytes.size() / 3));
+	copyDeskWithATruncatedFifthDepth(d / "seq");
 	const auto r = runTool("yesslam", {"--input", d / "seq", "--out", d / "run", "--detector", "none", "--quiet"});
 	EXPECT_EQ(r.exitCode, 1);
 	EXPECT_NE(r.err.find("1305031453.505218.png"), std::string::npos) << r.err;
@@ -482,10 +489,7 @@ TEST(Tools, DetectionsAndMasksAgreeWhenAFrameCannotBeRead)
 	// line, and detections.txt (written anyway) covers the same frames as masks/: the first four.
 	// Model: the shipped Yolo-Fastest-1.1 (darknet YOLO licence); frames: TUM fr1/desk (CC BY 4.0).
 	TempDir d("detect_partway");
-	fs::copy(sharedFile("data/tum_fr1_desk_9frames"), d / "seq", fs::copy_options::recursive);
-	const std::string png = d / "seq/depth/1305031453.505218.png";
-	const std::string bytes = readText(png);
-	writeText(png, bytes.substr(0, bytes.size() / 3));
+	copyDeskWithATruncatedFifthDepth(d / "seq");
 	const std::string m = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/models/yolo-fastest-1.1/";
 	const auto r = runTool(
 		"yesslam-detect", {"--model", m + "yolo-fastest-1.1.cfg", "--weights", m + "yolo-fastest-1.1.weights", "--names",
