@@ -3,6 +3,7 @@
 
 #include "mrpt_yesslam/system/SlamJob.h"
 #include "mrpt_yesslam/util/CommandLine.h"
+#include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ProgressBar.h"
 
 using namespace mrpt_yesslam;
@@ -15,7 +16,8 @@ int main(int argc, char** argv)
 		{
 			TSlamJobOptions o;
 			std::string config, detector = "auto", policy, camera;
-			bool noDynamic = false, noLoop = false, sequential = false, quiet = false;
+			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false;
+			double octomapRes = 0;
 			CommandLine cl(
 				"yesslam",
 				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
@@ -29,6 +31,10 @@ int main(int argc, char** argv)
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
 				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), config_used.ini, and with ground\n"
 				"truth (--gt, or groundtruth.txt found beside the input) eval.json; ATE and RPE are printed.\n"
+				"The dense semantic map (unless --no-dense-map): dense_cloud.ply (colour, fused class label and its\n"
+				"probability per point), map.ot (semantic OctoMap: occupancy, colour, label) and map.bt (occupancy only,\n"
+				"for octovis and navigation stacks); map.3Dscene then also holds the octree coloured by label. People\n"
+				"are left out, and the space they walked through is free.\n"
 				"Ctrl-C stops the run and saves everything up to that frame.",
 				{"yesslam --input sim_walking --out run1   (a yesslam-sim folder: uses its detections.txt)",
 				 "yesslam --input rgbd_dataset_freiburg3_walking_xyz --config share/mrpt_yesslam/config/tum_fr3.ini "
@@ -42,6 +48,8 @@ int main(int argc, char** argv)
 				"auto (detections.txt beside the input, else yolo if a model is configured, else hog), yolo, file, hog, none",
 				&detector);
 			cl.flag("no-loop-closure", "do not detect or close loops ([LoopClosing] enabled=false)", &noLoop);
+			cl.flag("no-dense-map", "do not build the dense cloud and OctoMap ([DenseMapping] enabled=false)", &noDense);
+			cl.number("octomap-resolution", "M", "OctoMap voxel size in metres ([DenseMapping] octomapResolution, default 0.05)", &octomapRes);
 			cl.flag("no-dynamic-filter", "use every feature, people included (the baseline the method is compared with)", &noDynamic);
 			cl.text("policy", "P", "keyframe policy: semantic (the paper's Algorithm 1) or orbslam (ORB-SLAM2's rules)", &policy);
 			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);
@@ -54,6 +62,13 @@ int main(int argc, char** argv)
 			if (cl.given("detector") || config.empty()) o.slam.detector.backend = detector;
 			if (noDynamic) o.slam.system.dynamicFilter = false;
 			if (noLoop) o.slam.loop.detection.enabled = false;
+			if (noDense) o.slam.dense.enabled = false;
+			if (cl.given("octomap-resolution"))
+			{
+				if (!(octomapRes >= 0.005 && octomapRes <= 10))
+					throw InputError("", "--octomap-resolution must be between 0.005 and 10 m, got " + std::to_string(octomapRes));
+				o.slam.dense.octomapResolution = octomapRes;
+			}
 			if (!policy.empty()) o.slam.keyFrames.policy = policy;
 			if (!camera.empty()) o.slam.input.camera = camera;
 			if (sequential) o.slam.system.parallel = false;
@@ -85,7 +100,14 @@ int main(int argc, char** argv)
 					st.loops.consistent, st.loops.rejectedGeometry, st.globalBundleApplied);
 			else
 				std::printf("loops:           loop closing off\n");
-			std::printf("outputs:         %s/{trajectory.txt,keyframes.txt,map.3Dscene,stats.json,config_used.ini}\n", o.outDir.c_str());
+			if (o.slam.dense.enabled)
+				std::printf(
+					"dense map:       %zu points (%zu outliers removed), octree %zu occupied / %zu free leaves; .ply %.1f MB, .ot %.1f MB, .bt %.2f MB (%.1f s)\n",
+					s.dense.cloudPoints, s.dense.outliersRemoved, s.dense.occupiedLeaves, s.dense.freeLeaves, s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6,
+					s.dense.btBytes / 1e6, s.dense.buildMs / 1000);
+			std::printf(
+				"outputs:         %s/{trajectory.txt,keyframes.txt,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
+				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
 			if (s.evaluated)
 			{
 				std::printf("ground truth:    %s\n", s.groundTruth.c_str());

@@ -7,6 +7,7 @@
 #include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/util/ShareDir.h"
 
 namespace mrpt_yesslam
 {
@@ -75,9 +76,17 @@ CDetectionsFileDetector::CDetectionsFileDetector(const TOptions& o) : CObjectDet
 	}
 	else
 	{
-		// Without a names file the ids are taken as COCO's, where 0 is "person".
-		names.push_back("person");
-		for (int c = 1; c <= maxClass; c++) names.push_back("class " + std::to_string(c));
+		// Without a names file the ids are taken as COCO's (0 is "person"): named from the shipped
+		// coco.names when it is there (the dense map's labels and legend), else by number.
+		const std::string share = shareDir();
+		const std::string coco = share.empty() ? std::string() : share + "/models/yolo-fastest-1.1/coco.names";
+		std::error_code ec;
+		if (!coco.empty() && std::filesystem::exists(coco, ec)) names = readClassNames(coco);
+		if (names.empty() || static_cast<std::size_t>(maxClass) >= names.size())
+		{
+			names = {"person"};
+			for (int c = 1; c <= maxClass; c++) names.push_back("class " + std::to_string(c));
+		}
 	}
 	setClassNames(names, o.names.empty() ? o.file : o.names);
 }

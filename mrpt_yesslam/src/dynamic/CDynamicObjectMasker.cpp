@@ -230,14 +230,25 @@ TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vect
 {
 	std::vector<bool> held;
 	const std::vector<TDetection> dets = withHeld(given, held);
+	return segment(depth, dets, held, true);
+}
+
+TDynamicMask CDynamicObjectMasker::segmentAll(const cv::Mat& depth, const std::vector<TDetection>& dets) const
+{
+	return segment(depth, dets, std::vector<bool>(dets.size(), false), false);
+}
+
+TDynamicMask CDynamicObjectMasker::segment(
+	const cv::Mat& depth, const std::vector<TDetection>& dets, const std::vector<bool>& held, bool onlyDynamic) const
+{
 	TDynamicMask r;
 	r.mask = cv::Mat::zeros(depth.size(), CV_8U);
 	r.classLabels = cv::Mat::zeros(depth.size(), CV_16U);
 	r.instanceLabels = cv::Mat::zeros(depth.size(), CV_16U);
 	const cv::Rect image(0, 0, depth.cols, depth.rows);
-	bool anyDynamic = false;
-	for (const auto& d : dets) anyDynamic |= d.dynamic;
-	if (!anyDynamic || depth.empty()) return r;
+	bool any = false;
+	for (const auto& d : dets) any |= d.dynamic || !onlyDynamic;
+	if (!any || depth.empty()) return r;
 	// Fills run on a depth image reduced by `downsample` (nearest neighbour, so no depth is mixed
 	// across an edge); masks are scaled back up. Halving the side makes the masker 3-4 times faster
 	// for a boundary error of about one full-resolution pixel, which the final dilation covers.
@@ -252,7 +263,7 @@ TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vect
 		const int pad = opts_.laplacianKernel + static_cast<int>(std::ceil(4 * opts_.blurSigma)) + 2;
 		for (const auto& d : dets)
 		{
-			if (!d.dynamic) continue;
+			if (onlyDynamic && !d.dynamic) continue;
 			const double mx = d.box.width * opts_.boxMargin / f + pad, my = d.box.height * opts_.boxMargin / f + pad;
 			const cv::Rect s = cv::Rect(
 								   cv::Point(static_cast<int>(std::floor(d.box.x / f - mx)), static_cast<int>(std::floor(d.box.y / f - my))),
@@ -273,7 +284,7 @@ TDynamicMask CDynamicObjectMasker::compute(const cv::Mat& depth, const std::vect
 	for (std::size_t i = 0; i < dets.size(); i++)
 	{
 		const auto& d = dets[i];
-		if (!d.dynamic) continue;
+		if (onlyDynamic && !d.dynamic) continue;
 		const cv::Rect box = cv::Rect(cv::Point(static_cast<int>(std::floor(d.box.x)), static_cast<int>(std::floor(d.box.y))),
 									  cv::Point(static_cast<int>(std::ceil(d.box.br().x)), static_cast<int>(std::ceil(d.box.br().y)))) &
 			image;

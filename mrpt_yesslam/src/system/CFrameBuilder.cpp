@@ -96,6 +96,15 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		for (std::size_t i = 0; i < pts.size(); i++) f->features.keypoints[i].pt = pts[i];
 	}
 	f->mapPoints.assign(f->size(), -1);
+	if (keepImages_)
+	{
+		// Copies: the caller's buffers (an observation's image) may be reused after this call.
+		auto im = std::make_shared<TFrameImages>();
+		im->bgr = bgr.clone();
+		im->depth = depth.clone();
+		im->dynamicMask = mask;	 // made for this frame
+		f->images = std::move(im);
+	}
 	ms["orb"] += msSince(t0);
 	if (stageMs)
 		for (const auto& [k, v] : ms) (*stageMs)[k] = v;

@@ -55,6 +55,7 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	load("KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
 	load("LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
 	load("LoopClosing", loop, CLoopCloser::TOptions::configKeys());
+	load("DenseMapping", dense, CDenseSemanticMapper::TOptions::configKeys());
 	load("System", system, TSystem::configKeys());
 	std::vector<std::string> sections;
 	cfg->getAllSections(sections);
@@ -70,7 +71,7 @@ std::string TYesSlamOptions::dump() const
 {
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
-			 &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &loop, &system})
+			 &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &loop, &dense, &system})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";
@@ -128,8 +129,17 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 			loopCloser_ = std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.mapping.depthNoise);
 		}
 	}
+	if (opts_.dense.enabled)
+	{
+		const auto* det = builder_.detector();
+		// Without the dynamic filter (the ORB-SLAM2-like baseline) people go into the dense map too.
+		if (!opts_.system.dynamicFilter) opts_.dense.dynamicExclusion = "none";
+		dense_ = std::make_unique<CDenseSemanticMapper>(opts_.dense, opts_.masker, det ? static_cast<int>(det->classNames().size()) : 1);
+		builder_.setKeepImages(true);
+	}
 	if (opts_.system.parallel)
 	{
+		if (dense_) denseStage_ = std::make_unique<CWorkerPool>(1, opts_.dense.queue);
 		gbaStage_ = std::make_unique<CWorkerPool>(1);
 		mappingStage_ = std::make_unique<CWorkerPool>(1, opts_.system.mappingQueue);
 	}
@@ -147,6 +157,22 @@ CYesSlamSystem::~CYesSlamSystem()
 	// destructor must not throw, and a failure has been or will not be reported.
 	if (mappingStage_) mappingStage_->waitIdle();
 	if (gbaStage_) gbaStage_->waitIdle();
+	if (denseStage_) denseStage_->waitIdle();
+}
+
+void CYesSlamSystem::denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
+{
+	const auto t0 = Clock::now();
+	dense_->addKeyFrame(kf, *f);
+	const double ms = msSince(t0);
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	stats_.stageMs["dense"].push_back(ms);
+}
+
+TDenseMap CYesSlamSystem::buildDenseMap() const
+{
+	if (!dense_) throw std::logic_error("dense mapping is off ([DenseMapping] enabled = false)");
+	return dense_->build([this](TKeyFrameId id) { return map_.keyFramePose(id); });
 }
 
 void CYesSlamSystem::runGlobalBundle()
@@ -255,6 +281,21 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 
 void CYesSlamSystem::collectMapping(bool wait)
 {
+	while (!denseTasks_.empty())
+	{
+		auto& f = denseTasks_.front();
+		if (!wait && f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
+		std::future<void> done = std::move(f);
+		denseTasks_.pop_front();
+		try
+		{
+			done.get();
+		}
+		catch (const std::exception& e)
+		{
+			throw std::runtime_error(std::string("dense mapping failed: ") + e.what());
+		}
+	}
 	while (!mappingTasks_.empty())
 	{
 		auto& f = mappingTasks_.front();
@@ -353,6 +394,15 @@ void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.keyFrames++;
 		if (forced) stats_.forcedKeyFrames++;
+	}
+	if (dense_)
+	{
+		// The frame (with its images) travels to the dense stage; the cloud is kept in keyframe
+		// coordinates, so the order against local mapping does not matter.
+		if (denseStage_)
+			denseTasks_.push_back(denseStage_->submit([this, kf, f] { denseKeyFrame(kf, f); }));
+		else
+			denseKeyFrame(kf, f);
 	}
 	if (mappingStage_)
 	{
@@ -539,6 +589,11 @@ TSlamStats CYesSlamSystem::stats() const
 	TSlamStats s = stats_;
 	s.mapPoints = map_.numPoints();
 	s.keyFramesInMap = map_.numKeyFrames();
+	if (dense_)
+	{
+		s.denseKeyFrames = dense_->numKeyFrames();
+		s.densePoints = dense_->numStoredPoints();
+	}
 	return s;
 }
 
@@ -564,6 +619,8 @@ std::string CYesSlamSystem::statsJson() const
 	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent << ", \"accepted\": " << s.loops.accepted
 	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
 	  << ", \"global_ba_runs\": " << s.globalBundleRuns << ", \"global_ba_applied\": " << s.globalBundleApplied << "},\n";
+	o << "  \"dense_map\": " << (dense_ ? "true" : "false") << ",\n";
+	if (dense_) o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints << "},\n";
 	o << "  \"keyframe_policy\": \"" << opts_.keyFrames.policy << "\",\n";
 	o << "  \"dynamic_filter\": " << (opts_.system.dynamicFilter ? "true" : "false") << ",\n";
 	o << "  \"stages_ms\": {";

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/io/TextParsing.h"
@@ -51,7 +52,28 @@ void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSum
 	json = head + json.substr(json.find('\n') + 1);
 	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
-	saveSceneAtomically(*sys.buildScene(), (d / "map.3Dscene").string());
+	auto scene = sys.buildScene();
+	if (sys.denseMapper())
+	{
+		// The dense map from the keyframes' final poses: labelled cloud, OctoMaps, and the octree in
+		// the scene (coloured by label) so that yesslam-render pictures it.
+		const TDenseMap dm = sys.buildDenseMap();
+		const auto& names = sys.detector()->classNames();
+		writeDenseCloudPly((d / "dense_cloud.ply").string(), dm.cloud, names);
+		writeSemanticOcTree((d / "map.ot").string(), *dm.octree);
+		writeOccupancyBt((d / "map.bt").string(), *dm.octree);
+		scene->insert(semanticOcTreeObject(*dm.octree, names));
+		sum.dense.cloudPoints = dm.cloud.size();
+		sum.dense.outliersRemoved = dm.outliersRemoved;
+		sum.dense.buildMs = dm.buildMs;
+		for (auto it = dm.octree->begin_leafs(), end = dm.octree->end_leafs(); it != end; ++it)
+			(dm.octree->isNodeOccupied(*it) ? sum.dense.occupiedLeaves : sum.dense.freeLeaves)++;
+		std::error_code ec;
+		sum.dense.plyBytes = fs::file_size(d / "dense_cloud.ply", ec);
+		sum.dense.otBytes = fs::file_size(d / "map.ot", ec);
+		sum.dense.btBytes = fs::file_size(d / "map.bt", ec);
+	}
+	saveSceneAtomically(*scene, (d / "map.3Dscene").string());
 	writeFileAtomically((d / "stats.json").string(), json);
 	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
 	sum.stats = sys.stats();

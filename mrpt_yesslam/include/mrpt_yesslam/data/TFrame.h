@@ -5,6 +5,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <opencv2/core.hpp>
+#include <memory>
 #include <vector>
 
 #include "mrpt_yesslam/feature/COrbExtractor.h"
@@ -14,6 +15,14 @@ namespace mrpt_yesslam
 {
 /** Id of a map point; -1 = none. */
 using TPointId = long;
+
+/** The images of a frame, kept (only) when a dense map is built from its keyframes. */
+struct TFrameImages
+{
+	cv::Mat bgr;  //!< CV_8UC3 colour, as given (distorted)
+	cv::Mat depth;	//!< CV_32FC1 metres, 0 = none, registered to the colour image
+	cv::Mat dynamicMask;  //!< CV_8UC1, 255 = masked as dynamic by tracking (held objects included); empty = none
+};
 
 /** A tracked frame. */
 struct TFrame
@@ -30,6 +39,7 @@ struct TFrame
 	mrpt::poses::CPose3D pose;	//!< T_w_c, camera (z forward) in the world
 	bool tracked = false;  //!< false: the pose is a motion-model guess (tracking lost)
 	std::size_t numInliers = 0;	 //!< static map points that supported the pose
+	std::shared_ptr<const TFrameImages> images;	 //!< null unless the builder keeps images (dense mapping)
 
 	/** Number of keypoints. */
 	std::size_t size() const { return features.keypoints.size(); }

@@ -102,6 +102,11 @@ class CDynamicObjectMasker
 	 * image size. Non-dynamic detections are ignored. Frames must come in order (see holdFrames). */
 	TDynamicMask compute(const cv::Mat& depthMetres, const std::vector<TDetection>& detections);
 
+	/** The same fill for every detection given, of any class, without held objects: per-pixel
+	 * class and instance labels (later detections drawn over earlier ones) for the dense semantic
+	 * map. Const and without state: safe beside compute() on another thread. */
+	TDynamicMask segmentAll(const cv::Mat& depthMetres, const std::vector<TDetection>& detections) const;
+
 	/** Eq. 3: true for keypoints inside the mask (dynamic, to be dropped). */
 	static std::vector<bool> classifyKeypoints(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& mask);
 
@@ -119,6 +124,8 @@ class CDynamicObjectMasker
 	/** The detections to mask this frame: those given, then held ones (flagged in `held`). */
 	std::vector<TDetection> withHeld(const std::vector<TDetection>& dets, std::vector<bool>& held);
 
+	/** Fills the boxes of `dets` (only the dynamic ones with `onlyDynamic`); `held` flags each. */
+	TDynamicMask segment(const cv::Mat& depth, const std::vector<TDetection>& dets, const std::vector<bool>& held, bool onlyDynamic) const;
 	/** The image the fill runs on (enhanced or plain depth, float metres, 0 = missing). */
 	cv::Mat prepare(const cv::Mat& depth) const;
 	/** Fills one box of `raw` (depth in metres, 0 = missing): `out` is the object's mask over the

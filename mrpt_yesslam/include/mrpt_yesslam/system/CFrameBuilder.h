@@ -31,6 +31,9 @@ class CFrameBuilder
 		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera, std::size_t id,
 		std::map<std::string, double>* stageMs = nullptr);
 
+	/** Keep each frame's colour, depth and dynamic mask in TFrame::images (for dense mapping). */
+	void setKeepImages(bool keep) { keepImages_ = keep; }
+
 	/** The detector (null without one). */
 	const CObjectDetector* detector() const;
 	const COrbExtractor& extractor() const { return extractor_; }
@@ -42,5 +45,6 @@ class CFrameBuilder
 	COrbExtractor extractor_;
 	CGeometricDynamicCheck check_;
 	bool dynamicFilter_;
+	bool keepImages_ = false;
 };
 }  // namespace mrpt_yesslam

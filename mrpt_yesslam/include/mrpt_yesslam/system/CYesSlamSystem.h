@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
@@ -64,6 +65,7 @@ struct TYesSlamOptions
 	CKeyFrameInserter::TOptions keyFrames;
 	CLocalMapper::TOptions mapping;
 	CLoopCloser::TOptions loop;	 //!< section [LoopClosing]
+	CDenseSemanticMapper::TOptions dense;  //!< section [DenseMapping]
 	TSystem system;
 
 	/** Loads every section from a config file (unknown keys warn on stderr; wrong types throw). */
@@ -93,6 +95,7 @@ struct TSlamStats
 	TLoopDetectionStats loops;	//!< loop detection counts
 	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
 	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
+	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
 	std::map<std::string, std::vector<double>> stageMs;
 };
@@ -112,7 +115,7 @@ class CYesSlamSystem
 	TFrameReport processFrame(const mrpt::obs::CObservation3DRangeScan& obs);
 	/** Same, from images: BGR colour, depth in metres (CV_32F, 0 = none), intrinsics. */
 	TFrameReport processFrame(const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera);
-	/** Waits for local mapping to finish the keyframes queued so far; throws std::runtime_error if
+	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
 	 * local mapping failed (once per failure). */
 	void waitForMapping();
 	/** Holds local mapping still (the keyframe in progress finishes first) and resumes it; for a
@@ -134,6 +137,11 @@ class CYesSlamSystem
 	TTrajectory keyFrameTrajectory() const;
 	/** Coloured map points, keyframe frustums and the trajectory, for SceneViewer3D/yesslam-render. */
 	mrpt::opengl::COpenGLScene::Ptr buildScene() const;
+	/** The dense semantic map from every keyframe's cloud at its current pose (call after
+	 * waitForMapping for the final map); throws std::logic_error with dense mapping off. */
+	TDenseMap buildDenseMap() const;
+	/** The dense mapper; null with [DenseMapping] enabled = false. */
+	const CDenseSemanticMapper* denseMapper() const { return dense_.get(); }
 	/** Run statistics so far. */
 	TSlamStats stats() const;
 	/** stats() as JSON (per-stage median and p95 in ms). */
@@ -168,6 +176,7 @@ class CYesSlamSystem
 	std::shared_ptr<CBowDatabase> bowDatabase_;
 	std::unique_ptr<CLoopDetector> loopDetector_;  //!< used on the mapping stage only
 	std::unique_ptr<CLoopCloser> loopCloser_;	//!< corrections on the mapping stage, global BA on its own
+	std::unique_ptr<CDenseSemanticMapper> dense_;  //!< keyframe clouds on the dense stage
 	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
 	std::function<void(TKeyFrameId)> keyFrameCallback_;
 	std::function<void(const TFrame&)> frameCallback_;
@@ -193,6 +202,12 @@ class CYesSlamSystem
 	bool gbaPending_ = false, gbaRunning_ = false;
 	std::deque<std::future<void>> gbaTasks_;  //!< guarded by gbaMtx_
 	std::unique_ptr<CWorkerPool> gbaStage_;
+
+	// Dense stage (parallel mode): keyframe clouds, collected by the caller like mapping tasks.
+	std::deque<std::future<void>> denseTasks_;
+	std::unique_ptr<CWorkerPool> denseStage_;
+	/** The cloud of one keyframe (on the dense stage in parallel mode). */
+	void denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f);
 
 	// Local mapping stage (parallel mode): futures of queued keyframes, collected by the caller.
 	std::deque<std::future<void>> mappingTasks_;

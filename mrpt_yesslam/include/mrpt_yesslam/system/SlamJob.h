@@ -1,6 +1,7 @@
 #pragma once
 // The work behind apps/yesslam: run the system over a rawlog or TUM folder and write the results
 // (trajectory, keyframes, map scene, stats, configuration used, evaluation against ground truth).
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -33,6 +34,13 @@ struct TSlamJobSummary
 	std::string evalProblem;  //!< why there is no evaluation although ground truth exists
 	std::string detector;  //!< the detector used, in words
 	double seconds = 0;	 //!< wall time of the frame loop
+	/** The dense map written (all zero with dense mapping off). */
+	struct TDense
+	{
+		std::size_t cloudPoints = 0, outliersRemoved = 0, occupiedLeaves = 0, freeLeaves = 0;
+		std::uintmax_t plyBytes = 0, otBytes = 0, btBytes = 0;
+		double buildMs = 0;	 //!< fusion, filtering and octree at the end of the run
+	} dense;
 };
 
 /** Picks the detector for "auto": the file backend when a detections.txt lies beside the input
@@ -42,7 +50,7 @@ struct TSlamJobSummary
 void resolveDetector(CObjectDetector::TOptions& det, const std::string& input);
 
 /** Runs SLAM over the input and writes OUT/trajectory.txt, keyframes.txt, map.3Dscene, stats.json,
- * config_used.ini (and eval.json with ground truth). `progress(done, total, status)` after each
+ * config_used.ini (and eval.json with ground truth; dense_cloud.ply, map.ot, map.bt with dense mapping). `progress(done, total, status)` after each
  * frame; `cancel()` stops early and what exists is saved. A bad frame in the middle of the input
  * saves what exists, then throws the InputError. */
 TSlamJobSummary runSlamJob(

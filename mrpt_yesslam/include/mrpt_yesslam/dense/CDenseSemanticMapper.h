@@ -1,0 +1,147 @@
+#pragma once
+// The dense semantic map (paper section 2.6, eq. 25-29): a labelled point cloud and a semantic
+// OctoMap built from the keyframes' depth and colour, without the people who walked through.
+//
+// Per keyframe (addKeyFrame, on the dense-mapping stage): every detection of any class is cut out
+// by the masker's depth flood fill (CDynamicObjectMasker::segmentAll), giving per-pixel labels;
+// the depth is back-projected (eq. 25) on a pixel grid, leaving out what tracking masked as
+// dynamic (held objects included) and, beyond the paper, the whole box of every dynamic detection
+// grown a little (a flood fill leaves 7-14 % of a person's pixels outside its mask, README masking
+// table; any of them in the map is a ghost) and depth-edge "flying pixels"; the cloud is thinned
+// on a voxel grid and stored in the keyframe's own coordinates.
+//
+// The map (build) is made from those clouds with the keyframes' poses at that moment (eq. 26), so
+// local BA, culling (a culled keyframe's cloud follows its parent) and loop correction all move
+// it, as dense ORB-SLAM2 forks rebuild their clouds after a loop. Labels are fused per voxel over
+// all keyframes (eq. 27-29, TLabelBelief); the fused cloud is filtered (voxel grid, statistical
+// outliers with MRPT's KD-tree, as PCL's StatisticalOutlierRemoval); the octree gets each
+// keyframe's points by ray casting from its camera, so space a person walked through is cleared.
+#include <mrpt/poses/CPose3D.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "mrpt_yesslam/data/CMapPoint.h"
+#include "mrpt_yesslam/data/TFrame.h"
+#include "mrpt_yesslam/dense/CSemanticOcTree.h"
+#include "mrpt_yesslam/dense/SemanticFusion.h"
+#include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
+#include "mrpt_yesslam/util/OptionTable.h"
+
+namespace mrpt_yesslam
+{
+/** One keyframe's points in its camera frame. */
+struct TKeyFrameCloud
+{
+	std::vector<cv::Point3f> xyz;
+	std::vector<cv::Vec3b> bgr;
+	std::vector<TSemLabel> label;  //!< 0 = background, c + 1 = class c
+	std::vector<float> labelProb;  //!< p^(label | pixel) of the measurement model
+	std::size_t dynamicPixelsLeftOut = 0;	//!< grid pixels with depth not inserted as dynamic
+};
+
+/** The fused, filtered cloud (world frame = the SLAM map's). */
+struct TDenseCloud
+{
+	std::vector<cv::Point3f> xyz;
+	std::vector<cv::Vec3b> bgr;
+	std::vector<TSemLabel> label;  //!< fused (most likely) label
+	std::vector<float> labelProb;  //!< its posterior probability
+	std::vector<std::uint32_t> observations;  //!< keyframes whose points were fused into the voxel
+
+	std::size_t size() const { return xyz.size(); }
+};
+
+/** What build() made. */
+struct TDenseMap
+{
+	TDenseCloud cloud;
+	std::unique_ptr<CSemanticOcTree> octree;
+	std::size_t keyFrames = 0;	//!< clouds used
+	std::size_t voxelsBeforeFilter = 0, outliersRemoved = 0;
+	double buildMs = 0;
+};
+
+/** The dense mapper. Thread-safe: addKeyFrame and build may run on different threads. */
+class CDenseSemanticMapper
+{
+   public:
+	/** Section [DenseMapping]. */
+	struct TOptions : public TTableOptions<TOptions>
+	{
+		bool enabled = true;  //!< build the dense map and OctoMap (off: --no-dense-map)
+		int pixelStep = 2;	//!< back-project every n-th pixel of each row and column
+		double minDepth = 0.3;	//!< m: nearer depth is ignored
+		double maxDepth = 4.0;	//!< m: farther depth is ignored (also the rays' length)
+		/** A pixel whose 4 neighbours differ from it by more than this share of its depth lies on a
+		 * depth edge (a "flying pixel" mixing foreground and background) and is left out. */
+		double maxDepthJump = 0.04;
+		/** box: the whole box of every dynamic detection is left out, grown by dynamicBoxGrow, as
+		 * well as the dynamic mask; mask: only the mask, as tracking uses it; none: nothing is left
+		 * out (the system sets it with [System] dynamicFilter = false: the baseline maps people). */
+		std::string dynamicExclusion = "box";
+		double dynamicBoxGrow = 0.1;  //!< share of the box size added on every side
+		double voxelSize = 0.02;  //!< m: grid of the dense cloud (and of label fusion)
+		/** Measurement model (eq. 29): a pixel inside the fill of a detection with score s says "its
+		 * class" with probability labelProbMin + (labelProbMax - labelProbMin) * s. */
+		double labelProbMin = 0.55, labelProbMax = 0.9;
+		/** The label fills (the masker's, run on every detection) never take depth farther than
+		 * this from their seed's, m ([DynamicMask] maxDepthRange plays this part for people). */
+		double labelDepthRange = 0.5;
+		double backgroundProb = 0.6;  //!< a pixel outside every detection says "background" with this probability
+		int outlierNeighbours = 12;	 //!< statistical outlier removal: neighbours (0 = off)
+		double outlierStdDev = 2.0;	 //!< removes points whose mean neighbour distance exceeds mean + this * std
+		double octomapResolution = 0.05;  //!< m (--octomap-resolution)
+		double probHit = 0.7, probMiss = 0.4;  //!< OctoMap's sensor model (its defaults)
+		/** A cell is occupied above this probability. OctoMap's default 0.5 makes one keyframe's
+		 * hit enough; 0.8 needs two keyframes (with probHit 0.7), so that a person's body, which
+		 * is somewhere else at the next keyframe, never becomes an obstacle even where the mask
+		 * leaked and no later ray passes to clear it (beyond the paper). */
+		double occupancyThreshold = 0.8;
+		/** Dense cloud: a voxel must hold points of this many keyframes (the same reason). */
+		int minObservations = 2;
+		std::size_t queue = 4;	//!< parallel: keyframes waiting for the dense stage before tracking waits
+
+		/** Every option once: key, member, range, help (load, dump and keys come from it). */
+		COptionTable table();
+	};
+
+	/** `masker` configures the label fills (its fallback to whole boxes is turned off: a failed
+	 * fill labels nothing rather than the background around the object). `numClasses`: the
+	 * detector's class count. Throws InputError for invalid options. */
+	CDenseSemanticMapper(const TOptions& opts, const CDynamicObjectMasker::TOptions& masker, int numClasses);
+
+	/** The cloud of one keyframe from its frame's images (TFrame::images; ignored without them). */
+	void addKeyFrame(TKeyFrameId id, const TFrame& frame);
+	/** The cloud of one keyframe, made from explicit images (the work of addKeyFrame). */
+	TKeyFrameCloud keyFrameCloud(const TFrame& frame) const;
+	/** Stores a cloud for keyframe `id` (tests and addKeyFrame). */
+	void setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud);
+
+	/** The fused, filtered cloud and the octree, with each keyframe placed by `poseOf(id)` (T_w_c). */
+	TDenseMap build(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
+	/** Only the world cloud of every keyframe, unfused (for tests of re-placing). */
+	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
+
+	std::size_t numKeyFrames() const;
+	/** Stored points over all keyframes (memory: about 20 bytes each). */
+	std::size_t numStoredPoints() const;
+	/** Labels: background + the detector's classes. */
+	int numLabels() const { return numClasses_ + 1; }
+	const TOptions& options() const { return opts_; }
+
+   private:
+	TOptions opts_;
+	CDynamicObjectMasker masker_;  //!< segmentAll only (const)
+	int numClasses_;
+	mutable std::mutex mtx_;
+	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds_;
+};
+
+/** A colour per label for pictures (background grey, classes from a fixed palette). */
+cv::Vec3b labelColour(TSemLabel label);
+}  // namespace mrpt_yesslam

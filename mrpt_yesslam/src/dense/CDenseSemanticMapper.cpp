@@ -1,0 +1,357 @@
+#include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
+
+#include <mrpt/maps/CSimplePointsMap.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+COptionTable CDenseSemanticMapper::TOptions::table()
+{
+	COptionTable t("DenseMapping");
+	t.flag("enabled", enabled, "build the dense labelled cloud and the semantic OctoMap from the keyframes (--no-dense-map: false)");
+	t.integer("pixelStep", pixelStep, 1, 16, "back-project every n-th pixel of each row and column");
+	t.real("minDepth", minDepth, 0, 100, "nearer depth is ignored, m");
+	t.real("maxDepth", maxDepth, 0.1, 100, "farther depth is ignored (and rays end there), m");
+	t.real("maxDepthJump", maxDepthJump, 0, 10, "a pixel differing from a neighbour by more than this share of its depth is a flying pixel (left out)");
+	t.text("dynamicExclusion", dynamicExclusion, "box: leave out the dynamic mask and the grown box of every dynamic detection; mask: the mask only; none: people go into the map (what --no-dynamic-filter sets)", {"box", "mask", "none"});
+	t.real("dynamicBoxGrow", dynamicBoxGrow, 0, 1, "box exclusion: share of the box size added on every side");
+	t.real("voxelSize", voxelSize, 0.001, 1, "grid of the dense cloud and of label fusion, m");
+	t.real("labelProbMin", labelProbMin, 0.5, 1, "p(class) a detection of score 0 gives its pixels (eq. 29)");
+	t.real("labelProbMax", labelProbMax, 0.5, 1, "p(class) a detection of score 1 gives its pixels (eq. 29)");
+	t.real("labelDepthRange", labelDepthRange, 0, 100, "label fills never take depth farther than this from their seed's, m (0 = no limit)");
+	t.real("backgroundProb", backgroundProb, 0.01, 0.999, "p(background) of a pixel outside every detection (eq. 29)");
+	t.integer("outlierNeighbours", outlierNeighbours, 0, 100, "statistical outlier removal: neighbours per point (0 = off)");
+	t.real("outlierStdDev", outlierStdDev, 0, 100, "remove points whose mean neighbour distance exceeds the mean by this many standard deviations");
+	t.real("octomapResolution", octomapResolution, 0.005, 10, "OctoMap voxel size, m (--octomap-resolution)");
+	t.real("probHit", probHit, 0.5, 1, "OctoMap: occupancy probability of a ray's end");
+	t.real("probMiss", probMiss, 0, 0.5, "OctoMap: occupancy probability of the cells a ray passes");
+	t.real("occupancyThreshold", occupancyThreshold, 0.5, 0.999, "OctoMap: occupied above this probability (0.8: two keyframes' hits)");
+	t.integer("minObservations", minObservations, 1, 1000, "dense cloud: keyframes that must see a voxel");
+	t.count("queue", queue, 1, 1000, "parallel mode: keyframes waiting for the dense stage before tracking waits");
+	return t;
+}
+
+namespace
+{
+// A voxel key: three 21-bit signed cell indices (+-10 km at 1 cm).
+std::int64_t voxelKey(const cv::Point3f& p, double inv)
+{
+	auto c = [&](float v) { return (static_cast<std::int64_t>(std::floor(v * inv)) + (1 << 20)) & 0x1FFFFF; };
+	return (c(p.x) << 42) | (c(p.y) << 21) | c(p.z);
+}
+
+cv::Point3f transform(const mrpt::poses::CPose3D& T, const cv::Point3f& p)
+{
+	double x, y, z;
+	T.composePoint(p.x, p.y, p.z, x, y, z);
+	return {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)};
+}
+
+CDynamicObjectMasker::TOptions labelFillOptions(CDynamicObjectMasker::TOptions m, double depthRange)
+{
+	m.maxDepthRange = depthRange;
+	// A failed fill labels nothing (a whole box would give the background around a monitor its
+	// class); labels are not grown (the dynamic mask's margin is for features on silhouettes).
+	m.fallbackToBox = false;
+	m.dilatePixels = 0;
+	m.holdFrames = 0;
+	return m;
+}
+}  // namespace
+
+cv::Vec3b labelColour(TSemLabel label)
+{
+	if (label == 0) return {170, 170, 170};
+	// 20 well separated colours (Kelly's list, BGR) cycled over the labels: neighbouring COCO
+	// classes (desk 60, tv 62, keyboard 66) get different ones.
+	static const cv::Vec3b kPalette[20] = {
+		{0, 179, 255}, {117, 62, 128}, {0, 104, 255}, {204, 161, 166}, {34, 0, 193}, {98, 189, 206}, {118, 112, 129},
+		{52, 125, 0}, {142, 118, 246}, {117, 83, 0}, {122, 117, 255}, {151, 55, 83}, {0, 142, 255}, {126, 40, 179},
+		{0, 200, 244}, {24, 16, 127}, {0, 170, 147}, {21, 51, 89}, {19, 58, 241}, {40, 44, 35}};
+	return kPalette[(label - 1) % 20];
+}
+
+CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObjectMasker::TOptions& masker, int numClasses)
+	: opts_(o), masker_(labelFillOptions(masker, o.labelDepthRange)), numClasses_(std::max(1, numClasses))
+{
+	if (!(o.maxDepth > o.minDepth)) throw InputError("", "[DenseMapping] maxDepth must exceed minDepth");
+	if (!(o.labelProbMax >= o.labelProbMin)) throw InputError("", "[DenseMapping] labelProbMax must be >= labelProbMin");
+	if (o.dynamicExclusion != "box" && o.dynamicExclusion != "mask" && o.dynamicExclusion != "none")
+		throw InputError("", "[DenseMapping] dynamicExclusion must be box, mask or none, got '" + o.dynamicExclusion + "'");
+	if (!(o.octomapResolution > 0)) throw InputError("", "[DenseMapping] octomapResolution must be > 0");
+	if (numClasses_ + 1 > 256) throw InputError("", "the dense map stores labels in one byte: at most 255 detector classes");
+}
+
+TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
+{
+	TKeyFrameCloud c;
+	if (!f.images) return c;
+	const cv::Mat& depth = f.images->depth;
+	const cv::Mat& bgr = f.images->bgr;
+	if (depth.empty() || depth.type() != CV_32F || bgr.size() != depth.size()) return c;
+	const int W = depth.cols, H = depth.rows;
+
+	// Per-pixel labels: the fill of every detection that is not dynamic.
+	std::vector<TDetection> objects;
+	for (const auto& d : f.detections)
+		if (!d.dynamic) objects.push_back(d);
+	// Larger boxes first: a keyboard's fill is drawn over the desk's that may have run onto it.
+	std::stable_sort(objects.begin(), objects.end(), [](const TDetection& a, const TDetection& b) { return a.box.area() > b.box.area(); });
+	const TDynamicMask seg = masker_.segmentAll(depth, objects);
+
+	// What never goes in: tracking's dynamic mask, and (box) every dynamic detection's grown box.
+	cv::Mat excluded = f.images->dynamicMask.empty() || opts_.dynamicExclusion == "none" ? cv::Mat::zeros(depth.size(), CV_8U)
+																						  : f.images->dynamicMask.clone();
+	if (opts_.dynamicExclusion == "box")
+		for (const auto& d : f.detections)
+		{
+			if (!d.dynamic) continue;
+			const float g = static_cast<float>(opts_.dynamicBoxGrow);
+			const cv::Rect2f b(d.box.x - g * d.box.width, d.box.y - g * d.box.height, d.box.width * (1 + 2 * g), d.box.height * (1 + 2 * g));
+			const cv::Rect r = cv::Rect(cv::Point(static_cast<int>(std::floor(b.x)), static_cast<int>(std::floor(b.y))),
+										cv::Point(static_cast<int>(std::ceil(b.br().x)), static_cast<int>(std::ceil(b.br().y)))) &
+				cv::Rect(0, 0, W, H);
+			if (r.area() > 0) excluded(r).setTo(255);
+		}
+
+	// Undistorted pixel positions of the grid (only when the camera has distortion).
+	const CPinholeCamera K(f.camera);
+	const int step = opts_.pixelStep;
+	std::vector<cv::Point2f> grid;
+	for (int v = 0; v < H; v += step)
+		for (int u = 0; u < W; u += step) grid.emplace_back(static_cast<float>(u), static_cast<float>(v));
+	std::vector<cv::Point2f> undist = grid;
+	if (K.distorted()) K.undistort(undist);
+	const double fx = f.camera.fx(), fy = f.camera.fy(), cx = f.camera.cx(), cy = f.camera.cy();
+
+	const double inv = 1.0 / opts_.voxelSize;
+	std::unordered_map<std::int64_t, std::size_t> seen;
+	seen.reserve(grid.size() / 2);
+	const float jump = static_cast<float>(opts_.maxDepthJump);
+	for (std::size_t i = 0; i < grid.size(); i++)
+	{
+		const int u = static_cast<int>(grid[i].x), v = static_cast<int>(grid[i].y);
+		const float z = depth.at<float>(v, u);
+		if (!(z >= opts_.minDepth && z <= opts_.maxDepth)) continue;
+		if (excluded.at<uchar>(v, u))
+		{
+			c.dynamicPixelsLeftOut++;
+			continue;
+		}
+		if (jump > 0)
+		{
+			bool edge = false;
+			static const int du[4] = {1, -1, 0, 0}, dv[4] = {0, 0, 1, -1};
+			for (int k = 0; k < 4 && !edge; k++)
+			{
+				const int x = u + du[k], y = v + dv[k];
+				if (x < 0 || y < 0 || x >= W || y >= H) continue;
+				const float zn = depth.at<float>(y, x);
+				edge = zn > 0 && std::abs(zn - z) > jump * z;
+			}
+			if (edge) continue;
+		}
+		const cv::Point3f p(
+			static_cast<float>((undist[i].x - cx) * z / fx), static_cast<float>((undist[i].y - cy) * z / fy), z);	// eq. 25
+		if (!seen.emplace(voxelKey(p, inv), c.xyz.size()).second) continue;  // thinned: one point per voxel
+		c.xyz.push_back(p);
+		c.bgr.push_back(bgr.at<cv::Vec3b>(v, u));
+		const int cls = seg.classLabels.empty() ? 0 : seg.classLabels.at<std::uint16_t>(v, u);
+		if (cls > 0)
+		{
+			const int inst = seg.instanceLabels.at<std::uint16_t>(v, u) - 1;
+			const double s = inst >= 0 && inst < static_cast<int>(objects.size()) ? objects[static_cast<std::size_t>(inst)].score : 0.5;
+			c.label.push_back(static_cast<TSemLabel>(std::min(cls, 255)));
+			c.labelProb.push_back(static_cast<float>(opts_.labelProbMin + (opts_.labelProbMax - opts_.labelProbMin) * std::clamp(s, 0.0, 1.0)));
+		}
+		else
+		{
+			c.label.push_back(0);
+			c.labelProb.push_back(static_cast<float>(opts_.backgroundProb));
+		}
+	}
+	return c;
+}
+
+void CDenseSemanticMapper::addKeyFrame(TKeyFrameId id, const TFrame& frame)
+{
+	if (!frame.images) return;
+	setKeyFrameCloud(id, keyFrameCloud(frame));
+}
+
+void CDenseSemanticMapper::setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud)
+{
+	auto p = std::make_shared<const TKeyFrameCloud>(std::move(cloud));
+	std::lock_guard<std::mutex> lk(mtx_);
+	clouds_[id] = std::move(p);
+}
+
+std::size_t CDenseSemanticMapper::numKeyFrames() const
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	return clouds_.size();
+}
+
+std::size_t CDenseSemanticMapper::numStoredPoints() const
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	std::size_t n = 0;
+	for (const auto& [id, c] : clouds_) n += c->xyz.size();
+	return n;
+}
+
+std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const
+{
+	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds;
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		clouds = clouds_;
+	}
+	std::vector<cv::Point3f> out;
+	for (const auto& [id, c] : clouds)
+	{
+		const auto T = poseOf(id);
+		for (const auto& p : c->xyz) out.push_back(transform(T, p));
+	}
+	return out;
+}
+
+TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds;
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		clouds = clouds_;
+	}
+	TDenseMap m;
+	m.keyFrames = clouds.size();
+	m.octree = std::make_unique<CSemanticOcTree>(opts_.octomapResolution);
+	m.octree->setProbHit(opts_.probHit);
+	m.octree->setProbMiss(opts_.probMiss);
+	m.octree->setOccupancyThres(opts_.occupancyThreshold);
+
+	struct TVoxel
+	{
+		double x = 0, y = 0, z = 0;
+		std::uint32_t b = 0, g = 0, r = 0, n = 0;
+		std::uint32_t keyFrames = 0;
+		TKeyFrameId lastKf = 0;
+		TLabelBelief belief;
+	};
+	std::unordered_map<std::int64_t, TVoxel> voxels;
+	const double inv = 1.0 / opts_.voxelSize;
+	const int K = numLabels();
+	for (const auto& [id, c] : clouds)
+	{
+		const auto T = poseOf(id);
+		octomap::Pointcloud scan;
+		scan.reserve(c->xyz.size());
+		for (std::size_t i = 0; i < c->xyz.size(); i++)
+		{
+			const cv::Point3f w = transform(T, c->xyz[i]);	// eq. 26
+			scan.push_back(w.x, w.y, w.z);
+			TVoxel& v = voxels[voxelKey(w, inv)];
+			v.x += w.x, v.y += w.y, v.z += w.z;
+			v.b += c->bgr[i][0], v.g += c->bgr[i][1], v.r += c->bgr[i][2];
+			v.n++;
+			if (v.keyFrames == 0 || v.lastKf != id) v.keyFrames++, v.lastKf = id;
+			v.belief.observe(c->label[i], c->labelProb[i], K);	// eq. 29
+		}
+		// Ray casting from the camera: cells passed are observed free (a person's old place too).
+		m.octree->insertPointCloud(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), -1, true, true);
+	}
+	m.octree->updateInnerOccupancy();
+	m.voxelsBeforeFilter = voxels.size();
+
+	// Voxel centroids, then statistical outlier removal on MRPT's KD-tree.
+	std::vector<const TVoxel*> vox;
+	vox.reserve(voxels.size());
+	for (const auto& [k, v] : voxels)
+		if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) vox.push_back(&v);
+	// A fixed order (the hash map's is not): by position.
+	std::vector<cv::Point3f> centres(vox.size());
+	for (std::size_t i = 0; i < vox.size(); i++)
+		centres[i] = cv::Point3f(static_cast<float>(vox[i]->x / vox[i]->n), static_cast<float>(vox[i]->y / vox[i]->n), static_cast<float>(vox[i]->z / vox[i]->n));
+	std::vector<std::size_t> idx(vox.size());
+	std::iota(idx.begin(), idx.end(), 0);
+	std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+		return std::tie(centres[a].z, centres[a].y, centres[a].x) < std::tie(centres[b].z, centres[b].y, centres[b].x);
+	});
+	std::vector<bool> keep(vox.size(), true);
+	const std::size_t kn = static_cast<std::size_t>(opts_.outlierNeighbours);
+	if (kn > 0 && vox.size() > kn + 1)
+	{
+		mrpt::maps::CSimplePointsMap pm;
+		pm.reserve(vox.size());
+		for (const auto& p : centres) pm.insertPointFast(p.x, p.y, p.z);
+		std::vector<double> meanDist(vox.size());
+		std::vector<size_t> nn;
+		std::vector<float> d2;
+		for (std::size_t i = 0; i < vox.size(); i++)
+		{
+			pm.kdTreeNClosestPoint3DIdx(centres[i].x, centres[i].y, centres[i].z, kn + 1, nn, d2);
+			double s = 0;
+			for (std::size_t j = 1; j < d2.size(); j++) s += std::sqrt(static_cast<double>(d2[j]));	// [0] is the point itself
+			meanDist[i] = d2.size() > 1 ? s / static_cast<double>(d2.size() - 1) : 0;
+		}
+		const double mean = std::accumulate(meanDist.begin(), meanDist.end(), 0.0) / static_cast<double>(meanDist.size());
+		double var = 0;
+		for (const double d : meanDist) var += (d - mean) * (d - mean);
+		const double limit = mean + opts_.outlierStdDev * std::sqrt(var / static_cast<double>(meanDist.size()));
+		for (std::size_t i = 0; i < vox.size(); i++)
+			if (meanDist[i] > limit)
+			{
+				keep[i] = false;
+				m.outliersRemoved++;
+			}
+	}
+
+	// The cloud, and the octree's occupied cells get colour and fused label from the points in them.
+	struct TCell
+	{
+		std::uint32_t b = 0, g = 0, r = 0, n = 0;
+		TLabelBelief belief;
+	};
+	std::unordered_map<octomap::OcTreeKey, TCell, octomap::OcTreeKey::KeyHash> cells;
+	for (const std::size_t i : idx)
+	{
+		if (!keep[i]) continue;
+		const TVoxel& v = *vox[i];
+		const auto [label, prob] = v.belief.best(K);
+		auto& c = m.cloud;
+		c.xyz.push_back(centres[i]);
+		c.bgr.emplace_back(static_cast<uchar>(v.b / v.n), static_cast<uchar>(v.g / v.n), static_cast<uchar>(v.r / v.n));
+		c.label.push_back(label);
+		c.labelProb.push_back(static_cast<float>(prob));
+		c.observations.push_back(v.keyFrames);
+		octomap::OcTreeKey key;
+		if (!m.octree->coordToKeyChecked(octomap::point3d(centres[i].x, centres[i].y, centres[i].z), key)) continue;
+		TCell& cell = cells[key];
+		cell.b += v.b, cell.g += v.g, cell.r += v.r, cell.n += v.n;
+		cell.belief.merge(v.belief);
+	}
+	for (const auto& [key, cell] : cells)
+	{
+		CSemanticOcTreeNode* node = m.octree->search(key);
+		if (!node || !m.octree->isNodeOccupied(node)) continue;
+		node->b = static_cast<std::uint8_t>(cell.b / cell.n);
+		node->g = static_cast<std::uint8_t>(cell.g / cell.n);
+		node->r = static_cast<std::uint8_t>(cell.r / cell.n);
+		const auto [label, prob] = cell.belief.best(K);
+		node->label = label;
+		node->labelProb = static_cast<float>(prob);
+	}
+	m.octree->prune();
+	m.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+	return m;
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,139 @@
+#include "mrpt_yesslam/dense/CSemanticOcTree.h"
+
+#include <octomap/AbstractOcTree.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+std::istream& CSemanticOcTreeNode::readData(std::istream& s)
+{
+	s.read(reinterpret_cast<char*>(&value), sizeof(value));
+	s.read(reinterpret_cast<char*>(&r), 1);
+	s.read(reinterpret_cast<char*>(&g), 1);
+	s.read(reinterpret_cast<char*>(&b), 1);
+	s.read(reinterpret_cast<char*>(&label), 1);
+	s.read(reinterpret_cast<char*>(&labelProb), sizeof(labelProb));
+	return s;
+}
+
+std::ostream& CSemanticOcTreeNode::writeData(std::ostream& s) const
+{
+	s.write(reinterpret_cast<const char*>(&value), sizeof(value));
+	s.write(reinterpret_cast<const char*>(&r), 1);
+	s.write(reinterpret_cast<const char*>(&g), 1);
+	s.write(reinterpret_cast<const char*>(&b), 1);
+	s.write(reinterpret_cast<const char*>(&label), 1);
+	s.write(reinterpret_cast<const char*>(&labelProb), sizeof(labelProb));
+	return s;
+}
+
+CSemanticOcTree::TRegistration CSemanticOcTree::registration_;
+
+CSemanticOcTree::TRegistration::TRegistration()
+{
+	// OctoMap keeps the prototype for the life of the program (as for its own trees).
+	auto* tree = new CSemanticOcTree(0.1);
+	tree->clearKeyRays();
+	octomap::AbstractOcTree::registerTreeType(tree);
+}
+
+CSemanticOcTree::CSemanticOcTree(double resolution) : octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>(resolution)
+{
+	registration_.ensureLinking();
+}
+
+namespace
+{
+// OctoMap's reader trusts the file: a flipped child bit makes it recurse and allocate without end.
+// So the node structure is walked here first: header fields, 12-byte records each followed by a
+// child-bit byte, no deeper than the tree's 16 levels, `size` nodes, ending with the file.
+void checkStructure(const std::string& path, std::istream& in)
+{
+	std::string line, id;
+	std::size_t size = 0;
+	bool haveSize = false, haveRes = false;
+	std::getline(in, line);
+	if (line.rfind("# Octomap OcTree file", 0) != 0)
+		throw InputError(path, "not an OctoMap .ot file (it does not start with '# Octomap OcTree file')");
+	while (std::getline(in, line) && line != "data")
+	{
+		if (line.empty() || line[0] == '#') continue;
+		std::istringstream l(line);
+		std::string key;
+		l >> key;
+		if (key == "id")
+			l >> id;
+		else if (key == "size")
+			haveSize = static_cast<bool>(l >> size);
+		else if (key == "res")
+		{
+			double r = 0;
+			haveRes = static_cast<bool>(l >> r) && r > 0 && std::isfinite(r);
+		}
+	}
+	if (line != "data" || !haveSize || !haveRes || id.empty())
+		throw InputError(path, "corrupt OctoMap header (needs id, size, res and data lines)");
+	if (id != "YesSlamSemanticOcTree")
+		throw InputError(path, "holds an octree of type " + id + ", not a yesslam semantic octree (YesSlamSemanticOcTree)");
+	const std::streamoff start = in.tellg();
+	in.seekg(0, std::ios::end);
+	const std::streamoff bytes = in.tellg() - start;
+	constexpr std::streamoff kNode = 13;  // record + child bits
+	if (size == 0 || bytes != static_cast<std::streamoff>(size) * kNode)
+		throw InputError(path, "corrupt or truncated OctoMap file: " + std::to_string(bytes) + " bytes of tree data for " + std::to_string(size) + " nodes");
+	std::string data(static_cast<std::size_t>(bytes), '\0');
+	in.seekg(start);
+	in.read(data.data(), bytes);
+	std::vector<int> pending{1};  // children still to read, per depth
+	std::size_t nodes = 0;
+	while (!pending.empty())
+	{
+		if (pending.back() == 0)
+		{
+			pending.pop_back();
+			continue;
+		}
+		pending.back()--;
+		if (nodes >= size) throw InputError(path, "corrupt OctoMap file: more nodes in the tree than its header says");
+		const auto bits = static_cast<unsigned char>(data[nodes * kNode + kNode - 1]);
+		nodes++;
+		if (bits)
+		{
+			if (pending.size() > 16) throw InputError(path, "corrupt OctoMap file: the tree is deeper than 16 levels");
+			pending.push_back(__builtin_popcount(bits));
+		}
+	}
+	if (nodes != size) throw InputError(path, "corrupt OctoMap file: " + std::to_string(nodes) + " nodes in the tree, " + std::to_string(size) + " in its header");
+	in.clear();
+	in.seekg(0);
+}
+}  // namespace
+
+std::unique_ptr<CSemanticOcTree> CSemanticOcTree::readFile(const std::string& path)
+{
+	if (!std::filesystem::is_regular_file(path)) throw InputError(path, "not found (or not a file)");
+	std::ifstream in(path, std::ios::binary);
+	if (!in) throw InputError(path, "cannot open");
+	checkStructure(path, in);
+	CSemanticOcTree probe(0.1);	 // registers the type before the factory looks it up
+	// OctoMap reports its progress on std::cout and std::cerr ("Reading octree type ..."): not for our users.
+	std::unique_ptr<octomap::AbstractOcTree> t;
+	{
+		std::ostringstream quiet;
+		auto* oldOut = std::cout.rdbuf(quiet.rdbuf());
+		auto* oldErr = std::cerr.rdbuf(quiet.rdbuf());
+		t.reset(octomap::AbstractOcTree::read(in));
+		std::cout.rdbuf(oldOut);
+		std::cerr.rdbuf(oldErr);
+	}
+	if (!t || t->getTreeType() != probe.getTreeType()) throw InputError(path, "corrupt OctoMap file (OctoMap could not read it)");
+	return std::unique_ptr<CSemanticOcTree>(static_cast<CSemanticOcTree*>(t.release()));
+}
+}  // namespace mrpt_yesslam

@@ -1,0 +1,178 @@
+#include "mrpt_yesslam/dense/DenseMapExport.h"
+
+#include <mrpt/opengl/COctoMapVoxels.h>
+#include <mrpt/opengl/CText.h>
+#include <mrpt/opengl/CBox.h>
+
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "mrpt_yesslam/util/AtomicFile.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace mrpt_yesslam
+{
+std::string labelName(TSemLabel label, const std::vector<std::string>& names)
+{
+	if (label == 0) return "background";
+	if (label - 1u < names.size()) return names[label - 1u];
+	return "class " + std::to_string(label - 1);
+}
+
+namespace
+{
+constexpr std::size_t kPlyRecord = 3 * 4 + 3 + 1 + 4 + 4;
+
+template <class T>
+void put(std::string& s, const T& v)
+{
+	s.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+}  // namespace
+
+void writeDenseCloudPly(const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names)
+{
+	std::ostringstream h;
+	h << "ply\nformat binary_little_endian 1.0\ncomment mrpt_yesslam dense semantic map (world = first keyframe)\n";
+	std::map<TSemLabel, std::size_t> present;
+	for (const auto l : c.label) present[l]++;
+	for (const auto& [l, n] : present) h << "comment label " << int(l) << " " << labelName(l, names) << "\n";
+	h << "element vertex " << c.size() << "\n"
+	  << "property float x\nproperty float y\nproperty float z\n"
+	  << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+	  << "property uchar label\nproperty float label_prob\nproperty uint observations\nend_header\n";
+	std::string s = h.str();
+	s.reserve(s.size() + c.size() * kPlyRecord);
+	static_assert(sizeof(float) == 4, "PLY floats are 4 bytes");
+	for (std::size_t i = 0; i < c.size(); i++)
+	{
+		put(s, c.xyz[i].x), put(s, c.xyz[i].y), put(s, c.xyz[i].z);
+		put(s, c.bgr[i][2]), put(s, c.bgr[i][1]), put(s, c.bgr[i][0]);
+		put(s, c.label[i]), put(s, c.labelProb[i]), put(s, c.observations[i]);
+	}
+	writeFileAtomically(path, s);
+}
+
+TDenseCloud readDenseCloudPly(const std::string& path)
+{
+	std::ifstream in(path, std::ios::binary);
+	if (!in) throw InputError(path, "cannot open");
+	std::string line;
+	std::size_t n = 0;
+	bool ours = false, formatOk = false;
+	std::getline(in, line);
+	if (line != "ply") throw InputError(path, "not a PLY file");
+	while (std::getline(in, line) && line != "end_header")
+	{
+		if (line.rfind("format binary_little_endian 1.0", 0) == 0) formatOk = true;
+		if (line.rfind("comment mrpt_yesslam dense semantic map", 0) == 0) ours = true;
+		if (line.rfind("element vertex ", 0) == 0) n = std::stoul(line.substr(15));
+	}
+	if (line != "end_header" || !formatOk || !ours) throw InputError(path, "not a dense_cloud.ply written by yesslam");
+	const std::streamoff start = in.tellg();
+	in.seekg(0, std::ios::end);
+	if (in.tellg() - start != static_cast<std::streamoff>(n * kPlyRecord))
+		throw InputError(path, "truncated or corrupt: " + std::to_string(n) + " points announced");
+	in.seekg(start);
+	std::string data(n * kPlyRecord, '\0');
+	in.read(data.data(), static_cast<std::streamsize>(data.size()));
+	TDenseCloud c;
+	const char* p = data.data();
+	auto get = [&](auto& v)
+	{
+		std::memcpy(&v, p, sizeof(v));
+		p += sizeof(v);
+	};
+	for (std::size_t i = 0; i < n; i++)
+	{
+		cv::Point3f x;
+		cv::Vec3b col;
+		TSemLabel l;
+		float pr;
+		std::uint32_t o;
+		get(x.x), get(x.y), get(x.z), get(col[2]), get(col[1]), get(col[0]), get(l), get(pr), get(o);
+		c.xyz.push_back(x), c.bgr.push_back(col), c.label.push_back(l), c.labelProb.push_back(pr), c.observations.push_back(o);
+	}
+	return c;
+}
+
+void writeSemanticOcTree(const std::string& path, const CSemanticOcTree& tree)
+{
+	writeFileAtomically(
+		path,
+		[&](const std::string& tmp)
+		{
+			if (!tree.write(tmp)) throw InputError(path, "OctoMap could not write the tree");
+		});
+}
+
+void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
+{
+	// The .bt format is the same for every occupancy tree (2 bits per child), but OctoMap's readers
+	// refuse a tree type they do not know: the header names OctoMap's own OcTree, so that octovis
+	// and octomap_server read it. Maximum likelihood first, as OctoMap's writeBinary does.
+	CSemanticOcTree ml(tree);
+	ml.toMaxLikelihood();
+	ml.prune();
+	std::ostringstream s(std::ios::binary);
+	s << "# Octomap OcTree binary file\n# occupancy of a yesslam semantic map (labels: map.ot)\n";
+	s << "id OcTree\nsize " << ml.size() << "\nres " << ml.getResolution() << "\ndata\n";
+	ml.writeBinaryData(s);
+	writeFileAtomically(path, s.str());
+}
+
+mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree, const std::vector<std::string>& names, bool byLabel)
+{
+	auto set = mrpt::opengl::CSetOfObjects::Create();
+	set->setName("octomap");
+	auto vox = mrpt::opengl::COctoMapVoxels::Create();
+	vox->setName("octomap_voxels");
+	vox->resizeVoxelSets(2);
+	vox->showGridLines(false);
+	vox->showVoxels(mrpt::opengl::VOXEL_SET_FREESPACE, false);
+	vox->enableLights(true);
+	std::map<TSemLabel, std::size_t> present;
+	double minx = 1e9, miny = 1e9, minz = 1e9, maxx = -1e9, maxy = -1e9, maxz = -1e9;
+	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
+	{
+		if (!tree.isNodeOccupied(*it)) continue;
+		const auto c = it.getCoordinate();
+		const CSemanticOcTreeNode& n = *it;
+		cv::Vec3b col = byLabel ? labelColour(n.label) : cv::Vec3b(n.b, n.g, n.r);
+		vox->push_back_Voxel(
+			mrpt::opengl::VOXEL_SET_OCCUPIED,
+			mrpt::opengl::COctoMapVoxels::TVoxel(mrpt::math::TPoint3Df(c.x(), c.y(), c.z()), it.getSize(), mrpt::img::TColor(col[2], col[1], col[0])));
+		present[n.label]++;
+		minx = std::min<double>(minx, c.x()), miny = std::min<double>(miny, c.y()), minz = std::min<double>(minz, c.z());
+		maxx = std::max<double>(maxx, c.x()), maxy = std::max<double>(maxy, c.y()), maxz = std::max<double>(maxz, c.z());
+	}
+	if (present.empty()) return set;
+	vox->setBoundingBox({minx, miny, minz}, {maxx, maxy, maxz});
+	set->insert(vox);
+	if (!byLabel) return set;
+	// The legend: a cube of each label's colour and its name, stacked beside the map's +x side,
+	// the most frequent label first.
+	std::vector<std::pair<std::size_t, TSemLabel>> order;
+	for (const auto& [l, n] : present) order.emplace_back(n, l);
+	std::sort(order.rbegin(), order.rend());
+	const double side = std::max(0.08, 0.025 * std::max({maxx - minx, maxy - miny, maxz - minz}));
+	double z = maxz;
+	for (const auto& [n, l] : order)
+	{
+		const cv::Vec3b col = labelColour(l);
+		auto box = mrpt::opengl::CBox::Create(mrpt::math::TPoint3D(0, 0, 0), mrpt::math::TPoint3D(side, side, side));
+		box->setLocation(maxx + 2 * side, miny, z);
+		box->setColor_u8(col[2], col[1], col[0]);
+		box->setName("legend_" + labelName(l, names));
+		set->insert(box);
+		auto text = mrpt::opengl::CText::Create(labelName(l, names) + " (" + std::to_string(n) + ")");
+		text->setLocation(maxx + 3.5 * side, miny, z);
+		text->setColor_u8(col[2], col[1], col[0]);
+		set->insert(text);
+		z -= 1.6 * side;
+	}
+	return set;
+}
+}  // namespace mrpt_yesslam
