@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Dense semantic map (issue 15 item 6): on yesslam-sim walking and sitting sequences of 600 frames
+# (seeds the settings were never tuned on), with the simulator's YOLO-like detector noise: voxels
+# people swept and how many stay occupied (ghosts), label accuracy of occupied voxels against the
+# simulator's labels, file sizes, dense-stage time per keyframe and end-of-run build time, and
+# tracking fps (parallel mode, file detector) - with the dynamic filter and with --no-dynamic-filter.
+# Usage: bench/bench_dense.sh [SEEDS]   (default "41 42"; sequences are kept in bench_out/dense/)
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BIN="$ROOT/build/rawlog_tools"
+BENCH="$ROOT/build/bench/bench_dense"
+SEEDS="${1:-41 42}"
+for t in "$BIN/yesslam-sim" "$BENCH"; do
+  [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh builds the tools and bench/)" >&2; exit 1; }
+done
+OUT="$ROOT/bench_out/dense"; mkdir -p "$OUT/runs"
+kv() { tr ' ' '\n' | awk -F= -v k="$1" '$1 == k {print $2}'; }
+
+echo "| sequence | seed | filter | ATE mm | fps | dense ms/kf | build s | swept voxels | ghosts | label acc. | object precision | object recall | .ply MB | .ot MB | .bt MB |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+for preset in walking_xyz walking_halfsphere sitting_xyz; do
+  for seed in $SEEDS; do
+    seq="$OUT/${preset}_s$seed"
+    [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$preset" --seed "$seed" --frames 600 --no-rawlog --quiet --out "$seq" > /dev/null
+    for filter in on off; do
+      extra=""; [ $filter = off ] && extra="--no-dynamic-filter"
+      line=$("$BENCH" "$seq" "$OUT/runs/${preset}_s${seed}_$filter" $extra | head -1)
+      printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n" "$preset" "$seed" "$filter" \
+        "$(kv ate_mm <<< "$line")" "$(kv fps <<< "$line")" "$(kv dense_ms <<< "$line")" "$(kv build_s <<< "$line")" \
+        "$(kv swept <<< "$line")" "$(kv ghost <<< "$line")" "$(kv label_acc <<< "$line")" "$(kv object_precision <<< "$line")" \
+        "$(kv object_recall <<< "$line")" "$(kv ply_mb <<< "$line")" "$(kv ot_mb <<< "$line")" "$(kv bt_mb <<< "$line")"
+    done
+  done
+done
