@@ -171,7 +171,7 @@ mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tre
 		text->setLocation(maxx + 3.5 * side, miny, z);
 		text->setColor_u8(col[2], col[1], col[0]);
 		set->insert(text);
-		z -= 1.6 * side;
+		z -= 3 * side;	// CText has a fixed size in pixels: room for it at the usual distances
 	}
 	return set;
 }

@@ -556,7 +556,9 @@ TTrajectory CYesSlamSystem::keyFrameTrajectory() const
 mrpt::opengl::COpenGLScene::Ptr CYesSlamSystem::buildScene() const
 {
 	auto scene = mrpt::opengl::COpenGLScene::Create();
+	// Named, so that yesslam-render --hide can leave parts out.
 	auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+	cloud->setName("map_points");
 	cloud->setPointSize(3.0f);
 	for (const auto& p : map_.points())
 		cloud->push_back(
@@ -569,11 +571,13 @@ mrpt::opengl::COpenGLScene::Ptr CYesSlamSystem::buildScene() const
 		const auto& kf = k.pose;
 		// A small frustum per keyframe (near 0.02 m, far 0.12 m, the TUM field of view).
 		auto fr = mrpt::opengl::CFrustum::Create(0.02f, 0.12f, 62.f, 48.f, 1.5f, true, false);
+		fr->setName("keyframe");
 		fr->setColor_u8(0, 90, 220);
 		fr->setPose(kf);
 		scene->insert(fr);
 	}
 	auto path = mrpt::opengl::CSetOfLines::Create();
+	path->setName("trajectory");
 	path->setColor_u8(220, 30, 30);
 	path->setLineWidth(2.0f);
 	const auto traj = trajectory();

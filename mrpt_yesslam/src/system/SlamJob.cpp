@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/system/SlamJob.h"
 
+#include <mrpt/opengl/CPointCloudColoured.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -63,6 +65,17 @@ void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSum
 		writeSemanticOcTree((d / "map.ot").string(), *dm.octree);
 		writeOccupancyBt((d / "map.bt").string(), *dm.octree);
 		scene->insert(semanticOcTreeObject(*dm.octree, names));
+		// The dense cloud too, in its colours ("yesslam-render --hide octomap" shows it alone).
+		auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+		cloud->setName("dense_cloud");
+		cloud->setPointSize(2.0f);
+		for (std::size_t i = 0; i < dm.cloud.size(); i++)
+		{
+			const auto& p = dm.cloud.xyz[i];
+			const auto& c = dm.cloud.bgr[i];
+			cloud->push_back(p.x, p.y, p.z, c[2] / 255.f, c[1] / 255.f, c[0] / 255.f);
+		}
+		scene->insert(cloud);
 		sum.dense.cloudPoints = dm.cloud.size();
 		sum.dense.outliersRemoved = dm.outliersRemoved;
 		sum.dense.buildMs = dm.buildMs;
