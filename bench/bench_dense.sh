@@ -7,8 +7,9 @@
 # Usage: bench/bench_dense.sh [SEEDS]   (default "41 42"; sequences are kept in bench_out/dense/)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BIN="$ROOT/build/rawlog_tools"
-BENCH="$ROOT/build/bench/bench_dense"
+BUILD="${YESSLAM_BUILD:-$ROOT/build}"	# another Release build folder with bench/ (YESSLAM_BUILD=...)
+BIN="$BUILD/rawlog_tools"
+BENCH="$BUILD/bench/bench_dense"
 SEEDS="${1:-41 42}"
 for t in "$BIN/yesslam-sim" "$BENCH"; do
   [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh builds the tools and bench/)" >&2; exit 1; }

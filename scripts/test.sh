@@ -29,10 +29,6 @@ if [ "$mode" = tsan ]; then
   # Set before building: gtest_discover_tests runs the test executables at build time.
   # Reports inside third-party libraries only (tests/sanitizer/tsan.supp says which and why).
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/tests/sanitizer/tsan.supp"
-  # SuiteSparse (Ceres' sparse solver in global BA) runs OpenMP regions on libgomp, which is not
-  # built with TSan: TSan cannot see its barriers and reports the region's threads as racing. With
-  # one OpenMP thread the region runs inline; every thread of ours is still checked.
-  export OMP_NUM_THREADS=1
   YESSLAM_TARGETS="util_unittest io_unittest system_unittest loop_unittest" \
     ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF \
       -DYESSLAM_TEST_CACHE_DIR="$ROOT/build/tests/cache"

@@ -61,9 +61,10 @@ TEST(LabelFusion, PosteriorsFollowTheBayesRuleOnHandBuiltMeasurements)
 
 namespace
 {
-CSemanticOcTree smallTree()
+std::unique_ptr<CSemanticOcTree> smallTree()
 {
-	CSemanticOcTree t(0.05);
+	auto tp = std::make_unique<CSemanticOcTree>(0.05);
+	CSemanticOcTree& t = *tp;
 	octomap::Pointcloud pc;
 	for (int i = 0; i < 20; i++)
 		for (int j = 0; j < 20; j++) pc.push_back(-0.5f + 0.05f * i, -0.5f + 0.05f * j, 2.0f);
@@ -76,14 +77,15 @@ CSemanticOcTree smallTree()
 			it->labelProb = 0.75f;
 			it->r = 10, it->g = 20, it->b = 30;
 		}
-	return t;
+	return tp;
 }
 }  // namespace
 
 TEST(SemanticOcTree, OtRoundTripsBtLoadsInOctomapAndCorruptFilesAreRefused)
 {
 	TempDir d("octree");
-	const CSemanticOcTree t = smallTree();
+	const auto tp = smallTree();
+	const CSemanticOcTree& t = *tp;
 	writeSemanticOcTree(d / "map.ot", t);
 	writeOccupancyBt(d / "map.bt", t);
 	const auto r = CSemanticOcTree::readFile(d / "map.ot");

@@ -110,16 +110,15 @@ void writeSemanticOcTree(const std::string& path, const CSemanticOcTree& tree)
 
 void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 {
-	// The .bt format is the same for every occupancy tree (2 bits per child), but OctoMap's readers
-	// refuse a tree type they do not know: the header names OctoMap's own OcTree, so that octovis
-	// and octomap_server read it. Maximum likelihood first, as OctoMap's writeBinary does.
-	CSemanticOcTree ml(tree);
-	ml.toMaxLikelihood();
-	ml.prune();
+	// The .bt format is the same for every occupancy tree (2 bits per child: occupied leaf, free
+	// leaf, inner node), but OctoMap's readers refuse a tree type they do not know: the header names
+	// OctoMap's own OcTree, so that octovis and octomap_server read it. Written from the tree as it
+	// is: OctoMap's copy constructor slices derived nodes (their children are copied as base
+	// nodes), so there is no maximum-likelihood copy to prune; the tree was pruned after building.
 	std::ostringstream s(std::ios::binary);
 	s << "# Octomap OcTree binary file\n# occupancy of a yesslam semantic map (labels: map.ot)\n";
-	s << "id OcTree\nsize " << ml.size() << "\nres " << ml.getResolution() << "\ndata\n";
-	ml.writeBinaryData(s);
+	s << "id OcTree\nsize " << tree.size() << "\nres " << tree.getResolution() << "\ndata\n";
+	tree.writeBinaryData(s);
 	writeFileAtomically(path, s.str());
 }
 

@@ -23,6 +23,8 @@ class CSemanticOcTreeNode : public octomap::OcTreeNode
 {
    public:
 	CSemanticOcTreeNode() = default;
+	/** OctoMap's node copy constructor copies children as base nodes (sliced): never copy a tree
+	 * of these nodes (CSemanticOcTree(const CSemanticOcTree&) is deleted). */
 	CSemanticOcTreeNode(const CSemanticOcTreeNode& o) = default;
 
 	/** Equal occupancy, colour and label: the octree prunes only children equal in all three. */
@@ -50,6 +52,8 @@ class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 {
    public:
 	explicit CSemanticOcTree(double resolution);
+	CSemanticOcTree(const CSemanticOcTree&) = delete;  //!< see CSemanticOcTreeNode's copy constructor
+	CSemanticOcTree& operator=(const CSemanticOcTree&) = delete;
 	/** OctoMap's factory needs it (reading .ot files). */
 	CSemanticOcTree* create() const override { return new CSemanticOcTree(resolution); }
 	std::string getTreeType() const override { return "YesSlamSemanticOcTree"; }
