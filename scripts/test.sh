@@ -47,9 +47,10 @@ elif [ "$mode" = sanitize ]; then
   # Leaks inside Mesa's OpenGL driver only (tests/sanitizer/lsan.supp says which and why).
   export LSAN_OPTIONS="suppressions=$ROOT/tests/sanitizer/lsan.supp"
   # The whole-sequence loop-closing and relocalisation runs go through the same code as the
-  # parallel loop-closing test, which stays:
+  # parallel loop-closing test, which stays; the whole-sequence dense-map runs (3.6 min under ASan)
+  # through the same code as the dense unit tests and every system test, which stay:
   # under ASan each whole-sequence run costs minutes of the CI budget.
-  FILTER=(-E "LoopClosing\\.ARevisit|Relocalisation\\.AKidnapped")
+  FILTER=(-E "LoopClosing\\.ARevisit|Relocalisation\\.AKidnapped|DenseMap\\.PeopleLeave")
 else
   BUILD="$ROOT/build"
   ./scripts/build.sh "$BUILD" -DYESSLAM_BUILD_TESTS=ON

@@ -279,38 +279,34 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	if (keyFrameCallback_) keyFrameCallback_(kf);
 }
 
-void CYesSlamSystem::collectMapping(bool wait)
+namespace
 {
-	while (!denseTasks_.empty())
+// Collects the finished tasks of one stage in order (all of them with `wait`); the first failure
+// is rethrown as "<stage> failed: ...".
+void collectTasks(std::deque<std::future<void>>& tasks, bool wait, const char* stage)
+{
+	while (!tasks.empty())
 	{
-		auto& f = denseTasks_.front();
-		if (!wait && f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) break;
-		std::future<void> done = std::move(f);
-		denseTasks_.pop_front();
-		try
-		{
-			done.get();
-		}
-		catch (const std::exception& e)
-		{
-			throw std::runtime_error(std::string("dense mapping failed: ") + e.what());
-		}
-	}
-	while (!mappingTasks_.empty())
-	{
-		auto& f = mappingTasks_.front();
+		auto& f = tasks.front();
 		if (!wait && f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
 		std::future<void> done = std::move(f);
-		mappingTasks_.pop_front();
+		tasks.pop_front();
 		try
 		{
 			done.get();
 		}
 		catch (const std::exception& e)
 		{
-			throw std::runtime_error(std::string("local mapping failed: ") + e.what());
+			throw std::runtime_error(std::string(stage) + " failed: " + e.what());
 		}
 	}
+}
+}  // namespace
+
+void CYesSlamSystem::collectMapping(bool wait)
+{
+	collectTasks(denseTasks_, wait, "dense mapping");
+	collectTasks(mappingTasks_, wait, "local mapping");
 }
 
 void CYesSlamSystem::waitForMapping()
