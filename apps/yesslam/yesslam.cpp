@@ -17,7 +17,7 @@ int main(int argc, char** argv)
 			TSlamJobOptions o;
 			std::string config, detector = "auto", policy, camera;
 			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false;
-			double octomapRes = 0;
+			double octomapRes = 0.05;
 			CommandLine cl(
 				"yesslam",
 				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
@@ -49,7 +49,7 @@ int main(int argc, char** argv)
 				&detector);
 			cl.flag("no-loop-closure", "do not detect or close loops ([LoopClosing] enabled=false)", &noLoop);
 			cl.flag("no-dense-map", "do not build the dense cloud and OctoMap ([DenseMapping] enabled=false)", &noDense);
-			cl.number("octomap-resolution", "M", "OctoMap voxel size in metres ([DenseMapping] octomapResolution, default 0.05)", &octomapRes);
+			cl.number("octomap-resolution", "M", "OctoMap voxel size in metres ([DenseMapping] octomapResolution)", &octomapRes);
 			cl.flag("no-dynamic-filter", "use every feature, people included (the baseline the method is compared with)", &noDynamic);
 			cl.text("policy", "P", "keyframe policy: semantic (the paper's Algorithm 1) or orbslam (ORB-SLAM2's rules)", &policy);
 			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
@@ -297,12 +298,22 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	EXPECT_EQ(value(r.out, "tracked").substr(0, 9), "9 (100.0%");
 	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.01);
 	EXPECT_EQ(value(r.out, "ate_pairs"), "9");
-	for (const char* f : {"trajectory.txt", "keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini", "eval.json"})
+	for (const char* f : {"trajectory.txt", "keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini", "eval.json", "dense_cloud.ply", "map.ot", "map.bt"})
 		EXPECT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
+	// The dense map of real Kinect frames: a labelled cloud and an octree at the asked resolution.
+	EXPECT_GT(mrpt_yesslam::readDenseCloudPly(d / "run/dense_cloud.ply").size(), 1000u);
+	const auto coarse = runTool(
+		"yesslam", {"--input", desk, "--out", d / "coarse", "--detector", "none", "--sequential", "--quiet", "--octomap-resolution", "0.1"});
+	ASSERT_EQ(coarse.exitCode, 0) << coarse.err;
+	EXPECT_DOUBLE_EQ(mrpt_yesslam::CSemanticOcTree::readFile(d / "coarse/map.ot")->getResolution(), 0.1);
+	const auto sparse = runTool("yesslam", {"--input", desk, "--out", d / "sparse", "--detector", "none", "--sequential", "--quiet", "--no-dense-map"});
+	ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
+	EXPECT_FALSE(fs::exists(d / "sparse/map.ot"));
+	EXPECT_FALSE(fs::exists(d / "sparse/dense_cloud.ply"));
 
 	const auto help = runTool("yesslam", {"--help"});
 	EXPECT_EQ(help.exitCode, 0);
-	for (const char* opt : {"--input", "--out", "--config", "--detector", "--no-dynamic-filter", "--max-frames", "--gt", "--policy"})
+	for (const char* opt : {"--input", "--out", "--config", "--detector", "--no-dynamic-filter", "--max-frames", "--gt", "--policy", "--no-dense-map", "--octomap-resolution"})
 		EXPECT_NE(help.out.find(opt), std::string::npos) << opt;
 
 	auto fails = [&](const std::vector<std::string>& args, const std::vector<std::string>& fragments)
@@ -316,6 +327,7 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	writeText(d / "nomodel.ini", "[Detector]\nmodel = " + (d / "missing.cfg") + "\n");
 	fails({"--input", desk, "--out", d / "x", "--config", d / "nomodel.ini", "--detector", "yolo"}, {"missing.cfg"});
 	fails({"--input", desk, "--out", d / "x", "--max-frames", "many"}, {"--max-frames"});
+	fails({"--input", desk, "--out", d / "x", "--octomap-resolution", "0"}, {"--octomap-resolution", "0.005"});
 	fails({"--input", desk, "--out", d / "x", "--policy", "often", "--detector", "none"}, {"policy", "often"});
 	writeText(d / "bad.ini", "[Tracking]\nmaxDepth = far\n");
 	fails({"--input", desk, "--out", d / "x", "--config", d / "bad.ini"}, {"bad.ini", "maxDepth"});
