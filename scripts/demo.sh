@@ -22,7 +22,9 @@ TRAJ="$SHARED/data/tum_eval_trajectories"
 echo; echo "== 1. The main job: SLAM on a walking sequence (people crossing an office), against exact ground truth =="
 "$BIN/yesslam-sim" --preset walking_xyz --frames 150 --out "$OUT/sim_walking_xyz" --overlays --quiet
 "$BIN/yesslam" --input "$OUT/sim_walking_xyz" --config "$ROOT/share/mrpt_yesslam/config/sim.ini" --out "$OUT/slam_walking_xyz" --detector file --quiet
-"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/map.png" --azimuth -60 --elevation 35
+"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/map.png" --azimuth -60 --elevation 35 --hide octomap
+"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/octomap.png" --azimuth -60 --elevation 35 \
+  --hide dense_cloud,map_points,keyframe
 
 echo; echo "== 2. The same run without dynamic filtering (people's features used, as ORB-SLAM2 would) =="
 "$BIN/yesslam" --input "$OUT/sim_walking_xyz" --config "$ROOT/share/mrpt_yesslam/config/sim.ini" --out "$OUT/slam_walking_xyz_unfiltered" --detector file --no-dynamic-filter --quiet \
@@ -47,7 +49,7 @@ M="$SHARED/models/yolo_fastest_darknet"
 
 echo
 echo "demo: results in $OUT"
-echo "  SLAM (main job): $OUT/slam_walking_xyz/ (trajectory.txt, keyframes.txt, map.3Dscene, map.png, stats.json, eval.json)"
+echo "  SLAM (main job): $OUT/slam_walking_xyz/ (trajectory.txt, keyframes.txt, map.3Dscene, map.png, dense_cloud.ply, map.ot, map.bt, octomap.png, stats.json, eval.json)"
 echo "  without filter:  $OUT/slam_walking_xyz_unfiltered/"
 echo "  simulation:      $OUT/sim_walking_xyz/ (TUM folder, groundtruth.txt, labels/, labels/overlay/, detections.txt)"
 echo "  real frames:     $OUT/slam_fr1_desk/, rawlog $OUT/fr1_desk_9frames.rawlog"
