@@ -1,6 +1,9 @@
-// yesslam: RGB-D SLAM for dynamic scenes (YES-SLAM) over a rawlog or a TUM RGB-D folder.
+// yesslam: RGB-D SLAM for dynamic scenes (YES-SLAM) over a rawlog, a TUM RGB-D folder or a live
+// OpenNI2 camera.
+#include <cmath>
 #include <cstdio>
 
+#include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/system/SlamJob.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -16,8 +19,8 @@ int main(int argc, char** argv)
 		{
 			TSlamJobOptions o;
 			std::string config, detector = "auto", policy, camera;
-			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false;
-			double octomapRes = 0.05;
+			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false, listDevices = false;
+			double octomapRes = 0.05, width = 640, height = 480, fps = 30, speed = 1;
 			CommandLine cl(
 				"yesslam",
 				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
@@ -26,7 +29,11 @@ int main(int argc, char** argv)
 				"the depth image with an edge-enhanced flood fill, tracks ORB features of the static scene only,\n"
 				"selects keyframes semantically, refines a local map with bundle adjustment (Ceres) and closes loops\n"
 				"(bag of words with the shipped vocabulary + semantic similarity, pose graph, global BA).\n"
-				"PATH is a .rawlog (CObservation3DRangeScan frames) or a TUM RGB-D folder (rgb.txt, depth.txt).\n"
+				"PATH is a .rawlog (CObservation3DRangeScan frames), a TUM RGB-D folder (rgb.txt, depth.txt), or\n"
+				"openni2[:URI] for a live OpenNI2 camera (Kinect, Xtion, Astra; the first one without a URI; see\n"
+				"--list-devices) or an .oni recording played through OpenNI2. Live frames are captured on their own\n"
+				"thread; when SLAM falls behind the oldest waiting frame is dropped (counted in stats.json and the\n"
+				"status line: capture fps, processed fps, dropped frames, tracking state). --record keeps every frame.\n"
 				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
 				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), config_used.ini, and with ground\n"
@@ -39,9 +46,19 @@ int main(int argc, char** argv)
 				{"yesslam --input sim_walking --out run1   (a yesslam-sim folder: uses its detections.txt)",
 				 "yesslam --input rgbd_dataset_freiburg3_walking_xyz --config share/mrpt_yesslam/config/tum_fr3.ini "
 				 "--out run2 --detector yolo",
-				 "yesslam --input walking.rawlog --out run3 --no-dynamic-filter   (the ORB-SLAM2-like baseline)"});
-			cl.text("input", "PATH", ".rawlog or TUM RGB-D folder", &o.input, true);
-			cl.text("out", "DIR", "output folder (created if missing)", &o.outDir, true);
+				 "yesslam --input walking.rawlog --out run3 --no-dynamic-filter   (the ORB-SLAM2-like baseline)",
+				 "yesslam --input openni2 --out live1 --record live1.rawlog   (the first camera; replay: --input live1.rawlog)",
+				 "yesslam --input walking.rawlog --out run4 --realtime   (as a 30 fps camera would deliver it)",
+				 "yesslam --list-devices"});
+			cl.text("input", "PATH", ".rawlog, TUM RGB-D folder, or openni2[:URI|FILE.oni] (required)", &o.input);
+			cl.text("out", "DIR", "output folder, created if missing (required)", &o.outDir);
+			cl.flag("list-devices", "list the OpenNI2 cameras connected (URI, name, USB ids) and exit", &listDevices);
+			cl.text("record", "FILE.rawlog", "write every frame read (live: every frame captured, dropped ones too) to a rawlog; also on Ctrl-C", &o.record);
+			cl.flag("realtime", "recorded input: deliver frames at their recorded pace through the live path (frames dropped when SLAM falls behind)", &o.live.realtime);
+			cl.number("speed", "X", "with --realtime or an .oni: playback speed, 1 = as recorded", &speed);
+			cl.number("width", "PX", "OpenNI2 camera: image width (640)", &width);
+			cl.number("height", "PX", "OpenNI2 camera: image height (480)", &height);
+			cl.number("fps", "HZ", "OpenNI2 camera: frame rate (30)", &fps);
 			cl.text("config", "FILE", "INI/YAML config (sections as share/mrpt_yesslam/config/default.ini); options here win", &config);
 			cl.text(
 				"detector", "B",
@@ -58,6 +75,32 @@ int main(int argc, char** argv)
 			cl.flag("sequential", "run local mapping in the tracking thread ([System] parallel=false): deterministic", &sequential);
 			cl.flag("quiet", "no progress line", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
+			if (listDevices)
+			{
+				const auto devices = listOpenNI2Devices();
+				if (devices.empty())
+				{
+					std::fprintf(stderr, "yesslam: no OpenNI2 device found (plugged in? see lsusb; may this user open it? see README, Live input)\n");
+					return 1;
+				}
+				for (const auto& d : devices)
+					std::printf("openni2:%s  %s %s  usb %04x:%04x\n", d.uri.c_str(), d.vendor.c_str(), d.name.c_str(), d.usbVendorId, d.usbProductId);
+				return 0;
+			}
+			if (o.input.empty()) throw InputError("", "--input is required (a .rawlog, a TUM folder or openni2[:URI]; see --help)");
+			if (o.outDir.empty()) throw InputError("", "--out is required (see --help)");
+			auto whole = [](double v, double lo, double hi, const char* name)
+			{
+				if (!(v >= lo && v <= hi && v == std::floor(v)))
+					throw InputError("", std::string("--") + name + " must be a whole number in " + std::to_string(static_cast<int>(lo)) + ".." + std::to_string(static_cast<int>(hi)));
+				return static_cast<int>(v);
+			};
+			o.live.width = whole(width, 1, 10000, "width");
+			o.live.height = whole(height, 1, 10000, "height");
+			o.live.fps = whole(fps, 1, 1000, "fps");
+			if (!(speed > 0 && speed <= 100)) throw InputError("", "--speed must be in (0, 100], got " + std::to_string(speed));
+			o.live.speed = speed;
+			if (o.live.realtime && isOpenNI2Input(o.input)) throw InputError("", "--realtime is for recorded input (.rawlog, TUM folder); OpenNI2 input is live already");
 			if (!config.empty()) o.slam.loadFromFile(config);
 			if (cl.given("detector") || config.empty()) o.slam.detector.backend = detector;
 			if (noDynamic) o.slam.system.dynamicFilter = false;
@@ -86,6 +129,13 @@ int main(int argc, char** argv)
 			bar.finish();
 			const auto& st = s.stats;
 			std::printf("detector:        %s\n", s.detector.c_str());
+			if (!s.input.device.empty()) std::printf("camera:          %s\n", s.input.device.c_str());
+			if (s.input.live)
+				std::printf(
+					"live input:      %zu frames captured (%.1f fps), %zu dropped (%.1f%%)%s\n", s.input.stats.captured, s.input.stats.captureFps,
+					s.input.stats.dropped, s.input.stats.captured ? 100.0 * static_cast<double>(s.input.stats.dropped) / static_cast<double>(s.input.stats.captured) : 0.0,
+					s.input.disconnected ? "; the camera stopped delivering frames" : "");
+			if (!o.record.empty()) std::printf("recorded:        %zu frames to %s\n", s.input.recorded, o.record.c_str());
 			std::printf("frames:          %zu\n", st.frames);
 			std::printf(
 				"tracked:         %zu (%.1f%%), relocalisations %zu\n", st.trackedFrames,

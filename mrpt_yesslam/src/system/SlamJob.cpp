@@ -7,7 +7,10 @@
 #include <filesystem>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
+#include "mrpt_yesslam/io/COpenNI2Source.h"
+#include "mrpt_yesslam/io/CPacedSource.h"
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
+#include "mrpt_yesslam/io/CRawlogWriter.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
@@ -20,10 +23,11 @@ namespace mrpt_yesslam
 void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 {
 	const fs::path in(input);
-	const fs::path beside = fs::is_directory(in) ? in / "detections.txt" : in.parent_path() / "detections.txt";
+	// A camera has no folder: nothing lies beside it.
+	const fs::path beside = input.empty() ? fs::path() : fs::is_directory(in) ? in / "detections.txt" : in.parent_path() / "detections.txt";
 	if (det.backend == "auto")
 	{
-		if (!det.file.empty() || fs::exists(beside))
+		if (!det.file.empty() || (!beside.empty() && fs::exists(beside)))
 			det.backend = "file";
 		else if (useShippedModel(det))	// the configured model, else the shipped Yolo-Fastest
 			det.backend = "yolo";
@@ -32,16 +36,72 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 	}
 	if (det.backend == "file" && det.file.empty())
 	{
-		if (!fs::exists(beside))
-			throw InputError(beside.string(), "not found: the file detector needs [Detector] file or a detections.txt beside the input");
+		if (beside.empty() || !fs::exists(beside))
+			throw InputError(beside.empty() ? std::string("openni2") : beside.string(), "not found: the file detector needs [Detector] file or a detections.txt beside the input");
 		det.file = beside.string();
 	}
 	if (det.backend == "yolo" && !useShippedModel(det))
 		throw InputError("", "the yolo detector needs [Detector] model (and names): the shipped share/mrpt_yesslam/models was not found (set YESSLAM_SHARE_DIR); or use --detector file, hog or none");
 }
 
+std::string inputFilePath(const std::string& input)
+{
+	if (isOpenNI2Input(input)) return input.size() > 8 ? input.substr(8) : std::string();
+	return input;
+}
+
 namespace
 {
+// The input chain of a run: the source; for live input the capture thread over it (a camera,
+// an .oni file, or recorded input paced as a camera with --realtime), else the reader thread.
+struct TInputChain
+{
+	std::unique_ptr<CInputSource> source;
+	CLiveSource* live = nullptr;  //!< inside `source` when the input is live
+	std::string device;
+	std::function<bool()> disconnected = [] { return false; };
+};
+
+TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, const std::function<void(const mrpt::obs::CObservation3DRangeScan&)>& record)
+{
+	TInputChain c;
+	const auto& L = o.live;
+	if (L.width <= 0 || L.height <= 0 || L.fps <= 0) throw InputError("", "the camera's width, height and fps must be > 0");
+	if (!(L.speed > 0)) throw InputError("", "the playback speed must be > 0, got " + std::to_string(L.speed));
+	if (isOpenNI2Input(o.input))
+	{
+		COpenNI2Source::TOptions co;
+		co.uri = inputFilePath(o.input);
+		co.width = L.width;
+		co.height = L.height;
+		co.fps = L.fps;
+		co.camera = opts.input.camera;
+		co.timeoutSeconds = L.timeoutSeconds;
+		// A file in sequential mode plays one frame per request: nothing dropped, deterministic.
+		const bool fileInOrder = !co.uri.empty() && !opts.system.parallel && !L.realtime;
+		co.playbackSpeed = fileInOrder ? -1.0 : L.speed;
+		auto cam = std::make_unique<COpenNI2Source>(co);
+		c.device = cam->description();
+		const COpenNI2Source* raw = cam.get();
+		c.disconnected = [raw] { return raw->disconnected(); };
+		auto live = std::make_unique<CLiveSource>(std::move(cam), L.slots, !fileInOrder, record);
+		c.live = live.get();
+		c.source = std::move(live);
+		return c;
+	}
+	std::unique_ptr<CInputSource> src = openInputSource(o.input, opts.input);
+	if (L.realtime)
+	{
+		auto live = std::make_unique<CLiveSource>(std::make_unique<CPacedSource>(std::move(src), L.speed), L.slots, true, record);
+		c.live = live.get();
+		c.source = std::move(live);
+		return c;
+	}
+	if (opts.input.prefetch > 0) src = std::make_unique<CPrefetchingSource>(std::move(src), static_cast<std::size_t>(opts.input.prefetch));
+	c.source = std::move(src);
+	return c;
+}
+
 // `stop`: why the run ended early (empty: it read the whole input, or --max-frames). stats.json
 // then starts with "complete": false, the reason and the frames done, so a run cut short is never
 // taken for a whole one.
@@ -51,6 +111,13 @@ void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSum
 	std::string json = sys.statsJson();
 	std::string head = std::string("{\n  \"complete\": ") + (stop.empty() ? "true" : "false") + ",\n";
 	if (!stop.empty()) head += "  \"stop_reason\": \"" + jsonEscape(stop) + "\",\n";
+	const auto& in = sum.input;
+	char buf[256];
+	std::snprintf(
+		buf, sizeof(buf), "  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"dropped_frames\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu",
+		in.live ? "true" : "false", in.stats.captured, in.stats.dropped, in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded);
+	head += buf;
+	head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
 	json = head + json.substr(json.find('\n') + 1);
 	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
@@ -99,14 +166,41 @@ TSlamJobSummary runSlamJob(
 {
 	TSlamJobSummary sum;
 	TYesSlamOptions opts = o.slam;
-	resolveDetector(opts.detector, o.input);
-	std::unique_ptr<CInputSource> src = openInputSource(o.input, opts.input);
-	if (opts.input.prefetch > 0) src = std::make_unique<CPrefetchingSource>(std::move(src), static_cast<std::size_t>(opts.input.prefetch));
-	sum.groundTruth = o.groundTruth.empty() ? findGroundTruthFor(o.input) : o.groundTruth;
+	resolveDetector(opts.detector, inputFilePath(o.input));
+	sum.groundTruth = o.groundTruth.empty() && !inputFilePath(o.input).empty() ? findGroundTruthFor(inputFilePath(o.input)) : o.groundTruth;
 	TTrajectory gt;
 	if (!sum.groundTruth.empty()) gt = readTumTrajectory(sum.groundTruth);	// bad ground truth: fail before the long run
 	// The system (detector model, options) first: a run that cannot start leaves no output folder.
 	CYesSlamSystem sys(opts);
+	// The recording is opened before the input starts delivering, written by whoever reads the
+	// frames first (the capture thread for live input), and committed however the run ends.
+	std::unique_ptr<CRawlogWriter> recorder;
+	if (!o.record.empty()) recorder = std::make_unique<CRawlogWriter>(o.record);
+	std::function<void(const mrpt::obs::CObservation3DRangeScan&)> record;
+	TInputChain in = openInput(o, opts, recorder ? [&recorder](const mrpt::obs::CObservation3DRangeScan& f) { recorder->write(f); } : record);
+	if (recorder && !in.live) record = [&recorder](const mrpt::obs::CObservation3DRangeScan& f) { recorder->write(f); };
+	CInputSource* src = in.source.get();
+	sum.input.live = in.live != nullptr;
+	sum.input.device = in.device;
+	// Before any output: what the input did, and the recording closed (renamed into place).
+	auto closeInput = [&]
+	{
+		if (in.live)
+		{
+			in.live->stop();
+			sum.input.stats = in.live->stats();
+			sum.input.disconnected = in.disconnected();
+		}
+		if (recorder)
+		{
+			// The capture thread may still be writing: it is stopped first.
+			in.source.reset();
+			in.live = nullptr;
+			sum.input.recorded = recorder->count();
+			if (sum.input.recorded > 0) recorder->commit();
+			recorder.reset();
+		}
+	};
 	std::error_code ec;
 	fs::create_directories(o.outDir, ec);
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
@@ -128,15 +222,25 @@ TSlamJobSummary runSlamJob(
 			}
 			auto obs = src->next();
 			if (!obs) break;
+			if (record) record(*obs);
 			const TFrameReport r = sys.processFrame(*obs);
 			done++;
 			if (progress)
 			{
 				const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-				char buf[160];
-				std::snprintf(
-					buf, sizeof(buf), "%.1f fps  %s  kf %zu  inliers %zu", s > 0 ? static_cast<double>(done) / s : 0.0,
-					r.tracked ? "tracking" : (r.frameId == 0 ? "initialising" : "LOST"), sys.map().numKeyFrames(), r.inliers);
+				const char* state = r.tracked ? "tracking" : (r.frameId == 0 ? "initialising" : "LOST");
+				char buf[200];
+				if (in.live)
+				{
+					const TLiveStats ls = in.live->stats();
+					std::snprintf(
+						buf, sizeof(buf), "capture %.1f fps  processed %.1f fps  dropped %zu  %s  kf %zu", ls.captureFps,
+						s > 0 ? static_cast<double>(done) / s : 0.0, ls.dropped, state, sys.map().numKeyFrames());
+				}
+				else
+					std::snprintf(
+						buf, sizeof(buf), "%.1f fps  %s  kf %zu  inliers %zu", s > 0 ? static_cast<double>(done) / s : 0.0, state,
+						sys.map().numKeyFrames(), r.inliers);
 				progress(done, src->sizeHint(), buf);
 			}
 		}
@@ -147,6 +251,7 @@ TSlamJobSummary runSlamJob(
 		try
 		{
 			sys.waitForMapping();
+			closeInput();
 		}
 		catch (const std::exception&)
 		{
@@ -155,9 +260,12 @@ TSlamJobSummary runSlamJob(
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()));
 		throw;
 	}
+	closeInput();
 	sys.waitForMapping();
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	writeOutputs(sys, o.outDir, sum, sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string());
+	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
+	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
+	writeOutputs(sys, o.outDir, sum, stop);
 	if (!gt.empty() && sum.stats.frames > 0)
 	{
 		try

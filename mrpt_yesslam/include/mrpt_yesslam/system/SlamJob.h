@@ -6,6 +6,7 @@
 #include <string>
 
 #include "mrpt_yesslam/eval/EvalReport.h"
+#include "mrpt_yesslam/io/CLiveSource.h"
 #include "mrpt_yesslam/system/CYesSlamSystem.h"
 
 namespace mrpt_yesslam
@@ -13,12 +14,27 @@ namespace mrpt_yesslam
 /** Inputs of a run. */
 struct TSlamJobOptions
 {
-	std::string input;	//!< .rawlog or TUM folder
+	std::string input;	//!< .rawlog, TUM folder, or "openni2[:URI]" (a camera, or an .oni file through OpenNI2)
 	std::string outDir;	 //!< created if missing
 	/** Ground truth; empty = the one found beside the input (findGroundTruthFor), if any. */
 	std::string groundTruth;
 	std::size_t maxFrames = 0;	//!< 0 = all
 	TYesSlamOptions slam;
+	/** Live input: a camera, or recorded input played as one. */
+	struct TLive
+	{
+		int width = 640, height = 480, fps = 30;  //!< OpenNI2 devices: the stream mode
+		/** Recorded input delivered at its recorded pace through the capture thread, frames dropped
+		 * when SLAM falls behind (what a camera would do); .oni files always play this way unless
+		 * the system runs sequentially. */
+		bool realtime = false;
+		double speed = 1.0;	 //!< realtime playback speed (2 = twice as fast as recorded)
+		std::size_t slots = 1;	//!< captured frames waiting for SLAM at most; older ones are dropped
+		double timeoutSeconds = 5.0;  //!< a camera silent this long is taken as unplugged
+	} live;
+	/** Every frame read (live: every frame captured, dropped ones included) is written to this
+	 * .rawlog as it comes, so the run can be replayed; also on Ctrl-C. Empty = none. */
+	std::string record;
 	/** Optional: called after each frame (CYesSlamSystem::setFrameCallback). */
 	std::function<void(const TFrame&)> onFrame;
 };
@@ -41,6 +57,15 @@ struct TSlamJobSummary
 		std::uintmax_t plyBytes = 0, otBytes = 0, btBytes = 0;
 		double buildMs = 0;	 //!< fusion, filtering and octree at the end of the run
 	} dense;
+	/** Where the frames came from. */
+	struct TInput
+	{
+		bool live = false;	//!< through the capture thread (camera, .oni, --realtime)
+		std::string device;	 //!< OpenNI2 device and modes, empty otherwise
+		TLiveStats stats;  //!< captured and dropped frames (live only)
+		bool disconnected = false;	//!< the camera stopped delivering before the run was ended
+		std::size_t recorded = 0;  //!< frames written to TSlamJobOptions::record
+	} input;
 };
 
 /** Picks the detector for "auto": the file backend when a detections.txt lies beside the input
@@ -48,6 +73,8 @@ struct TSlamJobSummary
  * hog (OpenCV's built-in people detector needs no model). Also fills the file backend's path from
  * the input when it is empty. */
 void resolveDetector(CObjectDetector::TOptions& det, const std::string& input);
+/** The file an input names: the path itself, the URI of "openni2:URI", empty for "openni2". */
+std::string inputFilePath(const std::string& input);
 
 /** Runs SLAM over the input and writes OUT/trajectory.txt, keyframes.txt, map.3Dscene, stats.json,
  * config_used.ini (and eval.json with ground truth; dense_cloud.ply, map.ot, map.bt with dense mapping). `progress(done, total, status)` after each

@@ -1,0 +1,262 @@
+#include "mrpt_yesslam/io/COpenNI2Source.h"
+
+#include <OpenNI.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <opencv2/imgproc.hpp>
+
+#include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/util/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace mrpt_yesslam
+{
+namespace
+{
+const std::string kWhere = "openni2";
+
+// OpenNI2 is initialised once per process and never shut down: its shutdown unloads drivers that
+// other streams of the same process may still use.
+void initOpenNI2()
+{
+	static std::once_flag once;
+	static std::string problem;
+	std::call_once(
+		once,
+		[]
+		{
+			if (openni::OpenNI::initialize() != openni::STATUS_OK)
+				problem = std::string("cannot initialise OpenNI2: ") + openni::OpenNI::getExtendedError();
+		});
+	if (!problem.empty()) throw InputError(kWhere, problem);
+}
+
+std::string modeText(const openni::VideoMode& m)
+{
+	return std::to_string(m.getResolutionX()) + "x" + std::to_string(m.getResolutionY()) + "@" + std::to_string(m.getFps());
+}
+
+bool isDepthFormat(openni::PixelFormat f) { return f == openni::PIXEL_FORMAT_DEPTH_1_MM || f == openni::PIXEL_FORMAT_DEPTH_100_UM; }
+
+// Picks the stream's mode of the wanted size and rate in an accepted pixel format.
+void chooseMode(openni::VideoStream& s, int w, int h, int fps, bool depth, const std::string& what)
+{
+	const auto& modes = s.getSensorInfo().getSupportedVideoModes();
+	std::string offered;
+	for (int i = 0; i < modes.getSize(); i++)
+	{
+		const openni::VideoMode& m = modes[i];
+		const bool format = depth ? isDepthFormat(m.getPixelFormat()) : m.getPixelFormat() == openni::PIXEL_FORMAT_RGB888;
+		if (!format) continue;
+		if (offered.find(modeText(m)) == std::string::npos) offered += (offered.empty() ? "" : ", ") + modeText(m);
+		if (m.getResolutionX() == w && m.getResolutionY() == h && m.getFps() == fps)
+		{
+			if (s.setVideoMode(m) != openni::STATUS_OK)
+				throw InputError(kWhere, "the " + what + " stream refused " + modeText(m) + ": " + openni::OpenNI::getExtendedError());
+			return;
+		}
+	}
+	throw InputError(
+		kWhere, "the " + what + " stream has no " + std::to_string(w) + "x" + std::to_string(h) + "@" + std::to_string(fps) +
+			" mode (offered: " + (offered.empty() ? "none in a usable format" : offered) + "; use --width/--height/--fps)");
+}
+}  // namespace
+
+struct COpenNI2Source::TImpl
+{
+	openni::Device device;
+	openni::VideoStream depth, color;
+	openni::VideoFrameRef lastDepth, lastColor;
+	int depthFrames = 0, colorFrames = 0;  //!< files: frames in each stream
+	int depthRead = 0, colorRead = 0;
+	bool manual = false;
+	std::chrono::steady_clock::time_point start;
+};
+
+std::vector<TOpenNI2Device> listOpenNI2Devices()
+{
+	initOpenNI2();
+	openni::Array<openni::DeviceInfo> list;
+	openni::OpenNI::enumerateDevices(&list);
+	std::vector<TOpenNI2Device> out;
+	for (int i = 0; i < list.getSize(); i++)
+	{
+		TOpenNI2Device d;
+		d.uri = list[i].getUri();
+		d.name = list[i].getName();
+		d.vendor = list[i].getVendor();
+		d.usbVendorId = list[i].getUsbVendorId();
+		d.usbProductId = list[i].getUsbProductId();
+		out.push_back(d);
+	}
+	return out;
+}
+
+bool isOpenNI2Input(const std::string& input) { return input == "openni2" || input.rfind("openni2:", 0) == 0; }
+
+COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl>())
+{
+	path_ = o.uri.empty() ? "openni2" : "openni2:" + o.uri;
+	const bool file = !o.uri.empty() && (fs::exists(o.uri) || fs::path(o.uri).extension() == ".oni");
+	if (file && !fs::is_regular_file(o.uri)) throw InputError(o.uri, "not found (an .oni recording was expected)");
+	if (!(o.timeoutSeconds > 0)) throw InputError(kWhere, "the frame timeout must be > 0 s");
+	initOpenNI2();
+	std::string uri = o.uri;
+	if (!file)
+	{
+		const auto devices = listOpenNI2Devices();
+		if (devices.empty())
+			throw InputError(
+				kWhere, "no OpenNI2 device found (is the camera plugged in - see lsusb - and may this user open it? "
+						"Debian's libopenni2-0 installs the udev rules; replug after installing)");
+		if (uri.empty()) uri = devices.front().uri;
+	}
+	if (impl_->device.open(uri.c_str()) != openni::STATUS_OK)
+		throw InputError(file ? o.uri : kWhere, std::string("cannot open ") + (file ? "the recording" : "device " + uri) + ": " + openni::OpenNI::getExtendedError());
+	auto& dev = impl_->device;
+	if (!dev.hasSensor(openni::SENSOR_DEPTH) || !dev.hasSensor(openni::SENSOR_COLOR))
+		throw InputError(file ? o.uri : kWhere, "needs both a depth and a colour stream");
+	if (impl_->depth.create(dev, openni::SENSOR_DEPTH) != openni::STATUS_OK || impl_->color.create(dev, openni::SENSOR_COLOR) != openni::STATUS_OK)
+		throw InputError(file ? o.uri : kWhere, std::string("cannot create the streams: ") + openni::OpenNI::getExtendedError());
+	if (!file)
+	{
+		chooseMode(impl_->depth, o.width, o.height, o.fps, true, "depth");
+		chooseMode(impl_->color, o.width, o.height, o.fps, false, "colour");
+		if (!dev.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR))
+			throw InputError(kWhere, "the device cannot register depth to colour (every frame must be registered)");
+		dev.setImageRegistrationMode(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR);
+		dev.setDepthColorSyncEnabled(true);
+		impl_->depth.setMirroringEnabled(false);
+		impl_->color.setMirroringEnabled(false);
+	}
+	else if (auto* pc = dev.getPlaybackControl())
+	{
+		pc->setRepeatEnabled(false);
+		impl_->manual = o.playbackSpeed < 0;
+		pc->setSpeed(static_cast<float>(impl_->manual ? -1.0 : o.playbackSpeed));
+		impl_->depthFrames = pc->getNumberOfFrames(impl_->depth);
+		impl_->colorFrames = pc->getNumberOfFrames(impl_->color);
+	}
+	const openni::VideoMode dm = impl_->depth.getVideoMode(), cm = impl_->color.getVideoMode();
+	if (!isDepthFormat(dm.getPixelFormat())) throw InputError(file ? o.uri : kWhere, "the depth stream is not in millimetres or 100 um units");
+	if (cm.getPixelFormat() != openni::PIXEL_FORMAT_RGB888) throw InputError(file ? o.uri : kWhere, "the colour stream is not RGB888");
+	if (dm.getResolutionX() != cm.getResolutionX() || dm.getResolutionY() != cm.getResolutionY())
+		throw InputError(file ? o.uri : kWhere, "depth (" + modeText(dm) + ") and colour (" + modeText(cm) + ") differ in size: depth must be registered to colour");
+
+	if (!o.camera.empty())
+	{
+		camera_ = fs::exists(o.camera) ? readCameraFile(o.camera) : tumCameraByName(o.camera);
+		if (camera_.intrinsics.ncols != static_cast<uint32_t>(cm.getResolutionX()) || camera_.intrinsics.nrows != static_cast<uint32_t>(cm.getResolutionY()))
+			throw InputError(o.camera, "the camera is " + std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows) + ", the stream " + modeText(cm));
+	}
+	else
+	{
+		// A pinhole from the colour stream's field of view (what the device reports; a calibration
+		// file through --camera is more accurate).
+		const double w = cm.getResolutionX(), h = cm.getResolutionY();
+		const double hf = impl_->color.getHorizontalFieldOfView(), vf = impl_->color.getVerticalFieldOfView();
+		if (!(hf > 0.1 && hf < 3.0 && vf > 0.1 && vf < 3.0)) throw InputError(file ? o.uri : kWhere, "the device reports no field of view: give intrinsics with --camera");
+		camera_.intrinsics.ncols = static_cast<uint32_t>(w);
+		camera_.intrinsics.nrows = static_cast<uint32_t>(h);
+		camera_.intrinsics.setIntrinsicParamsFromValues(w / (2 * std::tan(hf / 2)), h / (2 * std::tan(vf / 2)), (w - 1) / 2, (h - 1) / 2);
+		camera_.name = "openni2 field of view";
+	}
+	camera_.depthScale = dm.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM ? 1000.0 : 10000.0;
+	camera_.intrinsics.focalLengthMeters = 0;
+
+	if (impl_->depth.start() != openni::STATUS_OK || impl_->color.start() != openni::STATUS_OK)
+		throw InputError(file ? o.uri : kWhere, std::string("cannot start the streams: ") + openni::OpenNI::getExtendedError());
+	impl_->start = std::chrono::steady_clock::now();
+	description_ = std::string(dev.getDeviceInfo().getVendor()) + " " + dev.getDeviceInfo().getName() + ", depth " + modeText(dm) +
+		", colour " + modeText(cm) + (file ? " (recording)" : "");
+	timeoutMs_ = static_cast<int>(o.timeoutSeconds * 1000);
+}
+
+COpenNI2Source::~COpenNI2Source()
+{
+	impl_->depth.stop();
+	impl_->color.stop();
+	impl_->depth.destroy();
+	impl_->color.destroy();
+	impl_->device.close();
+}
+
+bool COpenNI2Source::isFile() const { return impl_->device.isFile(); }
+
+std::size_t COpenNI2Source::sizeHint() const { return impl_->depthFrames > 0 ? static_cast<std::size_t>(impl_->depthFrames) : 0; }
+
+mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
+{
+	if (ended_) return nullptr;
+	auto& I = *impl_;
+	const bool file = isFile();
+	if (file && I.depthFrames > 0 && I.depthRead >= I.depthFrames)
+	{
+		ended_ = true;
+		return nullptr;
+	}
+	// Read until a depth frame and a colour frame of the same moment are at hand (OpenNI2's
+	// depth-colour sync gives matching timestamps; a file written by yesslam-oni has equal ones).
+	for (;;)
+	{
+		if (I.manual)
+		{
+			// One frame of each stream per request: nothing is skipped.
+			if (I.depth.readFrame(&I.lastDepth) != openni::STATUS_OK || I.color.readFrame(&I.lastColor) != openni::STATUS_OK)
+			{
+				ended_ = true;
+				return nullptr;
+			}
+			I.depthRead++;
+			I.colorRead++;
+		}
+		else
+		{
+			openni::VideoStream* streams[2] = {&I.depth, &I.color};
+			int ready = -1;
+			if (openni::OpenNI::waitForAnyStream(streams, 2, &ready, timeoutMs_) != openni::STATUS_OK)
+			{
+				// Silence: a file has ended; a device was unplugged or stopped.
+				ended_ = true;
+				disconnected_ = !file;
+				return nullptr;
+			}
+			if (ready == 0)
+			{
+				I.depth.readFrame(&I.lastDepth);
+				I.depthRead++;
+			}
+			else
+			{
+				I.color.readFrame(&I.lastColor);
+				I.colorRead++;
+			}
+			if (!I.lastDepth.isValid() || !I.lastColor.isValid()) continue;
+			const double dt = std::abs(static_cast<double>(I.lastDepth.getTimestamp()) - static_cast<double>(I.lastColor.getTimestamp())) * 1e-6;
+			const double fps = std::max(1, I.depth.getVideoMode().getFps());
+			if (dt > 0.5 / fps) continue;
+		}
+		break;
+	}
+	const openni::VideoFrameRef& d = I.lastDepth;
+	const openni::VideoFrameRef& c = I.lastColor;
+	const cv::Mat depth16(d.getHeight(), d.getWidth(), CV_16U, const_cast<void*>(d.getData()), static_cast<std::size_t>(d.getStrideInBytes()));
+	const cv::Mat rgb(c.getHeight(), c.getWidth(), CV_8UC3, const_cast<void*>(c.getData()), static_cast<std::size_t>(c.getStrideInBytes()));
+	cv::Mat bgr;
+	cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+	// A device's timestamps count from its own start: frames get the host's clock. A recording
+	// keeps the times it holds (yesslam-oni writes the source's Unix times, so ground truth and
+	// detection files still match).
+	const double t = file ? static_cast<double>(d.getTimestamp()) * 1e-6
+						  : std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+	auto obs = makeRgbdObservation(t, bgr, depth16.clone(), camera_, "OPENNI2");
+	// Each pair is used once.
+	I.lastDepth.release();
+	I.lastColor.release();
+	return obs;
+}
+}  // namespace mrpt_yesslam
