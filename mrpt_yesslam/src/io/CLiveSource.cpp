@@ -15,7 +15,7 @@ double steadySeconds()
 
 CLiveSource::CLiveSource(
 	std::unique_ptr<CInputSource> source, std::size_t slots, bool dropWhenBehind,
-	std::function<void(const mrpt::obs::CObservation3DRangeScan&)> onCaptured)
+	std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured)
 	: source_(std::move(source)),
 	  sizeHint_(source_->sizeHint()),
 	  path_(source_->path()),
@@ -49,7 +49,7 @@ void CLiveSource::captureLoop()
 		{
 			auto obs = source_->next();
 			if (!obs) break;
-			if (onCaptured_) onCaptured_(*obs);
+			if (onCaptured_) onCaptured_(obs);
 			std::unique_lock<std::mutex> lk(mtx_);
 			const double now = steadySeconds();
 			if (firstCapture_ < 0) firstCapture_ = now;

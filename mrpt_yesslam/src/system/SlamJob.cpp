@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <deque>
+#include <mutex>
 #include <filesystem>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
@@ -62,7 +64,42 @@ struct TInputChain
 	std::function<bool()> disconnected = [] { return false; };
 };
 
-TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, const std::function<void(const mrpt::obs::CObservation3DRangeScan&)>& record)
+// --record: frames written on their own stage thread, so that compressing them (about 1 MB a
+// frame) never holds up the capture thread; a bounded queue keeps memory flat when the disk is slow.
+class CRecorder
+{
+   public:
+	explicit CRecorder(const std::string& path) : writer_(path) {}
+	// Queues one frame; rethrows the error of an earlier write.
+	void add(const mrpt::obs::CObservation3DRangeScan::Ptr& f)
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		while (!pending_.empty() && pending_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready)
+		{
+			pending_.front().get();
+			pending_.pop_front();
+		}
+		pending_.push_back(pool_.submit([this, f] { writer_.write(*f); }));
+	}
+	// Waits for the queued writes and renames the file into place; returns the frames written.
+	std::size_t finish()
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		for (auto& p : pending_) p.get();
+		pending_.clear();
+		const std::size_t n = writer_.count();
+		if (n > 0) writer_.commit();
+		return n;
+	}
+
+   private:
+	CRawlogWriter writer_;
+	std::mutex mtx_;
+	std::deque<std::future<void>> pending_;
+	CWorkerPool pool_{1, 64};  //!< last: stopped before the writer it uses
+};
+
+TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, const std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)>& record)
 {
 	TInputChain c;
 	const auto& L = o.live;
@@ -174,11 +211,12 @@ TSlamJobSummary runSlamJob(
 	CYesSlamSystem sys(opts);
 	// The recording is opened before the input starts delivering, written by whoever reads the
 	// frames first (the capture thread for live input), and committed however the run ends.
-	std::unique_ptr<CRawlogWriter> recorder;
-	if (!o.record.empty()) recorder = std::make_unique<CRawlogWriter>(o.record);
-	std::function<void(const mrpt::obs::CObservation3DRangeScan&)> record;
-	TInputChain in = openInput(o, opts, recorder ? [&recorder](const mrpt::obs::CObservation3DRangeScan& f) { recorder->write(f); } : record);
-	if (recorder && !in.live) record = [&recorder](const mrpt::obs::CObservation3DRangeScan& f) { recorder->write(f); };
+	std::unique_ptr<CRecorder> recorder;
+	if (!o.record.empty()) recorder = std::make_unique<CRecorder>(o.record);
+	std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> record;
+	if (recorder) record = [&recorder](const mrpt::obs::CObservation3DRangeScan::Ptr& f) { recorder->add(f); };
+	TInputChain in = openInput(o, opts, record);
+	if (in.live) record = nullptr;	// the capture thread records
 	CInputSource* src = in.source.get();
 	sum.input.live = in.live != nullptr;
 	sum.input.device = in.device;
@@ -196,8 +234,7 @@ TSlamJobSummary runSlamJob(
 			// The capture thread may still be writing: it is stopped first.
 			in.source.reset();
 			in.live = nullptr;
-			sum.input.recorded = recorder->count();
-			if (sum.input.recorded > 0) recorder->commit();
+			sum.input.recorded = recorder->finish();
 			recorder.reset();
 		}
 	};
@@ -222,7 +259,7 @@ TSlamJobSummary runSlamJob(
 			}
 			auto obs = src->next();
 			if (!obs) break;
-			if (record) record(*obs);
+			if (record) record(obs);
 			const TFrameReport r = sys.processFrame(*obs);
 			done++;
 			if (progress)

@@ -33,10 +33,11 @@ class CLiveSource : public CInputSource
 	/** Starts capturing at once. With `dropWhenBehind` the oldest waiting frame makes room for a
 	 * new one (a camera); without, the capture thread waits for room (a file replayed as fast as
 	 * it is processed: nothing lost, deterministic). `onCaptured` (optional) sees every captured
-	 * frame on the capture thread, dropped ones included (recording). */
+	 * frame on the capture thread, dropped ones included (recording: it must not take long, or
+	 * capturing slows down; the frame is shared with SLAM and must not be modified). */
 	CLiveSource(
 		std::unique_ptr<CInputSource> source, std::size_t slots, bool dropWhenBehind,
-		std::function<void(const mrpt::obs::CObservation3DRangeScan&)> onCaptured = {});
+		std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured = {});
 	/** Stops the capture thread (after the frame it is reading). */
 	~CLiveSource() override;
 	CLiveSource(const CLiveSource&) = delete;
@@ -62,7 +63,7 @@ class CLiveSource : public CInputSource
 	const std::string path_;
 	const std::size_t slots_;
 	const bool drop_;
-	std::function<void(const mrpt::obs::CObservation3DRangeScan&)> onCaptured_;
+	std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured_;
 
 	mutable std::mutex mtx_;
 	std::condition_variable ready_, space_;
