@@ -2,6 +2,7 @@
 
 #include <OpenNI.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -174,6 +175,9 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 	description_ = std::string(dev.getDeviceInfo().getVendor()) + " " + dev.getDeviceInfo().getName() + ", depth " + modeText(dm) +
 		", colour " + modeText(cm) + (file ? " (recording)" : "");
 	timeoutMs_ = static_cast<int>(o.timeoutSeconds * 1000);
+	// A file that falls silent has ended (OpenNI2's player may skip its last frames when they are
+	// not read in time): a second, not the timeout meant for an unplugged camera.
+	if (file) timeoutMs_ = std::min(timeoutMs_, 1000);
 }
 
 COpenNI2Source::~COpenNI2Source()
