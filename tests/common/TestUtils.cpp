@@ -219,4 +219,23 @@ std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOpti
 	}
 	return path;
 }
+
+std::string walkingSequence60()
+{
+	mrpt_yesslam::TSimOptions o;
+	o.preset = "walking_xyz";
+	o.frames = 60;
+	return cachedSequence("system_walking_xyz_60", o);
+}
+
+std::string walkingOniRecording(const std::string& dir)
+{
+	const std::string seq = walkingSequence60(), oni = dir + "/walking.oni";
+	const auto r = runTool("yesslam-oni", {"--input", seq, "--output", oni, "--quiet"});
+	EXPECT_EQ(r.exitCode, 0) << r.err;
+	EXPECT_NE(r.out.find("frames:       60"), std::string::npos) << r.out;
+	EXPECT_NE(r.out.find("100 um (exact)"), std::string::npos) << r.out;
+	std::filesystem::copy_file(seq + "/detections.txt", dir + "/detections.txt", std::filesystem::copy_options::overwrite_existing);
+	return oni;
+}
 }  // namespace yesslam_test

@@ -95,4 +95,10 @@ std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
  * own process): rendered into a private folder renamed into place, so that tests running in
  * parallel never see half a sequence. Returns its folder. */
 std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOptions& opts);
+/** The generated walking sequence of the system and tool tests (yesslam-sim walking_xyz, 60
+ * frames, detections.txt and ground truth), made once and cached. */
+std::string walkingSequence60();
+/** walkingSequence60() as an OpenNI2 recording `dir`/walking.oni written by yesslam-oni, with its
+ * detections.txt beside it (fails the test if the conversion fails). */
+std::string walkingOniRecording(const std::string& dir);
 }  // namespace yesslam_test

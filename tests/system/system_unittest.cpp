@@ -30,13 +30,7 @@ namespace
 // test in its own process, hence the cache).
 const std::string& walkingSequence()
 {
-	static const std::string path = []
-	{
-		TSimOptions o;
-		o.preset = "walking_xyz";
-		o.frames = 60;
-		return cachedSequence("system_walking_xyz_60", o);
-	}();
+	static const std::string path = walkingSequence60();
 	return path;
 }
 

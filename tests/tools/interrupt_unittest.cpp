@@ -229,3 +229,25 @@ TEST(Interrupt, ALiveRunStoppedWithCtrlCKeepsItsRecordingAndOutputs)
 	for (const auto& e : fs::directory_iterator(d.path()))
 		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
 }
+
+TEST(Interrupt, CtrlCOnAnOniPlaybackKeepsTheOutputsAndTheRecording)
+{
+	// The walking recording played through OpenNI2 at a fifth of its rate (10 s): Ctrl-C after
+	// 3 s leaves complete outputs of the frames done and the frames captured so far recorded.
+	TempDir d("sigint_oni");
+	const std::string oni = walkingOniRecording(d.path());
+	const std::string out = d / "run", rec = d / "slow.rawlog";
+	const auto start = std::chrono::steady_clock::now();
+	const auto r = interruptWhen(
+		"yesslam", {"--input", "openni2:" + oni, "--out", out, "--speed", "0.2", "--no-dense-map", "--record", rec},
+		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(3); });
+	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
+	ASSERT_GT(r.frames(), 0) << r.out;
+	EXPECT_LT(r.frames(), 60);
+	EXPECT_NE(readText(out + "/stats.json").find("\"complete\": false"), std::string::npos);
+	EXPECT_EQ(static_cast<long>(mrpt_yesslam::readTumTrajectory(out + "/trajectory.txt").size()), r.frames());
+	mrpt_yesslam::CRawlogSource src(rec);
+	long n = 0;
+	while (src.next()) n++;
+	EXPECT_GE(n, r.frames());
+}

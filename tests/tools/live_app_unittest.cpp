@@ -10,23 +10,12 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
-#include "mrpt_yesslam/sim/CSequenceSimulator.h"
 
 using namespace yesslam_test;
 namespace fs = std::filesystem;
 
 namespace
 {
-// The generated walking sequence the system tests use (yesslam-sim walking_xyz, 60 frames, with
-// its detections.txt and ground truth).
-std::string walking60()
-{
-	mrpt_yesslam::TSimOptions o;
-	o.preset = "walking_xyz";
-	o.frames = 60;
-	return cachedSequence("system_walking_xyz_60", o);
-}
-
 // A number of stats.json's "input" block.
 long inputCount(const std::string& statsPath, const std::string& key)
 {
@@ -34,6 +23,13 @@ long inputCount(const std::string& statsPath, const std::string& key)
 	std::smatch m;
 	if (!std::regex_search(js, m, std::regex("\"" + key + "\": ([0-9]+)"))) return -1;
 	return std::stol(m[1]);
+}
+
+// The ate_rmse yesslam printed (a large number when missing, so that bounds fail).
+double ateOf(const std::string& out)
+{
+	const auto p = out.find("ate_rmse: ");
+	return p == std::string::npos ? 1e9 : std::stod(out.substr(p + 10));
 }
 
 std::size_t rawlogFrames(const std::string& path)
@@ -50,7 +46,7 @@ TEST(LiveApp, ACameraFasterThanSlamHasItsFramesDroppedAndCounted)
 	// The recording played 10 times faster than it was recorded (300 fps): SLAM cannot keep up, so
 	// the capture thread drops the oldest waiting frames; everything captured is still recorded.
 	TempDir d("live_app");
-	const std::string seq = walking60();
+	const std::string seq = walkingSequence60();
 	const auto r = runTool(
 		"yesslam", {"--input", seq, "--out", d / "run", "--realtime", "--speed", "10", "--record", d / "captured.rawlog", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -70,7 +66,7 @@ TEST(LiveApp, ARecordedRunReplaysToTheSameTrajectory)
 	// --record while SLAM runs sequentially, then the recording as input: the same frames (exact
 	// depth, same stamps) give the same trajectory, pose for pose.
 	TempDir d("live_replay");
-	const std::string seq = walking60();
+	const std::string seq = walkingSequence60();
 	fs::create_directories(d / "rec");
 	fs::copy_file(seq + "/detections.txt", d / "rec/detections.txt");
 	const auto first = runTool(
@@ -89,7 +85,7 @@ TEST(LiveApp, ARecordedRunReplaysToTheSameTrajectory)
 TEST(LiveApp, WithoutACameraOrWithBadLiveOptionsNothingStarts)
 {
 	TempDir d("live_errors");
-	const std::string seq = walking60();
+	const std::string seq = walkingSequence60();
 	auto fails = [&](const std::vector<std::string>& args, const std::vector<std::string>& fragments)
 	{
 		const auto r = runTool("yesslam", args);
@@ -107,4 +103,76 @@ TEST(LiveApp, WithoutACameraOrWithBadLiveOptionsNothingStarts)
 	fails({"--input", "openni2", "--out", d / "run", "--width", "-640"}, {"--width must be a whole number"});
 	fails({"--input", seq, "--out", d / "run", "--record", d / "no/such/folder/x.rawlog"}, {"x.rawlog"});
 	fails({"--out", d / "run"}, {"--input is required"});
+}
+
+
+TEST(LiveApp, AnOniRecordingPlaysThroughOpenNI2ToTheSameTrajectory)
+{
+	// The live path through the real OpenNI2 library and its file driver (libOniFile): the
+	// recording yesslam-oni wrote, played one frame per request in sequential mode, gives the
+	// trajectory of the folder itself, pose for pose (exact depth, same times, same intrinsics);
+	// its ground truth was copied beside it and is found.
+	TempDir d("live_oni");
+	const std::string seq = walkingSequence60(), oni = walkingOniRecording(d.path());
+	EXPECT_TRUE(fs::exists(d / "walking_groundtruth.txt"));
+	const auto folder = runTool("yesslam", {"--input", seq, "--out", d / "folder", "--sequential", "--no-dense-map", "--quiet"});
+	ASSERT_EQ(folder.exitCode, 0) << folder.err;
+	const auto live = runTool(
+		"yesslam", {"--input", "openni2:" + oni, "--out", d / "oni", "--sequential", "--camera", seq + "/calibration.txt", "--no-dense-map",
+					"--record", d / "oni.rawlog", "--quiet"});
+	ASSERT_EQ(live.exitCode, 0) << live.err;
+	EXPECT_NE(live.out.find("camera:          "), std::string::npos) << live.out;
+	EXPECT_NE(live.out.find("(recording)"), std::string::npos) << live.out;
+	EXPECT_EQ(readText(d / "oni/trajectory.txt"), readText(d / "folder/trajectory.txt"));
+	EXPECT_EQ(inputCount(d / "oni/stats.json", "dropped_frames"), 0);
+	const double ate = ateOf(live.out);
+	EXPECT_LT(ate, 0.03) << "evaluated against the ground truth found beside the recording";
+	// What --record kept of that run replays to the same trajectory.
+	const auto replay = runTool(
+		"yesslam", {"--input", d / "oni.rawlog", "--out", d / "replay", "--sequential", "--no-dense-map", "--quiet", "--gt", seq + "/groundtruth.txt"});
+	ASSERT_EQ(replay.exitCode, 0) << replay.err;
+	EXPECT_EQ(readText(d / "replay/trajectory.txt"), readText(d / "oni/trajectory.txt"));
+	// Without --camera the intrinsics come from the field of view the recording states: close.
+	const auto fov = runTool("yesslam", {"--input", "openni2:" + oni, "--out", d / "fov", "--sequential", "--no-dense-map", "--quiet"});
+	ASSERT_EQ(fov.exitCode, 0) << fov.err;
+	EXPECT_LT(ateOf(fov.out), 0.03);
+}
+
+TEST(LiveApp, AnOniPlayedFasterThanSlamDropsFrames)
+{
+	TempDir d("live_oni_speed");
+	const std::string oni = walkingOniRecording(d.path());
+	// Ten times the recorded rate (parallel mode: frames as a camera delivers them).
+	const auto fast = runTool("yesslam", {"--input", "openni2:" + oni, "--out", d / "fast", "--speed", "10", "--no-dense-map", "--quiet"});
+	ASSERT_EQ(fast.exitCode, 0) << fast.err;
+	EXPECT_GT(inputCount(d / "fast/stats.json", "dropped_frames"), 0);
+	EXPECT_EQ(inputCount(d / "fast/stats.json", "frames") + inputCount(d / "fast/stats.json", "dropped_frames"),
+			  inputCount(d / "fast/stats.json", "captured_frames"));
+}
+
+TEST(LiveApp, BadRecordingsAndBadConversionsAreRefusedInOneLine)
+{
+	TempDir d("live_oni_bad");
+	const std::string oni = walkingOniRecording(d.path());
+	// A recording cut short and one that is not a recording at all: OpenNI2 refuses them; yesslam
+	// says which file, in one line, and starts nothing.
+	fs::copy_file(oni, d / "cut.oni");
+	fs::resize_file(d / "cut.oni", fs::file_size(oni) / 3);
+	writeText(d / "text.oni", "this is not an OpenNI recording\n");
+	for (const std::string bad : {d / "cut.oni", d / "text.oni"})
+	{
+		const auto r = runTool("yesslam", {"--input", "openni2:" + bad, "--out", d / "run"});
+		EXPECT_EQ(r.exitCode, 1) << r.err;
+		EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+		EXPECT_NE(r.err.find(bad + ": OpenNI2's file driver cannot play it"), std::string::npos) << r.err;
+		EXPECT_FALSE(fs::exists(d / "run"));
+	}
+	// yesslam-oni: a missing input, a folder that is not there for the output.
+	const auto missing = runTool("yesslam-oni", {"--input", d / "nothing", "--output", d / "x.oni"});
+	EXPECT_EQ(missing.exitCode, 1);
+	EXPECT_NE(missing.err.find("not found"), std::string::npos) << missing.err;
+	const auto noDir = runTool("yesslam-oni", {"--input", walkingSequence60(), "--output", d / "no/dir/x.oni"});
+	EXPECT_EQ(noDir.exitCode, 1);
+	EXPECT_NE(noDir.err.find("x.oni"), std::string::npos) << noDir.err;
+	EXPECT_FALSE(fs::exists(d / "x.oni"));
 }

@@ -20,6 +20,16 @@ namespace
 {
 const std::string kWhere = "openni2";
 
+// OpenNI2's extended errors hold tabs and line breaks: one line, trimmed.
+std::string oneLine(std::string s)
+{
+	for (char& c : s)
+		if (c == '\n' || c == '\t' || c == '\r') c = ' ';
+	const auto a = s.find_first_not_of(' '), b = s.find_last_not_of(' ');
+	return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+}
+
+
 // OpenNI2 is initialised once per process and never shut down: its shutdown unloads drivers that
 // other streams of the same process may still use.
 void initOpenNI2()
@@ -31,7 +41,7 @@ void initOpenNI2()
 		[]
 		{
 			if (openni::OpenNI::initialize() != openni::STATUS_OK)
-				problem = std::string("cannot initialise OpenNI2: ") + openni::OpenNI::getExtendedError();
+				problem = "cannot initialise OpenNI2: " + oneLine(openni::OpenNI::getExtendedError());
 		});
 	if (!problem.empty()) throw InputError(kWhere, problem);
 }
@@ -57,7 +67,7 @@ void chooseMode(openni::VideoStream& s, int w, int h, int fps, bool depth, const
 		if (m.getResolutionX() == w && m.getResolutionY() == h && m.getFps() == fps)
 		{
 			if (s.setVideoMode(m) != openni::STATUS_OK)
-				throw InputError(kWhere, "the " + what + " stream refused " + modeText(m) + ": " + openni::OpenNI::getExtendedError());
+				throw InputError(kWhere, "the " + what + " stream refused " + modeText(m) + ": " + oneLine(openni::OpenNI::getExtendedError()));
 			return;
 		}
 	}
@@ -117,12 +127,17 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 		if (uri.empty()) uri = devices.front().uri;
 	}
 	if (impl_->device.open(uri.c_str()) != openni::STATUS_OK)
-		throw InputError(file ? o.uri : kWhere, std::string("cannot open ") + (file ? "the recording" : "device " + uri) + ": " + openni::OpenNI::getExtendedError());
+	{
+		const std::string why = oneLine(openni::OpenNI::getExtendedError());
+		throw InputError(
+			file ? o.uri : kWhere, file ? "OpenNI2's file driver cannot play it (not an OpenNI recording, or cut short)"
+										: "cannot open device " + uri + (why.empty() ? std::string() : ": " + why));
+	}
 	auto& dev = impl_->device;
 	if (!dev.hasSensor(openni::SENSOR_DEPTH) || !dev.hasSensor(openni::SENSOR_COLOR))
 		throw InputError(file ? o.uri : kWhere, "needs both a depth and a colour stream");
 	if (impl_->depth.create(dev, openni::SENSOR_DEPTH) != openni::STATUS_OK || impl_->color.create(dev, openni::SENSOR_COLOR) != openni::STATUS_OK)
-		throw InputError(file ? o.uri : kWhere, std::string("cannot create the streams: ") + openni::OpenNI::getExtendedError());
+		throw InputError(file ? o.uri : kWhere, std::string("cannot create the streams: ") + oneLine(openni::OpenNI::getExtendedError()));
 	if (!file)
 	{
 		chooseMode(impl_->depth, o.width, o.height, o.fps, true, "depth");
@@ -170,7 +185,7 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 	camera_.intrinsics.focalLengthMeters = 0;
 
 	if (impl_->depth.start() != openni::STATUS_OK || impl_->color.start() != openni::STATUS_OK)
-		throw InputError(file ? o.uri : kWhere, std::string("cannot start the streams: ") + openni::OpenNI::getExtendedError());
+		throw InputError(file ? o.uri : kWhere, std::string("cannot start the streams: ") + oneLine(openni::OpenNI::getExtendedError()));
 	impl_->start = std::chrono::steady_clock::now();
 	description_ = std::string(dev.getDeviceInfo().getVendor()) + " " + dev.getDeviceInfo().getName() + ", depth " + modeText(dm) +
 		", colour " + modeText(cm) + (file ? " (recording)" : "");
