@@ -4,6 +4,7 @@
 // driver. OpenNI2 is used directly, not through MRPT's COpenNI2Sensor: that wrapper opens devices
 // by index only (no URI, so no .oni files), gives no playback control, and its destructor throws
 // when no device is present.
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,7 +72,7 @@ class COpenNI2Source : public CInputSource
 	std::unique_ptr<TImpl> impl_;
 	std::string path_, description_;
 	TRgbdCamera camera_;
-	bool disconnected_ = false;
+	std::atomic<bool> disconnected_{false};  //!< written by the reading thread, read by any
 	bool ended_ = false;
 	int timeoutMs_ = 5000;
 };
