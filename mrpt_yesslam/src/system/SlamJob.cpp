@@ -14,6 +14,7 @@
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
 #include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/io/SlamExport.h"
 #include "mrpt_yesslam/io/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -145,7 +146,12 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, con
 void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {})
 {
 	const fs::path d(dir);
-	std::string json = sys.statsJson();
+	TStatsContext ctx;
+	ctx.loopClosing = sys.options().loop.detection.enabled;
+	ctx.denseMap = sys.denseMapper() != nullptr;
+	ctx.dynamicFilter = sys.options().system.dynamicFilter;
+	ctx.keyFramePolicy = sys.options().keyFrames.policy;
+	std::string json = formatStatsJson(sys.stats(), ctx);
 	std::string head = std::string("{\n  \"complete\": ") + (stop.empty() ? "true" : "false") + ",\n";
 	if (!stop.empty()) head += "  \"stop_reason\": \"" + jsonEscape(stop) + "\",\n";
 	const auto& in = sum.input;
@@ -158,7 +164,7 @@ void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSum
 	json = head + json.substr(json.find('\n') + 1);
 	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
-	auto scene = sys.buildScene();
+	auto scene = buildMapScene(sys.map(), sys.trajectory());
 	if (sys.denseMapper())
 	{
 		// The dense map from the keyframes' final poses: labelled cloud, OctoMaps, and the octree in

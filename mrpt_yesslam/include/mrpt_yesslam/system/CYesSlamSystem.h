@@ -33,6 +33,7 @@
 #include "mrpt_yesslam/loop/CVocabulary.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/system/CFrameBuilder.h"
+#include "mrpt_yesslam/system/TSlamStats.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
 #include "mrpt_yesslam/util/OptionTable.h"
@@ -83,22 +84,6 @@ struct TFrameReport
 	std::size_t features = 0, staticFeatures = 0, detections = 0, dynamicDetections = 0, inliers = 0;
 };
 
-/** Statistics of a run (stats.json). */
-struct TSlamStats
-{
-	std::size_t frames = 0, trackedFrames = 0, lostFrames = 0, relocalisations = 0;
-	std::size_t keyFrames = 0, forcedKeyFrames = 0, mapPoints = 0;
-	std::size_t culledKeyFrames = 0;  //!< erased as redundant by local mapping
-	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames
-	/** Map points tracking erased as moving: in a group the geometric check found moving, or seen through. */
-	std::size_t movingPointsErased = 0;
-	TLoopDetectionStats loops;	//!< loop detection counts
-	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
-	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
-	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
-	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
-	std::map<std::string, std::vector<double>> stageMs;
-};
 
 /** The SLAM system. */
 class CYesSlamSystem
@@ -135,8 +120,6 @@ class CYesSlamSystem
 	TTrajectory trajectory() const;
 	/** Keyframe poses with their frames' timestamps. */
 	TTrajectory keyFrameTrajectory() const;
-	/** Coloured map points, keyframe frustums and the trajectory, for SceneViewer3D/yesslam-render. */
-	mrpt::opengl::COpenGLScene::Ptr buildScene() const;
 	/** The dense semantic map from every keyframe's cloud at its current pose (call after
 	 * waitForMapping for the final map); throws std::logic_error with dense mapping off. */
 	TDenseMap buildDenseMap() const;
@@ -144,8 +127,6 @@ class CYesSlamSystem
 	const CDenseSemanticMapper* denseMapper() const { return dense_.get(); }
 	/** Run statistics so far. */
 	TSlamStats stats() const;
-	/** stats() as JSON (per-stage median and p95 in ms). */
-	std::string statsJson() const;
 	const CSparseMap& map() const { return map_; }
 	const CObjectDetector* detector() const { return builder_.detector(); }
 	/** The vocabulary of place recognition (null when none could be loaded and none was required). */

@@ -1,0 +1,28 @@
+#pragma once
+// What a SLAM run exports besides its trajectories: the sparse map as an MRPT scene and the run's
+// figures as stats.json. Outside the system, which stays a facade over its stages, so that tools
+// and map saving can export a map without a running system.
+#include <mrpt/opengl/COpenGLScene.h>
+
+#include <string>
+
+#include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/system/TSlamStats.h"
+
+namespace mrpt_yesslam
+{
+/** Coloured map points, a frustum per keyframe and the trajectory, for SceneViewer3D and
+ * yesslam-render; the objects are named (map_points, keyframe, trajectory) for --hide. */
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& trajectory);
+
+/** How a run was configured, as stats.json states it beside the figures. */
+struct TStatsContext
+{
+	bool loopClosing = true, denseMap = false, dynamicFilter = true;
+	std::string keyFramePolicy;
+};
+
+/** The figures of a run as JSON (per-stage median and p95 in ms). */
+std::string formatStatsJson(const TSlamStats& stats, const TStatsContext& context);
+}  // namespace mrpt_yesslam

@@ -1,0 +1,29 @@
+#pragma once
+// The figures of a SLAM run (what stats.json reports), apart from the system that counts them so
+// that exporters (io/SlamExport) need not include the system.
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mrpt_yesslam/loop/CLoopDetector.h"
+
+namespace mrpt_yesslam
+{
+/** Statistics of a run (stats.json). */
+struct TSlamStats
+{
+	std::size_t frames = 0, trackedFrames = 0, lostFrames = 0, relocalisations = 0;
+	std::size_t keyFrames = 0, forcedKeyFrames = 0, mapPoints = 0;
+	std::size_t culledKeyFrames = 0;  //!< erased as redundant by local mapping
+	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames
+	/** Map points tracking erased as moving: in a group the geometric check found moving, or seen through. */
+	std::size_t movingPointsErased = 0;
+	TLoopDetectionStats loops;	//!< loop detection counts
+	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
+	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
+	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
+	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
+	std::map<std::string, std::vector<double>> stageMs;
+};
+}  // namespace mrpt_yesslam

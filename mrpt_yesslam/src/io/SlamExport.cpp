@@ -1,0 +1,93 @@
+#include "mrpt_yesslam/io/SlamExport.h"
+
+#include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+namespace mrpt_yesslam
+{
+namespace
+{
+double percentile(std::vector<double> v, double q)
+{
+	if (v.empty()) return 0;
+	std::sort(v.begin(), v.end());
+	const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5));
+	return v[i];
+}
+}  // namespace
+
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& traj)
+{
+	auto scene = mrpt::opengl::COpenGLScene::Create();
+	// Named, so that yesslam-render --hide can leave parts out.
+	auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+	cloud->setName("map_points");
+	cloud->setPointSize(3.0f);
+	for (const auto& p : map.points())
+		cloud->push_back(
+			static_cast<float>(p.position.x), static_cast<float>(p.position.y), static_cast<float>(p.position.z),
+			p.color[2] / 255.f, p.color[1] / 255.f, p.color[0] / 255.f);
+	scene->insert(cloud);
+	for (const auto& k : map.keyFramePoses())
+	{
+		if (k.bad) continue;
+		const auto& kf = k.pose;
+		// A small frustum per keyframe (near 0.02 m, far 0.12 m, the TUM field of view).
+		auto fr = mrpt::opengl::CFrustum::Create(0.02f, 0.12f, 62.f, 48.f, 1.5f, true, false);
+		fr->setName("keyframe");
+		fr->setColor_u8(0, 90, 220);
+		fr->setPose(kf);
+		scene->insert(fr);
+	}
+	auto path = mrpt::opengl::CSetOfLines::Create();
+	path->setName("trajectory");
+	path->setColor_u8(220, 30, 30);
+	path->setLineWidth(2.0f);
+	for (std::size_t i = 1; i < traj.size(); i++)
+		path->appendLine(traj[i - 1].tx, traj[i - 1].ty, traj[i - 1].tz, traj[i].tx, traj[i].ty, traj[i].tz);
+	if (!path->empty()) scene->insert(path);
+	return scene;
+}
+
+std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
+{
+	std::ostringstream o;
+	char buf[256];
+	o << "{\n";
+	o << "  \"frames\": " << s.frames << ",\n";
+	o << "  \"tracked_frames\": " << s.trackedFrames << ",\n";
+	std::snprintf(buf, sizeof(buf), "%.4f", s.frames ? static_cast<double>(s.trackedFrames) / static_cast<double>(s.frames) : 0.0);
+	o << "  \"tracking_rate\": " << buf << ",\n";
+	o << "  \"lost_frames\": " << s.lostFrames << ",\n";
+	o << "  \"relocalisations\": " << s.relocalisations << ",\n";
+	o << "  \"keyframes\": " << s.keyFrames << ",\n";
+	o << "  \"forced_keyframes\": " << s.forcedKeyFrames << ",\n";
+	o << "  \"culled_keyframes\": " << s.culledKeyFrames << ",\n";
+	o << "  \"keyframes_in_map\": " << s.keyFramesInMap << ",\n";
+	o << "  \"map_points\": " << s.mapPoints << ",\n";
+	o << "  \"moving_points_erased\": " << s.movingPointsErased << ",\n";
+	o << "  \"loop_closing\": " << (ctx.loopClosing ? "true" : "false") << ",\n";
+	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent << ", \"accepted\": " << s.loops.accepted
+	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
+	  << ", \"global_ba_runs\": " << s.globalBundleRuns << ", \"global_ba_applied\": " << s.globalBundleApplied << "},\n";
+	o << "  \"dense_map\": " << (ctx.denseMap ? "true" : "false") << ",\n";
+	if (ctx.denseMap) o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints << "},\n";
+	o << "  \"keyframe_policy\": \"" << ctx.keyFramePolicy << "\",\n";
+	o << "  \"dynamic_filter\": " << (ctx.dynamicFilter ? "true" : "false") << ",\n";
+	o << "  \"stages_ms\": {";
+	bool first = true;
+	for (const auto& [name, v] : s.stageMs)
+	{
+		std::snprintf(buf, sizeof(buf), "\"median\": %.3f, \"p95\": %.3f, \"count\": %zu", percentile(v, 0.5), percentile(v, 0.95), v.size());
+		o << (first ? "\n" : ",\n") << "    \"" << name << "\": {" << buf << "}";
+		first = false;
+	}
+	o << "\n  }\n}\n";
+	return o.str();
+}
+}  // namespace mrpt_yesslam
