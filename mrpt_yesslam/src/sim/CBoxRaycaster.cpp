@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/sim/CBoxRaycaster.h"
 
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -77,7 +79,10 @@ void CBoxRaycaster::render(
 	cv::Mat& instance) const
 {
 	const int W = static_cast<int>(K.ncols), H = static_cast<int>(K.nrows);
-	const double fx = K.fx(), fy = K.fy(), cx = K.cx(), cy = K.cy();
+	// The system's camera model (geometry/CPinholeCamera), so that the simulator and tracking
+	// project with the same formula.
+	const CPinholeCamera cam(K);
+	const double fx = cam.fx(), fy = cam.fy(), cx = cam.cx(), cy = cam.cy();
 	const mrpt::poses::CPose3D Tcw = -Twc;
 	double L[3] = {options.lightDir[0], options.lightDir[1], options.lightDir[2]};
 	const double ln = std::sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
@@ -107,7 +112,8 @@ void CBoxRaycaster::render(
 				behind = true;
 				continue;
 			}
-			const double uu = fx * pc.x / pc.z + cx, vv = fy * pc.y / pc.z + cy;
+			double uu = 0, vv = 0;
+			cam.project(pc.x, pc.y, pc.z, uu, vv);
 			umin = std::min(umin, uu);
 			umax = std::max(umax, uu);
 			vmin = std::min(vmin, vv);

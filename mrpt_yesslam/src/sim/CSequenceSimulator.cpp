@@ -16,6 +16,7 @@
 #include <random>
 
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
@@ -185,7 +186,7 @@ std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc
 {
 	scratch.setTo(0);
 	const CPose3D Tcw = -Twc;
-	const auto& K = cam.intrinsics;
+	const CPinholeCamera K(cam.intrinsics);
 	static const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {3, 0, 4, 7}};
 	for (const auto& [pose, b] : world.worldBoxes(idx))
 	{
@@ -197,8 +198,9 @@ std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc
 											 (c == 2 || c == 3 || c == 6 || c == 7 ? 0.5 : -0.5) * b.sy, (c >= 4 ? 0.5 : -0.5) * b.sz);
 			const auto pc = Tcw.composePoint(pose.composePoint(local));
 			front[c] = pc.z > 0.05;
-			pts[c] = front[c] ? cv::Point(static_cast<int>(K.fx() * pc.x / pc.z + K.cx()), static_cast<int>(K.fy() * pc.y / pc.z + K.cy()))
-							  : cv::Point();
+			double u = 0, v = 0;
+			if (front[c]) K.project(pc.x, pc.y, pc.z, u, v);
+			pts[c] = front[c] ? cv::Point(static_cast<int>(u), static_cast<int>(v)) : cv::Point();
 		}
 		for (const auto& f : faces)
 		{
@@ -432,7 +434,10 @@ TSimSummary runSimulation(
 		{
 			// Blur along the image motion of the centre pixel between frames.
 			const auto pc = (-poses[k]).composePoint(poses[k - 1].composePoint(mrpt::math::TPoint3D(0, 0, 2)));
-			const double dx = cam.intrinsics.fx() * pc.x / pc.z, dy = cam.intrinsics.fy() * pc.y / pc.z;
+			const CPinholeCamera pin(cam.intrinsics);
+			double u = 0, v = 0;
+			pin.project(pc.x, pc.y, pc.z, u, v);
+			const double dx = u - pin.cx(), dy = v - pin.cy();
 			const int len = std::min(15, static_cast<int>(std::hypot(dx, dy)));
 			if (len >= 2)
 			{
