@@ -135,3 +135,49 @@ TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
 	f(zero, zero, r);
 	EXPECT_NEAR(r[0], (K.fx() * 0.3 / 2.5 + K.cx() - 350) / 1.44, 1e-9);
 }
+
+TEST(PoseOptimizer, ClosedFormJacobianPredictsResidualsUnderALeftPerturbation)
+{
+	// The geometric check linearises every inlier with reprojectionResidualJacobian: its residual
+	// is the Ceres residual's, and J d predicts how the residual changes when the pose moves by a
+	// small left perturbation d = (w, v): X_c -> exp(w) X_c + v.
+	const auto K = tumCameraByName("fr3").intrinsics;
+	TPoseObservation o;
+	o.world = Eigen::Vector3d(0.3, -0.2, 2.5);
+	o.pixel = Eigen::Vector2d(350, 200);
+	o.sigma = 1.44;
+	o.depth = 2.45;
+	o.sigmaZ = 0.015;
+	const TReprojectionResidual f(o, K.fx(), K.fy(), K.cx(), K.cy());
+	const mrpt::poses::CPose3D Twc(0.2, -0.1, 0.3, 0.2, -0.15, 0.1);
+	const mrpt::poses::CPose3D Tcw = -Twc;
+	Eigen::Vector3d r;
+	Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J;
+	reprojectionResidualJacobian(f, Tcw, r, J);
+	double rv[3], t[3], rc[3];
+	cameraPoseToParams(Twc, rv, t);
+	f(rv, t, rc);
+	for (int k = 0; k < 3; k++) EXPECT_NEAR(r[k], rc[k], 1e-9) << "component " << k;
+	for (int k = 0; k < 6; k++)
+	{
+		const double h = 1e-6;
+		Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+		d[k] = h;
+		// exp(w) Tcw, then + v: the rotation and translation of the moved world-to-camera pose.
+		const Eigen::Vector3d w = d.head<3>(), v = d.tail<3>();
+		const Eigen::Matrix3d Rd = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+		const Eigen::Matrix3d R = Rd * Tcw.getRotationMatrix().asEigen();
+		const Eigen::Vector3d tr = Rd * Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z()) + v;
+		const auto moved = mrpt::poses::CPose3D::FromRotationAndTranslation(mrpt::math::CMatrixDouble33(R), mrpt::math::CVectorFixedDouble<3>(tr));
+		Eigen::Vector3d r2;
+		Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J2;
+		reprojectionResidualJacobian(f, moved, r2, J2);
+		const Eigen::Vector3d numeric = (r2 - r) / h;
+		for (int c = 0; c < 3; c++) EXPECT_NEAR(J(c, k), numeric[c], 1e-3 * (1 + std::abs(numeric[c]))) << "row " << c << " column " << k;
+	}
+	// Behind the camera: the constant residual and no gradient, as the Ceres residual.
+	const mrpt::poses::CPose3D behind = -mrpt::poses::CPose3D(0, 0, 5, 0, 0, 0);
+	reprojectionResidualJacobian(f, behind, r, J);
+	EXPECT_EQ(r[0], 1e3);
+	EXPECT_EQ(J.norm(), 0.0);
+}

@@ -3,7 +3,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <ceres/ceres.h>
 
 namespace mrpt_yesslam
 {
@@ -260,10 +259,9 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 	using Mat6 = Eigen::Matrix<double, 6, 6>;
 	for (int iter = 0; iter < 3; iter++)
 	{
-		// Whitened residuals and their Jacobians at the estimate (angle-axis, translation).
-		double params[6];
-		cameraPoseToParams(e.cameraInWorld, params, params + 3);
-		const double* blocks[2] = {params, params + 3};
+		// Whitened residuals and their Jacobians at the estimate (closed form, left perturbation:
+		// the group test only uses linear predictions, which do not depend on the parameters).
+		const mrpt::poses::CPose3D Tcw = -e.cameraInWorld;
 		std::vector<Eigen::Vector3d> res(n, Eigen::Vector3d::Zero());
 		std::vector<Mat36> jac(n, Mat36::Zero());
 		Mat6 H = Mat6::Zero();
@@ -272,12 +270,7 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 		for (std::size_t i = 0; i < n; i++)
 		{
 			if (!e.inlier[i] || removed[i]) continue;
-			ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3> cost(
-				new TReprojectionResidual(obs[i], K.fx(), K.fy(), K.cx(), K.cy()));
-			Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Jr, Jt;
-			double* J[2] = {Jr.data(), Jt.data()};
-			if (!cost.Evaluate(blocks, res[i].data(), J)) continue;
-			jac[i] << Jr, Jt;
+			reprojectionResidualJacobian(TReprojectionResidual(obs[i], K.fx(), K.fy(), K.cx(), K.cy()), Tcw, res[i], jac[i]);
 			H += jac[i].transpose() * jac[i];
 			b += jac[i].transpose() * res[i];
 			use[i] = true;

@@ -52,6 +52,31 @@ bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T*
 
 template bool TReprojectionResidual::operator()<double>(const double* const, const double* const, double*) const;
 
+void reprojectionResidualJacobian(
+	const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J)
+{
+	double x, y, z;
+	Tcw.composePoint(f.X.x(), f.X.y(), f.X.z(), x, y, z);
+	J.setZero();
+	if (z <= 1e-6)
+	{
+		r << 1e3, 1e3, 0.0;	 // as the residual itself: constant behind the camera
+		return;
+	}
+	const double iz = 1.0 / z;
+	r << (f.fx * x * iz + f.cx - f.uv.x()) * f.invSigma, (f.fy * y * iz + f.cy - f.uv.y()) * f.invSigma,
+		f.depth > 0 ? (z - f.depth) * f.invSigmaZ : 0.0;
+	// d r / d X_c
+	Eigen::Matrix3d dr;
+	dr << f.fx * iz * f.invSigma, 0, -f.fx * x * iz * iz * f.invSigma, 0, f.fy * iz * f.invSigma, -f.fy * y * iz * iz * f.invSigma, 0, 0,
+		f.depth > 0 ? f.invSigmaZ : 0.0;
+	// d X_c / d (w, v) = [ -[X_c]x  I ]
+	Eigen::Matrix3d skew;
+	skew << 0, -z, y, z, 0, -x, -y, x, 0;
+	J.leftCols<3>() = -dr * skew;
+	J.rightCols<3>() = dr;
+}
+
 void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
 {
 	const mrpt::poses::CPose3D Tcw = -Twc;

@@ -56,6 +56,13 @@ struct TReprojectionResidual
 	double invSigma, depth, invSigmaZ, fx, fy, cx, cy;
 };
 
+/** TReprojectionResidual at world-to-camera pose `Tcw` with its Jacobian in closed form, for a
+ * left perturbation of the pose (rotation first, then translation: X_c -> exp(w) X_c + v). Cheaper
+ * than automatic differentiation where many residuals are linearised once (the geometric check's
+ * group test); linear predictions r + J step do not depend on the choice of pose parameters. */
+void reprojectionResidualJacobian(
+	const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J);
+
 /** T_w_c (MRPT camera-in-world pose) -> world-to-camera angle-axis and translation, the
  * parameters our Ceres problems optimise. */
 void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3]);
