@@ -5,7 +5,9 @@
 # its first 300 frames, on the first half and on all of it (mapping in its own thread), and prints
 # the medians: keyframes in the map, map points, tracking median / p95 and local mapping median per
 # keyframe (ms, from stats.json), fps, peak RSS and ATE; then the ratios of the full run to the first
-# 300 frames.
+# 300 frames, both across runs and within each full run (its frames.csv: the tracking times of all
+# its frames against those of its own first 300, so the machine's load drifting between runs does not
+# enter the ratio).
 # Usage: bench/bench_scaling.sh [FRAMES] [RUNS] [BUILD_DIR]   (the sequence is kept in bench_out/scaling/)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -37,5 +39,16 @@ for n in 300 $((FRAMES / 2)) "$FRAMES"; do
   TM[$n]=$(col tm); TP[$n]=$(col tp); MP[$n]=$(col mm)
   printf "| %s | %s (%s) | %s | %s / %s | %s | %s | %s | %s |\n" "$n" "$(col kfm)" "$(col kfi)" "$(col mp)" "${TM[$n]}" "${TP[$n]}" "${MP[$n]}" "$(col fps)" "$(col rss)" "$(col ate)"
 done
+# Within each full run: median and p95 of track_ms over all frames / over its first 300 (medians over runs).
+pct() { sort -g | awk -v q="$1" '{a[NR]=$1} END {print a[int(q*(NR-1)+1.5)]}'; }
+trackcol() { awk -F, 'NR == 1 {for (c = 1; c <= NF; c++) if ($c == "track_ms") k = c; next} {print $k}' "$1"; }
+within() {
+  for i in $(seq "$RUNS"); do
+    f="$OUT/runs/$FRAMES-$i/frames.csv"
+    awk -v a="$(trackcol "$f" | pct "$1")" -v b="$(trackcol "$f" | head -300 | pct "$1")" 'BEGIN {printf "%.3f\n", a/b}'
+  done | median
+}
+echo
+echo "within each $FRAMES-frame run (frames.csv, all frames / its first 300): tracking median $(within 0.5), p95 $(within 0.95)"
 awk -v a="${TM[$FRAMES]}" -v b="${TM[300]}" -v c="${TP[$FRAMES]}" -v d="${TP[300]}" -v e="${MP[$FRAMES]}" -v f="${MP[300]}" \
   'BEGIN {printf "\nratios %s frames / 300 frames: tracking median %.2f (target <= 1.2), p95 %.2f (<= 1.5), local mapping %.2f (<= 1.3)\n", "'"$FRAMES"'", a/b, c/d, e/f}'

@@ -391,6 +391,41 @@ TEST(SparseMap, PointsSeenThroughInConsecutiveFramesAreErased)
 	EXPECT_FALSE(map.point(2).bad);
 }
 
+TEST(SparseMap, ErasedPointsAreForgottenAfterAFewKeyFramesSoStorageStaysBounded)
+{
+	// A long run in a known place erases about as many points as it makes; the map's storage must
+	// follow its good points, not every point ever made (it did: 7x the live points after 3000
+	// frames, and tracking's lookups slowed down as the run went on).
+	std::mt19937 rng(4);
+	const auto world = wall(40);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);	 // points 0-39
+	ASSERT_TRUE(map.erasePoint(3));
+	std::vector<TPointId> ids(40, -1);
+	for (int j = 10; j < 40; j++) ids[j] = j;
+	addView(map, 1, mrpt::poses::CPose3D(0.02, 0, 0, 0, 0, 0), world, ids, rng);	// re-creates 0-9 (keypoints without a point)
+	const TPointId duplicate = map.keyFrame(1).mapPoints[5];
+	ASSERT_GE(duplicate, 40);
+	ASSERT_TRUE(map.replacePoint(5, duplicate));
+	// Still resolvable right after: erased reads as bad, fused follows to its replacement.
+	EXPECT_TRUE(map.point(3).bad);
+	EXPECT_EQ(map.point(5).replacedBy, duplicate);
+	EXPECT_EQ(map.pointsById({5}).ids, std::vector<TPointId>{duplicate});
+	const std::size_t stored = map.numStoredPoints();
+	EXPECT_EQ(stored, map.numPoints() + 2);
+	// Once three more keyframes are in, both are forgotten: storage = good points; a forgotten id reads as bad
+	// without observations, a fused one resolves to nothing (its keypoints were moved long ago).
+	for (std::size_t k = 2; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.02 * k, 0, 0, 0, 0, 0), world, ids, rng);
+	EXPECT_EQ(map.numStoredPoints(), map.numPoints());
+	EXPECT_TRUE(map.point(3).bad);
+	EXPECT_TRUE(map.point(3).observations.empty());
+	EXPECT_TRUE(map.point(5).bad);
+	EXPECT_TRUE(map.pointsById({3, 5}).ids.empty());
+	EXPECT_EQ(map.keyFrame(0).mapPoints[5], duplicate);
+	EXPECT_THROW(map.point(1000000), std::out_of_range);	// never given
+	expectGraphMatchesObservations(map);
+}
+
 TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
 {
 	std::mt19937 rng(3);

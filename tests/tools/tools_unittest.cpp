@@ -298,8 +298,35 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	EXPECT_EQ(value(r.out, "tracked").substr(0, 9), "9 (100.0%");
 	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.01);
 	EXPECT_EQ(value(r.out, "ate_pairs"), "9");
-	for (const char* f : {"trajectory.txt", "keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini", "eval.json", "dense_cloud.ply", "map.ot", "map.bt"})
+	for (const char* f : {"trajectory.txt", "keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini", "eval.json", "dense_cloud.ply", "map.ot", "map.bt", "frames.csv"})
 		EXPECT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
+	// frames.csv: a header, then one row per frame with the trajectory's time, all tracked, the first a
+	// keyframe, the map growing from it, and tracking times for every frame after the first.
+	{
+		std::istringstream csv(readText(d / "run/frames.csv"));
+		std::string line;
+		std::getline(csv, line);
+		EXPECT_EQ(line.rfind("frame,timestamp,tracked,keyframe,", 0), 0u) << line;
+		const auto traj = mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt");
+		std::size_t n = 0;
+		while (std::getline(csv, line))
+		{
+			std::vector<std::string> c;
+			std::stringstream ls(line);
+			for (std::string x; std::getline(ls, x, ',');) c.push_back(x);
+			ASSERT_EQ(c.size(), 16u) << line;
+			ASSERT_LT(n, traj.size());
+			EXPECT_EQ(std::stoul(c[0]), n);
+			EXPECT_NEAR(std::stod(c[1]), traj[n].t, 1e-6);
+			EXPECT_EQ(c[2], "1");
+			if (n == 0) EXPECT_EQ(c[3], "1");
+			EXPECT_GE(std::stoul(c[9]), 1u);	 // keyframes in the map
+			EXPECT_GT(std::stoul(c[10]), 100u);	 // map points
+			if (n > 0) EXPECT_GT(std::stod(c[14]), 0.0);  // track_ms
+			n++;
+		}
+		EXPECT_EQ(n, 9u);
+	}
 	// The dense map of real Kinect frames: a labelled cloud and an octree at the asked resolution.
 	EXPECT_GT(mrpt_yesslam::readDenseCloudPly(d / "run/dense_cloud.ply").size(), 1000u);
 	const auto coarse = runTool(

@@ -489,13 +489,32 @@ TFrameReport CYesSlamSystem::processFrame(
 	ms["keyframe"] = msSince(t0);
 	tracker_.setLastFrame(frame);
 
+	rep.tracked = frame->tracked;
+	rep.inliers = frame->numInliers;
+	TFrameLogRow row;
+	row.frame = frame->id;
+	row.timestamp = frame->timestamp;
+	row.tracked = rep.tracked;
+	row.keyFrame = rep.keyFrame;
+	row.relocalised = rep.relocalised;
+	row.features = rep.features;
+	row.staticFeatures = rep.staticFeatures;
+	row.detections = rep.detections;
+	row.inliers = rep.inliers;
+	row.keyFramesInMap = map_.numKeyFrames();
+	row.mapPoints = map_.numPoints();
+	const auto stage = [&ms](const char* k) { const auto it = ms.find(k); return it == ms.end() ? 0.f : static_cast<float>(it->second); };
+	row.detectMs = stage("detect");
+	row.maskMs = stage("mask");
+	row.orbMs = stage("orb");
+	row.trackMs = stage("track");
+	row.keyFrameMs = stage("keyframe");
 	{
 		std::lock_guard<std::mutex> lk(recordsMtx_);
 		records_.push_back(rec);
+		frameLog_.push_back(row);
 	}
 
-	rep.tracked = frame->tracked;
-	rep.inliers = frame->numInliers;
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.frames++;
@@ -528,6 +547,12 @@ TTrajectory CYesSlamSystem::trajectory() const
 		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.relative : r.relative));
 	}
 	return out;
+}
+
+std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const
+{
+	std::lock_guard<std::mutex> lk(recordsMtx_);
+	return frameLog_;
 }
 
 TTrajectory CYesSlamSystem::keyFrameTrajectory() const

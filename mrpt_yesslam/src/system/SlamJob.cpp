@@ -198,6 +198,7 @@ void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSum
 	}
 	saveSceneAtomically(*scene, (d / "map.3Dscene").string());
 	writeFileAtomically((d / "stats.json").string(), json);
+	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
 	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
 	sum.stats = sys.stats();
 }

@@ -98,8 +98,11 @@ class CSparseMap
 	mrpt::poses::CPose3D keyFramePose(TKeyFrameId id) const;
 	/** A copy of keyframe `id` (throws std::out_of_range for unknown ids). */
 	CKeyFrame keyFrame(TKeyFrameId id) const;
-	/** A copy of map point `id` (throws std::out_of_range for unknown ids). */
+	/** A copy of map point `id` (throws std::out_of_range for ids never given). A point erased a few
+	 * keyframes ago is forgotten: its copy then has only its id and the bad flag. */
 	CMapPoint point(TPointId id) const;
+	/** Points held in storage, good and recently erased (memory use; bounded by the map's size). */
+	std::size_t numStoredPoints() const;
 	/** Covisible keyframes of `id` from the stored graph, heaviest first: at most `max`, each
 	 * sharing at least `minWeight` points. */
 	std::vector<TKeyFrameId> covisible(TKeyFrameId id, std::size_t max, int minWeight = 1) const;
@@ -212,6 +215,10 @@ class CSparseMap
 	void correctLocked(
 		const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate, const std::set<TPointId>& skip = {});
 	const CMapPoint* goodPoint(TPointId id) const;
+	/** Sets the bad flag, counts it and schedules the point to be forgotten. */
+	void markBadLocked(CMapPoint& p);
+	/** Removes the bad points erased long enough ago (see kForgetBadPointsAfter). */
+	void forgetDeadPointsLocked();
 	mrpt::poses::CPose3D poseLocked(TKeyFrameId id) const;
 	std::vector<TKeyFrameId> covisibleLocked(TKeyFrameId id, std::size_t max, int minWeight) const;
 	TKeyFrameId goodAncestorLocked(TKeyFrameId id) const;
@@ -221,6 +228,8 @@ class CSparseMap
 	std::map<TKeyFrameId, std::shared_ptr<CKeyFrame>> keyFrames_;
 	std::unordered_map<TPointId, CMapPoint> points_;
 	std::deque<TPointId> recent_;  //!< points created in the last keyframes, oldest first
+	/** Bad points to forget, oldest first, with the next keyframe id when they went bad. */
+	std::deque<std::pair<TKeyFrameId, TPointId>> dead_;
 	std::vector<TKeyFrameId> dirty_;  //!< keyframes whose ordered connections need sorting
 	std::size_t numGoodKeyFrames_ = 0, numGoodPoints_ = 0;
 	TKeyFrameId nextKeyFrame_ = 0;

@@ -25,4 +25,6 @@ struct TStatsContext
 
 /** The figures of a run as JSON (per-stage median and p95 in ms). */
 std::string formatStatsJson(const TSlamStats& stats, const TStatsContext& context);
+/** frames.csv: a header line, then one line per processed frame (TFrameLogRow). */
+std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows);
 }  // namespace mrpt_yesslam

@@ -120,6 +120,8 @@ class CYesSlamSystem
 	TTrajectory trajectory() const;
 	/** Keyframe poses with their frames' timestamps. */
 	TTrajectory keyFrameTrajectory() const;
+	/** One row per processed frame, in order (frames.csv). */
+	std::vector<TFrameLogRow> frameLog() const;
 	/** The dense semantic map from every keyframe's cloud at its current pose (call after
 	 * waitForMapping for the final map); throws std::logic_error with dense mapping off. */
 	TDenseMap buildDenseMap() const;
@@ -171,6 +173,7 @@ class CYesSlamSystem
 		bool tracked = false;
 	};
 	std::vector<TFrameRecord> records_;	//!< guarded by recordsMtx_ (trajectory() may run on another thread)
+	std::vector<TFrameLogRow> frameLog_;  //!< guarded by recordsMtx_
 	mutable std::mutex recordsMtx_;
 	std::deque<std::shared_ptr<const TFrame>> recent_;
 	std::size_t nextFrameId_ = 0;

@@ -10,6 +10,18 @@
 
 namespace mrpt_yesslam
 {
+/** One processed frame as frames.csv lists it: what tracking made of it, the map's size after it,
+ * and its per-stage times (so slow frames and slow stretches of a run can be found). */
+struct TFrameLogRow
+{
+	std::size_t frame = 0;
+	double timestamp = 0;
+	bool tracked = false, keyFrame = false, relocalised = false;
+	std::size_t features = 0, staticFeatures = 0, detections = 0, inliers = 0;
+	std::size_t keyFramesInMap = 0, mapPoints = 0;
+	float detectMs = 0, maskMs = 0, orbMs = 0, trackMs = 0, keyFrameMs = 0;
+};
+
 /** Statistics of a run (stats.json). */
 struct TSlamStats
 {
