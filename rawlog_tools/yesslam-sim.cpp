@@ -16,7 +16,7 @@ int main(int argc, char** argv)
 		[&]() -> int
 		{
 			TSimOptions o;
-			std::size_t seed = o.seed, frames = 0;
+			std::size_t seed = o.seed, frames = 0, roomSeed = 0;
 			double people = -1;
 			bool list = false, noNoise = false, noRawlog = false, quiet = false, verbose = false;
 			CommandLine cl(
@@ -35,6 +35,11 @@ int main(int argc, char** argv)
 			cl.text("preset", "NAME", "scenario (see --list-presets)", &o.preset);
 			cl.text("out", "DIR", "output folder (created if missing)", &o.outDir);
 			cl.count("seed", "S", "seed of the room layout, textures and noise", &seed);
+			cl.count(
+				"room-seed", "R",
+				"the room (layout, furniture, textures) from R instead of --seed, and the people start elsewhere on their paths: "
+				"passes with the same R and different seeds are the same room in the same world frame (map reuse)",
+				&roomSeed);
 			cl.count("frames", "N", "number of frames (0 = the preset's)", &frames);
 			cl.number("people", "K", "number of people (-1 = the preset's)", &people);
 			cl.text("trajectory", "FILE", "replay a TUM trajectory at its own stamps, placed in the room, instead of the preset's motion", &o.trajectoryFile);
@@ -62,6 +67,8 @@ int main(int argc, char** argv)
 			if (o.outDir.empty()) throw InputError("", "missing required option --out (see --help)");
 			if (quiet && verbose) throw InputError("", "--quiet and --verbose contradict each other: give one");
 			if (seed > 0xffffffffu) throw InputError("", "--seed must fit in 32 bits");
+			if (roomSeed > 0xffffffffu) throw InputError("", "--room-seed must fit in 32 bits");
+			o.roomSeed = static_cast<uint32_t>(roomSeed);
 			if (!(people >= -1 && people <= 20 && people == static_cast<int>(people))) throw InputError("", "--people must be an integer -1..20 (-1: the preset's own number)");
 			o.seed = static_cast<uint32_t>(seed);
 			o.frames = frames;

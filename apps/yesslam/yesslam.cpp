@@ -19,7 +19,8 @@ int main(int argc, char** argv)
 		{
 			TSlamJobOptions o;
 			std::string config, detector = "auto", policy, camera;
-			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false, listDevices = false;
+			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false, listDevices = false,
+				 localizeOnly = false;
 			double octomapRes = 0.05, width = 640, height = 480, fps = 30, speed = 1;
 			CommandLine cl(
 				"yesslam",
@@ -49,6 +50,8 @@ int main(int argc, char** argv)
 				 "yesslam --input walking.rawlog --out run3 --no-dynamic-filter   (the ORB-SLAM2-like baseline)",
 				 "yesslam --input openni2 --out live1 --record live1.rawlog   (the first camera; replay: --input live1.rawlog)",
 				 "yesslam --input walking.rawlog --out run4 --realtime   (as a 30 fps camera would deliver it)",
+				 "yesslam --input office_pass1 --out map1 --save-map office.ysm   (map once)",
+				 "yesslam --input office_pass2 --out loc2 --load-map office.ysm --localize-only   (localise in it later)",
 				 "yesslam --list-devices"});
 			cl.text("input", "PATH", ".rawlog, TUM RGB-D folder, or openni2[:URI|FILE.oni] (required)", &o.input);
 			cl.text("out", "DIR", "output folder, created if missing (required)", &o.outDir);
@@ -59,6 +62,12 @@ int main(int argc, char** argv)
 			cl.number("width", "PX", "OpenNI2 camera: image width (640)", &width);
 			cl.number("height", "PX", "OpenNI2 camera: image height (480)", &height);
 			cl.number("fps", "HZ", "OpenNI2 camera: frame rate (30)", &fps);
+			cl.text("save-map", "MAP.ysm", "save the sparse map at the end (also on Ctrl-C) for a later --load-map", &o.saveMap);
+			cl.text(
+				"load-map", "MAP.ysm",
+				"start from a saved map: the first frames are placed in it by relocalisation, the trajectory is in its frame, and new keyframes extend it",
+				&o.loadMap);
+			cl.flag("localize-only", "with --load-map: only localise, never change the map (no keyframes, no dense map)", &localizeOnly);
 			cl.text("config", "FILE", "INI/YAML config (sections as share/mrpt_yesslam/config/default.ini); options here win", &config);
 			cl.text(
 				"detector", "B",
@@ -115,6 +124,11 @@ int main(int argc, char** argv)
 			if (!policy.empty()) o.slam.keyFrames.policy = policy;
 			if (!camera.empty()) o.slam.input.camera = camera;
 			if (sequential) o.slam.system.parallel = false;
+			if (localizeOnly)
+			{
+				o.slam.system.localizeOnly = true;
+				o.slam.dense.enabled = false;  // no keyframes to build it from
+			}
 
 			installInterruptHandler();
 			ProgressBar bar("yesslam", 0, !quiet);
@@ -136,6 +150,9 @@ int main(int argc, char** argv)
 					s.input.stats.dropped, s.input.stats.captured ? 100.0 * static_cast<double>(s.input.stats.dropped) / static_cast<double>(s.input.stats.captured) : 0.0,
 					s.input.disconnected ? "; the camera stopped delivering frames" : "");
 			if (!o.record.empty()) std::printf("recorded:        %zu frames to %s\n", s.input.recorded, o.record.c_str());
+			if (!o.loadMap.empty())
+				std::printf("map loaded:      %s (%zu keyframes, %zu points)%s\n", o.loadMap.c_str(), s.mapFiles.loadedKeyFrames, s.mapFiles.loadedPoints,
+							o.slam.system.localizeOnly ? ", localisation only" : "");
 			std::printf("frames:          %zu\n", st.frames);
 			std::printf(
 				"tracked:         %zu (%.1f%%), relocalisations %zu\n", st.trackedFrames,
@@ -156,8 +173,10 @@ int main(int argc, char** argv)
 					s.dense.cloudPoints, s.dense.outliersRemoved, s.dense.occupiedLeaves, s.dense.freeLeaves, s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6,
 					s.dense.btBytes / 1e6, s.dense.buildMs / 1000);
 			std::printf(
-				"outputs:         %s/{trajectory.txt,keyframes.txt,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
+				"outputs:         %s/{trajectory.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
 				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
+			if (!o.saveMap.empty() && s.mapFiles.saveError.empty())
+				std::printf("map saved:       %s (%zu keyframes, %zu points, %.1f MB)\n", o.saveMap.c_str(), st.keyFramesInMap, st.mapPoints, s.mapFiles.savedBytes / 1e6);
 			if (s.evaluated)
 			{
 				std::printf("ground truth:    %s\n", s.groundTruth.c_str());
@@ -166,6 +185,11 @@ int main(int argc, char** argv)
 			}
 			else if (!s.evalProblem.empty())
 				std::fprintf(stderr, "yesslam: warning: no evaluation against %s: %s\n", s.groundTruth.c_str(), s.evalProblem.c_str());
+			if (!s.mapFiles.saveError.empty())
+			{
+				std::fprintf(stderr, "yesslam: error: the map was not saved: %s\n", s.mapFiles.saveError.c_str());
+				return 1;
+			}
 			if (s.interrupted)
 			{
 				std::fprintf(stderr, "yesslam: interrupted; results cover the first %zu frames\n", st.frames);

@@ -90,12 +90,13 @@ void CKeyFrame::serialize(std::ostream& o) const
 	put<std::int64_t>(o, parent ? static_cast<std::int64_t>(*parent) : -1);
 	putVector(o, std::vector<std::uint64_t>(children.begin(), children.end()));
 	putPose(o, poseInParent);
+	putVector(o, std::vector<std::uint64_t>(loopEdges.begin(), loopEdges.end()));
 }
 
 CKeyFrame CKeyFrame::deserialize(std::istream& i)
 {
 	using namespace binio;
-	getVersion(i, "keyframe", kSerialVersion);
+	const std::uint32_t version = getVersion(i, "keyframe", kSerialVersion);
 	CKeyFrame kf;
 	kf.id = get<std::uint64_t>(i, "keyframe id");
 	kf.frameId = get<std::uint64_t>(i, "keyframe frame id");
@@ -155,6 +156,8 @@ CKeyFrame CKeyFrame::deserialize(std::istream& i)
 	if (parent >= 0) kf.parent = static_cast<TKeyFrameId>(parent);
 	for (auto c : getVector<std::uint64_t>(i, "keyframe children")) kf.children.insert(c);
 	kf.poseInParent = getPose(i, "keyframe pose in parent");
+	if (version >= 2)
+		for (auto e : getVector<std::uint64_t>(i, "keyframe loop edges")) kf.loopEdges.insert(e);
 	return kf;
 }
 }  // namespace mrpt_yesslam

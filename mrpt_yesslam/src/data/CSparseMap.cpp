@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 
+#include "mrpt_yesslam/util/BinaryIO.h"
+
 #include <algorithm>
 #include <mutex>
 #include <set>
@@ -912,5 +914,86 @@ std::vector<CMapPoint> CSparseMap::points() const
 		if (!p.bad) out.push_back(p);
 	std::sort(out.begin(), out.end(), [](const CMapPoint& a, const CMapPoint& b) { return a.id < b.id; });
 	return out;
+}
+void CSparseMap::serialize(std::ostream& out) const
+{
+	using namespace binio;
+	ReadLock lk(mtx_);
+	put<std::uint32_t>(out, kSerialVersion);
+	put<std::uint64_t>(out, nextKeyFrame_);
+	put<std::int64_t>(out, nextPoint_);
+	put<std::uint64_t>(out, generation_);
+	put<std::uint64_t>(out, keyFrames_.size());
+	for (const auto& [id, kf] : keyFrames_) kf->serialize(out);
+	// Good points only, by id (the table's order is not deterministic; a saved map should be).
+	std::vector<TPointId> ids;
+	for (const auto& [id, p] : points_)
+		if (!p.bad) ids.push_back(id);
+	std::sort(ids.begin(), ids.end());
+	put<std::uint64_t>(out, ids.size());
+	for (TPointId id : ids) points_.at(id).serialize(out);
+}
+
+void CSparseMap::deserialize(std::istream& in)
+{
+	using namespace binio;
+	getVersion(in, "map", kSerialVersion);
+	const auto nextKf = get<std::uint64_t>(in, "map keyframe counter");
+	const auto nextPt = get<std::int64_t>(in, "map point counter");
+	const auto gen = get<std::uint64_t>(in, "map generation");
+	const auto nk = get<std::uint64_t>(in, "map keyframe count");
+	if (nk > (1u << 24)) throw std::runtime_error("implausible keyframe count reading map");
+	std::map<TKeyFrameId, std::shared_ptr<CKeyFrame>> kfs;
+	for (std::uint64_t k = 0; k < nk; k++)
+	{
+		auto kf = std::make_shared<CKeyFrame>(CKeyFrame::deserialize(in));
+		if (kf->id >= nextKf || !kfs.emplace(kf->id, kf).second) throw std::runtime_error("keyframe id out of place reading map");
+	}
+	const auto np = get<std::uint64_t>(in, "map point count");
+	if (np > (1u << 28)) throw std::runtime_error("implausible point count reading map");
+	std::unordered_map<TPointId, CMapPoint> pts;
+	pts.reserve(np);
+	for (std::uint64_t k = 0; k < np; k++)
+	{
+		CMapPoint p = CMapPoint::deserialize(in);
+		if (p.id < 0 || p.id >= nextPt || p.bad) throw std::runtime_error("map point id out of place reading map");
+		const TPointId id = p.id;
+		if (!pts.emplace(id, std::move(p)).second) throw std::runtime_error("map point stored twice reading map");
+	}
+	// Every reference must resolve, both ways, before anything uses the map.
+	const auto known = [&](TKeyFrameId id) { return kfs.count(id) != 0; };
+	for (const auto& [id, p] : pts)
+		for (const auto& [k, kp] : p.observations)
+		{
+			const auto it = kfs.find(k);
+			if (it == kfs.end() || it->second->bad || kp >= it->second->mapPoints.size() || it->second->mapPoints[kp] != id)
+				throw std::runtime_error("map point observation does not match its keyframe reading map");
+		}
+	std::size_t goodKfs = 0;
+	for (const auto& [id, kf] : kfs)
+	{
+		if (!kf->bad) goodKfs++;
+		for (TPointId pid : kf->mapPoints)
+			if (pid >= 0 && !pts.count(pid)) throw std::runtime_error("keyframe names an unknown map point reading map");
+		if (kf->parent && !known(*kf->parent)) throw std::runtime_error("keyframe parent unknown reading map");
+		for (TKeyFrameId c : kf->children)
+			if (!known(c)) throw std::runtime_error("keyframe child unknown reading map");
+		for (const auto& [o, w] : kf->connections)
+			if (!known(o)) throw std::runtime_error("keyframe connection unknown reading map");
+		for (TKeyFrameId e : kf->loopEdges)
+			if (!known(e)) throw std::runtime_error("keyframe loop edge unknown reading map");
+	}
+	if (!kfs.empty() && kfs.begin()->second->bad) throw std::runtime_error("the first keyframe is erased reading map");
+	WriteLock lk(mtx_);
+	keyFrames_ = std::move(kfs);
+	points_ = std::move(pts);
+	recent_.clear();
+	dead_.clear();
+	dirty_.clear();
+	numGoodKeyFrames_ = goodKfs;
+	numGoodPoints_ = points_.size();
+	nextKeyFrame_ = nextKf;
+	nextPoint_ = nextPt;
+	generation_ = gen;
 }
 }  // namespace mrpt_yesslam

@@ -322,7 +322,10 @@ TSimSummary runSimulation(
 	const fs::path out(o.outDir);
 
 	// The world and its people.
-	CSimWorld world(o.seed, photos);
+	CSimWorld world(o.roomSeed ? o.roomSeed : o.seed, photos);
+	// With a room seed, the pass's seed also moves the people along their paths (another start time),
+	// so that a second pass through the same room meets them elsewhere. Without one, as before.
+	const double phase = o.roomSeed ? 1.7 * static_cast<double>(o.seed % 11) : 0.0;
 	std::mt19937 layout(o.seed * 2654435761u + 11);
 	std::uniform_real_distribution<double> u(0, 1);
 	const int walkers = preset.walking > 0 ? (o.people >= 0 ? o.people : preset.walking) : 0;
@@ -333,11 +336,11 @@ TSimSummary runSimulation(
 		// The tour's camera circles the room centre: its people cross the far and near halves of
 		// the room, in front of the walls the camera looks at, never through the camera.
 		if (preset.motion == "tour" && k < 2)
-			world.addWalkingPerson(k == 0 ? std::vector<P2>{P2(4.1, 0.9), P2(4.3, 4.1)} : std::vector<P2>{P2(1.1, 4.0), P2(1.0, 1.0)}, 0.9, 2.0 * k);
+			world.addWalkingPerson(k == 0 ? std::vector<P2>{P2(4.1, 0.9), P2(4.3, 4.1)} : std::vector<P2>{P2(1.1, 4.0), P2(1.0, 1.0)}, 0.9, 2.0 * k + phase);
 		else if (k == 0)	 // comes close to the camera: covers much of the image for a while
-			world.addWalkingPerson({P2(4.4, 1.2), P2(2.95, 2.3), P2(4.4, 3.8)}, 0.8, 0.0);
+			world.addWalkingPerson({P2(4.4, 1.2), P2(2.95, 2.3), P2(4.4, 3.8)}, 0.8, 0.0 + phase);
 		else if (k == 1)
-			world.addWalkingPerson({P2(3.5, 0.7), P2(3.6, 4.3)}, 1.1, 1.0);
+			world.addWalkingPerson({P2(3.5, 0.7), P2(3.6, 4.3)}, 1.1, 1.0 + phase);
 		else
 		{
 			const double x = 3.0 + 1.3 * u(layout);
@@ -602,6 +605,7 @@ TSimSummary runSimulation(
 	std::string meta = "{\n  \"tool\": \"yesslam-sim\",\n";
 	meta += "  \"command\": \"" + jsonEscape(o.commandLine) + "\",\n";
 	meta += "  \"preset\": \"" + o.preset + "\",\n  \"seed\": " + std::to_string(o.seed) + ",\n";
+	if (o.roomSeed) meta += "  \"room_seed\": " + std::to_string(o.roomSeed) + ",\n";
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
 		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
 	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"det_noise\": \"" + o.detNoise + "\",\n";

@@ -13,6 +13,7 @@
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/io/MapFile.h"
 
 namespace mrpt_yesslam
 {
@@ -25,6 +26,7 @@ COptionTable TYesSlamOptions::TSystem::table()
 	t.count("frameBuffer", frameBuffer, 1, 10000, "recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)");
 	t.flag("asyncDetection", asyncDetection, "detect on a worker thread while ORB features are extracted");
 	t.count("mappingQueue", mappingQueue, 1, 10000, "parallel: keyframes waiting for local mapping before tracking waits");
+	t.flag("localizeOnly", localizeOnly, "localisation in a loaded map only (yesslam --load-map): no keyframes, the map is not changed");
 	return t;
 }
 
@@ -89,6 +91,7 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	  inserter_(opts.keyFrames),
 	  mapper_(opts.mapping, map_, opts.orb.scaleFactor, opts.tracking.maxDepth)
 {
+	tracker_.setMapReadOnly(opts_.system.localizeOnly);
 	// Algorithm 1 may name any frame of the interval that just closed: the buffer must hold it.
 	const auto& sem = opts_.keyFrames.semantic;
 	const std::size_t longest = static_cast<std::size_t>(std::max(sem.interval, sem.shortInterval));
@@ -416,7 +419,7 @@ TFrameReport CYesSlamSystem::processFrame(
 
 	std::optional<CKeyFrameInserter::TDecision> decision;
 	bool initialising = false;
-	if (map_.numKeyFrames() == 0)
+	if (map_.numKeyFrames() == 0 && !opts_.system.localizeOnly)
 	{
 		std::size_t usable = 0;
 		for (std::size_t i = 0; i < f->size(); i++) usable += f->usable(i, opts_.tracking.maxDepth);
@@ -460,7 +463,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		inserter_.addFrame(*frame, {frame->id, 0}, 0);	// the selector's first reference; no new keyframe
 		rep.keyFrame = true;
 	}
-	else if (frame->tracked)
+	else if (frame->tracked && !opts_.system.localizeOnly)
 	{
 		const auto ref = tracker_.referenceKeyFrame();
 		CKeyFrameInserter::TReference refInfo;
@@ -547,6 +550,26 @@ TTrajectory CYesSlamSystem::trajectory() const
 		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.relative : r.relative));
 	}
 	return out;
+}
+
+void CYesSlamSystem::loadMap(const std::string& path)
+{
+	if (nextFrameId_ > 0) throw std::logic_error("CYesSlamSystem::loadMap after the first frame");
+	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0);
+	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
+	if (vocabulary_)
+		for (TKeyFrameId id : map_.keyFrameIds())
+		{
+			const CKeyFrame k = map_.keyFrame(id);
+			if (!k.features) continue;
+			auto bow = vocabulary_->bowOf(*k.features, opts_.loop.detection.directLevel);
+			if (map_.setKeyFrameBow(id, bow)) bowDatabase_->add(id, std::move(bow));
+		}
+}
+
+void CYesSlamSystem::saveMap(const std::string& path) const
+{
+	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0);
 }
 
 std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const

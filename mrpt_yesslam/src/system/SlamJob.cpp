@@ -143,8 +143,23 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, con
 // `stop`: why the run ended early (empty: it read the whole input, or --max-frames). stats.json
 // then starts with "complete": false, the reason and the frames done, so a run cut short is never
 // taken for a whole one.
-void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {})
+void writeOutputs(
+	const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {}, const std::string& mapPath = {})
 {
+	if (!mapPath.empty())
+	{
+		// The map first: it is what a robot needs next, and the slowest output to lose.
+		try
+		{
+			sys.saveMap(mapPath);
+			std::error_code ec;
+			sum.mapFiles.savedBytes = fs::file_size(mapPath, ec);
+		}
+		catch (const std::exception& e)
+		{
+			sum.mapFiles.saveError = e.what();
+		}
+	}
 	const fs::path d(dir);
 	TStatsContext ctx;
 	ctx.loopClosing = sys.options().loop.detection.enabled;
@@ -214,8 +229,27 @@ TSlamJobSummary runSlamJob(
 	sum.groundTruth = o.groundTruth.empty() && !inputFilePath(o.input).empty() ? findGroundTruthFor(inputFilePath(o.input)) : o.groundTruth;
 	TTrajectory gt;
 	if (!sum.groundTruth.empty()) gt = readTumTrajectory(sum.groundTruth);	// bad ground truth: fail before the long run
-	// The system (detector model, options) first: a run that cannot start leaves no output folder.
+	if (!o.saveMap.empty())
+	{
+		// Found out now, not after an hour of mapping.
+		const fs::path dir = fs::path(o.saveMap).parent_path();
+		if (!dir.empty() && !fs::is_directory(dir)) throw InputError(o.saveMap, "cannot save the map there: the folder does not exist");
+		if (fs::is_directory(o.saveMap)) throw InputError(o.saveMap, "cannot save the map there: it is a folder");
+	}
+	if (opts.system.localizeOnly)
+	{
+		if (o.loadMap.empty()) throw InputError("", "localisation only needs a map to localise in (--load-map MAP.ysm)");
+		opts.dense.enabled = false;	 // no keyframes: nothing to build a dense map from
+	}
+	// The system (detector model, options) and the map first: a run that cannot start leaves no
+	// output folder.
 	CYesSlamSystem sys(opts);
+	if (!o.loadMap.empty())
+	{
+		sys.loadMap(o.loadMap);
+		sum.mapFiles.loadedKeyFrames = sys.map().numKeyFrames();
+		sum.mapFiles.loadedPoints = sys.map().numPoints();
+	}
 	// The recording is opened before the input starts delivering, written by whoever reads the
 	// frames first (the capture thread for live input), and committed however the run ends.
 	std::unique_ptr<CRecorder> recorder;
@@ -301,7 +335,7 @@ TSlamJobSummary runSlamJob(
 		{
 			// Already failing: the first error is the one reported.
 		}
-		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()));
+		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
 		throw;
 	}
 	closeInput();
@@ -309,7 +343,7 @@ TSlamJobSummary runSlamJob(
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
-	writeOutputs(sys, o.outDir, sum, stop);
+	writeOutputs(sys, o.outDir, sum, stop, o.saveMap);
 	if (!gt.empty() && sum.stats.frames > 0)
 	{
 		try

@@ -156,7 +156,8 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 			f.mapPoints[m[k].keypoint] = local.ids[m[k].point];
 			found.push_back(local.ids[m[k].point]);
 		}
-	r.movingPointsErased += map_.countTracking(visible, found, seenThrough(f, local, inView, found), opts_.seeThroughFrames);
+	if (!readOnly_)
+		r.movingPointsErased += map_.countTracking(visible, found, seenThrough(f, local, inView, found), opts_.seeThroughFrames);
 	// Matches of a group the check found moving: their map points are culled (a person who stood
 	// still and walks away leaves none behind), the mover's keypoints never become map points, and
 	// where it is stays uncertain for the next frames.
@@ -165,7 +166,7 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 		if (e.isMoving(k))
 		{
 			moving.push_back(m[k].keypoint);
-			r.movingPointsErased += map_.erasePoint(local.ids[m[k].point]);
+			if (!readOnly_) r.movingPointsErased += map_.erasePoint(local.ids[m[k].point]);
 		}
 	updateMovers(f, moving);
 	refKf_ = kfs.front();  // the keyframe sharing most points with the frame (ORB-SLAM2)
@@ -290,7 +291,16 @@ CTracker::TResult CTracker::track(TFrame& f)
 	const mrpt::poses::CPose3D lastPose = lastFramePose();
 	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
 	f.pose = predicted;
-	if (!refKf_) return r;
+	if (!refKf_)
+	{
+		// A loaded map (map reuse): the first frames are placed in it by relocalisation.
+		if (map_.numKeyFrames() > 0 && relocalise(f, r))
+		{
+			f.tracked = true;
+			r.ok = true;
+		}
+		return r;
+	}
 	check_.markMovers(f.features, movers_);
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).

@@ -64,8 +64,8 @@ struct CKeyFrame
 		return it == connections.end() ? 0 : it->second;
 	}
 
-	/** Format version written by serialize(); read() refuses newer ones. */
-	static constexpr std::uint32_t kSerialVersion = 1;
+	/** Format version written by serialize(); read() refuses newer ones (2: loop edges). */
+	static constexpr std::uint32_t kSerialVersion = 2;
 	/** Writes the keyframe (measurements, pose, associations, graph) in a compact versioned binary form. */
 	void serialize(std::ostream& out) const;
 	/** Reads what serialize() wrote; throws std::runtime_error for a truncated stream or an unknown version. */

@@ -200,6 +200,17 @@ class CSparseMap
 	/** Copies of all good points. */
 	std::vector<CMapPoint> points() const;
 
+	/** Format version written by serialize(); deserialize() refuses newer ones. */
+	static constexpr std::uint32_t kSerialVersion = 1;
+	/** Writes the whole map (map saving): every keyframe, bad ones too (their poses relative to their
+	 * parents and the spanning tree's history), every good point, and the id counters, so that a
+	 * loaded map goes on giving new ids after the old ones. */
+	void serialize(std::ostream& out) const;
+	/** Replaces the map's content with what serialize() wrote; throws std::runtime_error for a
+	 * truncated stream, a newer version, or data whose ids do not resolve (an observation of an
+	 * unknown keyframe, a keypoint index out of range), leaving the map as it was. */
+	void deserialize(std::istream& in);
+
    private:
 	void addObservation(CMapPoint& p, CKeyFrame& kf, std::size_t kp);
 	void eraseObservation(CMapPoint& p, TKeyFrameId kf);

@@ -65,6 +65,10 @@ class CVocabulary
 	/** Free text describing the training (set before save()). */
 	const std::string& description() const { return description_; }
 	void setDescription(const std::string& d) { description_ = d; }
+	/** A checksum of the tree and the weights (not of the description): two vocabularies with the
+	 * same fingerprint give every descriptor the same word. Saved maps record it, since their words
+	 * and BoW vectors mean nothing under another vocabulary. */
+	std::uint64_t fingerprint() const;
 	/** IDF weight of a word: log(N / n_i) over the training images. */
 	float idf(std::uint32_t word) const { return idf_.at(word); }
 

@@ -29,6 +29,9 @@ struct TSimOptions
 	std::string preset = "walking_xyz";
 	std::string outDir;
 	uint32_t seed = 1;
+	/** The room's own seed (0 = `seed`): two passes with the same roomSeed and different seeds see
+	 * the same room in the same world frame, with other noise, detections and people's timing. */
+	uint32_t roomSeed = 0;
 	std::size_t frames = 0;	 //!< 0 = the preset's
 	int people = -1;  //!< -1 = the preset's; walking presets add walkers, sitting presets sitters
 	std::string trajectoryFile;	 //!< replay a TUM trajectory (its stamps and motion) instead of the preset's motion

@@ -52,6 +52,8 @@ struct TYesSlamOptions
 		std::size_t frameBuffer = 8;  //!< recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)
 		bool asyncDetection = true;	 //!< detect on a worker thread while ORB features are extracted
 		std::size_t mappingQueue = 4;  //!< parallel: keyframes waiting for local mapping before tracking waits
+		/** Localisation in a loaded map only: no keyframes, no map changes (needs loadMap). */
+		bool localizeOnly = false;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -130,6 +132,12 @@ class CYesSlamSystem
 	/** Run statistics so far. */
 	TSlamStats stats() const;
 	const CSparseMap& map() const { return map_; }
+	/** Starts from a saved map (call before the first frame): its keyframes' words go into the
+	 * place-recognition database and the first frames are placed in it by relocalisation, so the
+	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
+	void loadMap(const std::string& path);
+	/** Saves the sparse map (call after waitForMapping); throws InputError naming the file. */
+	void saveMap(const std::string& path) const;
 	const CObjectDetector* detector() const { return builder_.detector(); }
 	/** The vocabulary of place recognition (null when none could be loaded and none was required). */
 	std::shared_ptr<const CVocabulary> vocabulary() const { return vocabulary_; }

@@ -35,6 +35,12 @@ struct TSlamJobOptions
 	/** Every frame read (live: every frame captured, dropped ones included) is written to this
 	 * .rawlog as it comes, so the run can be replayed; also on Ctrl-C. Empty = none. */
 	std::string record;
+	/** A saved map (.ysm) to start from: the run localises in it and extends it (with
+	 * slam.system.localizeOnly: only localises; the map is not changed, dense mapping is off).
+	 * Empty = start from nothing. */
+	std::string loadMap;
+	/** Where to save the sparse map at the end of the run (also on Ctrl-C and on errors); empty = not saved. */
+	std::string saveMap;
 	/** Optional: called after each frame (CYesSlamSystem::setFrameCallback). */
 	std::function<void(const TFrame&)> onFrame;
 };
@@ -57,6 +63,13 @@ struct TSlamJobSummary
 		std::uintmax_t plyBytes = 0, otBytes = 0, btBytes = 0;
 		double buildMs = 0;	 //!< fusion, filtering and octree at the end of the run
 	} dense;
+	/** The map loaded and the map saved (zero when none). */
+	struct TMapFiles
+	{
+		std::size_t loadedKeyFrames = 0, loadedPoints = 0;
+		std::uintmax_t savedBytes = 0;
+		std::string saveError;	//!< why --save-map failed (the run's other outputs are written)
+	} mapFiles;
 	/** Where the frames came from. */
 	struct TInput
 	{

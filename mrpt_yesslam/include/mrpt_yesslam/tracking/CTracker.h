@@ -96,6 +96,9 @@ class CTracker
 		vocabulary_ = std::move(vocabulary);
 		database_ = std::move(database);
 	}
+	/** Localisation only (a robot in a saved map): tracking never changes the map (no tracking
+	 * statistics, no points erased as moving or seen through). */
+	void setMapReadOnly(bool readOnly) { readOnly_ = readOnly; }
 	const TOptions& options() const { return opts_; }
 
    private:
@@ -134,6 +137,7 @@ class CTracker
 	std::vector<CGeometricDynamicCheck::TMoverRegion> movers_;
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<const CBowDatabase> database_;
+	bool readOnly_ = false;	 //!< see setMapReadOnly
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with

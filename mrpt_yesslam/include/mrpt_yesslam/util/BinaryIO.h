@@ -3,6 +3,7 @@
 // written raw (every machine we build for is little-endian), and reads that throw on a short stream
 // instead of leaving garbage, with a size limit so a corrupt length cannot ask for terabytes.
 #include <cstdint>
+#include <cstring>
 #include <istream>
 #include <ostream>
 #include <stdexcept>
@@ -45,6 +46,23 @@ std::vector<T> getVector(std::istream& i, const char* what, std::uint64_t maxCou
 	if (n && !i.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T))))
 		throw std::runtime_error(std::string("truncated data reading ") + what);
 	return v;
+}
+/** FNV-1a's xor-multiply on 64-bit words (then the tail bytes): detects a damaged or truncated file
+ * before its contents are trusted, at a fraction of a millisecond for 5 MB (byte by byte it took
+ * most of a vocabulary's 40 ms load). */
+inline std::uint64_t checksum(const char* p, std::size_t n)
+{
+	std::uint64_t h = 1469598103934665603ull;
+	std::size_t i = 0;
+	for (; i + 8 <= n; i += 8)
+	{
+		std::uint64_t w;
+		std::memcpy(&w, p + i, 8);
+		h = (h ^ w) * 1099511628211ull;
+		h ^= h >> 29;
+	}
+	for (; i < n; i++) h = (h ^ static_cast<std::uint8_t>(p[i])) * 1099511628211ull;
+	return h;
 }
 /** Checks a record's version: refuses versions newer than `current` (written by a newer build). */
 inline std::uint32_t getVersion(std::istream& i, const char* what, std::uint32_t current)

@@ -1,0 +1,33 @@
+#pragma once
+// Saved maps (.ysm): the sparse map of a run, to be loaded by a later run that localises in it
+// (issue 17). One file: a magic, a format version, the fingerprint of the vocabulary the keyframes'
+// words came from, the map (CSparseMap::serialize) and a checksum of everything before it, so that a
+// damaged, cut or foreign file is refused in one line before any of it is used.
+#include <cstdint>
+#include <string>
+
+#include "mrpt_yesslam/data/CSparseMap.h"
+
+namespace mrpt_yesslam
+{
+/** What a map file's header says (yesslam-map, error messages). */
+struct TMapFileInfo
+{
+	std::uint32_t version = 0;
+	std::uint64_t vocabularyFingerprint = 0;  //!< 0: saved without a vocabulary
+	std::uint64_t bytes = 0;
+};
+
+/** Format version of .ysm files; readers refuse newer ones. */
+constexpr std::uint32_t kMapFileVersion = 1;
+
+/** Writes `map` to `path` atomically (also what Ctrl-C saves); `vocabularyFingerprint` is
+ * CVocabulary::fingerprint() of the run's vocabulary, 0 without one. Throws InputError naming the file. */
+void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint);
+
+/** Reads a map file into `map` (replacing its content). `vocabularyFingerprint`: this run's
+ * vocabulary (0: none); a map saved under another vocabulary is refused (saved or loaded without
+ * one is accepted). Throws InputError naming the file for a missing file,
+ * a foreign or newer-format file, a truncated or corrupt one (checksum) and inconsistent content. */
+TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint);
+}  // namespace mrpt_yesslam
