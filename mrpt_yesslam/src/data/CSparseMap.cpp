@@ -3,6 +3,7 @@
 #include "mrpt_yesslam/util/BinaryIO.h"
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -984,6 +985,28 @@ void CSparseMap::deserialize(std::istream& in)
 			if (!known(e)) throw std::runtime_error("keyframe loop edge unknown reading map");
 	}
 	if (!kfs.empty() && kfs.begin()->second->bad) throw std::runtime_error("the first keyframe is erased reading map");
+	// Poses and positions finite, and every parent chain ends (poses of erased keyframes follow it).
+	const auto finite = [](const mrpt::poses::CPose3D& p)
+	{
+		const auto M = p.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+		for (int r = 0; r < 3; r++)
+			for (int c = 0; c < 4; c++)
+				if (!std::isfinite(M(r, c))) return false;
+		return true;
+	};
+	for (const auto& [id, kf] : kfs)
+	{
+		if (!finite(kf->pose) || !finite(kf->poseInParent)) throw std::runtime_error("keyframe pose not finite reading map");
+		TKeyFrameId at = id;
+		for (std::size_t hops = 0; kfs.at(at)->parent; hops++)
+		{
+			if (hops > kfs.size()) throw std::runtime_error("the spanning tree has a cycle reading map");
+			at = *kfs.at(at)->parent;
+		}
+	}
+	for (const auto& [id, p] : pts)
+		if (!std::isfinite(p.position.x) || !std::isfinite(p.position.y) || !std::isfinite(p.position.z))
+			throw std::runtime_error("map point position not finite reading map");
 	WriteLock lk(mtx_);
 	keyFrames_ = std::move(kfs);
 	points_ = std::move(pts);
