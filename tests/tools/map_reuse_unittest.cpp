@@ -11,7 +11,10 @@
 #include <sstream>
 
 #include "TestUtils.h"
+#include <octomap/OcTree.h>
+
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/io/MapFile.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/util/BinaryIO.h"
@@ -184,6 +187,28 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 	ASSERT_EQ(made.exitCode, 0) << made.err;
 	const std::string good = readText(d / "good.ysm");
 	ASSERT_GT(good.size(), 1000u);
+
+	// yesslam-map: the summary matches the map, and the exports are what they claim.
+	{
+		mrpt_yesslam::CSparseMap m;
+		mrpt_yesslam::loadMapFile(d / "good.ysm", m, 0);
+		const auto r = runTool("yesslam-map", {"--map", d / "good.ysm", "--scene", d / "m.3Dscene", "--ply", d / "m.ply", "--bt", d / "m.bt"});
+		ASSERT_EQ(r.exitCode, 0) << r.err;
+		EXPECT_NE(r.out.find("keyframes:    " + std::to_string(m.numKeyFrames()) + " "), std::string::npos) << r.out;
+		EXPECT_NE(r.out.find("map points:   " + std::to_string(m.numPoints()) + "\n"), std::string::npos) << r.out;
+		EXPECT_NE(r.out.find("person ("), std::string::npos) << r.out;	// walking people were detected
+		EXPECT_EQ(mrpt_yesslam::readDenseCloudPly(d / "m.ply").size(), m.numPoints());
+		EXPECT_GT(fs::file_size(d / "m.3Dscene"), 1000u);
+		octomap::OcTree bt(0.1);
+		ASSERT_TRUE(bt.readBinary(d / "m.bt"));
+		EXPECT_DOUBLE_EQ(bt.getResolution(), 0.05);
+		std::size_t occupied = 0;
+		for (auto it = bt.begin_leafs(); it != bt.end_leafs(); ++it) occupied += bt.isNodeOccupied(*it);
+		EXPECT_GT(occupied, m.numPoints() / 10);
+		const auto bad = runTool("yesslam-map", {"--map", seq + "/groundtruth.txt"});
+		EXPECT_EQ(bad.exitCode, 1);
+		EXPECT_NE(bad.err.find("not a yesslam map"), std::string::npos) << bad.err;
+	}
 
 	auto refused = [&](const std::string& file, const std::vector<std::string>& fragments)
 	{
