@@ -79,6 +79,7 @@ int main(int argc, char** argv)
 			cl.flag("no-dynamic-filter", "use every feature, people included (the baseline the method is compared with)", &noDynamic);
 			cl.text("policy", "P", "keyframe policy: semantic (the paper's Algorithm 1) or orbslam (ORB-SLAM2's rules)", &policy);
 			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);
+			cl.count("skip-frames", "N", "recorded input: start N frames in (the ones before are read and dropped)", &o.skipFrames);
 			cl.text("gt", "FILE", "ground-truth trajectory (TUM format) to evaluate against", &o.groundTruth);
 			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &camera);
 			cl.flag("sequential", "run local mapping in the tracking thread ([System] parallel=false): deterministic", &sequential);

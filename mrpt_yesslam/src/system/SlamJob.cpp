@@ -236,6 +236,8 @@ TSlamJobSummary runSlamJob(
 		if (!dir.empty() && !fs::is_directory(dir)) throw InputError(o.saveMap, "cannot save the map there: the folder does not exist");
 		if (fs::is_directory(o.saveMap)) throw InputError(o.saveMap, "cannot save the map there: it is a folder");
 	}
+	if (o.skipFrames && (isOpenNI2Input(o.input) || o.live.realtime))
+		throw InputError("", "skipping frames is for recorded input read in order, not for live or real-time input");
 	if (opts.system.localizeOnly)
 	{
 		if (o.loadMap.empty()) throw InputError("", "localisation only needs a map to localise in (--load-map MAP.ysm)");
@@ -291,6 +293,8 @@ TSlamJobSummary runSlamJob(
 	std::size_t done = 0;
 	try
 	{
+		for (std::size_t k = 0; k < o.skipFrames; k++)
+			if (!src->next()) break;
 		while (!(o.maxFrames && done >= o.maxFrames))
 		{
 			if (cancel && cancel())

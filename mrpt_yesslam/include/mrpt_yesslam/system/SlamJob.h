@@ -19,6 +19,9 @@ struct TSlamJobOptions
 	/** Ground truth; empty = the one found beside the input (findGroundTruthFor), if any. */
 	std::string groundTruth;
 	std::size_t maxFrames = 0;	//!< 0 = all
+	/** Recorded input: frames read and dropped before the first one processed (start elsewhere in a
+	 * recording, e.g. to relocalise in a saved map from another place). */
+	std::size_t skipFrames = 0;
 	TYesSlamOptions slam;
 	/** Live input: a camera, or recorded input played as one. */
 	struct TLive
