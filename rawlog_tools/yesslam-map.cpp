@@ -2,6 +2,7 @@
 // cloud or an occupancy octree.
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
@@ -21,27 +22,30 @@ int main(int argc, char** argv)
 		"yesslam-map",
 		[&]() -> int
 		{
-			std::string map, scene, ply, bt;
+			std::string map, scene, ply, bt, ot;
 			double resolution = 0.05;
 			CommandLine cl(
 				"yesslam-map", "yesslam-map --map MAP.ysm [--scene OUT.3Dscene] [--ply OUT.ply] [--bt OUT.bt [--resolution M]]",
 				"Prints what a map saved by `yesslam --save-map` holds: keyframes, map points, the extent of the points,\n"
 				"the time span and path of the keyframes, loop edges, and the object classes its keyframes saw. Exports\n"
 				"the map as an MRPT scene (points, keyframe frustums and path: SceneViewer3D, yesslam-render), as a PLY\n"
-				"point cloud (colour; observations = keyframes seeing each point), or as an OctoMap .bt (each keyframe's\n"
-				"points inserted from its camera: the space in front of them free; octovis, octomap_server). Files are\n"
-				"written atomically. The map is only read (any vocabulary).",
+				"point cloud (colour; observations = keyframes seeing each point), and the semantic OctoMap saved with it\n"
+				"(when the run built one) as .ot (occupancy, colour, label) or .bt (occupancy: octovis, octomap_server); a map\n"
+				"saved without one gets a .bt of its points (each keyframe's points inserted from its camera: the space in\n"
+				"front of them free). Files are written atomically. The map is only read (any vocabulary).",
 				{"yesslam-map --map office.ysm", "yesslam-map --map office.ysm --scene office.3Dscene --ply office.ply --bt office.bt"});
 			cl.text("map", "MAP.ysm", "the saved map (required)", &map, true);
 			cl.text("scene", "FILE", "write the map as an MRPT .3Dscene", &scene);
 			cl.text("ply", "FILE", "write the map points as a binary PLY", &ply);
-			cl.text("bt", "FILE", "write an occupancy OctoMap (.bt) of the map points", &bt);
-			cl.number("resolution", "M", "voxel size of --bt in metres (0.005..10, default 0.05)", &resolution);
+			cl.text("bt", "FILE", "write the occupancy OctoMap (.bt): the saved semantic octree's, else one of the map points", &bt);
+			cl.text("ot", "FILE", "write the saved semantic OctoMap (.ot: occupancy, colour, label)", &ot);
+			cl.number("resolution", "M", "voxel size of a --bt made from the points, in metres (0.005..10, default 0.05)", &resolution);
 			if (!cl.parse(argc, argv)) return 0;
 			if (!(resolution >= 0.005 && resolution <= 10)) throw InputError("", "--resolution must be between 0.005 and 10 m");
 			CSparseMap m;
 			// Any vocabulary: the fingerprint check is for runs that localise in the map.
-			const TMapFileInfo info = loadMapFile(map, m, 0);
+			std::unique_ptr<CSemanticOcTree> octree;
+			const TMapFileInfo info = loadMapFile(map, m, 0, &octree);
 			std::vector<std::string> names;
 			const std::string share = shareDir();
 			std::error_code ec;
@@ -50,6 +54,28 @@ int main(int argc, char** argv)
 			std::printf("map:          %s (format %u, %.1f MB, vocabulary %016llx)\n", map.c_str(), info.version, info.bytes / 1e6,
 						static_cast<unsigned long long>(info.vocabularyFingerprint));
 			std::fputs(formatMapSummary(summarizeMap(m, names)).c_str(), stdout);
+			if (octree)
+			{
+				std::map<std::string, std::size_t> byLabel;
+				std::size_t occupied = 0;
+				for (auto it = octree->begin_leafs(), end = octree->end_leafs(); it != end; ++it)
+					if (octree->isNodeOccupied(*it))
+					{
+						occupied++;
+						byLabel[labelName(it->label, names)]++;
+					}
+				std::string labels;
+				for (const auto& [name, n] : byLabel) labels += (labels.empty() ? "" : ", ") + name + " " + std::to_string(n);
+				std::printf("octree:       %zu occupied voxels at %.3f m (%s)\n", occupied, octree->getResolution(), labels.c_str());
+			}
+			else
+				std::printf("octree:       none (the run that saved the map had no dense map)\n");
+			if (!ot.empty())
+			{
+				if (!octree) throw InputError(map, "has no semantic octree to write to " + ot);
+				writeSemanticOcTree(ot, *octree);
+				std::printf("ot:           %s\n", ot.c_str());
+			}
 			if (!scene.empty())
 			{
 				TTrajectory path;
@@ -65,9 +91,11 @@ int main(int argc, char** argv)
 			}
 			if (!bt.empty())
 			{
-				const auto tree = mapOccupancy(m, resolution);
-				writeOccupancyBt(bt, *tree);
-				std::printf("bt:           %s (%zu leaves at %.3f m)\n", bt.c_str(), tree->getNumLeafNodes(), resolution);
+				const auto fromPoints = octree ? nullptr : mapOccupancy(m, resolution);
+				const CSemanticOcTree& tree = octree ? *octree : *fromPoints;
+				writeOccupancyBt(bt, tree);
+				std::printf("bt:           %s (%zu leaves at %.3f m, %s)\n", bt.c_str(), tree.getNumLeafNodes(), tree.getResolution(),
+							octree ? "the saved semantic octree" : "from the map points");
 			}
 			return 0;
 		});

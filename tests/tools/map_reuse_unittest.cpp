@@ -5,6 +5,7 @@
 // newer and other-vocabulary files are refused in one line.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -163,7 +164,7 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 {
 	TempDir d("map_reuse_bad");
 	const std::string seq = walkingSequence60();
-	const auto made = runTool("yesslam", {"--input", seq, "--out", d / "map", "--save-map", d / "good.ysm", "--sequential", "--quiet", "--no-dense-map"});
+	const auto made = runTool("yesslam", {"--input", seq, "--out", d / "map", "--save-map", d / "good.ysm", "--sequential", "--quiet"});
 	ASSERT_EQ(made.exitCode, 0) << made.err;
 	const std::string good = readText(d / "good.ysm");
 	ASSERT_GT(good.size(), 1000u);
@@ -172,19 +173,45 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 	{
 		mrpt_yesslam::CSparseMap m;
 		mrpt_yesslam::loadMapFile(d / "good.ysm", m, 0);
-		const auto r = runTool("yesslam-map", {"--map", d / "good.ysm", "--scene", d / "m.3Dscene", "--ply", d / "m.ply", "--bt", d / "m.bt"});
+		const auto r = runTool(
+			"yesslam-map", {"--map", d / "good.ysm", "--scene", d / "m.3Dscene", "--ply", d / "m.ply", "--bt", d / "m.bt", "--ot", d / "m.ot"});
 		ASSERT_EQ(r.exitCode, 0) << r.err;
+		// The run's semantic OctoMap went into the map file: the one written back out is the run's map.ot.
+		EXPECT_NE(r.out.find("octree:       "), std::string::npos) << r.out;
+		EXPECT_TRUE(readText(d / "m.ot") == readText(d / "map/map.ot")) << "the stored octree differs from the run's map.ot";
 		EXPECT_NE(r.out.find("keyframes:    " + std::to_string(m.numKeyFrames()) + " "), std::string::npos) << r.out;
 		EXPECT_NE(r.out.find("map points:   " + std::to_string(m.numPoints()) + "\n"), std::string::npos) << r.out;
 		EXPECT_NE(r.out.find("person ("), std::string::npos) << r.out;	// walking people were detected
 		EXPECT_EQ(mrpt_yesslam::readDenseCloudPly(d / "m.ply").size(), m.numPoints());
 		EXPECT_GT(fs::file_size(d / "m.3Dscene"), 1000u);
-		octomap::OcTree bt(0.1);
-		ASSERT_TRUE(bt.readBinary(d / "m.bt"));
-		EXPECT_DOUBLE_EQ(bt.getResolution(), 0.05);
+		// The saved octree's occupancy: the same occupied volume as the run's map.bt.
+		auto occupiedVolume = [](const std::string& path)
+		{
+			octomap::OcTree t(0.1);
+			EXPECT_TRUE(t.readBinary(path)) << path;
+			EXPECT_DOUBLE_EQ(t.getResolution(), 0.05);
+			double v = 0;
+			for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it)
+				if (t.isNodeOccupied(*it)) v += std::pow(it.getSize(), 3);
+			return v;
+		};
+		const double volume = occupiedVolume(d / "m.bt");
+		EXPECT_GT(volume, 0.0);
+		EXPECT_NEAR(volume, occupiedVolume(d / "map/map.bt"), 1e-9);
+		// A map saved without a dense map: a .bt from its points, and no .ot to give.
+		const auto sparse = runTool("yesslam", {"--input", seq, "--out", d / "sparse", "--save-map", d / "sparse.ysm", "--sequential", "--quiet", "--no-dense-map"});
+		ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
+		const auto r2 = runTool("yesslam-map", {"--map", d / "sparse.ysm", "--bt", d / "s.bt"});
+		ASSERT_EQ(r2.exitCode, 0) << r2.err;
+		EXPECT_NE(r2.out.find("octree:       none"), std::string::npos) << r2.out;
+		octomap::OcTree fromPoints(0.1);
+		ASSERT_TRUE(fromPoints.readBinary(d / "s.bt"));
 		std::size_t occupied = 0;
-		for (auto it = bt.begin_leafs(); it != bt.end_leafs(); ++it) occupied += bt.isNodeOccupied(*it);
+		for (auto it = fromPoints.begin_leafs(); it != fromPoints.end_leafs(); ++it) occupied += fromPoints.isNodeOccupied(*it);
 		EXPECT_GT(occupied, m.numPoints() / 10);
+		const auto noOt = runTool("yesslam-map", {"--map", d / "sparse.ysm", "--ot", d / "s.ot"});
+		EXPECT_EQ(noOt.exitCode, 1);
+		EXPECT_NE(noOt.err.find("no semantic octree"), std::string::npos) << noOt.err;
 		const auto bad = runTool("yesslam-map", {"--map", seq + "/groundtruth.txt"});
 		EXPECT_EQ(bad.exitCode, 1);
 		EXPECT_NE(bad.err.find("not a yesslam map"), std::string::npos) << bad.err;
@@ -232,7 +259,7 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 		// version(4) id(8) xyz(24) descriptor(8 + 32) colour(3) observation count(8), then the first keyframe id.
 		const std::uint64_t bogus = 999999;
 		std::memcpy(b.data() + at + 4 + 8 + 24 + 8 + 32 + 3 + 8, &bogus, 8);
-		std::string file = good.substr(0, 20) + b;
+		std::string file = good.substr(0, 20) + b + std::string(16, '\0');  // no octree section
 		const std::uint64_t sum = mrpt_yesslam::binio::checksum(file.data(), file.size());
 		file.append(reinterpret_cast<const char*>(&sum), 8);
 		writeText(d / "inconsistent.ysm", file);

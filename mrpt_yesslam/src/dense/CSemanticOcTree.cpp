@@ -121,7 +121,15 @@ std::unique_ptr<CSemanticOcTree> CSemanticOcTree::readFile(const std::string& pa
 	if (!std::filesystem::is_regular_file(path)) throw InputError(path, "not found (or not a file)");
 	std::ifstream in(path, std::ios::binary);
 	if (!in) throw InputError(path, "cannot open");
+	return read(in, path);
+}
+
+std::unique_ptr<CSemanticOcTree> CSemanticOcTree::read(std::istream& in, const std::string& path)
+{
+	const auto start = in.tellg();
 	checkStructure(path, in);
+	in.clear();
+	in.seekg(start);
 	CSemanticOcTree probe(0.1);	 // registers the type before the factory looks it up
 	// OctoMap reports its progress on std::cout and std::cerr ("Reading octree type ..."): not for our users.
 	std::unique_ptr<octomap::AbstractOcTree> t;

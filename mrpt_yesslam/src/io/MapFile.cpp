@@ -23,20 +23,32 @@ std::string hex(std::uint64_t v)
 }
 }  // namespace
 
-void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint)
+void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree)
 {
 	std::ostringstream o(std::ios::binary);
 	o.write(kMagic, 8);
 	binio::put<std::uint32_t>(o, kMapFileVersion);
 	binio::put<std::uint64_t>(o, vocabularyFingerprint);
 	map.serialize(o);
+	// The semantic OctoMap as its own .ot bytes, with their length (0: none), after its occupancy
+	// threshold (a run's is configurable, [DenseMapping] occupancyThreshold, and .ot does not keep it).
+	std::string ot;
+	if (octree)
+	{
+		std::ostringstream os(std::ios::binary);
+		if (!octree->write(os)) throw InputError(path, "OctoMap could not write the semantic octree");
+		ot = std::move(os).str();
+	}
+	binio::put<double>(o, octree ? octree->getOccupancyThres() : 0.0);
+	binio::put<std::uint64_t>(o, ot.size());
+	o.write(ot.data(), static_cast<std::streamsize>(ot.size()));
 	std::string buf = std::move(o).str();
 	const std::uint64_t sum = binio::checksum(buf.data(), buf.size());
 	buf.append(reinterpret_cast<const char*>(&sum), 8);
 	writeFileAtomically(path, buf);
 }
 
-TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint)
+TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint, std::unique_ptr<CSemanticOcTree>* octree)
 {
 	std::ifstream f(path, std::ios::binary | std::ios::ate);
 	if (!f) throw InputError(path, "cannot open the map file");
@@ -64,15 +76,29 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 		throw InputError(path, "the map was saved with another vocabulary (fingerprint " + hex(info.vocabularyFingerprint) + ", this run's " +
 								   hex(vocabularyFingerprint) + "); load it with the vocabulary it was made with ([LoopClosing] vocabulary)");
 	std::istringstream in(buf.substr(kHeader, size - kHeader - 8), std::ios::binary);
+	std::unique_ptr<CSemanticOcTree> tree;
 	try
 	{
 		map.deserialize(in);
+		const double threshold = binio::get<double>(in, "the semantic octree's occupancy threshold");
+		info.octreeBytes = binio::get<std::uint64_t>(in, "the semantic octree's length");
+		if (info.octreeBytes > size) throw std::runtime_error("implausible semantic octree length");
+		if (info.octreeBytes)
+		{
+			std::string ot(static_cast<std::size_t>(info.octreeBytes), '\0');
+			if (!in.read(ot.data(), static_cast<std::streamsize>(ot.size()))) throw std::runtime_error("truncated semantic octree");
+			std::istringstream os(ot, std::ios::binary);
+			tree = CSemanticOcTree::read(os, "its semantic octree");
+			if (!(threshold > 0 && threshold < 1)) throw std::runtime_error("occupancy threshold out of (0, 1)");
+			tree->setOccupancyThres(threshold);
+		}
 	}
 	catch (const std::exception& e)
 	{
 		throw InputError(path, std::string("map file is inconsistent (") + e.what() + ")");
 	}
 	if (in.peek() != std::char_traits<char>::eof()) throw InputError(path, "map file has data after the map");
+	if (octree) *octree = std::move(tree);
 	return info;
 }
 }  // namespace mrpt_yesslam

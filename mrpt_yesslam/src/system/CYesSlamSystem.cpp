@@ -567,9 +567,9 @@ void CYesSlamSystem::loadMap(const std::string& path)
 		}
 }
 
-void CYesSlamSystem::saveMap(const std::string& path) const
+void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* octree) const
 {
-	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0);
+	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree);
 }
 
 std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const

@@ -3,6 +3,7 @@
 #include <mrpt/opengl/CPointCloudColoured.h>
 
 #include <chrono>
+#include <optional>
 #include <cstdio>
 #include <deque>
 #include <mutex>
@@ -146,20 +147,6 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, con
 void writeOutputs(
 	const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {}, const std::string& mapPath = {})
 {
-	if (!mapPath.empty())
-	{
-		// The map first: it is what a robot needs next, and the slowest output to lose.
-		try
-		{
-			sys.saveMap(mapPath);
-			std::error_code ec;
-			sum.mapFiles.savedBytes = fs::file_size(mapPath, ec);
-		}
-		catch (const std::exception& e)
-		{
-			sum.mapFiles.saveError = e.what();
-		}
-	}
 	const fs::path d(dir);
 	TStatsContext ctx;
 	ctx.loopClosing = sys.options().loop.detection.enabled;
@@ -180,11 +167,13 @@ void writeOutputs(
 	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
 	auto scene = buildMapScene(sys.map(), sys.trajectory());
+	std::optional<TDenseMap> dense;
 	if (sys.denseMapper())
 	{
 		// The dense map from the keyframes' final poses: labelled cloud, OctoMaps, and the octree in
 		// the scene (coloured by label) so that yesslam-render pictures it.
-		const TDenseMap dm = sys.buildDenseMap();
+		dense = sys.buildDenseMap();
+		const TDenseMap& dm = *dense;
 		const auto& names = sys.detector()->classNames();
 		writeDenseCloudPly((d / "dense_cloud.ply").string(), dm.cloud, names);
 		writeSemanticOcTree((d / "map.ot").string(), *dm.octree);
@@ -210,6 +199,20 @@ void writeOutputs(
 		sum.dense.plyBytes = fs::file_size(d / "dense_cloud.ply", ec);
 		sum.dense.otBytes = fs::file_size(d / "map.ot", ec);
 		sum.dense.btBytes = fs::file_size(d / "map.bt", ec);
+	}
+	if (!mapPath.empty())
+	{
+		// With the semantic OctoMap of this run when there is one (yesslam-map exports it).
+		try
+		{
+			sys.saveMap(mapPath, dense ? dense->octree.get() : nullptr);
+			std::error_code ec;
+			sum.mapFiles.savedBytes = fs::file_size(mapPath, ec);
+		}
+		catch (const std::exception& e)
+		{
+			sum.mapFiles.saveError = e.what();
+		}
 	}
 	saveSceneAtomically(*scene, (d / "map.3Dscene").string());
 	writeFileAtomically((d / "stats.json").string(), json);

@@ -61,6 +61,9 @@ class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 	/** Reads a .ot file written by write(); throws InputError naming `path` when it is missing,
 	 * corrupt, truncated or holds another tree type. */
 	static std::unique_ptr<CSemanticOcTree> readFile(const std::string& path);
+	/** The same from a stream holding exactly one .ot (saved maps embed one); `name` is used in
+	 * error messages. */
+	static std::unique_ptr<CSemanticOcTree> read(std::istream& in, const std::string& name);
 
    private:
 	/** Registers the type with OctoMap's factory once (as OctoMap's own trees do). */

@@ -6,7 +6,10 @@
 #include <cstdint>
 #include <string>
 
+#include <memory>
+
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/dense/CSemanticOcTree.h"
 
 namespace mrpt_yesslam
 {
@@ -16,18 +19,22 @@ struct TMapFileInfo
 	std::uint32_t version = 0;
 	std::uint64_t vocabularyFingerprint = 0;  //!< 0: saved without a vocabulary
 	std::uint64_t bytes = 0;
+	std::uint64_t octreeBytes = 0;	//!< the semantic OctoMap's .ot inside (0 = none)
 };
 
 /** Format version of .ysm files; readers refuse newer ones. */
 constexpr std::uint32_t kMapFileVersion = 1;
 
 /** Writes `map` to `path` atomically (also what Ctrl-C saves); `vocabularyFingerprint` is
- * CVocabulary::fingerprint() of the run's vocabulary, 0 without one. Throws InputError naming the file. */
-void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint);
+ * CVocabulary::fingerprint() of the run's vocabulary, 0 without one; `octree`, the run's semantic
+ * OctoMap, is stored with it when given. Throws InputError naming the file. */
+void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree = nullptr);
 
-/** Reads a map file into `map` (replacing its content). `vocabularyFingerprint`: this run's
+/** Reads a map file into `map` (replacing its content; after an error it is unspecified). `vocabularyFingerprint`: this run's
  * vocabulary (0: none); a map saved under another vocabulary is refused (saved or loaded without
  * one is accepted). Throws InputError naming the file for a missing file,
- * a foreign or newer-format file, a truncated or corrupt one (checksum) and inconsistent content. */
-TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint);
+ * a foreign or newer-format file, a truncated or corrupt one (checksum) and inconsistent content. The stored semantic OctoMap is
+ * checked too, and returned in `octree` when asked for (null when the file has none). */
+TMapFileInfo loadMapFile(
+	const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint, std::unique_ptr<CSemanticOcTree>* octree = nullptr);
 }  // namespace mrpt_yesslam

@@ -136,8 +136,9 @@ class CYesSlamSystem
 	 * place-recognition database and the first frames are placed in it by relocalisation, so the
 	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
 	void loadMap(const std::string& path);
-	/** Saves the sparse map (call after waitForMapping); throws InputError naming the file. */
-	void saveMap(const std::string& path) const;
+	/** Saves the sparse map (call after waitForMapping), with the semantic OctoMap when given
+	 * (buildDenseMap's); throws InputError naming the file. */
+	void saveMap(const std::string& path, const CSemanticOcTree* octree = nullptr) const;
 	const CObjectDetector* detector() const { return builder_.detector(); }
 	/** The vocabulary of place recognition (null when none could be loaded and none was required). */
 	std::shared_ptr<const CVocabulary> vocabulary() const { return vocabulary_; }
