@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/poses/CPose3DQuat.h>
 
+#include <random>
 #include <set>
 
 #include <opencv2/imgproc.hpp>
@@ -138,6 +139,47 @@ TEST(Tracker, LostFramesContinueTheLastMotion)
 	const double coasting = worstError(0.9), held = worstError(0.0);
 	EXPECT_GT(held, 0.008);
 	EXPECT_LT(coasting, 0.6 * held);
+}
+
+// A lost frame coasts on the mean motion of the last tracked frames (lostVelocityFrames), not on
+// the last step alone: the step just before a person blinds the camera is the one the person
+// already pulls on (a camera standing still on walking_static coasted 56 mm off on such a step).
+TEST(Tracker, ALostFrameCoastsOnTheMeanOfTheLastMotionsNotOnALastJerk)
+{
+	std::mt19937 rng(5);
+	std::vector<mrpt::math::TPoint3D> world;
+	for (int i = 0; i < 60; i++) world.emplace_back(-1.0 + 0.035 * i, -0.5 + 0.017 * (i % 7), 2.5 + 0.01 * (i % 5));
+	const auto coastedX = [&](std::size_t window)
+	{
+		CSparseMap map;
+		const auto first = observeWorld(0, {}, world, std::vector<TPointId>(world.size(), -1), rng);
+		map.addKeyFrame(first, 10.0);
+		CTracker::TOptions to;
+		to.lostVelocityFrames = window;
+		CTracker tracker(to, map, 1.2, CGeometricDynamicCheck::TOptions());
+		tracker.setReferenceKeyFrame(0);
+		// 1 cm per frame along x, then a 4 cm jerk on the last tracked frame.
+		double x = 0;
+		for (std::size_t k = 0; k < 6; k++)
+		{
+			auto f = std::make_shared<TFrame>();
+			f->id = k;
+			f->camera = first->camera;
+			f->tracked = true;
+			x += k == 0 ? 0.0 : (k == 5 ? 0.04 : 0.01);
+			f->pose = mrpt::poses::CPose3D(x, 0, 0, 0, 0, 0);
+			tracker.setLastFrame(f);
+		}
+		TFrame lost;  // nothing to match: the frame is lost
+		lost.id = 6;
+		lost.camera = first->camera;
+		const auto r = tracker.track(lost);
+		EXPECT_FALSE(r.ok);
+		EXPECT_FALSE(lost.tracked);
+		return lost.pose.x();
+	};
+	EXPECT_NEAR(coastedX(3), 0.08 + (0.01 + 0.01 + 0.04) / 3, 1e-6);	 // the mean of the last three steps
+	EXPECT_NEAR(coastedX(1), 0.08 + 0.04, 1e-6);  // the last step alone (the old behaviour)
 }
 
 namespace

@@ -12,8 +12,10 @@
 // by local BA (and later loop closing) does not make the camera jump; a reference keyframe erased
 // by keyframe culling is replaced by its nearest good ancestor in the spanning tree.
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/CVectorFixed.h>
 
 #include <memory>
+#include <deque>
 #include <optional>
 #include <string>
 
@@ -53,6 +55,8 @@ class CTracker
 		std::size_t relocKeyFrames = 60;
 		std::size_t lostCoastFrames = 30;  //!< lost frames that still continue the last velocity
 		double lostDamping = 0.9;  //!< per lost frame, the velocity is scaled by this (0 = hold at once)
+		/** Lost frames continue the mean motion of this many last tracked frames (1: the last one). */
+		std::size_t lostVelocityFrames = 3;
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
 		 * frames has moved away and is erased (0 = never). */
 		int seeThroughFrames = 3;
@@ -106,6 +110,8 @@ class CTracker
 	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
 	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
 	TLocalMapPoints lastFramePoints(const mrpt::poses::CPose3D& lastPose) const;
+	/** Mean SE(3) log of the last tracked frames' motions (what a lost frame coasts on). */
+	mrpt::math::CVectorFixedDouble<6> meanRecentMotion() const;
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
@@ -131,6 +137,8 @@ class CTracker
 	std::optional<TKeyFrameId> lastRef_;	//!< the last frame's reference keyframe ...
 	mrpt::poses::CPose3D lastRelative_;	//!< ... and its pose relative to it, T_ref_last
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
+	/** Motions (SE(3) logs) of the last tracked frames, oldest first (lostVelocityFrames of them). */
+	std::deque<mrpt::math::CVectorFixedDouble<6>> recentMotion_;
 	std::size_t lostRun_ = 0;  //!< consecutive lost frames so far
 	std::optional<TKeyFrameId> refKf_;
 	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
