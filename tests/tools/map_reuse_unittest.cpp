@@ -154,7 +154,10 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 	EXPECT_GT(bigger.numKeyFrames(), loaded.numKeyFrames());
 	const auto oldIds = loaded.keyFrameIds();
 	for (auto id : bigger.keyFrameIds())
-		if (std::find(oldIds.begin(), oldIds.end(), id) == oldIds.end()) EXPECT_GT(id, oldIds.back());
+		if (std::find(oldIds.begin(), oldIds.end(), id) == oldIds.end())
+		{
+			EXPECT_GT(id, oldIds.back());
+		}
 	const double extended = errorInMapFrame(d / "ext/trajectory.txt");
 	std::printf("extending the map: %.1f mm in its frame, %zu -> %zu keyframes\n", 1000 * extended, loaded.numKeyFrames(), bigger.numKeyFrames());
 	EXPECT_LT(extended, 0.03);

@@ -319,10 +319,16 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 			EXPECT_EQ(std::stoul(c[0]), n);
 			EXPECT_NEAR(std::stod(c[1]), traj[n].t, 1e-6);
 			EXPECT_EQ(c[2], "1");
-			if (n == 0) EXPECT_EQ(c[3], "1");
+			if (n == 0)
+			{
+				EXPECT_EQ(c[3], "1");
+			}
 			EXPECT_GE(std::stoul(c[9]), 1u);	 // keyframes in the map
 			EXPECT_GT(std::stoul(c[10]), 100u);	 // map points
-			if (n > 0) EXPECT_GT(std::stod(c[14]), 0.0);  // track_ms
+			if (n > 0)
+			{
+				EXPECT_GT(std::stod(c[14]), 0.0);  // track_ms
+			}
 			n++;
 		}
 		EXPECT_EQ(n, 9u);
