@@ -135,7 +135,7 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 	{
 		if (!map_.hasKeyFrame(c.keyFrame) || map_.isBad(c.keyFrame)) continue;
 		const CKeyFrame o = map_.keyFrame(c.keyFrame);
-		if (kf.timestamp - o.timestamp < opts_.minLoopAge) continue;
+		if (o.id >= sessionStart_ && kf.timestamp - o.timestamp < opts_.minLoopAge) continue;
 		c.score = loopScore(kf, o, reference);
 		if (c.score >= minScore) scored.push_back(c);
 	}

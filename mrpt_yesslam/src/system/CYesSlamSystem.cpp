@@ -557,6 +557,11 @@ void CYesSlamSystem::loadMap(const std::string& path)
 	if (nextFrameId_ > 0) throw std::logic_error("CYesSlamSystem::loadMap after the first frame");
 	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0);
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
+	if (loopDetector_)
+	{
+		const auto ids = map_.keyFrameIds();
+		loopDetector_->setSessionStart(ids.back() + 1);	 // the saved keyframes are all of an earlier session
+	}
 	if (vocabulary_)
 		for (TKeyFrameId id : map_.keyFrameIds())
 		{

@@ -116,6 +116,10 @@ class CLoopDetector
 	std::optional<TLoop> verify(TKeyFrameId kf, TKeyFrameId candidate) const;
 	const TLoopDetectionStats& stats() const { return stats_; }
 	const TOptions& options() const { return opts_; }
+	/** Keyframes with ids below `id` come from a loaded map (an earlier session): they are old
+	 * enough for a loop whatever their timestamps say (another day's clock, or a recording that
+	 * restarts its clock). */
+	void setSessionStart(TKeyFrameId id) { sessionStart_ = id; }
 
    private:
 	struct TGroup
@@ -132,6 +136,7 @@ class CLoopDetector
 	double scaleFactor_, maxDepth_;
 	std::vector<TGroup> groups_;  //!< candidate groups of the previous keyframe
 	std::vector<TKeyFrameId> lastConsistent_;
+	TKeyFrameId sessionStart_ = 0;  //!< see setSessionStart
 	TLoopDetectionStats stats_;
 };
 }  // namespace mrpt_yesslam
