@@ -37,12 +37,14 @@ int main(int argc, char** argv)
 				"status line: capture fps, processed fps, dropped frames, tracking state). --record keeps every frame.\n"
 				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
-				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), config_used.ini, and with ground\n"
+				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), frames.csv (per frame: tracking\n"
+				"state, inliers, map size, stage times), config_used.ini, and with ground\n"
 				"truth (--gt, or groundtruth.txt found beside the input) eval.json; ATE and RPE are printed.\n"
 				"The dense semantic map (unless --no-dense-map): dense_cloud.ply (colour, fused class label and its\n"
 				"probability per point), map.ot (semantic OctoMap: occupancy, colour, label) and map.bt (occupancy only,\n"
 				"for octovis and navigation stacks); map.3Dscene then also holds the octree coloured by label. People\n"
 				"are left out, and the space they walked through is free.\n"
+				"--save-map keeps the map for a later --load-map (localise in it, or extend it; see yesslam-map).\n"
 				"Ctrl-C stops the run and saves everything up to that frame.",
 				{"yesslam --input sim_walking --out run1   (a yesslam-sim folder: uses its detections.txt)",
 				 "yesslam --input rgbd_dataset_freiburg3_walking_xyz --config share/mrpt_yesslam/config/tum_fr3.ini "
