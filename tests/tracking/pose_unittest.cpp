@@ -103,15 +103,25 @@ TEST(PoseOptimizer, TooFewOrDegenerateObservations)
 	EXPECT_FALSE(CPoseOptimizer().refine(junk.obs, K, junk.truth).ok);
 }
 
-TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
+namespace
 {
-	const auto K = tumCameraByName("fr3").intrinsics;
+// One RGB-D observation of a point 2.5 m ahead, off its projection by a few pixels.
+TPoseObservation depthObservation()
+{
 	TPoseObservation o;
 	o.world = Eigen::Vector3d(0.3, -0.2, 2.5);
 	o.pixel = Eigen::Vector2d(350, 200);
 	o.sigma = 1.44;
-	o.depth = 2.45;	 // the RGB-D depth term as well
+	o.depth = 2.45;
 	o.sigmaZ = 0.015;
+	return o;
+}
+}  // namespace
+
+TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
+{
+	const auto K = tumCameraByName("fr3").intrinsics;
+	const TPoseObservation o = depthObservation();	// the RGB-D depth term as well
 	ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3> cost(new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy()));
 	double rv[3] = {0.1, -0.2, 0.05}, t[3] = {0.02, 0.1, -0.3};
 	std::vector<double*> params = {rv, t};
@@ -142,12 +152,7 @@ TEST(PoseOptimizer, ClosedFormJacobianPredictsResidualsUnderALeftPerturbation)
 	// is the Ceres residual's, and J d predicts how the residual changes when the pose moves by a
 	// small left perturbation d = (w, v): X_c -> exp(w) X_c + v.
 	const auto K = tumCameraByName("fr3").intrinsics;
-	TPoseObservation o;
-	o.world = Eigen::Vector3d(0.3, -0.2, 2.5);
-	o.pixel = Eigen::Vector2d(350, 200);
-	o.sigma = 1.44;
-	o.depth = 2.45;
-	o.sigmaZ = 0.015;
+	const TPoseObservation o = depthObservation();
 	const TReprojectionResidual f(o, K.fx(), K.fy(), K.cx(), K.cy());
 	const mrpt::poses::CPose3D Twc(0.2, -0.1, 0.3, 0.2, -0.15, 0.1);
 	const mrpt::poses::CPose3D Tcw = -Twc;
