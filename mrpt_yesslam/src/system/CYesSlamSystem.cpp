@@ -218,20 +218,21 @@ void CYesSlamSystem::requestGlobalBundle()
 		}));
 }
 
+void CYesSlamSystem::addWords(TKeyFrameId kf)
+{
+	if (!vocabulary_) return;
+	const CKeyFrame k = map_.keyFrame(kf);
+	if (k.bad || !k.features) return;
+	auto bow = vocabulary_->bowOf(*k.features, opts_.loop.detection.directLevel);
+	if (map_.setKeyFrameBow(kf, bow)) bowDatabase_->add(kf, std::move(bow));
+}
+
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
 	auto t0 = Clock::now();
 	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
 	// detection find it; culled keyframes leave the database with the map.
-	if (vocabulary_)
-	{
-		const CKeyFrame k = map_.keyFrame(kf);
-		if (!k.bad && k.features)
-		{
-			auto bow = vocabulary_->bowOf(*k.features, opts_.loop.detection.directLevel);
-			if (map_.setKeyFrameBow(kf, bow)) bowDatabase_->add(kf, std::move(bow));
-		}
-	}
+	addWords(kf);
 	const TMappingStats st = mapper_.step(kf);
 	if (bowDatabase_)
 		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
@@ -562,14 +563,7 @@ void CYesSlamSystem::loadMap(const std::string& path)
 		const auto ids = map_.keyFrameIds();
 		loopDetector_->setSessionStart(ids.back() + 1);	 // the saved keyframes are all of an earlier session
 	}
-	if (vocabulary_)
-		for (TKeyFrameId id : map_.keyFrameIds())
-		{
-			const CKeyFrame k = map_.keyFrame(id);
-			if (!k.features) continue;
-			auto bow = vocabulary_->bowOf(*k.features, opts_.loop.detection.directLevel);
-			if (map_.setKeyFrameBow(id, bow)) bowDatabase_->add(id, std::move(bow));
-		}
+	for (TKeyFrameId id : map_.keyFrameIds()) addWords(id);
 }
 
 void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* octree) const

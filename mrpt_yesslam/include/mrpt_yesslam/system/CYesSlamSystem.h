@@ -150,6 +150,9 @@ class CYesSlamSystem
 	void insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced);
 	double motionToReference(const TFrame& f) const;
 	/** Local mapping of one keyframe (on the stage thread in parallel mode). */
+	/** Computes keyframe `kf`'s words and puts them in the place-recognition database (no-op
+	 * without a vocabulary or for a bad keyframe). */
+	void addWords(TKeyFrameId kf);
 	void mapKeyFrame(TKeyFrameId kf);
 	/** Collects finished mapping tasks (all queued ones with `wait`); rethrows the first failure. */
 	void collectMapping(bool wait);
