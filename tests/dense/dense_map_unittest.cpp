@@ -271,13 +271,20 @@ TEST(DenseMap, PeopleLeaveNoOccupiedVoxelWhereTheyWalkedAndObjectsKeepTheirClass
 	EXPECT_GT(on.score.sweptVoxels, 5000u);
 	EXPECT_EQ(on.score.ghostVoxels, 0u);
 	EXPECT_GT(off.score.ghostVoxels, 0u);
-	// Labels: most occupied voxels right; monitors (tv, label 63) and plants (label 59) keep
-	// their class. Measured on 450 frames: 0.84, 0.88 and 0.86.
-	EXPECT_GT(on.score.labelAccuracy(), 0.75);
-	ASSERT_TRUE(on.score.perLabel.count(63));
-	EXPECT_GT(double(on.score.perLabel.at(63).first) / double(on.score.perLabel.at(63).second), 0.7);
-	ASSERT_TRUE(on.score.perLabel.count(59));
-	EXPECT_GT(double(on.score.perLabel.at(59).first) / double(on.score.perLabel.at(59).second), 0.6);
+	// Labels: most occupied voxels right; monitors (tv, label 63), plants (59), desks (COCO dining
+	// table, 61) and chairs (57) keep their class. Measured: 0.91 overall, tv 0.85, plant 0.68,
+	// desk 0.49, chair 0.19; with the paper's single-seed fill ([DenseMapping] labelMethod fill)
+	// 0.84, and desk and chair 0.04 each.
+	EXPECT_GT(on.score.labelAccuracy(), 0.85);
+	auto accuracy = [&](int label)
+	{
+		if (!on.score.perLabel.count(label)) return 0.0;
+		return double(on.score.perLabel.at(label).first) / double(on.score.perLabel.at(label).second);
+	};
+	EXPECT_GT(accuracy(63), 0.7);
+	EXPECT_GT(accuracy(59), 0.55);
+	EXPECT_GT(accuracy(61), 0.35);
+	EXPECT_GT(accuracy(57), 0.1);
 	// The files: a PLY with every point labelled, map.bt readable by OctoMap's own OcTree.
 	const TDenseCloud ply = readDenseCloudPly(d / "on/dense_cloud.ply");
 	EXPECT_EQ(ply.size(), on.summary.dense.cloudPoints);

@@ -26,7 +26,10 @@ COptionTable CDenseSemanticMapper::TOptions::table()
 	t.real("voxelSize", voxelSize, 0.001, 1, "grid of the dense cloud and of label fusion, m");
 	t.real("labelProbMin", labelProbMin, 0.5, 1, "p(class) a detection of score 0 gives its pixels (eq. 29)");
 	t.real("labelProbMax", labelProbMax, 0.5, 1, "p(class) a detection of score 1 gives its pixels (eq. 29)");
-	t.real("labelDepthRange", labelDepthRange, 0, 100, "label fills never take depth farther than this from their seed's, m (0 = no limit)");
+	t.text("labelMethod", labelMethod, "segments: a static object is the smooth-surface segments inside its box (not running on past it); fill: the masker's depth flood fill from one seed (the paper's)", {"segments", "fill"});
+	t.real("labelDepthRange", labelDepthRange, 0, 100, "fill: label fills never take depth farther than this from their seed's, m (0 = no limit)");
+	t.real("segmentNormalAngle", segmentNormalAngle, 1, 90, "segments: neighbours whose normals differ by more degrees are different surfaces");
+	t.real("segmentMarginShare", segmentMarginShare, 0, 1, "segments: a segment with more than this share of its pixels in the margin around the box is background");
 	t.real("backgroundProb", backgroundProb, 0.01, 0.999, "p(background) of a pixel outside every detection (eq. 29)");
 	t.integer("outlierNeighbours", outlierNeighbours, 0, 100, "statistical outlier removal: neighbours per point (0 = off)");
 	t.real("outlierStdDev", outlierStdDev, 0, 100, "remove points whose mean neighbour distance exceeds the mean by this many standard deviations");
@@ -79,15 +82,41 @@ cv::Vec3b labelColour(TSemLabel label)
 	return kPalette[(label - 1) % 20];
 }
 
-CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObjectMasker::TOptions& masker, int numClasses)
-	: opts_(o), masker_(labelFillOptions(masker, o.labelDepthRange)), numClasses_(std::max(1, numClasses))
+namespace
 {
+CObjectSegmenter::TParams segmenterParams(const CDenseSemanticMapper::TOptions& o)
+{
+	CObjectSegmenter::TParams p;
+	p.maxNormalAngleDeg = o.segmentNormalAngle;
+	p.maxMarginShare = o.segmentMarginShare;
+	return p;
+}
+}  // namespace
+
+CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObjectMasker::TOptions& masker, int numClasses)
+	: opts_(o), masker_(labelFillOptions(masker, o.labelDepthRange)), segmenter_(segmenterParams(o)), numClasses_(std::max(1, numClasses))
+{
+	if (o.labelMethod != "segments" && o.labelMethod != "fill")
+		throw InputError("", "[DenseMapping] labelMethod must be segments or fill, got '" + o.labelMethod + "'");
 	if (!(o.maxDepth > o.minDepth)) throw InputError("", "[DenseMapping] maxDepth must exceed minDepth");
 	if (!(o.labelProbMax >= o.labelProbMin)) throw InputError("", "[DenseMapping] labelProbMax must be >= labelProbMin");
 	if (o.dynamicExclusion != "box" && o.dynamicExclusion != "mask" && o.dynamicExclusion != "none")
 		throw InputError("", "[DenseMapping] dynamicExclusion must be box, mask or none, got '" + o.dynamicExclusion + "'");
 	if (!(o.octomapResolution > 0)) throw InputError("", "[DenseMapping] octomapResolution must be > 0");
 	if (numClasses_ + 1 > 256) throw InputError("", "the dense map stores labels in one byte: at most 255 detector classes");
+}
+
+TObjectLabels CDenseSemanticMapper::labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& objects) const
+{
+	if (opts_.labelMethod == "segments") return segmenter_.segment(depth, camera, objects);
+	const TDynamicMask seg = masker_.segmentAll(depth, objects);
+	TObjectLabels r;
+	r.instance = seg.instanceLabels;
+	r.unknown = cv::Mat::zeros(depth.size(), CV_8U);
+	r.objectPixels.assign(objects.size(), 0);
+	for (const auto& reg : seg.regions)
+		if (reg.detection >= 0 && reg.detection < static_cast<int>(objects.size())) r.objectPixels[static_cast<std::size_t>(reg.detection)] = static_cast<int>(reg.pixels);
+	return r;
 }
 
 TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
@@ -105,7 +134,7 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
 		if (!d.dynamic) objects.push_back(d);
 	// Larger boxes first: a keyboard's fill is drawn over the desk's that may have run onto it.
 	std::stable_sort(objects.begin(), objects.end(), [](const TDetection& a, const TDetection& b) { return a.box.area() > b.box.area(); });
-	const TDynamicMask seg = masker_.segmentAll(depth, objects);
+	const TObjectLabels seg = labelPixels(depth, f.camera, objects);
 
 	// What never goes in: tracking's dynamic mask, and (box) every dynamic detection's grown box.
 	cv::Mat excluded = f.images->dynamicMask.empty() || opts_.dynamicExclusion == "none" ? cv::Mat::zeros(depth.size(), CV_8U)
@@ -164,13 +193,17 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
 		if (!seen.emplace(voxelKey(p, inv), c.xyz.size()).second) continue;  // thinned: one point per voxel
 		c.xyz.push_back(p);
 		c.bgr.push_back(bgr.at<cv::Vec3b>(v, u));
-		const int cls = seg.classLabels.empty() ? 0 : seg.classLabels.at<std::uint16_t>(v, u);
-		if (cls > 0)
+		const int inst = seg.instance.at<std::uint16_t>(v, u) - 1;
+		if (inst >= 0 && inst < static_cast<int>(objects.size()))
 		{
-			const int inst = seg.instanceLabels.at<std::uint16_t>(v, u) - 1;
-			const double s = inst >= 0 && inst < static_cast<int>(objects.size()) ? objects[static_cast<std::size_t>(inst)].score : 0.5;
-			c.label.push_back(static_cast<TSemLabel>(std::min(cls, 255)));
-			c.labelProb.push_back(static_cast<float>(opts_.labelProbMin + (opts_.labelProbMax - opts_.labelProbMin) * std::clamp(s, 0.0, 1.0)));
+			const TDetection& d = objects[static_cast<std::size_t>(inst)];
+			c.label.push_back(static_cast<TSemLabel>(std::min(d.classId + 1, 255)));
+			c.labelProb.push_back(static_cast<float>(opts_.labelProbMin + (opts_.labelProbMax - opts_.labelProbMin) * std::clamp(static_cast<double>(d.score), 0.0, 1.0)));
+		}
+		else if (seg.unknown.at<uchar>(v, u))
+		{
+			c.label.push_back(0);  // inside a box that found no object: no label evidence
+			c.labelProb.push_back(0);
 		}
 		else
 		{
@@ -264,7 +297,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 			v.b += c->bgr[i][0], v.g += c->bgr[i][1], v.r += c->bgr[i][2];
 			v.n++;
 			if (v.keyFrames == 0 || v.lastKf != id) v.keyFrames++, v.lastKf = id;
-			v.belief.observe(c->label[i], c->labelProb[i], K);	// eq. 29
+			if (c->labelProb[i] > 0) v.belief.observe(c->label[i], c->labelProb[i], K);	 // eq. 29
 		}
 		// Ray casting from the camera: cells passed are observed free (a person's old place too).
 		m.octree->insertPointCloud(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), -1, true, true);

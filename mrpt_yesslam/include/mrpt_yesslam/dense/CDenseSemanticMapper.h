@@ -2,8 +2,9 @@
 // The dense semantic map (paper section 2.6, eq. 25-29): a labelled point cloud and a semantic
 // OctoMap built from the keyframes' depth and colour, without the people who walked through.
 //
-// Per keyframe (addKeyFrame, on the dense-mapping stage): every detection of any class is cut out
-// by the masker's depth flood fill (CDynamicObjectMasker::segmentAll), giving per-pixel labels;
+// Per keyframe (addKeyFrame, on the dense-mapping stage): every static object's detection is cut
+// out of its box (CObjectSegmenter: smooth-surface segments inside the box; or, as the paper, the
+// masker's depth flood fill, CDynamicObjectMasker::segmentAll), giving per-pixel labels;
 // the depth is back-projected (eq. 25) on a pixel grid, leaving out what tracking masked as
 // dynamic (held objects included) and, beyond the paper, the whole box of every dynamic detection
 // grown a little (a flood fill leaves 7-14 % of a person's pixels outside its mask, README masking
@@ -27,6 +28,7 @@
 
 #include "mrpt_yesslam/data/CMapPoint.h"
 #include "mrpt_yesslam/data/TFrame.h"
+#include "mrpt_yesslam/dense/CObjectSegmenter.h"
 #include "mrpt_yesslam/dense/CSemanticOcTree.h"
 #include "mrpt_yesslam/dense/SemanticFusion.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
@@ -40,7 +42,7 @@ struct TKeyFrameCloud
 	std::vector<cv::Point3f> xyz;
 	std::vector<cv::Vec3b> bgr;
 	std::vector<TSemLabel> label;  //!< 0 = background, c + 1 = class c
-	std::vector<float> labelProb;  //!< p^(label | pixel) of the measurement model
+	std::vector<float> labelProb;  //!< p^(label | pixel) of the measurement model; 0 = no label evidence
 	std::size_t dynamicPixelsLeftOut = 0;	//!< grid pixels with depth not inserted as dynamic
 };
 
@@ -89,9 +91,14 @@ class CDenseSemanticMapper
 		/** Measurement model (eq. 29): a pixel inside the fill of a detection with score s says "its
 		 * class" with probability labelProbMin + (labelProbMax - labelProbMin) * s. */
 		double labelProbMin = 0.55, labelProbMax = 0.9;
-		/** The label fills (the masker's, run on every detection) never take depth farther than
-		 * this from their seed's, m ([DynamicMask] maxDepthRange plays this part for people). */
+		/** segments: static objects are the smooth-surface segments inside their box
+		 * (CObjectSegmenter); fill: the masker's depth flood fill from one seed (the paper's). */
+		std::string labelMethod = "segments";
+		/** fill: the label fills never take depth farther than this from their seed's, m
+		 * ([DynamicMask] maxDepthRange plays this part for people). */
 		double labelDepthRange = 0.5;
+		double segmentNormalAngle = 30;	 //!< segments: degrees between neighbours' normals that still make one surface
+		double segmentMarginShare = 0.25;  //!< segments: a segment with more of its pixels around the box is background
 		double backgroundProb = 0.6;  //!< a pixel outside every detection says "background" with this probability
 		int outlierNeighbours = 12;	 //!< statistical outlier removal: neighbours (0 = off)
 		double outlierStdDev = 2.0;	 //!< removes points whose mean neighbour distance exceeds mean + this * std
@@ -115,6 +122,9 @@ class CDenseSemanticMapper
 	 * detector's class count. Throws InputError for invalid options. */
 	CDenseSemanticMapper(const TOptions& opts, const CDynamicObjectMasker::TOptions& masker, int numClasses);
 
+	/** Per-pixel labels of the static objects `objects` (larger boxes first) on `depth`, by
+	 * labelMethod: instance = index into `objects` + 1. */
+	TObjectLabels labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& objects) const;
 	/** The cloud of one keyframe from its frame's images (TFrame::images; ignored without them). */
 	void addKeyFrame(TKeyFrameId id, const TFrame& frame);
 	/** The cloud of one keyframe, made from explicit images (the work of addKeyFrame). */
@@ -136,7 +146,8 @@ class CDenseSemanticMapper
 
    private:
 	TOptions opts_;
-	CDynamicObjectMasker masker_;  //!< segmentAll only (const)
+	CDynamicObjectMasker masker_;  //!< segmentAll only (const): labelMethod fill
+	CObjectSegmenter segmenter_;  //!< labelMethod segments
 	int numClasses_;
 	mutable std::mutex mtx_;
 	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds_;
