@@ -224,6 +224,34 @@ TEST(DenseMapper, CloudsAreRePlacedWhenKeyFramePosesChange)
 	const TDenseMap dm = m.build(poseOf);
 	ASSERT_EQ(dm.cloud.size(), 2u);
 	EXPECT_TRUE(dm.octree->search(octomap::point3d(1.0f, 2.5f, 5.5f)) != nullptr);
+	EXPECT_EQ(dm.cloud.label[1], 5);
+	EXPECT_NEAR(dm.cloud.labelProb[1], 0.8, 0.01);
+}
+
+TEST(DenseMapper, StoredCloudsTakeTwelveBytesAPointWithinHalfAMillimetre)
+{
+	// A long run keeps one cloud per keyframe: they are stored packed (1 mm steps, quantised
+	// probability), not as TKeyFrameCloud's 20 bytes a point plus vector growth.
+	CDenseSemanticMapper m(CDenseSemanticMapper::TOptions(), CDynamicObjectMasker::TOptions(), 80);
+	TKeyFrameCloud c;
+	for (int i = 0; i < 1000; i++)
+	{
+		c.xyz.emplace_back(-1.7f + 0.00337f * i, 0.61803f - 0.001f * i, 0.3f + 0.0037f * i);
+		c.bgr.emplace_back(1, 2, 3);
+		c.label.push_back(i % 3 ? 0 : 61);
+		c.labelProb.push_back(i % 3 ? 0.6f : 0.8f);
+	}
+	m.setKeyFrameCloud(1, c);
+	EXPECT_EQ(m.numStoredPoints(), 1000u);
+	EXPECT_LE(m.storedBytes(), 12u * 1000u + 256u);
+	const auto w = m.worldPoints([](TKeyFrameId) { return mrpt::poses::CPose3D(); });
+	ASSERT_EQ(w.size(), 1000u);
+	for (std::size_t i = 0; i < w.size(); i++)
+	{
+		EXPECT_NEAR(w[i].x, c.xyz[i].x, 5.1e-4);	 // half a step, float rounding
+		EXPECT_NEAR(w[i].y, c.xyz[i].y, 5.1e-4);
+		EXPECT_NEAR(w[i].z, c.xyz[i].z, 5.1e-4);
+	}
 }
 
 namespace

@@ -82,6 +82,19 @@ cv::Vec3b labelColour(TSemLabel label)
 	return kPalette[(label - 1) % 20];
 }
 
+struct CDenseSemanticMapper::TPackedCloud
+{
+	struct TPoint
+	{
+		std::int16_t x, y, z;  //!< keyframe frame, in steps of the mapper's unit_
+		std::uint8_t b, g, r;
+		TSemLabel label;
+		std::uint8_t prob;	//!< labelProb x 255 (0 = no label evidence)
+	};
+	static_assert(sizeof(TPoint) == 12, "12 bytes a stored point");
+	std::vector<TPoint> points;
+};
+
 namespace
 {
 CObjectSegmenter::TParams segmenterParams(const CDenseSemanticMapper::TOptions& o)
@@ -94,7 +107,12 @@ CObjectSegmenter::TParams segmenterParams(const CDenseSemanticMapper::TOptions& 
 }  // namespace
 
 CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObjectMasker::TOptions& masker, int numClasses)
-	: opts_(o), masker_(labelFillOptions(masker, o.labelDepthRange)), segmenter_(segmenterParams(o)), numClasses_(std::max(1, numClasses))
+	: opts_(o),
+	  masker_(labelFillOptions(masker, o.labelDepthRange)),
+	  segmenter_(segmenterParams(o)),
+	  numClasses_(std::max(1, numClasses)),
+	  // 1 mm steps reach 32 m: enough for any depth camera; farther maxDepth coarsens the step.
+	  unit_(std::max(0.001, o.maxDepth * 1.01 / 32000))
 {
 	if (o.labelMethod != "segments" && o.labelMethod != "fill")
 		throw InputError("", "[DenseMapping] labelMethod must be segments or fill, got '" + o.labelMethod + "'");
@@ -222,9 +240,29 @@ void CDenseSemanticMapper::addKeyFrame(TKeyFrameId id, const TFrame& frame)
 
 void CDenseSemanticMapper::setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud)
 {
-	auto p = std::make_shared<const TKeyFrameCloud>(std::move(cloud));
+	auto p = std::make_shared<TPackedCloud>();
+	p->points.reserve(cloud.xyz.size());
+	const double inv = 1.0 / unit_;
+	auto q = [&](float v) { return static_cast<std::int16_t>(std::clamp(std::lround(v * inv), -32767L, 32767L)); };
+	for (std::size_t i = 0; i < cloud.xyz.size(); i++)
+	{
+		const auto& x = cloud.xyz[i];
+		const auto& c = cloud.bgr[i];
+		const float pr = cloud.labelProb[i];
+		// A probability that quantises to 0 still is evidence: at least 1.
+		const auto prob = static_cast<std::uint8_t>(pr > 0 ? std::clamp(std::lround(pr * 255), 1L, 255L) : 0);
+		p->points.push_back({q(x.x), q(x.y), q(x.z), c[0], c[1], c[2], cloud.label[i], prob});
+	}
 	std::lock_guard<std::mutex> lk(mtx_);
 	clouds_[id] = std::move(p);
+}
+
+std::size_t CDenseSemanticMapper::storedBytes() const
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	std::size_t n = 0;
+	for (const auto& [id, c] : clouds_) n += sizeof(TPackedCloud) + c->points.capacity() * sizeof(TPackedCloud::TPoint);
+	return n;
 }
 
 std::size_t CDenseSemanticMapper::numKeyFrames() const
@@ -237,13 +275,13 @@ std::size_t CDenseSemanticMapper::numStoredPoints() const
 {
 	std::lock_guard<std::mutex> lk(mtx_);
 	std::size_t n = 0;
-	for (const auto& [id, c] : clouds_) n += c->xyz.size();
+	for (const auto& [id, c] : clouds_) n += c->points.size();
 	return n;
 }
 
 std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const
 {
-	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds;
+	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds;
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
 		clouds = clouds_;
@@ -252,7 +290,7 @@ std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<m
 	for (const auto& [id, c] : clouds)
 	{
 		const auto T = poseOf(id);
-		for (const auto& p : c->xyz) out.push_back(transform(T, p));
+		for (const auto& p : c->points) out.push_back(transform(T, cv::Point3f(p.x, p.y, p.z) * static_cast<float>(unit_)));
 	}
 	return out;
 }
@@ -260,7 +298,7 @@ std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<m
 TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const
 {
 	const auto t0 = std::chrono::steady_clock::now();
-	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds;
+	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds;
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
 		clouds = clouds_;
@@ -287,17 +325,18 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	{
 		const auto T = poseOf(id);
 		octomap::Pointcloud scan;
-		scan.reserve(c->xyz.size());
-		for (std::size_t i = 0; i < c->xyz.size(); i++)
+		scan.reserve(c->points.size());
+		const float unit = static_cast<float>(unit_);
+		for (const auto& p : c->points)
 		{
-			const cv::Point3f w = transform(T, c->xyz[i]);	// eq. 26
+			const cv::Point3f w = transform(T, cv::Point3f(p.x, p.y, p.z) * unit);  // eq. 26
 			scan.push_back(w.x, w.y, w.z);
 			TVoxel& v = voxels[voxelKey(w, inv)];
 			v.x += w.x, v.y += w.y, v.z += w.z;
-			v.b += c->bgr[i][0], v.g += c->bgr[i][1], v.r += c->bgr[i][2];
+			v.b += p.b, v.g += p.g, v.r += p.r;
 			v.n++;
 			if (v.keyFrames == 0 || v.lastKf != id) v.keyFrames++, v.lastKf = id;
-			if (c->labelProb[i] > 0) v.belief.observe(c->label[i], c->labelProb[i], K);	 // eq. 29
+			if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
 		}
 		// Ray casting from the camera: cells passed are observed free (a person's old place too).
 		m.octree->insertPointCloud(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), -1, true, true);

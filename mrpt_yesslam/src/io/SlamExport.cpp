@@ -76,7 +76,11 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
 	  << ", \"global_ba_runs\": " << s.globalBundleRuns << ", \"global_ba_applied\": " << s.globalBundleApplied << "},\n";
 	o << "  \"dense_map\": " << (ctx.denseMap ? "true" : "false") << ",\n";
-	if (ctx.denseMap) o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints << "},\n";
+	if (ctx.denseMap)
+	{
+		std::snprintf(buf, sizeof(buf), "%.2f", static_cast<double>(s.denseBytes) / 1e6);
+		o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints << ", \"stored_mb\": " << buf << "},\n";
+	}
 	o << "  \"keyframe_policy\": \"" << ctx.keyFramePolicy << "\",\n";
 	o << "  \"dynamic_filter\": " << (ctx.dynamicFilter ? "true" : "false") << ",\n";
 	o << "  \"stages_ms\": {";

@@ -595,6 +595,7 @@ TSlamStats CYesSlamSystem::stats() const
 	{
 		s.denseKeyFrames = dense_->numKeyFrames();
 		s.densePoints = dense_->numStoredPoints();
+		s.denseBytes = dense_->storedBytes();
 	}
 	return s;
 }

@@ -138,8 +138,10 @@ class CDenseSemanticMapper
 	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
 
 	std::size_t numKeyFrames() const;
-	/** Stored points over all keyframes (memory: about 20 bytes each). */
+	/** Stored points over all keyframes (memory: 12 bytes each, storedBytes()). */
 	std::size_t numStoredPoints() const;
+	/** Memory the stored clouds take. */
+	std::size_t storedBytes() const;
 	/** Labels: background + the detector's classes. */
 	int numLabels() const { return numClasses_ + 1; }
 	const TOptions& options() const { return opts_; }
@@ -149,8 +151,13 @@ class CDenseSemanticMapper
 	CDynamicObjectMasker masker_;  //!< segmentAll only (const): labelMethod fill
 	CObjectSegmenter segmenter_;  //!< labelMethod segments
 	int numClasses_;
+	/** A keyframe's cloud as stored: 12 bytes a point (position in steps of unit_, colour, label,
+	 * quantised probability), not TKeyFrameCloud's 20 plus growth slack: a long run keeps one per
+	 * keyframe, culled ones included. */
+	struct TPackedCloud;
+	double unit_;  //!< m per stored coordinate step
 	mutable std::mutex mtx_;
-	std::map<TKeyFrameId, std::shared_ptr<const TKeyFrameCloud>> clouds_;
+	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds_;
 };
 
 /** A colour per label for pictures (background grey, classes from a fixed palette). */
