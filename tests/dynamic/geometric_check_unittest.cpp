@@ -121,6 +121,40 @@ TEST(GeometricCheck, AViewFilledByAPersonGivesNoPose)
 	EXPECT_FALSE(st.blinded);
 }
 
+TEST(GeometricCheck, APersonFillingMuchOfTheViewStillGivesAPoseWhenTheBackgroundInItsBoxConfirmsTheFewCertainMatches)
+{
+	// 15 certain matches (fewer than minCertainInliers), a person's box holding 25 static
+	// background matches and 80 on the person, who moved: the certain pose, confirmed by the
+	// background ones, is the frame's pose; before minBlindedCertain the frame was lost.
+	std::mt19937 rng(5);
+	const mrpt::poses::CPose3D truth(0.2, 0.05, 0, 0.05, 0, 0);
+	const mrpt::poses::CPose3D guess(0.19, 0.06, 0.01, 0.045, 0, 0);
+	std::vector<TPoseObservation> obs;
+	std::vector<bool> uncertain;
+	observe(obs, uncertain, truth, 15, false, Eigen::Vector3d::Zero(), rng);
+	observe(obs, uncertain, truth, 25, true, Eigen::Vector3d::Zero(), rng);
+	observe(obs, uncertain, truth, 80, true, Eigen::Vector3d(0.1, 0, 0.05), rng);
+	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
+	CGeometricDynamicCheck::TStats st;
+	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), guess, &st);
+	ASSERT_TRUE(e.ok);
+	EXPECT_FALSE(st.blinded);
+	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.005);
+	std::size_t personJoined = 0;
+	for (std::size_t i = 40; i < obs.size(); i++) personJoined += e.inlier[i];
+	EXPECT_LE(personJoined, 4u);
+	// Always lost without it.
+	CGeometricDynamicCheck::TOptions strict;
+	strict.minBlindedCertain = 0;
+	EXPECT_FALSE(CGeometricDynamicCheck(strict).refine(optimizer, obs, uncertain, fr3Camera(), guess, &st).ok);
+	EXPECT_TRUE(st.blinded);
+	// Without background to confirm it (only the moving person in the box), lost as before.
+	obs.erase(obs.begin() + 15, obs.begin() + 40);
+	uncertain.erase(uncertain.begin() + 15, uncertain.begin() + 40);
+	EXPECT_FALSE(CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), guess, &st).ok);
+	EXPECT_TRUE(st.blinded);
+}
+
 namespace
 {
 // Certain observations of points in the image window [u0, u1] x [v0, v1] at depths [z0, z1] seen

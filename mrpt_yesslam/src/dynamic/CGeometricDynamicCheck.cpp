@@ -19,6 +19,7 @@ COptionTable CGeometricDynamicCheck::TOptions::table()
 	t.flag("enabled", enabled, "keypoints in a dynamic box but outside its mask join the pose only if they agree with the pose from the others");
 	t.real("boxMargin", boxMargin, 0, 1, "a dynamic box grows by this share of its size on every side");
 	t.count("minCertainInliers", minCertainInliers, 4, 100000, "fewer inliers outside every dynamic box: the check stands aside for the frame");
+	t.count("minBlindedCertain", minBlindedCertain, 0, 100000, "a frame with too few certain matches and more uncertain ones gets a pose from at least this many certain ones when the uncertain ones agreeing with it bring minCertainInliers inliers; else it is lost (0: always lost)");
 	t.flag("movers", movers, "box-free check for movers no detector reports: a depth-coherent group of matches that the pose from the others cannot explain leaves the solve");
 	t.real("moverCell", moverCell, 4, 10000, "image cell side of the mover check's groups, pixels");
 	t.real("moverChi2", moverChi2, 1, 1e6, "a group moves when n |mean whitened residual|^2 under the pose from the others exceeds this ...");
@@ -114,12 +115,22 @@ TPoseEstimate CGeometricDynamicCheck::refine(
 	if (!opts_.enabled || uncertainIdx.empty()) return plain();
 	if (certainIdx.size() < opts_.minCertainInliers)
 	{
-		// Blinded: a dynamic object fills most of the view. A pose from what is left would mostly
-		// come from the object (measured: 0.4-0.5 m off on office_loop), so there is none; tracking
-		// reports the frame lost and keeps the prediction. With few features of either kind (a
-		// textureless view) the check stands aside.
+		// Blinded: a dynamic object fills most of the view. A pose from everything would mostly
+		// come from the object (measured: 0.4-0.5 m off on office_loop), so there is none unless
+		// the few certain matches give one that enough uncertain ones confirm (background seen
+		// beside the person, inside its box); else tracking reports the frame lost and keeps the
+		// prediction. With few features of either kind (a textureless view) the check stands aside.
 		if (uncertainIdx.size() >= certainIdx.size())
 		{
+			if (opts_.minBlindedCertain > 0 && certainIdx.size() >= opts_.minBlindedCertain)
+			{
+				TPoseEstimate e = certainFirst(optimizer, obs, certainIdx, uncertainIdx, K, guess, opts_.minBlindedCertain, opts_.minCertainInliers, st);
+				if (e.ok)
+				{
+					if (stats) *stats = st;
+					return e;
+				}
+			}
 			st.blinded = true;
 			if (stats) *stats = st;
 			TPoseEstimate none;
@@ -129,11 +140,25 @@ TPoseEstimate CGeometricDynamicCheck::refine(
 		}
 		return plain();
 	}
+	TPoseEstimate e = certainFirst(optimizer, obs, certainIdx, uncertainIdx, K, guess, opts_.minCertainInliers, 0, st);
+	if (!e.ok) return plain();
+	if (stats) *stats = st;
+	return e;
+}
+
+TPoseEstimate CGeometricDynamicCheck::certainFirst(
+	const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const std::vector<std::size_t>& certainIdx,
+	const std::vector<std::size_t>& uncertainIdx, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, std::size_t minFirst,
+	std::size_t minTotal, TStats& st) const
+{
+	TPoseEstimate failed;
+	failed.inlier.assign(obs.size(), false);
+	failed.cameraInWorld = guess;
 	std::vector<TPoseObservation> certain;
 	certain.reserve(certainIdx.size());
 	for (std::size_t i : certainIdx) certain.push_back(obs[i]);
 	const TPoseEstimate first = rejectMovingClusters(optimizer, certain, K, optimizer.refine(certain, K, guess), st);
-	if (!first.ok || first.numInliers < opts_.minCertainInliers) return plain();
+	if (!first.ok || first.numInliers < minFirst) return failed;
 
 	std::vector<TPoseObservation> unsure;
 	for (std::size_t i : uncertainIdx) unsure.push_back(obs[i]);
@@ -145,9 +170,9 @@ TPoseEstimate CGeometricDynamicCheck::refine(
 	const std::size_t certainUsed = used.size();
 	for (std::size_t j = 0; j < uncertainIdx.size(); j++)
 		if (agree[j]) used.push_back(uncertainIdx[j]);
+	if (first.numInliers + (used.size() - certainUsed) < minTotal) return failed;
 	st.applied = true;
 	st.uncertainAccepted = used.size() - certainUsed;
-	if (stats) *stats = st;
 
 	TPoseEstimate out;
 	if (st.uncertainAccepted == 0)

@@ -54,6 +54,11 @@ class CGeometricDynamicCheck
 		double boxMargin = 0.1;	 //!< a dynamic box grows by this share of its size on every side
 		/** Fewer certain-static inliers than this: the check stands aside for the frame. */
 		std::size_t minCertainInliers = 30;
+		/** A frame with fewer certain matches than minCertainInliers but more uncertain ones (a
+		 * person fills much of the view) still gets a pose when at least this many certain ones
+		 * give one and, with the uncertain matches that agree with it, it has minCertainInliers
+		 * inliers; otherwise it is lost (0: always lost). */
+		std::size_t minBlindedCertain = 10;
 		/** Box-free mover check: depth-coherent groups the others' pose cannot explain leave the solve. */
 		bool movers = true;
 		double moverCell = 40;	//!< image cell side of the groups, pixels
@@ -103,6 +108,12 @@ class CGeometricDynamicCheck
 	const TOptions& options() const { return opts_; }
 
    private:
+	/** The certain observations' pose (at least `minFirst` inliers), then the uncertain ones that
+	 * agree with it; not ok when fewer than `minTotal` inliers result. */
+	TPoseEstimate certainFirst(
+		const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const std::vector<std::size_t>& certainIdx,
+		const std::vector<std::size_t>& uncertainIdx, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, std::size_t minFirst,
+		std::size_t minTotal, TStats& st) const;
 	/** The mover check's groups: the `use`d RGB-D observations as depth-coherent image surfaces. */
 	std::vector<std::vector<std::size_t>> depthCoherentGroups(
 		const std::vector<TPoseObservation>& obs, const std::vector<bool>& use, const mrpt::img::TCamera& K) const;
