@@ -23,6 +23,7 @@ COptionTable CDenseSemanticMapper::TOptions::table()
 	t.real("maxDepthJump", maxDepthJump, 0, 10, "a pixel differing from a neighbour by more than this share of its depth is a flying pixel (left out)");
 	t.text("dynamicExclusion", dynamicExclusion, "box: leave out the dynamic mask and the grown box of every dynamic detection; mask: the mask only; none: people go into the map (what --no-dynamic-filter sets)", {"box", "mask", "none"});
 	t.real("dynamicBoxGrow", dynamicBoxGrow, 0, 1, "box exclusion: share of the box size added on every side");
+	t.integer("dynamicHoldKeyFrames", dynamicHoldKeyFrames, 0, 100, "box exclusion: the dynamic boxes of this many previous keyframes are left out too (a person the detector misses for a while)");
 	t.real("voxelSize", voxelSize, 0.001, 1, "grid of the dense cloud and of label fusion, m");
 	t.real("labelProbMin", labelProbMin, 0.5, 1, "p(class) a detection of score 0 gives its pixels (eq. 29)");
 	t.real("labelProbMax", labelProbMax, 0.5, 1, "p(class) a detection of score 1 gives its pixels (eq. 29)");
@@ -137,7 +138,9 @@ TObjectLabels CDenseSemanticMapper::labelPixels(const cv::Mat& depth, const mrpt
 	return r;
 }
 
-TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
+TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const { return keyFrameCloud(f, {}); }
+
+TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f, const std::vector<cv::Rect2f>& heldBoxes) const
 {
 	TKeyFrameCloud c;
 	if (!f.images) return c;
@@ -158,16 +161,20 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
 	cv::Mat excluded = f.images->dynamicMask.empty() || opts_.dynamicExclusion == "none" ? cv::Mat::zeros(depth.size(), CV_8U)
 																						  : f.images->dynamicMask.clone();
 	if (opts_.dynamicExclusion == "box")
+	{
+		std::vector<cv::Rect2f> boxes = heldBoxes;
 		for (const auto& d : f.detections)
+			if (d.dynamic) boxes.push_back(d.box);
+		for (const auto& box : boxes)
 		{
-			if (!d.dynamic) continue;
 			const float g = static_cast<float>(opts_.dynamicBoxGrow);
-			const cv::Rect2f b(d.box.x - g * d.box.width, d.box.y - g * d.box.height, d.box.width * (1 + 2 * g), d.box.height * (1 + 2 * g));
+			const cv::Rect2f b(box.x - g * box.width, box.y - g * box.height, box.width * (1 + 2 * g), box.height * (1 + 2 * g));
 			const cv::Rect r = cv::Rect(cv::Point(static_cast<int>(std::floor(b.x)), static_cast<int>(std::floor(b.y))),
 										cv::Point(static_cast<int>(std::ceil(b.br().x)), static_cast<int>(std::ceil(b.br().y)))) &
 				cv::Rect(0, 0, W, H);
 			if (r.area() > 0) excluded(r).setTo(255);
 		}
+	}
 
 	// Undistorted pixel positions of the grid (only when the camera has distortion).
 	const CPinholeCamera K(f.camera);
@@ -235,7 +242,21 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
 void CDenseSemanticMapper::addKeyFrame(TKeyFrameId id, const TFrame& frame)
 {
 	if (!frame.images) return;
-	setKeyFrameCloud(id, keyFrameCloud(frame));
+	std::vector<cv::Rect2f> held;
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		for (const auto& boxes : recentDynamic_) held.insert(held.end(), boxes.begin(), boxes.end());
+	}
+	TKeyFrameCloud c = keyFrameCloud(frame, held);
+	std::vector<cv::Rect2f> mine;
+	for (const auto& d : frame.detections)
+		if (d.dynamic) mine.push_back(d.box);
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		recentDynamic_.push_back(std::move(mine));
+		while (recentDynamic_.size() > static_cast<std::size_t>(opts_.dynamicHoldKeyFrames)) recentDynamic_.pop_front();
+	}
+	setKeyFrameCloud(id, std::move(c));
 }
 
 void CDenseSemanticMapper::setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud)

@@ -19,6 +19,7 @@
 // keyframe's points by ray casting from its camera, so space a person walked through is cleared.
 #include <mrpt/poses/CPose3D.h>
 
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -87,6 +88,10 @@ class CDenseSemanticMapper
 		 * out (the system sets it with [System] dynamicFilter = false: the baseline maps people). */
 		std::string dynamicExclusion = "box";
 		double dynamicBoxGrow = 0.1;  //!< share of the box size added on every side
+		/** box: the dynamic boxes of this many previous keyframes are left out as well. The masker
+		 * holds a missed person's box for a few frames only; a person the detector misses for
+		 * longer (or a sitting person's arm) would otherwise go into the map where it stays. */
+		int dynamicHoldKeyFrames = 2;
 		double voxelSize = 0.02;  //!< m: grid of the dense cloud (and of label fusion)
 		/** Measurement model (eq. 29): a pixel inside the fill of a detection with score s says "its
 		 * class" with probability labelProbMin + (labelProbMax - labelProbMin) * s. */
@@ -125,10 +130,13 @@ class CDenseSemanticMapper
 	/** Per-pixel labels of the static objects `objects` (larger boxes first) on `depth`, by
 	 * labelMethod: instance = index into `objects` + 1. */
 	TObjectLabels labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& objects) const;
-	/** The cloud of one keyframe from its frame's images (TFrame::images; ignored without them). */
+	/** The cloud of one keyframe from its frame's images (TFrame::images; ignored without them).
+	 * Keyframes come in order (dynamicHoldKeyFrames looks back at the previous ones). */
 	void addKeyFrame(TKeyFrameId id, const TFrame& frame);
 	/** The cloud of one keyframe, made from explicit images (the work of addKeyFrame). */
 	TKeyFrameCloud keyFrameCloud(const TFrame& frame) const;
+	/** The same, also leaving out `heldBoxes` (dynamic boxes of earlier keyframes, grown alike). */
+	TKeyFrameCloud keyFrameCloud(const TFrame& frame, const std::vector<cv::Rect2f>& heldBoxes) const;
 	/** Stores a cloud for keyframe `id` (tests and addKeyFrame). */
 	void setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud);
 
@@ -158,6 +166,7 @@ class CDenseSemanticMapper
 	double unit_;  //!< m per stored coordinate step
 	mutable std::mutex mtx_;
 	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds_;
+	std::deque<std::vector<cv::Rect2f>> recentDynamic_;  //!< dynamic boxes of the last keyframes added
 };
 
 /** A colour per label for pictures (background grey, classes from a fixed palette). */
