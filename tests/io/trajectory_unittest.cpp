@@ -1,6 +1,7 @@
 // Tests of the TUM trajectory reader/writer: separators, comments, strict errors, atomic writes.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "TestUtils.h"
@@ -67,4 +68,37 @@ TEST(Trajectory, WritingIntoMissingFolderFails)
 {
 	expectInputError(
 		[] { writeTumTrajectory("/nonexistent_dir_yesslam/x.txt", TTrajectory{}); }, {"/nonexistent_dir_yesslam/x.txt"});
+}
+
+TEST(Trajectory, LostFramesBetweenTwoTrackedOnesArePlacedBetweenThemByTime)
+{
+	// Tracked at t = 0 (origin) and t = 4 (0.4 m along x, turned 40 degrees); lost in between
+	// (coasted far off), and lost before the first and after the last tracked pose.
+	const double deg = M_PI / 180;
+	TTrajectory t;
+	std::vector<bool> tracked;
+	auto add = [&](double time, const mrpt::poses::CPose3D& p, bool ok)
+	{
+		t.push_back(TStampedPose::fromPose(time, p));
+		tracked.push_back(ok);
+	};
+	add(-1, mrpt::poses::CPose3D(5, 5, 5, 0, 0, 0), false);
+	add(0, mrpt::poses::CPose3D(), true);
+	for (int k = 1; k <= 3; k++) add(k, mrpt::poses::CPose3D(1.0 * k, -0.3 * k, 0, -20 * k * deg, 0, 0), false);
+	add(4, mrpt::poses::CPose3D(0.4, 0, 0, 40 * deg, 0, 0), true);
+	add(5, mrpt::poses::CPose3D(2, 2, 2, 0, 0, 0), false);
+	interpolateUntracked(t, tracked);
+	for (int k = 1; k <= 3; k++)
+	{
+		const mrpt::poses::CPose3D p = t[static_cast<std::size_t>(k) + 1].asPose();
+		EXPECT_NEAR(p.x(), 0.1 * k, 1e-9);
+		EXPECT_NEAR(p.y(), 0, 1e-9);
+		EXPECT_NEAR(p.yaw(), 10 * k * deg, 1e-9);
+		EXPECT_NEAR(p.pitch(), 0, 1e-9);
+		EXPECT_EQ(t[static_cast<std::size_t>(k) + 1].t, k);
+	}
+	// Runs without a tracked pose on both sides stay as written.
+	EXPECT_EQ(t.front().tx, 5);
+	EXPECT_EQ(t.back().tx, 2);
+	EXPECT_NEAR(t[5].asPose().yaw(), 40 * deg, 1e-9);
 }

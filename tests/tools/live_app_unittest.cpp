@@ -159,7 +159,7 @@ TEST(LiveApp, BadRecordingsAndBadConversionsAreRefusedInOneLine)
 	fs::copy_file(oni, d / "cut.oni");
 	fs::resize_file(d / "cut.oni", fs::file_size(oni) / 3);
 	writeText(d / "text.oni", "this is not an OpenNI recording\n");
-	for (const std::string bad : {d / "cut.oni", d / "text.oni"})
+	for (const std::string& bad : {std::string(d / "cut.oni"), std::string(d / "text.oni")})
 	{
 		const auto r = runTool("yesslam", {"--input", "openni2:" + bad, "--out", d / "run"});
 		EXPECT_EQ(r.exitCode, 1) << r.err;

@@ -1,7 +1,11 @@
 #include "mrpt_yesslam/io/Trajectory.h"
 
 #include <mrpt/math/CQuaternion.h>
+#include <mrpt/poses/Lie/SO.h>
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -16,6 +20,42 @@ mrpt::poses::CPose3D TStampedPose::asPose() const
 	const double n = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
 	const mrpt::math::CQuaternionDouble q(qw / n, qx / n, qy / n, qz / n);
 	return mrpt::poses::CPose3D(q, tx, ty, tz);
+}
+
+void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked)
+{
+	const std::size_t n = std::min(traj.size(), tracked.size());
+	for (std::size_t i = 0; i < n;)
+	{
+		if (tracked[i])
+		{
+			i++;
+			continue;
+		}
+		std::size_t j = i;
+		while (j < n && !tracked[j]) j++;
+		// Untracked run [i, j): between tracked i - 1 and j when both exist.
+		if (i > 0 && j < n && traj[j].t > traj[i - 1].t)
+		{
+			const TStampedPose a = traj[i - 1], b = traj[j];
+			const mrpt::poses::CPose3D pa = a.asPose(), pb = b.asPose();
+			const mrpt::math::CMatrixDouble33 Ra = pa.getRotationMatrix();
+			const mrpt::math::CMatrixDouble33 dR(Ra.asEigen().transpose() * pb.getRotationMatrix().asEigen());
+			const auto w = mrpt::poses::Lie::SO<3>::log(dR);
+			for (std::size_t k = i; k < j; k++)
+			{
+				const double s = std::clamp((traj[k].t - a.t) / (b.t - a.t), 0.0, 1.0);
+				mrpt::poses::CPose3D p;
+				const mrpt::math::CMatrixDouble33 R(Ra.asEigen() * mrpt::poses::Lie::SO<3>::exp(mrpt::poses::Lie::SO<3>::tangent_vector(w.asEigen() * s)).asEigen());
+				p.setRotationMatrix(R);
+				p.x((1 - s) * a.tx + s * b.tx);
+				p.y((1 - s) * a.ty + s * b.ty);
+				p.z((1 - s) * a.tz + s * b.tz);
+				traj[k] = TStampedPose::fromPose(traj[k].t, p);
+			}
+		}
+		i = j;
+	}
 }
 
 TStampedPose TStampedPose::fromPose(double t, const mrpt::poses::CPose3D& p)

@@ -550,6 +550,15 @@ TTrajectory CYesSlamSystem::trajectory() const
 		const auto it = r.hasRef ? poses.find(r.refKf) : poses.end();
 		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.relative : r.relative));
 	}
+	if (opts_.tracking.lostInterpolate)
+	{
+		// Lost frames a relocalisation ended: between the two tracked poses around them (from the
+		// keyframes' current poses, so later corrections carry over) rather than the coasted guess
+		// written while lost, which drifts away wherever the camera did not keep its last velocity.
+		std::vector<bool> tracked(records.size());
+		for (std::size_t i = 0; i < records.size(); i++) tracked[i] = records[i].tracked;
+		interpolateUntracked(out, tracked);
+	}
 	return out;
 }
 

@@ -24,6 +24,7 @@ COptionTable CTracker::TOptions::table()
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
 	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
+	t.flag("lostInterpolate", lostInterpolate, "trajectory: lost frames between two tracked ones are placed between them by time once tracking resumes (false: the coasted pose written while lost)");
 	t.count("lostVelocityFrames", lostVelocityFrames, 1, 1000, "lost frames continue the mean velocity of this many last tracked frames (1: the last one alone)");
 	t.integer("seeThroughFrames", seeThroughFrames, 0, 1000, "a map point with farther surfaces measured around it in this many consecutive frames has moved away: erased (0 = never)");
 	return t;

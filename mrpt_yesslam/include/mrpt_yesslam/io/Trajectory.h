@@ -24,6 +24,11 @@ struct TStampedPose
 /** A trajectory: poses in file order. */
 using TTrajectory = std::vector<TStampedPose>;
 
+/** Places the poses of every run of untracked frames (`tracked[i]` false) that lies between two
+ * tracked ones on the path between those two, by time: position linear, orientation on the
+ * rotation geodesic. Runs before the first or after the last tracked pose are left as they are. */
+void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked);
+
 /** Reads a TUM trajectory; throws InputError naming the file and line for anything malformed
  * (wrong field count, non-numbers, NaN/Inf, zero-norm quaternion). An empty file gives an empty list. */
 TTrajectory readTumTrajectory(const std::string& path);
