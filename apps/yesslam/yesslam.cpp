@@ -175,6 +175,10 @@ int main(int argc, char** argv)
 					"dense map:       %zu points (%zu outliers removed), octree %zu occupied / %zu free leaves; .ply %.1f MB, .ot %.1f MB, .bt %.2f MB (%.1f s)\n",
 					s.dense.cloudPoints, s.dense.outliersRemoved, s.dense.occupiedLeaves, s.dense.freeLeaves, s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6,
 					s.dense.btBytes / 1e6, s.dense.buildMs / 1000);
+			if (s.mapFiles.loadedKeyFrames > 0 && o.slam.dense.enabled)
+				std::printf(
+					"                 %s\n", s.dense.priorMerged ? "the octree continues the loaded map's (what this run saw replaces it)"
+															  : "note: the loaded map has no octree at this resolution: the octree holds this run only");
 			std::printf(
 				"outputs:         %s/{trajectory.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
 				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");

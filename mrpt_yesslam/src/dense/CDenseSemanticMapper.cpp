@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <unordered_map>
 
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
@@ -278,6 +279,14 @@ void CDenseSemanticMapper::setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud
 	clouds_[id] = std::move(p);
 }
 
+void CDenseSemanticMapper::setPrior(const CSemanticOcTree& tree)
+{
+	std::ostringstream out;
+	if (!tree.write(out)) throw std::runtime_error("OctoMap could not copy the loaded map's octree");
+	std::lock_guard<std::mutex> lk(mtx_);
+	prior_ = out.str();
+}
+
 std::size_t CDenseSemanticMapper::storedBytes() const
 {
 	std::lock_guard<std::mutex> lk(mtx_);
@@ -326,7 +335,22 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	}
 	TDenseMap m;
 	m.keyFrames = clouds.size();
-	m.octree = std::make_unique<CSemanticOcTree>(opts_.octomapResolution);
+	std::string prior;
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		prior = prior_;
+	}
+	if (!prior.empty())
+	{
+		std::istringstream in(prior);
+		auto t = CSemanticOcTree::read(in, "the loaded map's octree");
+		if (std::abs(t->getResolution() - opts_.octomapResolution) < 1e-9)
+		{
+			m.octree = std::move(t);
+			m.priorMerged = true;
+		}
+	}
+	if (!m.octree) m.octree = std::make_unique<CSemanticOcTree>(opts_.octomapResolution);
 	m.octree->setProbHit(opts_.probHit);
 	m.octree->setProbMiss(opts_.probMiss);
 	m.octree->setOccupancyThres(opts_.occupancyThreshold);

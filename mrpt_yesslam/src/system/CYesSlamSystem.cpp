@@ -565,7 +565,11 @@ TTrajectory CYesSlamSystem::trajectory() const
 void CYesSlamSystem::loadMap(const std::string& path)
 {
 	if (nextFrameId_ > 0) throw std::logic_error("CYesSlamSystem::loadMap after the first frame");
-	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0);
+	std::unique_ptr<CSemanticOcTree> octree;
+	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, dense_ ? &octree : nullptr);
+	// The saved semantic OctoMap is where this run's dense map starts: the map stays up to date
+	// from one run to the next instead of holding only what this run saw.
+	if (dense_ && octree) dense_->setPrior(*octree);
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
 	if (loopDetector_)
 	{

@@ -193,6 +193,7 @@ void writeOutputs(
 		sum.dense.cloudPoints = dm.cloud.size();
 		sum.dense.outliersRemoved = dm.outliersRemoved;
 		sum.dense.buildMs = dm.buildMs;
+		sum.dense.priorMerged = dm.priorMerged;
 		for (auto it = dm.octree->begin_leafs(), end = dm.octree->end_leafs(); it != end; ++it)
 			(dm.octree->isNodeOccupied(*it) ? sum.dense.occupiedLeaves : sum.dense.freeLeaves)++;
 		std::error_code ec;

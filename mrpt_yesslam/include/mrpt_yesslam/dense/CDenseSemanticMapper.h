@@ -67,6 +67,8 @@ struct TDenseMap
 	std::size_t keyFrames = 0;	//!< clouds used
 	std::size_t voxelsBeforeFilter = 0, outliersRemoved = 0;
 	double buildMs = 0;
+	/** The octree started from the prior map (setPrior); false also when it had another resolution. */
+	bool priorMerged = false;
 };
 
 /** The dense mapper. Thread-safe: addKeyFrame and build may run on different threads. */
@@ -140,6 +142,10 @@ class CDenseSemanticMapper
 	/** Stores a cloud for keyframe `id` (tests and addKeyFrame). */
 	void setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud);
 
+	/** An earlier run's semantic OctoMap (a loaded map's) that build() starts the octree from, so
+	 * that this run's keyframes update it: what they see replaces it (space now free is cleared,
+	 * labels seen again are re-fused), the rest is kept. Used only at the same resolution. */
+	void setPrior(const CSemanticOcTree& tree);
 	/** The fused, filtered cloud and the octree, with each keyframe placed by `poseOf(id)` (T_w_c). */
 	TDenseMap build(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
 	/** Only the world cloud of every keyframe, unfused (for tests of re-placing). */
@@ -166,7 +172,8 @@ class CDenseSemanticMapper
 	double unit_;  //!< m per stored coordinate step
 	mutable std::mutex mtx_;
 	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds_;
-	std::deque<std::vector<cv::Rect2f>> recentDynamic_;  //!< dynamic boxes of the last keyframes added
+	std::deque<std::vector<cv::Rect2f>> recentDynamic_;
+	std::string prior_;	 //!< setPrior's tree as .ot bytes (each build reads its own copy; the tree cannot be copied)  //!< dynamic boxes of the last keyframes added
 };
 
 /** A colour per label for pictures (background grey, classes from a fixed palette). */

@@ -65,6 +65,8 @@ struct TSlamJobSummary
 		std::size_t cloudPoints = 0, outliersRemoved = 0, occupiedLeaves = 0, freeLeaves = 0;
 		std::uintmax_t plyBytes = 0, otBytes = 0, btBytes = 0;
 		double buildMs = 0;	 //!< fusion, filtering and octree at the end of the run
+		/** With --load-map: the octree started from the loaded map's (same resolution); else false. */
+		bool priorMerged = false;
 	} dense;
 	/** The map loaded and the map saved (zero when none). */
 	struct TMapFiles
