@@ -21,6 +21,7 @@
 
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
+#include "SimFrame.h"
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 
 using namespace mrpt_yesslam;
@@ -71,11 +72,7 @@ int main(int argc, char** argv)
 			{
 				const auto& e = list[i];
 				const std::string name = e.file.substr(e.file.find('/') + 1);
-				const cv::Mat rgb = cv::imread(dir + "/rgb/" + name, cv::IMREAD_COLOR);
-				const cv::Mat d16 = cv::imread(dir + "/depth/" + name, cv::IMREAD_UNCHANGED);
-				const cv::Mat cls = cv::imread(dir + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
-				cv::Mat depth;
-				d16.convertTo(depth, CV_32F, 1.0 / 5000);
+				const auto [rgb, depth, cls] = yesslam_bench::readSimFrame(dir, name);
 				std::vector<TDetection> objects;
 				for (const auto& d : det->detect(rgb, e.t))
 					if (!d.dynamic) objects.push_back(d);

@@ -18,6 +18,7 @@
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
+#include "SimFrame.h"
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 
 using namespace mrpt_yesslam;
@@ -80,11 +81,7 @@ int main(int argc, char** argv)
 			for (const auto& e : list)
 			{
 				const std::string name = e.file.substr(e.file.find('/') + 1);
-				const cv::Mat rgb = cv::imread(dir + "/rgb/" + name, cv::IMREAD_COLOR);
-				const cv::Mat d16 = cv::imread(dir + "/depth/" + name, cv::IMREAD_UNCHANGED);
-				const cv::Mat cls = cv::imread(dir + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
-				cv::Mat depth;
-				d16.convertTo(depth, CV_32F, 1.0 / 5000);
+				const auto [rgb, depth, cls] = yesslam_bench::readSimFrame(dir, name);
 				const auto dets = det->detect(rgb, e.t);
 				const auto t0 = std::chrono::steady_clock::now();
 				const auto m = masker.compute(depth, dets);

@@ -142,10 +142,11 @@ TEST(SemanticOcTree, OtRoundTripsBtLoadsInOctomapAndCorruptFilesAreRefused)
 	refused("hello\n", "not an OctoMap");
 }
 
-TEST(DenseMapper, KeyFrameCloudsLeaveOutPeopleAndFlyingPixelsAndCarryLabels)
+namespace
 {
-	// A wall at 3 m; a "tv" (class 62) box at 2 m in the upper left; a person (dynamic) at 1.5 m
-	// in the lower right.
+// A 640 x 480 frame (f = 500, no distortion) of a wall at 3 m with flat patches at other depths.
+TFrame wallFrame(const std::vector<std::pair<cv::Rect, float>>& patches)
+{
 	TFrame f;
 	f.camera.ncols = 640, f.camera.nrows = 480;
 	f.camera.fx(500), f.camera.fy(500), f.camera.cx(320), f.camera.cy(240);
@@ -153,9 +154,17 @@ TEST(DenseMapper, KeyFrameCloudsLeaveOutPeopleAndFlyingPixelsAndCarryLabels)
 	auto im = std::make_shared<TFrameImages>();
 	im->bgr = cv::Mat(480, 640, CV_8UC3, cv::Scalar(40, 80, 120));
 	im->depth = cv::Mat(480, 640, CV_32F, cv::Scalar(3.0f));
-	im->depth(cv::Rect(100, 80, 120, 90)).setTo(2.0f);
-	im->depth(cv::Rect(420, 250, 100, 200)).setTo(1.5f);
+	for (const auto& [r, z] : patches) im->depth(r).setTo(z);
 	f.images = im;
+	return f;
+}
+}  // namespace
+
+TEST(DenseMapper, KeyFrameCloudsLeaveOutPeopleAndFlyingPixelsAndCarryLabels)
+{
+	// A wall at 3 m; a "tv" (class 62) box at 2 m in the upper left; a person (dynamic) at 1.5 m
+	// in the lower right.
+	TFrame f = wallFrame({{cv::Rect(100, 80, 120, 90), 2.0f}, {cv::Rect(420, 250, 100, 200), 1.5f}});
 	TDetection tv;
 	tv.classId = 62, tv.score = 0.9f, tv.box = cv::Rect2f(95, 75, 130, 100);
 	TDetection person;
@@ -198,15 +207,7 @@ TEST(DenseMapper, APersonTheDetectorMissesAtTheNextKeyFrameStaysOutOfTheMap)
 {
 	// A person at 1.5 m in front of a wall at 3 m, detected at one keyframe and missed at the next
 	// (no box, no mask): the next keyframe leaves out the person's box of the one before.
-	TFrame f;
-	f.camera.ncols = 640, f.camera.nrows = 480;
-	f.camera.fx(500), f.camera.fy(500), f.camera.cx(320), f.camera.cy(240);
-	f.camera.dist.fill(0);
-	auto im = std::make_shared<TFrameImages>();
-	im->bgr = cv::Mat(480, 640, CV_8UC3, cv::Scalar(40, 80, 120));
-	im->depth = cv::Mat(480, 640, CV_32F, cv::Scalar(3.0f));
-	im->depth(cv::Rect(300, 150, 80, 250)).setTo(1.5f);
-	f.images = im;
+	TFrame f = wallFrame({{cv::Rect(300, 150, 80, 250), 1.5f}});
 	TDetection person;
 	person.classId = 0, person.score = 0.8f, person.box = cv::Rect2f(295, 145, 90, 260), person.dynamic = true;
 	TFrame missed = f;
