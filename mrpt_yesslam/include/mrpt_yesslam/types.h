@@ -16,6 +16,10 @@ struct TDetection
 	bool dynamic = false;  //!< its class is in the configured set of dynamic classes
 };
 
+/** The pixels covering `box` grown by `margin` x its size on every side, at 1/`scale` of the
+ * image side (rounded outwards), clipped to `image` (in those pixels). */
+cv::Rect coveringRect(const cv::Rect2f& box, double margin, int scale, const cv::Rect& image);
+
 /** Intersection over union of two boxes (0 when either is empty). */
 double boxIoU(const cv::Rect2f& a, const cv::Rect2f& b);
 }  // namespace mrpt_yesslam

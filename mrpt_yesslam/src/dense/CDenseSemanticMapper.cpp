@@ -133,9 +133,6 @@ TObjectLabels CDenseSemanticMapper::labelPixels(const cv::Mat& depth, const mrpt
 	TObjectLabels r;
 	r.instance = seg.instanceLabels;
 	r.unknown = cv::Mat::zeros(depth.size(), CV_8U);
-	r.objectPixels.assign(objects.size(), 0);
-	for (const auto& reg : seg.regions)
-		if (reg.detection >= 0 && reg.detection < static_cast<int>(objects.size())) r.objectPixels[static_cast<std::size_t>(reg.detection)] = static_cast<int>(reg.pixels);
 	return r;
 }
 
@@ -168,11 +165,7 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f, const std::v
 			if (d.dynamic) boxes.push_back(d.box);
 		for (const auto& box : boxes)
 		{
-			const float g = static_cast<float>(opts_.dynamicBoxGrow);
-			const cv::Rect2f b(box.x - g * box.width, box.y - g * box.height, box.width * (1 + 2 * g), box.height * (1 + 2 * g));
-			const cv::Rect r = cv::Rect(cv::Point(static_cast<int>(std::floor(b.x)), static_cast<int>(std::floor(b.y))),
-										cv::Point(static_cast<int>(std::ceil(b.br().x)), static_cast<int>(std::ceil(b.br().y)))) &
-				cv::Rect(0, 0, W, H);
+			const cv::Rect r = coveringRect(box, opts_.dynamicBoxGrow, 1, cv::Rect(0, 0, W, H));
 			if (r.area() > 0) excluded(r).setTo(255);
 		}
 	}

@@ -24,13 +24,6 @@ struct TSegment
 	int pixels = 0, inMargin = 0, occluding = 0, occluded = 0;
 };
 
-cv::Rect grownBox(const cv::Rect2f& b, double margin, int f, const cv::Rect& image)
-{
-	const double mx = b.width * margin, my = b.height * margin;
-	return cv::Rect(cv::Point(static_cast<int>(std::floor((b.x - mx) / f)), static_cast<int>(std::floor((b.y - my) / f))),
-			   cv::Point(static_cast<int>(std::ceil((b.br().x + mx) / f)), static_cast<int>(std::ceil((b.br().y + my) / f)))) &
-		image;
-}
 }  // namespace
 
 TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& dets) const
@@ -38,7 +31,6 @@ TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::T
 	TObjectLabels r;
 	r.instance = cv::Mat::zeros(depth.size(), CV_16U);
 	r.unknown = cv::Mat::zeros(depth.size(), CV_8U);
-	r.objectPixels.assign(dets.size(), 0);
 	if (dets.empty() || depth.empty() || depth.type() != CV_32F) return r;
 	const int f = std::max(1, p_.downsample);
 	const int W = depth.cols / f, H = depth.rows / f;
@@ -137,8 +129,8 @@ TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::T
 	for (std::size_t di = 0; di < dets.size(); di++)
 	{
 		const cv::Rect2f& b = dets[di].box;
-		const cv::Rect R = grownBox(b, p_.margin, f, image);
-		const cv::Rect inner = grownBox(b, 0, f, image);
+		const cv::Rect R = coveringRect(b, p_.margin, f, image);
+		const cv::Rect inner = coveringRect(b, 0, f, image);
 		if (R.area() <= 0 || inner.area() <= 0) continue;
 		seg.assign(static_cast<std::size_t>(R.area()), -1);
 		auto sat = [&](int x, int y) -> int& { return seg[static_cast<std::size_t>((y - R.y) * R.width + (x - R.x))]; };
@@ -244,7 +236,6 @@ TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::T
 			{
 				const int id = sat(x, y);
 				if (id < 0 || !object[static_cast<std::size_t>(id)]) continue;
-				r.objectPixels[di]++;
 				for (int v = y * f; v < std::min(depth.rows, (y + 1) * f); v++)
 				{
 					std::uint16_t* row = r.instance.ptr<std::uint16_t>(v);

@@ -285,9 +285,7 @@ TDynamicMask CDynamicObjectMasker::segment(
 	{
 		const auto& d = dets[i];
 		if (onlyDynamic && !d.dynamic) continue;
-		const cv::Rect box = cv::Rect(cv::Point(static_cast<int>(std::floor(d.box.x)), static_cast<int>(std::floor(d.box.y))),
-									  cv::Point(static_cast<int>(std::ceil(d.box.br().x)), static_cast<int>(std::ceil(d.box.br().y)))) &
-			image;
+		const cv::Rect box = coveringRect(d.box, 0, 1, image);
 		if (box.area() <= 0) continue;
 		TMaskRegion reg;
 		reg.detection = held[i] ? -1 : static_cast<int>(i);

@@ -34,7 +34,6 @@ struct TObjectLabels
 {
 	cv::Mat instance;  //!< CV_16UC1, full resolution: detection index + 1 of the object at each pixel, 0 = none
 	cv::Mat unknown;  //!< CV_8UC1, 255 inside a box that found no object (and no other object's pixel)
-	std::vector<int> objectPixels;	//!< per detection: pixels labelled (at the working resolution)
 };
 
 /** The segmenter (const, no state: safe on any thread). */
