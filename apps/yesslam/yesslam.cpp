@@ -18,14 +18,14 @@ int main(int argc, char** argv)
 		[&]() -> int
 		{
 			TSlamJobOptions o;
-			std::string config, detector = "auto", policy, camera;
+			std::string config, detector = "auto", policy, camera, gtFormat = "tum";
 			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false, listDevices = false,
 				 localizeOnly = false;
 			double octomapRes = 0.05, width = 640, height = 480, fps = 30, speed = 1;
 			CommandLine cl(
 				"yesslam",
 				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
-				"[--no-dynamic-filter] [--max-frames N] [--gt GT.txt]",
+				"[--no-dynamic-filter] [--max-frames N] [--gt GT.txt [--gt-format tum|bonn]]",
 				"RGB-D SLAM for scenes with moving people (the YES-SLAM method): detects people, cuts them out of\n"
 				"the depth image with an edge-enhanced flood fill, tracks ORB features of the static scene only,\n"
 				"selects keyframes semantically, refines a local map with bundle adjustment (Ceres) and closes loops\n"
@@ -78,11 +78,18 @@ int main(int argc, char** argv)
 			cl.flag("no-loop-closure", "do not detect or close loops ([LoopClosing] enabled=false)", &noLoop);
 			cl.flag("no-dense-map", "do not build the dense cloud and OctoMap ([DenseMapping] enabled=false)", &noDense);
 			cl.number("octomap-resolution", "M", "OctoMap voxel size in metres ([DenseMapping] octomapResolution)", &octomapRes);
-			cl.flag("no-dynamic-filter", "use every feature, people included (the baseline the method is compared with)", &noDynamic);
+			cl.flag(
+				"no-dynamic-filter",
+				"the baseline the method is compared with: no dynamic handling at all (no mask, no geometric or mover check, no see-through culling; people go into the dense map): every feature is used, as ORB-SLAM2 would",
+				&noDynamic);
 			cl.text("policy", "P", "keyframe policy: semantic (the paper's Algorithm 1) or orbslam (ORB-SLAM2's rules)", &policy);
 			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);
 			cl.count("skip-frames", "N", "recorded input: start N frames in (the ones before are read and dropped)", &o.skipFrames);
 			cl.text("gt", "FILE", "ground-truth trajectory (TUM format) to evaluate against", &o.groundTruth);
+			cl.text(
+				"gt-format", "tum|bonn",
+				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform",
+				&gtFormat);
 			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &camera);
 			cl.flag("sequential", "run local mapping in the tracking thread ([System] parallel=false): deterministic", &sequential);
 			cl.flag("quiet", "no progress line", &quiet);
@@ -115,6 +122,7 @@ int main(int argc, char** argv)
 			if (o.live.realtime && isOpenNI2Input(o.input)) throw InputError("", "--realtime is for recorded input (.rawlog, TUM folder); OpenNI2 input is live already");
 			if (!config.empty()) o.slam.loadFromFile(config);
 			if (cl.given("detector") || config.empty()) o.slam.detector.backend = detector;
+			o.groundTruthFormat = parseGroundTruthFormat(gtFormat);
 			if (noDynamic) o.slam.system.dynamicFilter = false;
 			if (noLoop) o.slam.loop.detection.enabled = false;
 			if (noDense) o.slam.dense.enabled = false;

@@ -21,7 +21,7 @@ COptionTable TYesSlamOptions::TSystem::table()
 {
 	COptionTable t("System");
 	t.flag("parallel", parallel, "local mapping in its own thread (false: sequential, deterministic)");
-	t.flag("dynamicFilter", dynamicFilter, "mask dynamic objects (false: every feature is used, as ORB-SLAM2)");
+	t.flag("dynamicFilter", dynamicFilter, "dynamic-object handling (false: the baseline, no dynamic mechanism at all: no mask, no geometric or mover check, no see-through culling, people go into the dense map; every feature is used, as ORB-SLAM2)");
 	t.count("minInitPoints", minInitPoints, 10, 100000, "static keypoints with depth needed for the first keyframe");
 	t.count("frameBuffer", frameBuffer, 1, 10000, "recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)");
 	t.flag("asyncDetection", asyncDetection, "detect on a worker thread while ORB features are extracted");
@@ -77,6 +77,21 @@ std::string TYesSlamOptions::dump() const
 	return o.str();
 }
 
+TYesSlamOptions TYesSlamOptions::effective() const
+{
+	TYesSlamOptions o = *this;
+	if (o.system.dynamicFilter) return o;
+	// One switch for the baseline: the checks added beside the mask (issue 14) are dynamic handling
+	// too, and left on they made "--no-dynamic-filter" 7.9 mm where ORB-SLAM2 is 0.5 m off.
+	o.geometric.enabled = false;  // uncertain keypoints, the certain-first solve, movers (markMovers too)
+	o.geometric.movers = false;
+	o.tracking.seeThroughFrames = 0;  // map points a person carried away are not culled
+	o.masker.holdFrames = 0;  // unused without a mask; zero so that config_used.ini says so
+	o.dense.dynamicExclusion = "none";	// people go into the dense map
+	o.dense.dynamicHoldKeyFrames = 0;
+	return o;
+}
+
 namespace
 {
 using Clock = std::chrono::steady_clock;
@@ -85,11 +100,13 @@ double msSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 }  // namespace
 
 CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
-	: opts_(opts),
-	  builder_(createObjectDetector(opts.detector), opts.masker, opts.orb, opts.system.dynamicFilter, opts.system.asyncDetection, opts.geometric),
-	  tracker_(opts.tracking, map_, opts.orb.scaleFactor, opts.geometric),
-	  inserter_(opts.keyFrames),
-	  mapper_(opts.mapping, map_, opts.orb.scaleFactor, opts.tracking.maxDepth)
+	: opts_(opts.effective()),
+	  builder_(
+		  createObjectDetector(opts_.detector), opts_.masker, opts_.orb, opts_.system.dynamicFilter, opts_.system.asyncDetection,
+		  opts_.geometric),
+	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric),
+	  inserter_(opts_.keyFrames),
+	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth)
 {
 	tracker_.setMapReadOnly(opts_.system.localizeOnly);
 	// Algorithm 1 may name any frame of the interval that just closed: the buffer must hold it.
@@ -124,8 +141,6 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	if (opts_.dense.enabled)
 	{
 		const auto* det = builder_.detector();
-		// Without the dynamic filter (the ORB-SLAM2-like baseline) people go into the dense map too.
-		if (!opts_.system.dynamicFilter) opts_.dense.dynamicExclusion = "none";
 		dense_ = std::make_unique<CDenseSemanticMapper>(opts_.dense, opts_.masker, det ? static_cast<int>(det->classNames().size()) : 1);
 		builder_.setKeepImages(true);
 	}

@@ -47,7 +47,9 @@ struct TYesSlamOptions
 	struct TSystem : public TTableOptions<TSystem>
 	{
 		bool parallel = true;  //!< local mapping in its own thread (false: sequential, deterministic)
-		bool dynamicFilter = true;	//!< mask dynamic objects (false: every feature is used, as ORB-SLAM2)
+		/** Dynamic-object handling as a whole (false: the baseline, every feature is used as
+		 * ORB-SLAM2 would; see TYesSlamOptions::effective for what that switches off). */
+		bool dynamicFilter = true;
 		std::size_t minInitPoints = 100;  //!< static keypoints with depth needed for the first keyframe
 		std::size_t frameBuffer = 8;  //!< recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)
 		bool asyncDetection = true;	 //!< detect on a worker thread while ORB features are extracted
@@ -75,6 +77,10 @@ struct TYesSlamOptions
 	void loadFromFile(const std::string& path);
 	/** All sections as INI text (what the app saves as config_used.ini). */
 	std::string dump() const;
+	/** The options a run uses: with [System] dynamicFilter = false, every dynamic mechanism of the
+	 * other sections is off too (masks and held masks, the geometric check and its mover check,
+	 * see-through culling, the dense map's exclusion), so that the baseline is the baseline. */
+	TYesSlamOptions effective() const;
 };
 
 /** Per-frame outcome. */
