@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "mrpt_yesslam/eval/EvalReport.h"
+#include "mrpt_yesslam/eval/GroundTruthFormat.h"
 #include "mrpt_yesslam/eval/TrajectoryPlot.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
@@ -19,19 +20,24 @@ int main(int argc, char** argv)
 		"yesslam-eval",
 		[&]() -> int
 		{
-			std::string gtPath, estPath, jsonPath, plotPath, unit = "s";
+			std::string gtPath, estPath, jsonPath, plotPath, unit = "s", gtFormat = "tum";
 			TEvalOptions o;
 			CommandLine cl(
 				"yesslam-eval",
-				"yesslam-eval --gt GT.txt --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3] [--rpe-delta 1] "
+				"yesslam-eval --gt GT.txt [--gt-format tum|bonn] --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3] [--rpe-delta 1] "
 				"[--rpe-unit s|f] [--json OUT.json] [--plot OUT.png]",
 				"Absolute trajectory error (ATE) and relative pose error (RPE) of a TUM-format trajectory, computed\n"
 				"as the TUM RGB-D benchmark's evaluate_ate.py and evaluate_rpe.py --fixed_delta compute them:\n"
 				"greedy one-to-one association within --max-diff, Horn/Umeyama rigid alignment, every RPE pair\n"
 				"used (no random sampling). Prints one 'key: value' line per figure (metres, degrees).",
 				{"yesslam-eval --gt groundtruth.txt --est trajectory.txt",
-				 "yesslam-eval --gt gt.txt --est kf_mono.txt --sim3 --json ate.json --plot ate.png"});
+				 "yesslam-eval --gt gt.txt --est kf_mono.txt --sim3 --json ate.json --plot ate.png",
+				 "yesslam-eval --gt rgbd_bonn_crowd/groundtruth.txt --gt-format bonn --est trajectory.txt"});
 			cl.text("gt", "FILE", "ground-truth trajectory (TUM format)", &gtPath, true);
+			cl.text(
+				"gt-format", "tum|bonn",
+				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform (without it RPE compares marker and camera motion)",
+				&gtFormat);
 			cl.text("est", "FILE", "estimated trajectory (TUM format)", &estPath, true);
 			cl.number("max-diff", "SECONDS", "largest stamp difference for an associated pair", &o.maxDiff);
 			cl.number("offset", "SECONDS", "time offset added to the estimate's stamps", &o.offset);
@@ -48,7 +54,8 @@ int main(int argc, char** argv)
 			if (o.rpeDeltaInFrames && o.rpeDelta != std::floor(o.rpeDelta))
 				throw InputError("", "--rpe-delta counts frames with --rpe-unit f: a whole number, got " + std::to_string(o.rpeDelta));
 
-			const TTrajectory gt = readTumTrajectory(gtPath);
+			const EGroundTruthFormat format = parseGroundTruthFormat(gtFormat);
+			const TTrajectory gt = readGroundTruth(gtPath, format);
 			const TTrajectory est = readTumTrajectory(estPath);
 			if (gt.empty()) throw InputError(gtPath, "contains no poses");
 			if (est.empty()) throw InputError(estPath, "contains no poses");

@@ -232,7 +232,7 @@ TSlamJobSummary runSlamJob(
 	resolveDetector(opts.detector, inputFilePath(o.input));
 	sum.groundTruth = o.groundTruth.empty() && !inputFilePath(o.input).empty() ? findGroundTruthFor(inputFilePath(o.input)) : o.groundTruth;
 	TTrajectory gt;
-	if (!sum.groundTruth.empty()) gt = readTumTrajectory(sum.groundTruth);	// bad ground truth: fail before the long run
+	if (!sum.groundTruth.empty()) gt = readGroundTruth(sum.groundTruth, o.groundTruthFormat);	// bad ground truth: fail before the long run
 	if (!o.saveMap.empty())
 	{
 		// Found out now, not after an hour of mapping.

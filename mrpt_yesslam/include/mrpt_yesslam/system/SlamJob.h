@@ -6,6 +6,7 @@
 #include <string>
 
 #include "mrpt_yesslam/eval/EvalReport.h"
+#include "mrpt_yesslam/eval/GroundTruthFormat.h"
 #include "mrpt_yesslam/io/CLiveSource.h"
 #include "mrpt_yesslam/system/CYesSlamSystem.h"
 
@@ -18,6 +19,8 @@ struct TSlamJobOptions
 	std::string outDir;	 //!< created if missing
 	/** Ground truth; empty = the one found beside the input (findGroundTruthFor), if any. */
 	std::string groundTruth;
+	/** What the ground truth's poses are: the camera's (TUM) or the Bonn dataset's markers. */
+	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Tum;
 	std::size_t maxFrames = 0;	//!< 0 = all
 	/** Recorded input: frames read and dropped before the first one processed (start elsewhere in a
 	 * recording, e.g. to relocalise in a saved map from another place). */
