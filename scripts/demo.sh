@@ -26,7 +26,7 @@ echo; echo "== 1. The main job: SLAM on a walking sequence (people crossing an o
 "$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/octomap.png" --azimuth -60 --elevation 35 \
   --hide dense_cloud,map_points,keyframe
 
-echo; echo "== 2. The same run without dynamic filtering (people's features used, as ORB-SLAM2 would) =="
+echo; echo "== 2. The same run without any dynamic handling (--no-dynamic-filter: people's features used, as ORB-SLAM2 would) =="
 "$BIN/yesslam" --input "$OUT/sim_walking_xyz" --config "$ROOT/share/mrpt_yesslam/config/sim.ini" --out "$OUT/slam_walking_xyz_unfiltered" --detector file --no-dynamic-filter --quiet \
   | grep -E '^(ate_rmse|rpe_trans_rmse|tracked):'
 

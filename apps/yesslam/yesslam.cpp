@@ -35,10 +35,12 @@ int main(int argc, char** argv)
 				"--list-devices) or an .oni recording played through OpenNI2. Live frames are captured on their own\n"
 				"thread; when SLAM falls behind the oldest waiting frame is dropped (counted in stats.json and the\n"
 				"status line: capture fps, processed fps, dropped frames, tracking state). --record keeps every frame.\n"
-				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame), keyframes.txt, map.3Dscene\n"
+				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame that has one, after the run's\n"
+				"optimisation, lost frames filled in), trajectory_online.txt (each frame's pose as the run had it then,\n"
+				"what a robot had; its ATE is printed as online_ate_rmse), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
 				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), frames.csv (per frame: tracking\n"
-				"state, inliers, map size, stage times), config_used.ini, and with ground\n"
+				"state, inliers, map size, stage times, and where its pose comes from: tracked, coasted, interpolated, none), config_used.ini, and with ground\n"
 				"truth (--gt, or groundtruth.txt found beside the input) eval.json; ATE and RPE are printed.\n"
 				"The dense semantic map (unless --no-dense-map): dense_cloud.ply (colour, fused class label and its\n"
 				"probability per point), map.ot (semantic OctoMap: occupancy, colour, label) and map.bt (occupancy only,\n"
@@ -188,7 +190,7 @@ int main(int argc, char** argv)
 					"                 %s\n", s.dense.priorMerged ? "the octree continues the loaded map's (what this run saw replaces it)"
 															  : "note: the loaded map has no octree at this resolution: the octree holds this run only");
 			std::printf(
-				"outputs:         %s/{trajectory.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
+				"outputs:         %s/{trajectory.txt,trajectory_online.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
 				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
 			if (!o.saveMap.empty() && s.mapFiles.saveError.empty())
 				std::printf("map saved:       %s (%zu keyframes, %zu points, %.1f MB)\n", o.saveMap.c_str(), st.keyFramesInMap, st.mapPoints, s.mapFiles.savedBytes / 1e6);
@@ -197,6 +199,14 @@ int main(int argc, char** argv)
 				std::printf("ground truth:    %s\n", s.groundTruth.c_str());
 				std::fputs(formatEvalKeyValues(s.eval).c_str(), stdout);
 				if (!s.eval.hasRpe) std::fprintf(stderr, "yesslam: note: no RPE (%s)\n", s.eval.rpeProblem.c_str());
+				// What a robot had while it moved (trajectory_online.txt), beside the file smoothed after the run.
+				if (s.evaluatedOnline)
+				{
+					std::printf("online_ate_rmse: %.9f\n", s.evalOnline.ate.stats.rmse);
+					if (s.evalOnline.hasRpe)
+						std::printf(
+							"online_rpe_trans_rmse: %.9f\nonline_rpe_rot_rmse_deg: %.9f\n", s.evalOnline.rpe.trans.rmse, s.evalOnline.rpe.rotDeg.rmse);
+				}
 			}
 			else if (!s.evalProblem.empty())
 				std::fprintf(stderr, "yesslam: warning: no evaluation against %s: %s\n", s.groundTruth.c_str(), s.evalProblem.c_str());

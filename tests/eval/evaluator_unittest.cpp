@@ -2,6 +2,7 @@
 // trajectories whose true error is known by construction.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -192,4 +193,31 @@ TEST(Evaluator, ReportKeysJsonAndPlot)
 	// A .jpg name gives a JPEG.
 	plotAteTopDown(rep.ate, gt, d / "ate.jpg", "fr1/xyz");
 	EXPECT_EQ(readText(d / "ate.jpg").substr(0, 2), std::string("\xFF\xD8"));
+}
+
+TEST(Evaluator, JitterIsTheEstimatesOwnFrameToFrameErrorBesideTheSteps)
+{
+	// The camera moves 2 mm a frame along x; the estimate follows it but swings +-3 mm across (y)
+	// every other frame, as a noisy real-sensor estimate does: 6 mm of jitter a frame, where the
+	// ATE alone (3 mm) cannot tell a swinging estimate from one offset by a constant bias.
+	TTrajectory gt, est;
+	for (int i = 0; i < 60; i++)
+	{
+		TStampedPose g;
+		g.t = i / 30.0;
+		g.tx = 0.002 * i;
+		gt.push_back(g);
+		TStampedPose e = g;
+		e.ty = (i % 2 ? 0.003 : -0.003);
+		est.push_back(e);
+	}
+	const TEvalReport r = evaluateTrajectories(gt, est, TEvalOptions(), "gt", "est");
+	EXPECT_NEAR(r.stepGt.median, 0.002, 1e-9);
+	EXPECT_NEAR(r.stepEst.median, std::hypot(0.002, 0.006), 2e-4);
+	EXPECT_NEAR(r.jitter.median, 0.006, 2e-4);
+	const std::string kv = formatEvalKeyValues(r);
+	for (const char* k : {"step_est_median: ", "step_gt_median: ", "jitter_median: ", "jitter_rmse: "})
+		EXPECT_NE(kv.find(k), std::string::npos) << k;
+	// An estimate that follows the truth exactly has none.
+	EXPECT_NEAR(evaluateTrajectories(gt, gt, TEvalOptions(), "gt", "gt").jitter.max, 0.0, 1e-12);
 }

@@ -177,6 +177,79 @@ TEST(System, WithoutTheDynamicFilterAPersonsKeypointsReachThePoseSolve)
 	EXPECT_LT(static_cast<double>(on.personInliers), 0.2 * static_cast<double>(off.personInliers));
 }
 
+TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
+{
+	// Two blank frames before the sequence (no map can start from them: no pose at all), and five
+	// blank frames in its middle (lost: coasted while the run went, filled in afterwards).
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = walkingSequence() + "/detections.txt";
+	o.system.parallel = false;
+	o.dense.enabled = false;
+	CYesSlamSystem sys(o);
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t i = 0;
+	std::vector<mrpt::poses::CPose3D> coasted;
+	sys.setFrameCallback([&](const TFrame& f) { if (!f.tracked) coasted.push_back(f.pose); });
+	while (auto obs = src->next())
+	{
+		const double t = mrpt::Clock::toDouble(obs->timestamp);
+		const auto& K = obs->cameraParamsIntensity;
+		const cv::Mat black = cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_8UC3);
+		const cv::Mat noDepth = cv::Mat::zeros(black.size(), CV_32F);
+		if (i == 0)
+			for (double dt : {0.2, 0.1}) sys.processFrame(black, noDepth, t - dt, K);
+		if (i >= 20 && i < 25)
+			sys.processFrame(black, noDepth, t, K);
+		else
+			sys.processFrame(*obs);
+		i++;
+	}
+	const auto rows = sys.frameLog();
+	ASSERT_EQ(rows.size(), 62u);
+	for (std::size_t k = 0; k < rows.size(); k++)
+	{
+		const EPoseSource want = k < 2 ? EPoseSource::None : (k >= 22 && k < 27) ? EPoseSource::Interpolated : EPoseSource::Tracked;
+		EXPECT_EQ(poseSourceName(rows[k].pose), std::string(poseSourceName(want))) << "frame " << k;
+	}
+	// Frames without a pose are left out of both trajectories.
+	const TTrajectory smoothed = sys.trajectory(), online = sys.onlineTrajectory();
+	ASSERT_EQ(smoothed.size(), 60u);
+	ASSERT_EQ(online.size(), 60u);
+	EXPECT_EQ(smoothed.front().t, rows[2].timestamp);
+	// The online poses of the lost frames are the ones the run had then (the coasted guesses, seven
+	// of them: the two blank frames before the map and the five lost ones); the smoothed file has
+	// other poses there.
+	ASSERT_EQ(coasted.size(), 7u);
+	double moved = 0;
+	for (std::size_t k = 0; k < 5; k++)
+	{
+		const auto on = online[20 + k].asPose(), sm = smoothed[20 + k].asPose();
+		EXPECT_LT((on.asVectorVal() - coasted[2 + k].asVectorVal()).norm(), 1e-6) << "lost frame " << k;
+		moved += (on.asVectorVal().head<3>() - sm.asVectorVal().head<3>()).norm();
+	}
+	EXPECT_GT(moved, 1e-4) << "the smoothed poses of the lost frames are filled in after the fact";
+
+	// Without lostInterpolate they stay coasted in both.
+	o.tracking.lostInterpolate = false;
+	CYesSlamSystem plain(o);
+	auto src2 = openInputSource(walkingSequence(), o.input);
+	i = 0;
+	while (auto obs = src2->next())
+	{
+		const auto& K = obs->cameraParamsIntensity;
+		if (i >= 20 && i < 25)
+			plain.processFrame(cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_8UC3),
+				cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_32F), mrpt::Clock::toDouble(obs->timestamp), K);
+		else
+			plain.processFrame(*obs);
+		i++;
+	}
+	const auto rows2 = plain.frameLog();
+	ASSERT_EQ(rows2.size(), 60u);
+	for (std::size_t k = 20; k < 25; k++) EXPECT_EQ(poseSourceName(rows2[k].pose), std::string("coasted")) << "frame " << k;
+}
+
 TEST(System, SequentialModeIsDeterministic)
 {
 	TempDir a("system_det_a"), b("system_det_b");

@@ -211,6 +211,39 @@ TEST(MapReuse, ARunOnALoadedMapContinuesItsSemanticOctree)
 	EXPECT_LT(occupied(*b), kept * 3 / 4);
 }
 
+TEST(MapReuse, APassNeverLocalisedInTheMapIsAnErrorWithNoFakePoses)
+{
+	// A map of the walking room, and a pass through somewhere else (frames of smooth gradients that
+	// nothing in the map looks like): before, it exited 0 with an identity pose per frame and an ATE
+	// over them.
+	TempDir d("map_reuse_never");
+	const auto mapped = runTool(
+		"yesslam", {"--input", walkingSequence60(), "--out", d / "map", "--save-map", d / "room.ysm", "--sequential", "--quiet", "--no-dense-map"});
+	ASSERT_EQ(mapped.exitCode, 0) << mapped.err;
+	writeTumFolder(d / "elsewhere", makeSyntheticFrames(12, 640, 480));
+	const auto r = runTool(
+		"yesslam", {"--input", d / "elsewhere", "--out", d / "loc", "--load-map", d / "room.ysm", "--localize-only", "--quiet", "--detector", "none"});
+	EXPECT_EQ(r.exitCode, 1) << r.out;
+	EXPECT_NE(r.err.find("never localised in the map"), std::string::npos) << r.err;
+	EXPECT_NE(r.err.find("room.ysm"), std::string::npos) << r.err;
+	EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+	EXPECT_TRUE(mrpt_yesslam::readTumTrajectory(d / "loc/trajectory.txt").empty());
+	EXPECT_TRUE(mrpt_yesslam::readTumTrajectory(d / "loc/trajectory_online.txt").empty());
+	EXPECT_FALSE(fs::exists(d / "loc/eval.json"));
+	// frames.csv lists every frame, each without a pose.
+	std::istringstream csv(readText(d / "loc/frames.csv"));
+	std::string line;
+	std::getline(csv, line);
+	EXPECT_EQ(line.substr(line.rfind(',') + 1), "pose");
+	std::size_t rows = 0;
+	while (std::getline(csv, line))
+	{
+		rows++;
+		EXPECT_EQ(line.substr(line.rfind(',') + 1), "none") << line;
+	}
+	EXPECT_EQ(rows, 12u);
+}
+
 TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 {
 	TempDir d("map_reuse_bad");

@@ -314,7 +314,8 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 			std::vector<std::string> c;
 			std::stringstream ls(line);
 			for (std::string x; std::getline(ls, x, ',');) c.push_back(x);
-			ASSERT_EQ(c.size(), 16u) << line;
+			ASSERT_EQ(c.size(), 17u) << line;
+			EXPECT_EQ(c[16], "tracked");  // where its pose comes from
 			ASSERT_LT(n, traj.size());
 			EXPECT_EQ(std::stoul(c[0]), n);
 			EXPECT_NEAR(std::stod(c[1]), traj[n].t, 1e-6);

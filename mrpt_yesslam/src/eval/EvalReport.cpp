@@ -17,6 +17,17 @@ TEvalReport evaluateTrajectories(
 	r.gtPoses = uniqueSortedByTime(gt).size();
 	r.estPoses = uniqueSortedByTime(est).size();
 	r.ate = computeAte(gt, est, opts, gtName, estName);
+	std::vector<double> se, sg, j;
+	for (std::size_t i = 1; i < r.ate.gt.size(); i++)
+	{
+		const Eigen::Vector3d de = r.ate.estAligned[i] - r.ate.estAligned[i - 1], dg = r.ate.gt[i] - r.ate.gt[i - 1];
+		se.push_back(de.norm());
+		sg.push_back(dg.norm());
+		j.push_back((de - dg).norm());
+	}
+	r.stepEst = TErrorStats::of(se);
+	r.stepGt = TErrorStats::of(sg);
+	r.jitter = TErrorStats::of(j);
 	try
 	{
 		r.rpe = computeRpe(gt, est, opts, r.ate.alignment.scale, estName);
@@ -67,6 +78,10 @@ std::vector<std::pair<std::string, std::string>> keyValues(const TEvalReport& r)
 		kv.emplace_back("rpe_rot_median_deg", num(r.rpe.rotDeg.median));
 		kv.emplace_back("rpe_rot_max_deg", num(r.rpe.rotDeg.max));
 	}
+	kv.emplace_back("step_est_median", num(r.stepEst.median));
+	kv.emplace_back("step_gt_median", num(r.stepGt.median));
+	kv.emplace_back("jitter_median", num(r.jitter.median));
+	kv.emplace_back("jitter_rmse", num(r.jitter.rmse));
 	return kv;
 }
 

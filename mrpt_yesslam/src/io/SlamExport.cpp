@@ -94,19 +94,31 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	o << "\n  }\n}\n";
 	return o.str();
 }
+const char* poseSourceName(EPoseSource s)
+{
+	switch (s)
+	{
+		case EPoseSource::Tracked: return "tracked";
+		case EPoseSource::Coasted: return "coasted";
+		case EPoseSource::Interpolated: return "interpolated";
+		case EPoseSource::None: break;
+	}
+	return "none";
+}
+
 std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows)
 {
 	std::string out =
 		"frame,timestamp,tracked,keyframe,relocalised,features,static_features,detections,inliers,keyframes_in_map,"
-		"map_points,detect_ms,mask_ms,orb_ms,track_ms,keyframe_ms\n";
+		"map_points,detect_ms,mask_ms,orb_ms,track_ms,keyframe_ms,pose\n";
 	out.reserve(out.size() + rows.size() * 96);
 	char buf[320];
 	for (const auto& r : rows)
 	{
 		std::snprintf(
-			buf, sizeof(buf), "%zu,%.6f,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f\n", r.frame, r.timestamp,
+			buf, sizeof(buf), "%zu,%.6f,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%s\n", r.frame, r.timestamp,
 			r.tracked ? 1 : 0, r.keyFrame ? 1 : 0, r.relocalised ? 1 : 0, r.features, r.staticFeatures, r.detections, r.inliers,
-			r.keyFramesInMap, r.mapPoints, r.detectMs, r.maskMs, r.orbMs, r.trackMs, r.keyFrameMs);
+			r.keyFramesInMap, r.mapPoints, r.detectMs, r.maskMs, r.orbMs, r.trackMs, r.keyFrameMs, poseSourceName(r.pose));
 		out += buf;
 	}
 	return out;

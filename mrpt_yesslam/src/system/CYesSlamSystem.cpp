@@ -460,6 +460,9 @@ TFrameReport CYesSlamSystem::processFrame(
 	TFrameRecord rec;
 	rec.t = f->timestamp;
 	rec.tracked = f->tracked;
+	everTracked_ = everTracked_ || f->tracked;
+	rec.hasPose = everTracked_;
+	rec.online = f->pose;
 	if (const auto ref = tracker_.referenceKeyFrame())
 	{
 		rec.hasRef = true;
@@ -549,6 +552,27 @@ TFrameReport CYesSlamSystem::processFrame(
 	return rep;
 }
 
+std::vector<EPoseSource> CYesSlamSystem::poseSources(const std::vector<TFrameRecord>& records) const
+{
+	std::vector<EPoseSource> out(records.size(), EPoseSource::None);
+	std::optional<std::size_t> lastTracked;
+	for (std::size_t i = 0; i < records.size(); i++)
+	{
+		if (!records[i].hasPose) continue;
+		if (!records[i].tracked)
+		{
+			out[i] = EPoseSource::Coasted;
+			continue;
+		}
+		out[i] = EPoseSource::Tracked;
+		// The lost frames since the previous tracked one are filled in between the two (interpolateUntracked).
+		if (opts_.tracking.lostInterpolate && lastTracked)
+			for (std::size_t k = *lastTracked + 1; k < i; k++) out[k] = EPoseSource::Interpolated;
+		lastTracked = i;
+	}
+	return out;
+}
+
 TTrajectory CYesSlamSystem::trajectory() const
 {
 	std::vector<TFrameRecord> records;
@@ -559,21 +583,30 @@ TTrajectory CYesSlamSystem::trajectory() const
 	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
 	for (const auto& k : map_.keyFramePoses()) poses[k.id] = k.pose;
 	TTrajectory out;
+	std::vector<bool> tracked;
 	out.reserve(records.size());
 	for (const auto& r : records)
 	{
+		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
 		const auto it = r.hasRef ? poses.find(r.refKf) : poses.end();
 		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.relative : r.relative));
+		tracked.push_back(r.tracked);
 	}
-	if (opts_.tracking.lostInterpolate)
-	{
-		// Lost frames a relocalisation ended: between the two tracked poses around them (from the
-		// keyframes' current poses, so later corrections carry over) rather than the coasted guess
-		// written while lost, which drifts away wherever the camera did not keep its last velocity.
-		std::vector<bool> tracked(records.size());
-		for (std::size_t i = 0; i < records.size(); i++) tracked[i] = records[i].tracked;
-		interpolateUntracked(out, tracked);
-	}
+	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
+	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
+	// written while lost, which drifts away wherever the camera did not keep its last velocity.
+	// poseSources() names them; onlineTrajectory() keeps what the robot had.
+	if (opts_.tracking.lostInterpolate) interpolateUntracked(out, tracked);
+	return out;
+}
+
+TTrajectory CYesSlamSystem::onlineTrajectory() const
+{
+	std::lock_guard<std::mutex> lk(recordsMtx_);
+	TTrajectory out;
+	out.reserve(records_.size());
+	for (const auto& r : records_)
+		if (r.hasPose) out.push_back(TStampedPose::fromPose(r.t, r.online));
 	return out;
 }
 
@@ -602,7 +635,10 @@ void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* oct
 std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const
 {
 	std::lock_guard<std::mutex> lk(recordsMtx_);
-	return frameLog_;
+	std::vector<TFrameLogRow> rows = frameLog_;
+	const auto src = poseSources(records_);
+	for (std::size_t i = 0; i < rows.size() && i < src.size(); i++) rows[i].pose = src[i];
+	return rows;
 }
 
 TTrajectory CYesSlamSystem::keyFrameTrajectory() const

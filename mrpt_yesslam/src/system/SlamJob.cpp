@@ -164,7 +164,13 @@ void writeOutputs(
 	head += buf;
 	head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
 	json = head + json.substr(json.find('\n') + 1);
-	writeTumTrajectory((d / "trajectory.txt").string(), sys.trajectory(), "camera pose of every frame (T_w_c), world = first keyframe");
+	writeTumTrajectory(
+		(d / "trajectory.txt").string(), sys.trajectory(),
+		"camera pose (T_w_c) of every frame that has one, world = first keyframe; after the run: keyframes optimised, lost frames "
+		"between tracked ones filled in (frames.csv column pose says which)");
+	writeTumTrajectory(
+		(d / "trajectory_online.txt").string(), sys.onlineTrajectory(),
+		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
 	auto scene = buildMapScene(sys.map(), sys.trajectory());
 	std::optional<TDenseMap> dense;
@@ -290,6 +296,7 @@ TSlamJobSummary runSlamJob(
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	// An evaluation left by an earlier run in this folder must not pass for this run's.
 	fs::remove(fs::path(o.outDir) / "eval.json", ec);
+	fs::remove(fs::path(o.outDir) / "eval_online.json", ec);
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	sum.detector = sys.detector()->description();
@@ -352,6 +359,12 @@ TSlamJobSummary runSlamJob(
 	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
 	writeOutputs(sys, o.outDir, sum, stop, o.saveMap);
+	// A pass that was never placed in the loaded map has no pose to give: an error, not identity
+	// poses and an ATE over them (the outputs say so too: no pose, every frame "none").
+	if (!o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.trackedFrames == 0 && !sum.interrupted)
+		throw InputError(
+			o.loadMap, "never localised in the map: none of the " + std::to_string(sum.stats.frames) + " frames of " + o.input +
+						   " was recognised (is it the place the map was made in?); the outputs hold no pose");
 	if (!gt.empty() && sum.stats.frames > 0)
 	{
 		try
@@ -360,6 +373,9 @@ TSlamJobSummary runSlamJob(
 			sum.eval = evaluateTrajectories(gt, sys.trajectory(), eo, sum.groundTruth, "trajectory.txt");
 			sum.evaluated = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval.json").string(), formatEvalJson(sum.eval));
+			sum.evalOnline = evaluateTrajectories(gt, sys.onlineTrajectory(), eo, sum.groundTruth, "trajectory_online.txt");
+			sum.evaluatedOnline = true;
+			writeFileAtomically((fs::path(o.outDir) / "eval_online.json").string(), formatEvalJson(sum.evalOnline));
 		}
 		catch (const std::exception& e)
 		{

@@ -16,6 +16,10 @@ struct TEvalReport
 	TRpeResult rpe;
 	std::string rpeProblem;	 //!< why RPE is missing, when it is
 	std::size_t gtPoses = 0, estPoses = 0;
+	/** Frame-to-frame steps between consecutive matched pairs (metres): the aligned estimate's
+	 * and the ground truth's step lengths, and `jitter`, the length of their difference (the
+	 * estimate's own per-frame error: a still camera with jitter steps while the truth does not). */
+	TErrorStats stepEst, stepGt, jitter;
 };
 
 /** Runs ATE and RPE; ATE problems throw, an RPE problem is recorded in rpeProblem. */
@@ -24,7 +28,8 @@ TEvalReport evaluateTrajectories(
 	const std::string& estName);
 
 /** "key: value" lines: ate_pairs, ate_rmse, ate_mean, ate_median, ate_std, ate_min, ate_max,
- * rpe_pairs, rpe_trans_rmse, rpe_trans_mean, rpe_trans_median, rpe_rot_rmse_deg, ... */
+ * rpe_pairs, rpe_trans_rmse, rpe_trans_mean, rpe_trans_median, rpe_rot_rmse_deg, ..., step_est_median,
+ * step_gt_median, jitter_median, jitter_rmse */
 std::string formatEvalKeyValues(const TEvalReport& r);
 
 /** The same keys as JSON, plus "alignment": {rotation, translation, scale, type}. */

@@ -123,12 +123,19 @@ class CYesSlamSystem
 	 * for viewers and for benchmarks that score the frame against labels. */
 	void setFrameCallback(std::function<void(const TFrame&)> cb) { frameCallback_ = std::move(cb); }
 
-	/** A pose for every processed frame: its reference keyframe's current (optimised) pose composed
-	 * with the frame's pose relative to it, as ORB-SLAM2 saves trajectories. */
+	/** A pose for every processed frame that has one (frames before the map was made or before
+	 * the first localisation in a loaded map have none and are left out, as ORB-SLAM2 does): its
+	 * reference keyframe's current (optimised) pose composed with the frame's pose relative to it,
+	 * as ORB-SLAM2 saves trajectories; lost frames between two tracked ones filled in between them
+	 * ([Tracking] lostInterpolate). */
 	TTrajectory trajectory() const;
+	/** The pose each frame had when it was processed, in the map as it was then (tracked or
+	 * coasted; frames without a pose left out): what a robot had while it moved, never corrected
+	 * by later optimisation or filled in after the fact. */
+	TTrajectory onlineTrajectory() const;
 	/** Keyframe poses with their frames' timestamps. */
 	TTrajectory keyFrameTrajectory() const;
-	/** One row per processed frame, in order (frames.csv). */
+	/** One row per processed frame, in order (frames.csv), with where trajectory() got its pose. */
 	std::vector<TFrameLogRow> frameLog() const;
 	/** The dense semantic map from every keyframe's cloud at its current pose (call after
 	 * waitForMapping for the final map); throws std::logic_error with dense mapping off. */
@@ -188,13 +195,18 @@ class CYesSlamSystem
 		std::size_t refKf = 0;
 		bool hasRef = false;
 		mrpt::poses::CPose3D relative;	//!< T_ref_frame (or T_w_frame without a reference)
+		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
 		bool tracked = false;
+		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)
 	};
+	/** Where trajectory() takes each record's pose from. */
+	std::vector<EPoseSource> poseSources(const std::vector<TFrameRecord>& records) const;
 	std::vector<TFrameRecord> records_;	//!< guarded by recordsMtx_ (trajectory() may run on another thread)
 	std::vector<TFrameLogRow> frameLog_;  //!< guarded by recordsMtx_
 	mutable std::mutex recordsMtx_;
 	std::deque<std::shared_ptr<const TFrame>> recent_;
 	std::size_t nextFrameId_ = 0;
+	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;

@@ -58,7 +58,10 @@ struct TSlamJobSummary
 	bool interrupted = false;
 	std::string groundTruth;  //!< the file evaluated against, empty if none
 	bool evaluated = false;
-	TEvalReport eval;
+	TEvalReport eval;  //!< of trajectory.txt (lost frames filled in after the fact)
+	/** Of trajectory_online.txt: the poses the run had while it went (what a robot had). */
+	bool evaluatedOnline = false;
+	TEvalReport evalOnline;
 	std::string evalProblem;  //!< why there is no evaluation although ground truth exists
 	std::string detector;  //!< the detector used, in words
 	double seconds = 0;	 //!< wall time of the frame loop

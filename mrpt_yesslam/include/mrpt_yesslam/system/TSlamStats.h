@@ -10,6 +10,17 @@
 
 namespace mrpt_yesslam
 {
+/** Where a frame's pose in trajectory.txt comes from (frames.csv column `pose`). */
+enum class EPoseSource
+{
+	None,  //!< no pose at all: before the map was made, or before the first localisation in a loaded map
+	Tracked,  //!< tracked online (a robot had it while it moved)
+	Coasted,  //!< lost: the motion model's guess, as a robot had it while it moved
+	Interpolated  //!< lost, then filled in after the fact between the tracked poses around it
+};
+/** "none", "tracked", "coasted" or "interpolated". */
+const char* poseSourceName(EPoseSource s);
+
 /** One processed frame as frames.csv lists it: what tracking made of it, the map's size after it,
  * and its per-stage times (so slow frames and slow stretches of a run can be found). */
 struct TFrameLogRow
@@ -20,6 +31,7 @@ struct TFrameLogRow
 	std::size_t features = 0, staticFeatures = 0, detections = 0, inliers = 0;
 	std::size_t keyFramesInMap = 0, mapPoints = 0;
 	float detectMs = 0, maskMs = 0, orbMs = 0, trackMs = 0, keyFrameMs = 0;
+	EPoseSource pose = EPoseSource::None;  //!< what trajectory.txt holds for it
 };
 
 /** Statistics of a run (stats.json). */

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# yesslam with the default configuration (shipped detector, no --config) on every real RGB-D
+# sequence in ../shared, RUNS runs each (medians; mapping on its own thread, as users run it):
+#   - bonn_crowd_dev: 250 Xtion frames of the Bonn RGB-D Dynamic "crowd" sequence (people walking
+#     close), its marker ground truth converted with --gt-format bonn, the dataset's published
+#     distortion in a camera file; also its people-free opening alone (the first 90 frames);
+#   - tum_fr1_desk_9frames: 9 Kinect frames of TUM fr1/desk.
+# Prints ATE RMSE, RPE RMSE (translation m/s, rotation deg/s), the per-frame steps of estimate and
+# ground truth and the jitter (median length of their difference), lost frames, fps, and the ATE
+# of the online poses (trajectory_online.txt: what a robot had while it moved).
+# Usage: bench/bench_real.sh [RUNS]   (outputs in bench_out/real/)
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BIN="$ROOT/build/rawlog_tools"
+RUNS="${1:-3}"
+SHARED="$ROOT/../shared/data"
+[ -x "$BIN/yesslam" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }
+for d in bonn_crowd_dev tum_fr1_desk_9frames; do
+  [ -d "$SHARED/$d" ] || { echo "bench: $SHARED/$d is missing" >&2; exit 1; }
+done
+OUT="$ROOT/bench_out/real"; mkdir -p "$OUT/runs"
+# The Bonn intrinsics with the distortion the dataset publishes (a comment in its calibration.txt).
+BONN_CAM="$OUT/bonn_camera.txt"
+{
+  grep -v '^#' "$SHARED/bonn_crowd_dev/calibration.txt" | awk 'NF >= 4 {print; exit}'
+  grep '^#' "$SHARED/bonn_crowd_dev/calibration.txt" | awk '{n = 0; for (i = 2; i <= NF; i++) if ($i ~ /^-?[0-9.]+(e-?[0-9]+)?$/) n++} n == 5 && NF == 6 {$1 = ""; print; exit}'
+} > "$BONN_CAM"
+[ "$(wc -l < "$BONN_CAM")" -eq 2 ] || { echo "bench: could not read the Bonn calibration and distortion" >&2; exit 1; }
+
+median() { sort -g | awk '{a[NR]=$1} END {if (NR == 0) print "nan"; else print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
+field() { awk -v k="$1:" '$1==k {print $2}' "$2"; }
+lost() { awk '$1=="frames:" {f=$2} $1=="tracked:" {t=$2} END {print f-t}' "$1"; }
+
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+echo
+echo "| sequence | frames | ATE RMSE | RPE trans | RPE rot | step est / gt | jitter | lost | fps | online ATE |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+row() {
+  local name="$1"; shift
+  for i in $(seq "$RUNS"); do
+    "$BIN/yesslam" "$@" --out "$OUT/runs/$name-$i" --quiet > "$OUT/runs/$name-$i.log" 2> "$OUT/runs/$name-$i.err" || true
+  done
+  m() { for i in $(seq "$RUNS"); do field "$1" "$OUT/runs/$name-$i.log"; done | median; }
+  local frames
+  frames=$(awk '$1=="frames:" {print $2}' "$OUT/runs/$name-1.log")
+  local l; l=$(for i in $(seq "$RUNS"); do lost "$OUT/runs/$name-$i.log"; done | median)
+  awk -v n="$name" -v f="$frames" -v a="$(m ate_rmse)" -v t="$(m rpe_trans_rmse)" -v r="$(m rpe_rot_rmse_deg)" \
+      -v se="$(m step_est_median)" -v sg="$(m step_gt_median)" -v j="$(m jitter_median)" -v l="$l" -v fps="$(m fps)" \
+      -v o="$(m online_ate_rmse)" \
+      'BEGIN {printf "| %s | %s | %.1f mm | %.1f mm/s | %.2f deg/s | %.1f / %.1f mm | %.1f mm | %s | %.1f | %.1f mm |\n",
+              n, f, 1000*a, 1000*t, r, 1000*se, 1000*sg, 1000*j, l, fps, 1000*o}'
+}
+B="$SHARED/bonn_crowd_dev"
+row "bonn_crowd_dev" --input "$B" --gt-format bonn --camera "$BONN_CAM"
+row "bonn_crowd_dev_people_free" --input "$B" --gt-format bonn --camera "$BONN_CAM" --max-frames 90
+row "tum_fr1_desk_9frames" --input "$SHARED/tum_fr1_desk_9frames"
+echo
+echo "RPE with delta 1 s (the 9 fr1 frames span 0.3 s: no RPE pair there). Runs in $OUT/runs."
