@@ -17,7 +17,7 @@ OUT="$ROOT/bench_out/slam"; mkdir -p "$OUT/runs"
 TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 field() { awk -v k="$1:" '$1==k {print $2}' "$2"; }
-kf() { awk -F'[:,]' '/"keyframes"/ {gsub(/ /,"",$2); print $2}' "$1"; }
+kf() { awk -F'[:,]' '/"keyframes"/ {gsub(/ /,"",$2); print $2; exit}' "$1"; }  # the first: stats.json has other "keyframes" keys
 rate() { awk -F'[:,]' '/"tracking_rate"/ {gsub(/ /,"",$2); print $2}' "$1"; }
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo
