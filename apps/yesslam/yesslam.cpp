@@ -75,7 +75,7 @@ int main(int argc, char** argv)
 			cl.text("config", "FILE", "INI/YAML config (sections as share/mrpt_yesslam/config/default.ini); options here win", &config);
 			cl.text(
 				"detector", "B",
-				"auto (detections.txt beside the input, else yolo if a model is configured, else hog), yolo, file, hog, none",
+				"auto (detections.txt beside the input, else yolo with the configured model or the shipped Yolo-Fastest, else hog when no model is found), yolo, file, hog, none",
 				&detector);
 			cl.flag("no-loop-closure", "do not detect or close loops ([LoopClosing] enabled=false)", &noLoop);
 			cl.flag("no-dense-map", "do not build the dense cloud and OctoMap ([DenseMapping] enabled=false)", &noDense);

@@ -34,6 +34,26 @@ const std::string& walkingSequence()
 	return path;
 }
 
+// The system itself on the walking sequence: sequential (deterministic), its detections.txt.
+TYesSlamOptions walkingSystemOptions()
+{
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = walkingSequence() + "/detections.txt";
+	o.system.parallel = false;
+	return o;
+}
+
+// The walking sequence's true class labels (COCO id + 1, 16-bit) of the frame at time t.
+cv::Mat classLabelsAt(double t)
+{
+	char name[64];
+	std::snprintf(name, sizeof(name), "/labels/class/%.6f.png", t);
+	const cv::Mat cls = cv::imread(walkingSequence() + name, cv::IMREAD_UNCHANGED);
+	EXPECT_FALSE(cls.empty()) << name;
+	return cls;
+}
+
 TSlamJobOptions jobFor(const std::string& out, bool parallel)
 {
 	TSlamJobOptions o;
@@ -95,10 +115,7 @@ TEST(System, DynamicFilterKeepsPeopleOutOfTheMap)
 	// filter almost none lie on a person, without it many do.
 	auto personShare = [](bool filter)
 	{
-		TYesSlamOptions o;
-		o.detector.backend = "file";
-		o.detector.file = walkingSequence() + "/detections.txt";
-		o.system.parallel = false;
+		TYesSlamOptions o = walkingSystemOptions();
 		o.system.dynamicFilter = filter;
 		CYesSlamSystem sys(o);
 		auto src = openInputSource(walkingSequence(), o.input);
@@ -107,10 +124,7 @@ TEST(System, DynamicFilterKeepsPeopleOutOfTheMap)
 		for (TKeyFrameId k : sys.map().keyFrameIds())
 		{
 			const CKeyFrame kf = sys.map().keyFrame(k);
-			char name[64];
-			std::snprintf(name, sizeof(name), "/labels/class/%.6f.png", kf.timestamp);
-			const cv::Mat cls = cv::imread(walkingSequence() + name, cv::IMREAD_UNCHANGED);
-			EXPECT_FALSE(cls.empty()) << name;
+			const cv::Mat cls = classLabelsAt(kf.timestamp);
 			if (cls.empty()) continue;
 			for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
 			{
@@ -150,10 +164,8 @@ TEST(System, WithoutTheDynamicFilterAPersonsKeypointsReachThePoseSolve)
 		{
 			for (std::size_t i = 0; i < f.size(); i++) c.uncertain += f.features.isUncertain(i);
 			if (!f.tracked) return;
-			char name[64];
-			std::snprintf(name, sizeof(name), "/labels/class/%.6f.png", f.timestamp);
-			const cv::Mat cls = cv::imread(walkingSequence() + name, cv::IMREAD_UNCHANGED);
-			ASSERT_FALSE(cls.empty()) << name;
+			const cv::Mat cls = classLabelsAt(f.timestamp);
+			if (cls.empty()) return;
 			for (std::size_t i = 0; i < f.mapPoints.size(); i++)
 			{
 				if (f.mapPoints[i] < 0) continue;
@@ -181,10 +193,7 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 {
 	// Two blank frames before the sequence (no map can start from them: no pose at all), and five
 	// blank frames in its middle (lost: coasted while the run went, filled in afterwards).
-	TYesSlamOptions o;
-	o.detector.backend = "file";
-	o.detector.file = walkingSequence() + "/detections.txt";
-	o.system.parallel = false;
+	TYesSlamOptions o = walkingSystemOptions();
 	o.dense.enabled = false;
 	CYesSlamSystem sys(o);
 	auto src = openInputSource(walkingSequence(), o.input);
