@@ -21,7 +21,7 @@ COptionTable CLocalMapper::TOptions::table()
 	t.count("covisibleKeyFrames", covisibleKeyFrames, 0, 1000, "keyframes optimised besides the new one");
 	t.count("maxFixedKeyFrames", maxFixedKeyFrames, 0, 1000, "other keyframes seeing the points, held fixed");
 	t.integer("iterations", iterations, 1, 1000, "Ceres iterations");
-	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only");
+	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 x scaleFactor^octave (m), as the pixel's sigma grows with the keypoint's level; 0 = reprojection only");
 	t.real("cullFoundRatio", cullFoundRatio, 0, 1, "young points found in fewer than this share of the frames that should see them are culled");
 	t.count("cullMinObservations", cullMinObservations, 0, 1000, "young points seen by fewer keyframes are culled");
 	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000, "neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, README)");

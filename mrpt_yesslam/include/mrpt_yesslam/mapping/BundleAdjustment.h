@@ -23,7 +23,7 @@ struct TBundleStats
 struct TBundleSolveOptions
 {
 	double scaleFactor = 1.2;  //!< ORB pyramid: pixel sigma = scale ^ octave
-	double depthNoise = 0.0025;	 //!< sigma_z = depthNoise z^2; 0 = reprojection only
+	double depthNoise = 0.0025;	 //!< sigma_z = depthNoise z^2 scale^octave; 0 = reprojection only
 	int iterations = 10;
 	/** Sparse Schur for many cameras (global BA); dense Schur is faster for a local window. */
 	bool sparse = false;

@@ -46,7 +46,7 @@ class CLocalMapper
 		std::size_t covisibleKeyFrames = 10;  //!< optimised besides the new keyframe
 		std::size_t maxFixedKeyFrames = 20;	 //!< other keyframes seeing the points, held fixed
 		int iterations = 10;
-		/** Depth noise sigma_z = depthNoise x z^2 (m) of the depth residual; 0 = reprojection only. */
+		/** Depth noise sigma_z = depthNoise x z^2 x scaleFactor^octave (m) of the depth residual; 0 = reprojection only. */
 		double depthNoise = 0.0025;
 		double cullFoundRatio = 0.25;  //!< young points found in fewer than this share of views are culled
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
