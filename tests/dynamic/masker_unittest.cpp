@@ -210,3 +210,36 @@ TEST(Masker, BadOptions)
 	o.laplacianKernel = 4;
 	expectInputError([&] { CDynamicObjectMasker m(o); }, {"laplacianKernel"});
 }
+
+TEST(Masker, TheSeedComparisonOfEq2StopsWhereTheNeighbourComparisonFollowsTheBody)
+{
+	// A person leaning towards the camera: the silhouette's depth runs from 1.6 m at the head to
+	// 2.4 m at the feet, in front of a wall at 4 m. Each pixel differs from its neighbour by far
+	// less than the tolerance, so the neighbour comparison (our default) fills the whole body; eq.
+	// 2 as written compares with the seed (at the body's middle, about 2 m), so the fill stops
+	// 0.13 m either side of it: head and feet are left out.
+	const cv::Mat person = personShape();
+	cv::Mat depth(person.size(), CV_32F);
+	const cv::Rect r = cv::boundingRect(person);
+	for (int y = 0; y < depth.rows; y++)
+		for (int x = 0; x < depth.cols; x++)
+			depth.at<float>(y, x) = person.at<uchar>(y, x) ? static_cast<float>(1.6 + 0.8 * (y - r.y) / r.height) : 4.0f;
+	CDynamicObjectMasker::TOptions o;
+	o.method = "fill";
+	o.dilatePixels = 0;
+	o.maxDepthRange = 0;
+	const auto det = personBox(person, 0.04f);
+	const auto neighbour = CDynamicObjectMasker(o).compute(depth, {det});
+	o.fillCompare = "seed";
+	const auto seed = CDynamicObjectMasker(o).compute(depth, {det});
+	ASSERT_FALSE(neighbour.regions[0].usedBox);
+	ASSERT_FALSE(seed.regions[0].usedBox);
+	EXPECT_GT(iou(neighbour.mask, person), 0.95);
+	const double share = static_cast<double>(cv::countNonZero(seed.mask & person)) / cv::countNonZero(person);
+	EXPECT_LT(share, 0.5) << "the seed comparison keeps to +-0.13 m of the seed's depth";
+	EXPECT_GT(share, 0.15);
+	EXPECT_EQ(seed.mask.at<uchar>(r.y + 5, 320), 0) << "the head, 0.4 m nearer than the seed";
+	EXPECT_NE(neighbour.mask.at<uchar>(r.y + 5, 320), 0);
+	o.fillCompare = "sideways";
+	expectInputError([&] { CDynamicObjectMasker m(o); }, {"fillCompare", "'sideways'"});
+}

@@ -16,6 +16,7 @@ COptionTable CDynamicObjectMasker::TOptions::table()
 	t.text("method", method, "edge_fill: the paper's Laplacian-enhanced fill; fill: plain depth flood fill; box: the whole box", {"edge_fill", "fill", "box"});
 	t.real("loDiff", loDiff, 0, 10, "fill tolerance towards the camera between neighbours, m (the paper's 5 grey levels: about 0.13)");
 	t.real("upDiff", upDiff, 0, 10, "fill tolerance away from the camera between neighbours, m");
+	t.text("fillCompare", fillCompare, "neighbour: each pixel against its filled neighbour (floating range, capped by maxDepthRange); seed: against the seed (eq. 2 as written, fixed range)", {"neighbour", "seed"});
 	t.real("laplacianGain", laplacianGain, 0, 100, "k in f - k * lap(f) (eq. 4)");
 	t.integer("laplacianKernel", laplacianKernel, 1, 7, "aperture of the Laplacian (1, 3, 5, 7)");
 	t.real("blurSigma", blurSigma, 0, 100, "sigma of the Gaussian blur (eq. 5), pixels at the fill resolution");
@@ -37,6 +38,8 @@ CDynamicObjectMasker::CDynamicObjectMasker(const TOptions& o) : opts_(o)
 	if (o.method != "edge_fill" && o.method != "fill" && o.method != "box")
 		throw InputError("", "[DynamicMask] method must be edge_fill, fill or box, got '" + o.method + "'");
 	if (!(o.loDiff >= 0) || !(o.upDiff >= 0)) throw InputError("", "[DynamicMask] loDiff and upDiff must be >= 0");
+	if (o.fillCompare != "neighbour" && o.fillCompare != "seed")
+		throw InputError("", "[DynamicMask] fillCompare must be neighbour or seed, got '" + o.fillCompare + "'");
 	if (o.laplacianKernel != 1 && o.laplacianKernel != 3 && o.laplacianKernel != 5 && o.laplacianKernel != 7)
 		throw InputError("", "[DynamicMask] laplacianKernel must be 1, 3, 5 or 7");
 	if (o.downsample < 1 || o.downsample > 4) throw InputError("", "[DynamicMask] downsample must be 1..4");
@@ -140,9 +143,13 @@ bool CDynamicObjectMasker::fillBox(
 		const cv::Mat rs = raw(roi);
 		fm(cv::Rect(1, 1, roi.width, roi.height)).setTo(1, (rs < z0 - opts_.maxDepthRange) | (rs > z0 + opts_.maxDepthRange));
 	}
+	// Eq. 2 compares every pixel with the seed (OpenCV's fixed range); comparing with the filled
+	// neighbour instead follows a body that bends away from the camera (our default, with the
+	// maxDepthRange cap above against runs along the floor).
+	const int range = opts_.fillCompare == "seed" ? cv::FLOODFILL_FIXED_RANGE : 0;
 	cv::floodFill(
 		sub, fm, seed - roi.tl(), cv::Scalar(), nullptr, cv::Scalar(opts_.loDiff), cv::Scalar(opts_.upDiff),
-		4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
+		4 | cv::FLOODFILL_MASK_ONLY | range | (255 << 8));
 	cv::Mat filled = fm(cv::Rect(1, 1, roi.width, roi.height)) == 255;
 	// Sharpening and blur make the object's own outermost pixels differ from their neighbours, so the
 	// fill stops a pixel or two short of the silhouette. Grow it back, one 4-neighbour layer at a

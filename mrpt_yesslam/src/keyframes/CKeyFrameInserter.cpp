@@ -15,6 +15,7 @@ COptionTable CKeyFrameInserter::TOptions::table()
 	t.text("policy", policy, "semantic: the paper's Algorithm 1; orbslam: ORB-SLAM2's NeedNewKeyFrame", {"semantic", "orbslam"});
 	t.real("forceTrackedRatio", forceTrackedRatio, 0, 0.999, "semantic: insert at once when inliers fall below this share of the reference keyframe's points");
 	t.real("semanticRefRatio", semanticRefRatio, 0.01, 1, "semantic: Algorithm 1's choice is inserted only if it tracks fewer than this share of the reference's points (1 = always)");
+	t.text("motionReference", motionReference, "semantic: D (eq. 12-17) against tracker (the keyframe sharing most points with the frame) or previous (Algorithm 1's F_ref: the keyframe its last interval chose)", {"tracker", "previous"});
 	t.integer("orbMaxFrames", orbMaxFrames, 1, 100000, "orbslam: a keyframe at least this often (ORB-SLAM2: the frame rate)");
 	t.integer("orbMinFrames", orbMinFrames, 0, 100000, "orbslam: no keyframe sooner than this");
 	t.real("orbRefRatio", orbRefRatio, 0, 1, "orbslam: c2 threshold on inliers / reference points");
@@ -28,6 +29,8 @@ CKeyFrameInserter::CKeyFrameInserter(const TOptions& opts) : opts_(opts), select
 		throw InputError("", "[KeyFrames] policy must be semantic or orbslam, not '" + opts_.policy + "'");
 	if (!(opts_.forceTrackedRatio >= 0 && opts_.forceTrackedRatio < 1))
 		throw InputError("", "[KeyFrames] forceTrackedRatio must be in [0,1)");
+	if (opts_.motionReference != "tracker" && opts_.motionReference != "previous")
+		throw InputError("", "[KeyFrames] motionReference must be tracker or previous, not '" + opts_.motionReference + "'");
 	if (!(opts_.semanticRefRatio > 0 && opts_.semanticRefRatio <= 1))
 		throw InputError("", "[KeyFrames] semanticRefRatio must be in (0,1]");
 	if (opts_.orbMaxFrames < 1 || opts_.orbMinFrames < 0)

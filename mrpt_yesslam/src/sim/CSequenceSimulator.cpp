@@ -43,6 +43,7 @@ const std::vector<TSimPreset>& simPresets()
 		{"walking_halfsphere", "two people walk through the view; camera moves on a half sphere (fr3/walking_halfsphere)", "halfsphere", 2, 0, 900},
 		{"sitting_static", "two people sit at desks, moving head and arms; camera still (fr3/sitting_static)", "static", 0, 2, 600},
 		{"sitting_xyz", "two people sit at desks; camera translates along x, y, z (fr3/sitting_xyz)", "xyz", 0, 2, 900},
+		{"sitting_rpy", "two people sit at desks; camera rotates in roll, pitch, yaw (fr3/sitting_rpy)", "rpy", 0, 2, 900},
 		{"sitting_halfsphere", "two people sit at desks; camera moves on a half sphere (fr3/sitting_halfsphere)", "halfsphere", 0, 2, 900},
 		{"static_office", "the office without people; camera translates along x, y, z (a static reference)", "xyz", 0, 0, 600},
 		{"office_loop", "one person walks; camera goes round a small loop, never losing sight of its start (back there after 24 s)", "loop", 1, 0, 900},

@@ -361,8 +361,13 @@ TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeSc
 double CYesSlamSystem::motionToReference(const TFrame& f) const
 {
 	// Eq. 12-16 on the 3D points the frame shares with the reference keyframe, each measured by
-	// its own depth; the tracked relative pose when too few points are shared.
-	const auto ref = tracker_.referenceKeyFrame();
+	// its own depth; the tracked relative pose when too few points are shared. The reference is
+	// tracking's (the keyframe sharing most points: D then says how far the view is from the map
+	// it is tracked against), or Algorithm 1's own F_ref, the keyframe its last interval chose
+	// ([KeyFrames] motionReference = previous; a candidate refused for N_in <= 20 never became a
+	// keyframe, so the one before stays F_ref there).
+	std::optional<TKeyFrameId> ref = tracker_.referenceKeyFrame();
+	if (opts_.keyFrames.motionReference == "previous" && lastKeyFrame_) ref = map_.goodAncestor(*lastKeyFrame_);
 	if (!ref) return 0;
 	const CKeyFrame kf = map_.keyFrame(*ref);
 	std::map<TPointId, std::size_t> refKp;
@@ -394,6 +399,7 @@ void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool
 	tracker_.setReferenceKeyFrame(kf);
 	inserter_.keyFrameInserted(f->id);
 	lastKeyFrameFrame_ = f->id;
+	lastKeyFrame_ = kf;
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.keyFrames++;

@@ -69,6 +69,10 @@ class CDynamicObjectMasker
 		 * keypoints kept (bench/bench_masking.sh). */
 		double loDiff = 0.13;
 		double upDiff = 0.13;  //!< fill tolerance away from the camera between neighbours, metres
+		/** What a pixel's depth is compared with: "neighbour" (a floating range: the filled
+		 * neighbour, so the fill follows a person's body as it bends away, with maxDepthRange as the
+		 * cap) or "seed" (eq. 2 as written: the seed's value, a fixed range). */
+		std::string fillCompare = "neighbour";
 		double laplacianGain = 1.0;	 //!< k in f - k * lap(f)
 		int laplacianKernel = 3;  //!< aperture of the Laplacian (1, 3, 5, 7)
 		double blurSigma = 1.0;	 //!< sigma of the Gaussian blur (eq. 5), pixels (at the fill resolution)

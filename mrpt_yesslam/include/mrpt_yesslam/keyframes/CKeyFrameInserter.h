@@ -34,6 +34,10 @@ class CKeyFrameInserter
 		std::string policy = "semantic";  //!< semantic | orbslam
 		double forceTrackedRatio = 0.25;  //!< semantic: insert at once below this share of the reference's points
 		double semanticRefRatio = 0.9;	//!< semantic: Algorithm 1's choice is inserted only below this share (1 = always)
+		/** semantic: what the motion amplitude D (eq. 12-17) is measured against: "tracker" (the
+		 * keyframe sharing most points with the frame, ORB-SLAM2's reference) or "previous"
+		 * (Algorithm 1's own F_ref: the keyframe its last interval chose). */
+		std::string motionReference = "tracker";
 		int orbMaxFrames = 30;	//!< orbslam: a keyframe at least this often (ORB-SLAM2: the frame rate)
 		int orbMinFrames = 0;  //!< orbslam: no keyframe sooner than this
 		double orbRefRatio = 0.75;	//!< orbslam: c2 threshold on inliers / reference points

@@ -208,6 +208,7 @@ class CYesSlamSystem
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
+	std::optional<TKeyFrameId> lastKeyFrame_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;
 
