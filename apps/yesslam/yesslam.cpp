@@ -79,7 +79,10 @@ int main(int argc, char** argv)
 				&detector);
 			cl.flag("no-loop-closure", "do not detect or close loops ([LoopClosing] enabled=false)", &noLoop);
 			cl.flag("no-dense-map", "do not build the dense cloud and OctoMap ([DenseMapping] enabled=false)", &noDense);
-			cl.number("octomap-resolution", "M", "OctoMap voxel size in metres ([DenseMapping] octomapResolution)", &octomapRes);
+			cl.number(
+				"octomap-resolution", "M",
+				"OctoMap voxel size in metres ([DenseMapping] octomapResolution, default 0.05): from the dense cloud's voxel size ([DenseMapping] voxelSize, 0.02) up to 10; 0.02-0.2 is useful for rooms",
+				&octomapRes);
 			cl.flag(
 				"no-dynamic-filter",
 				"the baseline the method is compared with: no dynamic handling at all (no mask, no geometric or mover check, no see-through culling; people go into the dense map): every feature is used, as ORB-SLAM2 would",

@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
 
+#include <cstdio>
+
 #include <mrpt/maps/CSimplePointsMap.h>
 
 #include <algorithm>
@@ -123,6 +125,18 @@ CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObje
 	if (o.dynamicExclusion != "box" && o.dynamicExclusion != "mask" && o.dynamicExclusion != "none")
 		throw InputError("", "[DenseMapping] dynamicExclusion must be box, mask or none, got '" + o.dynamicExclusion + "'");
 	if (!(o.octomapResolution > 0)) throw InputError("", "[DenseMapping] octomapResolution must be > 0");
+	// The octree is built from the filtered cloud: finer than its grid it holds no more detail, only
+	// more nodes (0.005 m took 85 s and 3.8 GB for 30 frames, with fewer occupied voxels than 0.02 m).
+	if (o.octomapResolution < o.voxelSize - 1e-12)
+	{
+		char b[320];
+		std::snprintf(
+			b, sizeof(b),
+			"[DenseMapping] octomapResolution (--octomap-resolution) %.3g m is finer than the dense cloud's voxelSize %.3g m it is built "
+			"from: it would add no detail, only time and memory; use %.3g m or coarser (or a finer voxelSize)",
+			o.octomapResolution, o.voxelSize, o.voxelSize);
+		throw InputError("", b);
+	}
 	if (numClasses_ + 1 > 256) throw InputError("", "the dense map stores labels in one byte: at most 255 detector classes");
 }
 
