@@ -125,6 +125,12 @@ int main(int argc, char** argv)
 			if (!(speed > 0 && speed <= 100)) throw InputError("", "--speed must be in (0, 100], got " + std::to_string(speed));
 			o.live.speed = speed;
 			if (o.live.realtime && isOpenNI2Input(o.input)) throw InputError("", "--realtime is for recorded input (.rawlog, TUM folder); OpenNI2 input is live already");
+			// Options that would do nothing in this run are refused rather than silently ignored.
+			if (cl.given("speed") && !o.live.realtime && !isOpenNI2Input(o.input))
+				throw InputError("", "--speed sets the pace of --realtime playback (or of an .oni recording): add --realtime, or leave --speed out");
+			for (const char* k : {"width", "height", "fps"})
+				if (cl.given(k) && !isOpenNI2Input(o.input))
+					throw InputError("", std::string("--") + k + " sets an OpenNI2 camera's stream mode: recorded input keeps its own");
 			if (!config.empty()) o.slam.loadFromFile(config);
 			if (cl.given("detector") || config.empty()) o.slam.detector.backend = detector;
 			o.groundTruthFormat = parseGroundTruthFormat(gtFormat);

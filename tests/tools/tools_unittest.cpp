@@ -384,6 +384,15 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	// Finer than the cloud it is built from: refused at once (it took 85 s and 3.8 GB for 30 frames).
 	fails({"--input", desk, "--out", d / "fine", "--octomap-resolution", "0.01", "--detector", "none"}, {"--octomap-resolution", "voxelSize 0.02"});
 	EXPECT_FALSE(fs::exists(d / "fine")) << "a run that cannot start makes no output folder";
+	// Issue 30 item 8: a skip past the end, options that would do nothing, a map that could not be
+	// saved after the run, and a map and recording that would overwrite each other - refused at once.
+	fails({"--input", desk, "--out", d / "skip", "--skip-frames", "20", "--detector", "none"}, {"--skip-frames 20", "holds only 9"});
+	EXPECT_FALSE(fs::exists(d / "skip"));
+	fails({"--input", desk, "--out", d / "x", "--speed", "2", "--detector", "none"}, {"--speed", "--realtime"});
+	fails({"--input", desk, "--out", d / "x", "--width", "320", "--detector", "none"}, {"--width", "OpenNI2"});
+	fails({"--input", desk, "--out", d / "x", "--save-map", "/proc/x.ysm", "--detector", "none"}, {"/proc/x.ysm", "takes no new files"});
+	fails({"--input", desk, "--out", d / "x", "--save-map", d / "same.bin", "--record", d / "same.bin", "--detector", "none"}, {"same file"});
+	EXPECT_FALSE(fs::exists(d / "x"));
 	fails({"--input", desk, "--out", d / "x", "--policy", "often", "--detector", "none"}, {"policy", "often"});
 	writeText(d / "bad.ini", "[Tracking]\nmaxDepth = far\n");
 	fails({"--input", desk, "--out", d / "x", "--config", d / "bad.ini"}, {"bad.ini", "maxDepth"});

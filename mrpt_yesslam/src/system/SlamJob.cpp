@@ -8,6 +8,8 @@
 #include <deque>
 #include <mutex>
 #include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/io/COpenNI2Source.h"
@@ -245,6 +247,16 @@ TSlamJobSummary runSlamJob(
 		const fs::path dir = fs::path(o.saveMap).parent_path();
 		if (!dir.empty() && !fs::is_directory(dir)) throw InputError(o.saveMap, "cannot save the map there: the folder does not exist");
 		if (fs::is_directory(o.saveMap)) throw InputError(o.saveMap, "cannot save the map there: it is a folder");
+		// A folder that exists but takes no files (/proc, read-only media, no permission).
+		const fs::path probe = (dir.empty() ? fs::path(".") : dir) / (".yesslam_probe_" + std::to_string(::getpid()));
+		{
+			std::ofstream f(probe);
+			if (!f) throw InputError(o.saveMap, "cannot save the map there: the folder takes no new files");
+		}
+		std::error_code rm;
+		fs::remove(probe, rm);
+		if (!o.record.empty() && fs::weakly_canonical(o.record, rm) == fs::weakly_canonical(o.saveMap, rm))
+			throw InputError(o.saveMap, "--save-map and --record name the same file: one would overwrite the other");
 	}
 	if (o.skipFrames && (isOpenNI2Input(o.input) || o.live.realtime))
 		throw InputError("", "skipping frames is for recorded input read in order, not for live or real-time input");
@@ -291,6 +303,15 @@ TSlamJobSummary runSlamJob(
 			recorder.reset();
 		}
 	};
+	// Skipped before any output: a skip past the end of the input is an error, not an empty run.
+	std::size_t skipped = 0;
+	while (skipped < o.skipFrames && src->next()) skipped++;
+	if (skipped < o.skipFrames)
+	{
+		closeInput();
+		throw InputError(
+			o.input, "--skip-frames " + std::to_string(o.skipFrames) + " skips every frame: the input holds only " + std::to_string(skipped));
+	}
 	std::error_code ec;
 	fs::create_directories(o.outDir, ec);
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
@@ -304,8 +325,6 @@ TSlamJobSummary runSlamJob(
 	std::size_t done = 0;
 	try
 	{
-		for (std::size_t k = 0; k < o.skipFrames; k++)
-			if (!src->next()) break;
 		while (!(o.maxFrames && done >= o.maxFrames))
 		{
 			if (cancel && cancel())
