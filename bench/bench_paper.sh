@@ -6,7 +6,9 @@
 # measured on the real TUM sequences, not here). Keyframe counts (the paper's figure 11) follow.
 # Our rows are yesslam-sim sequences standing in for the real fr3 ones (FRAMES frames, seed 1,
 # simulated YOLO detections; fr3_long_office_household -> static_tour, a loop in a static room),
-# then every real sequence in ../shared. Runs are sequential: each figure is exact and repeatable.
+# then every real sequence in ../shared. One run each, mapping on its own thread as users run it
+# (sequential, the baseline's ORB-SLAM2 rules insert a keyframe nearly every frame while it follows
+# the people, and its wrong loop closures run global BAs over hundreds of keyframes: minutes a run).
 # Usage: bench/bench_paper.sh [FRAMES]   (sequences and runs in bench_out/paper/)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -32,9 +34,9 @@ declare -A PAPER=(
 )
 PRESETS=(walking_xyz walking_static walking_rpy walking_halfsphere sitting_static sitting_xyz sitting_rpy sitting_halfsphere static_tour)
 declare -A NAME=([static_tour]="long_office_household (sim: static_tour)")
-run() {  # run TAG INPUT [args...]: one sequential run, its log in $OUT/runs/TAG.log
+run() {  # run TAG INPUT [args...]: one run, its log in $OUT/runs/TAG.log
   local tag="$1" in="$2"; shift 2
-  "$BIN/yesslam" --input "$in" --out "$OUT/runs/$tag" --sequential --quiet "$@" > "$OUT/runs/$tag.log" 2>&1 || true
+  "$BIN/yesslam" --input "$in" --out "$OUT/runs/$tag" --quiet "$@" > "$OUT/runs/$tag.log" 2>&1 || true
 }
 SEQS=()
 for p in "${PRESETS[@]}"; do

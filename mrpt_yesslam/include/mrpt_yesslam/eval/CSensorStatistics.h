@@ -1,0 +1,58 @@
+#pragma once
+// What a sequence's frames look like to SLAM, so that the simulator can be held against real
+// sensors (issue 27): depth noise against distance, valid depth, flying pixels at depth edges,
+// texture and sharpness of the colour image. Measured the same way on any RGB-D frames, simulated
+// or real, with no ground truth:
+// - depth noise: every 8 x 8 patch with full depth gets a least-squares plane; the RMS residual is
+//   the noise of a smooth surface at the patch's depth (patches on edges, residual above 5 cm or
+//   10 % of the depth, are left out); medians per depth bin, and k of sigma = k z^2 fitted to them.
+// - flying pixels: valid pixels lying between their left and right neighbours across a jump of
+//   more than 10 % of the depth, at least 3 % from both (the mixed returns of a structured-light
+//   sensor at silhouettes).
+// - texture: the share of 32 x 32 cells with a FAST corner at threshold 20; sharpness: the
+//   median over frames of the variance of the grey image's Laplacian (motion blur lowers it).
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mrpt_yesslam
+{
+/** Accumulates per-frame sensor statistics over a sequence. */
+class CSensorStatistics
+{
+   public:
+	/** One depth bin of the noise curve. */
+	struct TNoiseBin
+	{
+		double zMin = 0, zMax = 0;
+		std::size_t patches = 0;
+		double medianResidual = 0;	//!< metres
+	};
+	/** The sequence's statistics. */
+	struct TResult
+	{
+		std::size_t frames = 0;
+		double validDepthShare = 0;	 //!< mean over frames of valid depth pixels / all pixels
+		double flyingPixelShare = 0;  //!< flying pixels / valid pixels
+		double texturedCellShare = 0;  //!< mean over frames
+		double sharpness = 0;  //!< median Laplacian variance (grey levels^2)
+		std::vector<TNoiseBin> noise;  //!< 0.5-1, 1-1.5, ... 4.5-5 m
+		double noiseK = 0;	//!< k of sigma = k z^2, least squares over the bins' medians (0 without patches)
+	};
+
+	/** Adds one frame: colour (BGR or grey) and depth in metres (CV_32F, 0 = none). */
+	void addFrame(const cv::Mat& bgr, const cv::Mat& depthMetres);
+	/** The statistics of the frames added so far. */
+	TResult result() const;
+	/** The result as "key: value" lines, noise bins as noise_<zmin>_<zmax>_mm. */
+	static std::string format(const TResult& r);
+
+   private:
+	std::size_t frames_ = 0;
+	double validSum_ = 0, texturedSum_ = 0;
+	std::size_t flying_ = 0, valid_ = 0;
+	std::vector<double> sharpness_;
+	std::vector<std::vector<double>> residuals_ = std::vector<std::vector<double>>(9);
+};
+}  // namespace mrpt_yesslam

@@ -1,0 +1,145 @@
+#include "mrpt_yesslam/eval/CSensorStatistics.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace mrpt_yesslam
+{
+namespace
+{
+double median(std::vector<double> v)
+{
+	if (v.empty()) return 0;
+	const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+	std::nth_element(v.begin(), mid, v.end());
+	return *mid;
+}
+constexpr double kBin0 = 0.5, kBinW = 0.5;
+}  // namespace
+
+void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
+{
+	CV_Assert(depth.type() == CV_32F);
+	frames_++;
+	const int valid = cv::countNonZero(depth > 0);
+	validSum_ += static_cast<double>(valid) / static_cast<double>(depth.total());
+	valid_ += static_cast<std::size_t>(valid);
+
+	// Plane residuals of 8 x 8 patches with full depth, in pixel coordinates (a small patch of a
+	// smooth surface is a plane in (u, v, z) as well as in space).
+	constexpr int P = 8;
+	Eigen::Matrix<double, P * P, 3> A;
+	for (int y = 0; y < P; y++)
+		for (int x = 0; x < P; x++) A.row(y * P + x) << x - 3.5, y - 3.5, 1.0;
+	const Eigen::Matrix<double, 3, P * P> pinv = (A.transpose() * A).inverse() * A.transpose();
+	Eigen::Matrix<double, P * P, 1> z;
+	for (int y0 = 0; y0 + P <= depth.rows; y0 += P)
+		for (int x0 = 0; x0 + P <= depth.cols; x0 += P)
+		{
+			bool full = true;
+			for (int y = 0; y < P && full; y++)
+			{
+				const float* row = depth.ptr<float>(y0 + y);
+				for (int x = 0; x < P; x++)
+				{
+					if (!(row[x0 + x] > 0))
+					{
+						full = false;
+						break;
+					}
+					z(y * P + x) = row[x0 + x];
+				}
+			}
+			if (!full) continue;
+			const Eigen::Vector3d plane = pinv * z;
+			const double rms = std::sqrt((z - A * plane).squaredNorm() / (P * P - 3));
+			const double zc = plane(2);
+			if (rms > std::min(0.05, 0.1 * zc)) continue;  // an edge, not a surface
+			const int bin = static_cast<int>(std::floor((zc - kBin0) / kBinW));
+			if (bin >= 0 && bin < static_cast<int>(residuals_.size())) residuals_[static_cast<std::size_t>(bin)].push_back(rms);
+		}
+
+	// Flying pixels: between their horizontal neighbours across a jump.
+	for (int y = 0; y < depth.rows; y++)
+	{
+		const float* r = depth.ptr<float>(y);
+		for (int x = 1; x + 1 < depth.cols; x++)
+		{
+			const float a = r[x - 1], v = r[x], b = r[x + 1];
+			if (!(a > 0 && v > 0 && b > 0)) continue;
+			const float lo = std::min(a, b), hi = std::max(a, b);
+			if (hi - lo > 0.1f * v && v > lo + 0.03f * v && v < hi - 0.03f * v) flying_++;
+		}
+	}
+
+	cv::Mat grey;
+	if (bgr.channels() == 3)
+		cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+	else
+		grey = bgr;
+	std::vector<cv::KeyPoint> corners;
+	cv::FAST(grey, corners, 20, false);  // existence per cell; non-maximum suppression is not needed
+	constexpr int C = 32;
+	const int cols = (grey.cols + C - 1) / C, rows = (grey.rows + C - 1) / C;
+	std::vector<char> hit(static_cast<std::size_t>(cols * rows), 0);
+	for (const auto& k : corners) hit[static_cast<std::size_t>(static_cast<int>(k.pt.y) / C * cols + static_cast<int>(k.pt.x) / C)] = 1;
+	texturedSum_ += static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / static_cast<double>(hit.size());
+	cv::Mat lap;
+	cv::Laplacian(grey, lap, CV_64F);
+	cv::Scalar mean, sd;
+	cv::meanStdDev(lap, mean, sd);
+	sharpness_.push_back(sd[0] * sd[0]);
+}
+
+CSensorStatistics::TResult CSensorStatistics::result() const
+{
+	TResult r;
+	r.frames = frames_;
+	if (frames_ == 0) return r;
+	r.validDepthShare = validSum_ / static_cast<double>(frames_);
+	r.flyingPixelShare = valid_ ? static_cast<double>(flying_) / static_cast<double>(valid_) : 0.0;
+	r.texturedCellShare = texturedSum_ / static_cast<double>(frames_);
+	r.sharpness = median(sharpness_);
+	double num = 0, den = 0;
+	for (std::size_t b = 0; b < residuals_.size(); b++)
+	{
+		TNoiseBin n;
+		n.zMin = kBin0 + kBinW * static_cast<double>(b);
+		n.zMax = n.zMin + kBinW;
+		n.patches = residuals_[b].size();
+		n.medianResidual = median(residuals_[b]);
+		r.noise.push_back(n);
+		if (n.patches >= 20)
+		{
+			// sigma = k z^2 through the bins' medians, each bin weighted by its patch count.
+			const double zc = 0.5 * (n.zMin + n.zMax), z2 = zc * zc, w = static_cast<double>(n.patches);
+			num += w * z2 * n.medianResidual;
+			den += w * z2 * z2;
+		}
+	}
+	r.noiseK = den > 0 ? num / den : 0.0;
+	return r;
+}
+
+std::string CSensorStatistics::format(const TResult& r)
+{
+	std::string out;
+	char b[160];
+	std::snprintf(
+		b, sizeof(b), "frames: %zu\nvalid_depth_share: %.4f\nflying_pixel_share: %.5f\ntextured_cell_share: %.4f\nsharpness: %.1f\n", r.frames,
+		r.validDepthShare, r.flyingPixelShare, r.texturedCellShare, r.sharpness);
+	out += b;
+	for (const auto& n : r.noise)
+	{
+		std::snprintf(b, sizeof(b), "noise_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax, 1000 * n.medianResidual, n.patches);
+		out += b;
+	}
+	std::snprintf(b, sizeof(b), "noise_k: %.5f\n", r.noiseK);
+	out += b;
+	return out;
+}
+}  // namespace mrpt_yesslam

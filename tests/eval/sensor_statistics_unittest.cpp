@@ -1,0 +1,72 @@
+// The sensor statistics that hold the simulator against real frames, on frames of known content.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "mrpt_yesslam/eval/CSensorStatistics.h"
+
+using namespace mrpt_yesslam;
+
+namespace
+{
+// A slanted wall at 2.1-2.3 m with white depth noise `sigma`; the top `holeRows` rows have no depth.
+cv::Mat noisyWall(double sigma, unsigned seed, int holeRows = 0)
+{
+	std::mt19937 rng(seed);
+	std::normal_distribution<double> n(0, sigma);
+	cv::Mat d(480, 640, CV_32F);
+	for (int y = 0; y < d.rows; y++)
+		for (int x = 0; x < d.cols; x++) d.at<float>(y, x) = y < holeRows ? 0.f : static_cast<float>(2.1 + 0.0003 * x + n(rng));
+	return d;
+}
+
+// Blocks of random grey levels: corners everywhere.
+cv::Mat blocks(int square)
+{
+	cv::Mat small(480 / square, 640 / square, CV_8U), g;
+	cv::theRNG().state = 12345;
+	cv::randu(small, 0, 256);
+	cv::resize(small, g, cv::Size(640, 480), 0, 0, cv::INTER_NEAREST);
+	return g;
+}
+}  // namespace
+
+TEST(SensorStatistics, MeasureDepthNoiseValidDepthTextureAndSharpness)
+{
+	CSensorStatistics sharp, blurred, flat;
+	cv::Mat blur;
+	cv::GaussianBlur(blocks(8), blur, cv::Size(), 2.0);
+	for (unsigned k = 0; k < 3; k++)
+	{
+		sharp.addFrame(blocks(8), noisyWall(0.005, k, 96));	// 96 of 480 rows without depth
+		blurred.addFrame(blur, noisyWall(0.005, k));
+		flat.addFrame(cv::Mat(480, 640, CV_8U, cv::Scalar(128)), noisyWall(0.005, k));
+	}
+	const auto r = sharp.result();
+	EXPECT_EQ(r.frames, 3u);
+	EXPECT_NEAR(r.validDepthShare, 0.8, 1e-9);
+	EXPECT_GT(r.texturedCellShare, 0.9);
+	EXPECT_EQ(flat.result().texturedCellShare, 0.0) << "a flat grey image has no corner";
+	EXPECT_LT(blurred.result().sharpness, 0.2 * r.sharpness) << "blur lowers the Laplacian's variance";
+	// The wall's patches measure the noise: 5 mm at 2.1-2.3 m (bin 2.0-2.5 m), k = 5 mm / 2.2^2.
+	const auto w = flat.result();
+	EXPECT_NEAR(w.validDepthShare, 1.0, 1e-9);
+	EXPECT_GT(w.noise[3].patches, 10000u);
+	EXPECT_NEAR(w.noise[3].medianResidual, 0.005, 0.0005);
+	EXPECT_NEAR(w.noiseK, 0.005 / (2.25 * 2.25), 0.0002);
+	for (std::size_t b = 0; b < w.noise.size(); b++)
+		if (b != 3) EXPECT_EQ(w.noise[b].patches, 0u) << b;
+}
+
+TEST(SensorStatistics, FlyingPixelsBetweenAPersonAndTheWallAreCounted)
+{
+	// A person at 1.5 m before a wall at 3 m; along its left edge one pixel per row lies half way
+	// (the mixed return of a structured-light sensor).
+	cv::Mat d(480, 640, CV_32F, cv::Scalar(3.0f));
+	d(cv::Rect(300, 100, 100, 300)).setTo(1.5f);
+	for (int y = 100; y < 400; y++) d.at<float>(y, 299) = 2.25f;
+	CSensorStatistics s;
+	s.addFrame(cv::Mat(480, 640, CV_8U, cv::Scalar(128)), d);
+	EXPECT_NEAR(s.result().flyingPixelShare, 300.0 / (640 * 480), 1e-9);
+}
