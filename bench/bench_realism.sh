@@ -19,11 +19,13 @@ NAMES=(bonn_crowd_dev tum_fr1_desk_9frames)
 INPUT[bonn_crowd_dev]="$SHARED/bonn_crowd_dev"; ARGS[bonn_crowd_dev]="--gt-format bonn"
 INPUT[tum_fr1_desk_9frames]="$SHARED/tum_fr1_desk_9frames"; ARGS[tum_fr1_desk_9frames]=""
 for p in "${PRESETS[@]}"; do
-  seq="$OUT/$p"
-  [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$p" --seed 3 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet --out "$seq" >/dev/null
-  NAMES+=("sim $p"); INPUT["sim $p"]="$seq"; ARGS["sim $p"]=""
+  for sensor in kinect real; do
+    seq="$OUT/$p-$sensor"; flag=(); [ $sensor = real ] && flag=(--real-sensor)
+    [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$p" --seed 3 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet "${flag[@]}" --out "$seq" >/dev/null
+    n="sim $p ($sensor sensor)"; NAMES+=("$n"); INPUT["$n"]="$seq"; ARGS["$n"]=""
+  done
 done
-echo "| sequence | valid depth | textured cells | sharpness | noise 1-1.5 m | noise 2-2.5 m | noise 3-3.5 m | k (sigma = k z^2) | inliers / features | jitter / true step |"
+echo "| sequence | valid depth | textured cells | sharpness | noise 8 / 32 px at 2-2.5 m | noise 8 / 32 px at 3-3.5 m | k (sigma = k z^2) | inliers / features | jitter / true step | ATE |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for n in "${NAMES[@]}"; do
   tag="${n// /_}"
@@ -33,7 +35,8 @@ for n in "${NAMES[@]}"; do
   ratio=$(awk -F, 'NR > 1 && $6 > 0 {print $9 / $6}' "$OUT/run_$tag/frames.csv" | sort -g | awk '{a[NR]=$1} END {print (NR ? a[int((NR+1)/2)] : 0)}')
   s="$OUT/$tag.stats"
   awk -v n="$n" -v v="$(field valid_depth_share "$s")" -v t="$(field textured_cell_share "$s")" -v sh="$(field sharpness "$s")" \
-      -v a="$(field noise_1.0_1.5_mm "$s")" -v b="$(field noise_2.0_2.5_mm "$s")" -v c="$(field noise_3.0_3.5_mm "$s")" -v k="$(field noise_k "$s")" \
-      -v r="$ratio" -v j="$(field jitter_median "$OUT/run_$tag.log")" -v st="$(field step_gt_median "$OUT/run_$tag.log")" \
-      'BEGIN {printf "| %s | %.2f | %.2f | %.0f | %.1f mm | %.1f mm | %.1f mm | %.4f | %.2f | %.1f / %.1f mm |\n", n, v, t, sh, a, b, c, k, r, 1000*j, 1000*st}'
+      -v a="$(field noise_2.0_2.5_mm "$s")" -v a32="$(field noise32_2.0_2.5_mm "$s")" -v b="$(field noise_3.0_3.5_mm "$s")" -v b32="$(field noise32_3.0_3.5_mm "$s")" \
+      -v k="$(field noise_k "$s")" -v r="$ratio" -v j="$(field jitter_median "$OUT/run_$tag.log")" -v st="$(field step_gt_median "$OUT/run_$tag.log")" \
+      -v ate="$(field ate_rmse "$OUT/run_$tag.log")" \
+      'BEGIN {printf "| %s | %.2f | %.2f | %.0f | %.1f / %.1f mm | %.1f / %.1f mm | %.4f | %.2f | %.1f / %.1f mm | %.1f mm |\n", n, v, t, sh, a, a32, b, b32, k, r, 1000*j, 1000*st, 1000*ate}'
 done

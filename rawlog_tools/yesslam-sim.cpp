@@ -48,6 +48,10 @@ int main(int argc, char** argv)
 			cl.flag("no-noise", "no sensor noise (exact depth and colour)", &noNoise);
 			cl.flag("motion-blur", "blur colour images along the camera motion", &o.motionBlur);
 			cl.flag("auto-exposure", "vary image brightness slowly, like auto exposure", &o.autoExposure);
+			cl.flag(
+				"real-sensor",
+				"the sensor as measured on real Xtion/Kinect frames (bench/bench_realism.sh): depth error smooth over tens of pixels, no depth on dark surfaces, soft colour images, motion blur, auto exposure",
+				&o.realSensor);
 			cl.number("speed", "F", "the preset's camera moves F times faster (0.1..10; the path is the same, frames stay 30 Hz)", &o.speed);
 			cl.flag("moving-chair", "also push a chair across the room (a dynamic object that is not a person)", &o.movingChair);
 			cl.count("undetected-people", "K", "K of the moving people never appear in detections.txt (movers the detector never reports)", &o.undetectedPeople);

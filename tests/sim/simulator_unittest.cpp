@@ -22,6 +22,7 @@
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/eval/CSensorStatistics.h"
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -386,4 +387,40 @@ TEST(Simulator, UndetectedPeopleNeverReachTheDetections)
 
 	o.undetectedPeople = 99;
 	expectInputError([&] { runSimulation(o); }, {"--undetected-people 99", "moving people"});
+}
+
+TEST(Simulator, TheRealSensorLooksLikeTheRealFramesWhereTheKinectModelDidNot)
+{
+	// Measured with the same statistics on the real frames of ../shared (bench/bench_realism.sh:
+	// bonn_crowd_dev and tum_fr1_desk_9frames): 32 x 32 patches of smooth surfaces scatter 1.3-2.4
+	// times more than 8 x 8 ones (an error smooth over tens of pixels), k of sigma = k z^2 about
+	// 0.0011 for the 8 x 8 ones, 39-43 % of 32 x 32 cells with a corner, 82-85 % valid depth. The
+	// Kinect model (white noise) scattered alike at both scales, with k 0.0017 and 83 % corner cells.
+	TempDir d("sim_real_sensor");
+	TSimOptions o = quick(d / "kinect", "static_office", 12);
+	o.seed = 3;
+	TSimOptions r = o;
+	r.outDir = d / "real";
+	r.realSensor = true;
+	runSimulation(o);
+	runSimulation(r);
+	auto stats = [](const std::string& dir)
+	{
+		CSensorStatistics s;
+		for (const auto& f : loadFrames(dir)) s.addFrame(f.rgb, f.depth);
+		return s.result();
+	};
+	const auto kinect = stats(o.outDir), real = stats(r.outDir);
+	const auto& k3 = kinect.noise[5];  // 3.0-3.5 m: well filled by the office's walls
+	const auto& r3 = real.noise[5];
+	ASSERT_GT(k3.patches32, 30u);
+	ASSERT_GT(r3.patches32, 30u);
+	EXPECT_LT(k3.medianResidual32 / k3.medianResidual, 1.15);
+	EXPECT_GT(r3.medianResidual32 / r3.medianResidual, 1.2) << "an error smooth over tens of pixels";
+	EXPECT_NEAR(real.noiseK, 0.0011, 0.0002);
+	EXPECT_GT(kinect.noiseK, 0.0014);
+	EXPECT_LT(real.texturedCellShare, 0.6);
+	EXPECT_GT(kinect.texturedCellShare, 0.7);
+	EXPECT_LT(real.validDepthShare, kinect.validDepthShare - 0.03) << "dark surfaces lose depth";
+	EXPECT_LT(real.sharpness, 0.3 * kinect.sharpness);
 }

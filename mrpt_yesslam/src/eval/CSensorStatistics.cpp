@@ -29,39 +29,46 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 	validSum_ += static_cast<double>(valid) / static_cast<double>(depth.total());
 	valid_ += static_cast<std::size_t>(valid);
 
-	// Plane residuals of 8 x 8 patches with full depth, in pixel coordinates (a small patch of a
-	// smooth surface is a plane in (u, v, z) as well as in space).
-	constexpr int P = 8;
-	Eigen::Matrix<double, P * P, 3> A;
-	for (int y = 0; y < P; y++)
-		for (int x = 0; x < P; x++) A.row(y * P + x) << x - 3.5, y - 3.5, 1.0;
-	const Eigen::Matrix<double, 3, P * P> pinv = (A.transpose() * A).inverse() * A.transpose();
-	Eigen::Matrix<double, P * P, 1> z;
-	for (int y0 = 0; y0 + P <= depth.rows; y0 += P)
-		for (int x0 = 0; x0 + P <= depth.cols; x0 += P)
-		{
-			bool full = true;
-			for (int y = 0; y < P && full; y++)
+	// Plane residuals of P x P patches with full depth, in pixel coordinates (a small patch of a
+	// smooth surface is a plane in (u, v, z) as well as in space): 8 px for the sensor's
+	// pixel-to-pixel noise, 32 px for errors that are smooth over tens of pixels (a structured-light
+	// sensor's correlation windows), which the small patches cannot see and which do not average
+	// out over the keypoints of a frame.
+	const auto patches = [&](int P, std::vector<std::vector<double>>& out)
+	{
+		Eigen::MatrixXd A(P * P, 3);
+		for (int y = 0; y < P; y++)
+			for (int x = 0; x < P; x++) A.row(y * P + x) << x - (P - 1) / 2.0, y - (P - 1) / 2.0, 1.0;
+		const Eigen::MatrixXd pinv = (A.transpose() * A).inverse() * A.transpose();
+		Eigen::VectorXd z(P * P);
+		for (int y0 = 0; y0 + P <= depth.rows; y0 += P)
+			for (int x0 = 0; x0 + P <= depth.cols; x0 += P)
 			{
-				const float* row = depth.ptr<float>(y0 + y);
-				for (int x = 0; x < P; x++)
+				bool full = true;
+				for (int y = 0; y < P && full; y++)
 				{
-					if (!(row[x0 + x] > 0))
+					const float* row = depth.ptr<float>(y0 + y);
+					for (int x = 0; x < P; x++)
 					{
-						full = false;
-						break;
+						if (!(row[x0 + x] > 0))
+						{
+							full = false;
+							break;
+						}
+						z(y * P + x) = row[x0 + x];
 					}
-					z(y * P + x) = row[x0 + x];
 				}
+				if (!full) continue;
+				const Eigen::Vector3d plane = pinv * z;
+				const double rms = std::sqrt((z - A * plane).squaredNorm() / (P * P - 3));
+				const double zc = plane(2);
+				if (rms > std::min(0.05, 0.1 * zc)) continue;  // an edge, not a surface
+				const int bin = static_cast<int>(std::floor((zc - kBin0) / kBinW));
+				if (bin >= 0 && bin < static_cast<int>(out.size())) out[static_cast<std::size_t>(bin)].push_back(rms);
 			}
-			if (!full) continue;
-			const Eigen::Vector3d plane = pinv * z;
-			const double rms = std::sqrt((z - A * plane).squaredNorm() / (P * P - 3));
-			const double zc = plane(2);
-			if (rms > std::min(0.05, 0.1 * zc)) continue;  // an edge, not a surface
-			const int bin = static_cast<int>(std::floor((zc - kBin0) / kBinW));
-			if (bin >= 0 && bin < static_cast<int>(residuals_.size())) residuals_[static_cast<std::size_t>(bin)].push_back(rms);
-		}
+	};
+	patches(8, residuals_);
+	patches(32, residuals32_);
 
 	// Flying pixels: between their horizontal neighbours across a jump.
 	for (int y = 0; y < depth.rows; y++)
@@ -112,6 +119,8 @@ CSensorStatistics::TResult CSensorStatistics::result() const
 		n.zMax = n.zMin + kBinW;
 		n.patches = residuals_[b].size();
 		n.medianResidual = median(residuals_[b]);
+		n.patches32 = residuals32_[b].size();
+		n.medianResidual32 = median(residuals32_[b]);
 		r.noise.push_back(n);
 		if (n.patches >= 20)
 		{
@@ -136,6 +145,8 @@ std::string CSensorStatistics::format(const TResult& r)
 	for (const auto& n : r.noise)
 	{
 		std::snprintf(b, sizeof(b), "noise_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax, 1000 * n.medianResidual, n.patches);
+		out += b;
+		std::snprintf(b, sizeof(b), "noise32_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax, 1000 * n.medianResidual32, n.patches32);
 		out += b;
 	}
 	std::snprintf(b, sizeof(b), "noise_k: %.5f\n", r.noiseK);

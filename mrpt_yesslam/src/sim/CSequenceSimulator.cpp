@@ -143,7 +143,40 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 // Kinect-like depth noise (Khoshelham & Elberink 2012): sigma_z = 1.425e-3 z^2, disparity quantised
 // to 1/8 pixel, no depth nearer than 0.5 m or beyond 4.5 m, missing depth at depth edges and in
 // small holes.
-void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam)
+// The real sensor (--real-sensor), against the frames of ../shared side by side in
+// bench/bench_realism.sh: its error is not white. A structured-light sensor matches 9 x 9 windows
+// of its pattern, so neighbouring pixels share their error: on the real Xtion and Kinect frames
+// 8 x 8 patches of smooth surfaces scatter by 1.1e-3 z^2 about their plane while 32 x 32 ones
+// scatter 1.4 times more, where white noise scatters the same at both scales. Such an error does
+// not average out over a frame's keypoints. Modelled as a smooth field (1/16 of the resolution,
+// bilinear) beside a smaller per-pixel part; dark surfaces (little infrared returned) lose depth.
+void addRealSensorDepthError(cv::Mat& z, const cv::Mat& grey, std::mt19937& rng)
+{
+	cv::RNG cvRng(rng());
+	cv::Mat coarse(z.rows / 16 + 1, z.cols / 16 + 1, CV_32F), field;
+	cvRng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
+	cv::resize(coarse, field, z.size(), 0, 0, cv::INTER_LINEAR);
+	cv::Mat unif(z.size(), CV_32F);
+	cvRng.fill(unif, cv::RNG::UNIFORM, 0.0, 1.0);
+	for (int y = 0; y < z.rows; y++)
+	{
+		float* pz = z.ptr<float>(y);
+		const float *pf = field.ptr<float>(y), *pu = unif.ptr<float>(y);
+		const uchar* pg = grey.ptr<uchar>(y);
+		for (int x = 0; x < z.cols; x++)
+		{
+			if (pz[x] <= 0) continue;
+			if (pg[x] < 60 && pu[x] < 0.7f)  // dark: too little of the pattern comes back
+			{
+				pz[x] = 0;
+				continue;
+			}
+			pz[x] += 2.0e-3f * pz[x] * pz[x] * pf[x];
+		}
+	}
+}
+
+void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK = 1.425e-3f)
 {
 	const float fb = static_cast<float>(cam.intrinsics.fx() * 0.075);	// focal length x baseline
 	// Depth edge: a valid neighbour (3x3) differs by more than 8 %: the sensor often sees nothing
@@ -172,7 +205,7 @@ void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam)
 				pz[x] = 0;
 				continue;
 			}
-			v += 1.425e-3f * v * v * pg[x];
+			v += whiteK * v * v * pg[x];
 			const float disp = std::nearbyint(fb / v * 8.0f) / 8.0f;
 			pz[x] = disp > 0 ? fb / disp : 0;
 		}
@@ -420,21 +453,32 @@ TSimSummary runSimulation(
 
 		// Sensor effects, each from a per-frame seed so that runs are byte-identical.
 		std::mt19937 rng(o.seed * 1000003u + static_cast<uint32_t>(k));
-		if (o.noise) addDepthNoise(z, rng, cam);
+		if (o.noise && o.realSensor)
+		{
+			cv::Mat grey;
+			cv::cvtColor(rgb, grey, cv::COLOR_BGR2GRAY);
+			addRealSensorDepthError(z, grey, rng);
+		}
+		// With the smooth field carrying part of the error, the per-pixel part is smaller.
+		if (o.noise) addDepthNoise(z, rng, cam, o.realSensor ? 0.6e-3f : 1.425e-3f);
 		cv::Mat depth16;
 		z.convertTo(depth16, CV_16U, 5000.0);
+		// A real RGB-D camera's colour image is soft (small lens, Bayer demosaicing, compression),
+		// and its sensor noise comes after the optics: the Laplacian's variance is 170-190 on the
+		// real frames of ../shared, against 950-1,100 on these without it.
+		if (o.realSensor) cv::GaussianBlur(rgb, rgb, cv::Size(), 1.0);
 		if (o.noise)
 		{
 			cv::Mat n(rgb.size(), CV_16SC3);
 			cv::theRNG().state = o.seed * 7777u + k;
-			cv::randn(n, cv::Scalar::all(0), cv::Scalar::all(2.5));
+			cv::randn(n, cv::Scalar::all(0), cv::Scalar::all(o.realSensor ? 3.5 : 2.5));  // real: as much as the frames of ../shared show
 			cv::Mat r16;
 			rgb.convertTo(r16, CV_16SC3);
 			r16 += n;
 			r16.convertTo(rgb, CV_8UC3);
 		}
-		if (o.autoExposure) rgb.convertTo(rgb, -1, 1.0 + 0.15 * std::sin(t * 2 * M_PI / 6.0), 0);
-		if (o.motionBlur && k > 0)
+		if (o.autoExposure || o.realSensor) rgb.convertTo(rgb, -1, 1.0 + 0.15 * std::sin(t * 2 * M_PI / 6.0), 0);
+		if ((o.motionBlur || o.realSensor) && k > 0)
 		{
 			// Blur along the image motion of the centre pixel between frames.
 			const auto pc = (-poses[k]).composePoint(poses[k - 1].composePoint(mrpt::math::TPoint3D(0, 0, 2)));
@@ -609,7 +653,8 @@ TSimSummary runSimulation(
 	if (o.roomSeed) meta += "  \"room_seed\": " + std::to_string(o.roomSeed) + ",\n";
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
 		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
-	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
+	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"real_sensor\": " + (o.realSensor ? "true" : "false") +
+			",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
 	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n";
 	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
 	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";

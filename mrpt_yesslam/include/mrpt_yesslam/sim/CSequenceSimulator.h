@@ -40,6 +40,10 @@ struct TSimOptions
 	bool noise = true;	//!< depth and colour sensor noise
 	bool motionBlur = false;
 	bool autoExposure = false;
+	/** The sensor as measured on the real Xtion/Kinect frames of ../shared (bench/bench_realism.sh):
+	 * depth noise smooth over tens of pixels beside the per-pixel part, depth missing on dark
+	 * surfaces, an optically soft colour image; motion blur and auto exposure on. */
+	bool realSensor = false;
 	bool movingChair = false;  //!< a chair pushed across the room (not a person)
 	/** The preset's camera motion runs this many times faster (frames stay at 30 Hz): a shorter
 	 * sequence with the same path (tests), or a harder one. People keep their pace. */
