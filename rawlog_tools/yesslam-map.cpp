@@ -25,7 +25,7 @@ int main(int argc, char** argv)
 			std::string map, scene, ply, bt, ot;
 			double resolution = 0.05;
 			CommandLine cl(
-				"yesslam-map", "yesslam-map --map MAP.ysm [--scene OUT.3Dscene] [--ply OUT.ply] [--bt OUT.bt [--resolution M]]",
+				"yesslam-map", "yesslam-map --map MAP.ysm [--scene OUT.3Dscene] [--ply OUT.ply] [--bt OUT.bt [--resolution M]] [--ot OUT.ot]",
 				"Prints what a map saved by `yesslam --save-map` holds: keyframes, map points, the extent of the points,\n"
 				"the time span and path of the keyframes, loop edges, and the object classes its keyframes saw. Exports\n"
 				"the map as an MRPT scene (points, keyframe frustums and path: SceneViewer3D, yesslam-render), as a PLY\n"
@@ -34,9 +34,9 @@ int main(int argc, char** argv)
 				"saved without one gets a .bt of its points (each keyframe's points inserted from its camera: the space in\n"
 				"front of them free). Files are written atomically. The map is only read (any vocabulary).",
 				{"yesslam-map --map office.ysm", "yesslam-map --map office.ysm --scene office.3Dscene --ply office.ply --bt office.bt"});
-			cl.text("map", "MAP.ysm", "the saved map (required)", &map, true);
+			cl.text("map", "MAP.ysm", "the saved map", &map, true);
 			cl.text("scene", "FILE", "write the map as an MRPT .3Dscene", &scene);
-			cl.text("ply", "FILE", "write the map points as a binary PLY", &ply);
+			cl.text("ply", "FILE", "write the sparse map points as a binary PLY (colour, observations; no labels: the dense semantic cloud is yesslam's dense_cloud.ply)", &ply);
 			cl.text("bt", "FILE", "write the occupancy OctoMap (.bt): the saved semantic octree's, else one of the map points", &bt);
 			cl.text("ot", "FILE", "write the saved semantic OctoMap (.ot: occupancy, colour, label)", &ot);
 			cl.number("resolution", "M", "voxel size of a --bt made from the points, in metres (0.005..10, default 0.05)", &resolution);
@@ -86,7 +86,7 @@ int main(int argc, char** argv)
 			}
 			if (!ply.empty())
 			{
-				writeDenseCloudPly(ply, mapPointCloud(m), names);
+				writeDenseCloudPly(ply, mapPointCloud(m), names, "sparse map points, without labels (label 0; the dense semantic map is yesslam's dense_cloud.ply)");
 				std::printf("ply:          %s\n", ply.c_str());
 			}
 			if (!bt.empty())

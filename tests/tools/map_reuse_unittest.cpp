@@ -267,6 +267,13 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 		EXPECT_NE(r.out.find("map points:   " + std::to_string(m.numPoints()) + "\n"), std::string::npos) << r.out;
 		EXPECT_NE(r.out.find("person ("), std::string::npos) << r.out;	// walking people were detected
 		EXPECT_EQ(mrpt_yesslam::readDenseCloudPly(d / "m.ply").size(), m.numPoints());
+		// Sparse points, and the header says so (it claimed a dense semantic map, every label 0).
+		const std::string plyHead = readText(d / "m.ply").substr(0, 400);
+		EXPECT_NE(plyHead.find("comment mrpt_yesslam sparse map points"), std::string::npos) << plyHead;
+		EXPECT_EQ(plyHead.find("dense semantic map ("), std::string::npos) << plyHead;
+		const auto help = runTool("yesslam-map", {"--help"});
+		EXPECT_EQ(help.out.find("(required) (required)"), std::string::npos) << help.out;
+		EXPECT_NE(help.out.find("[--ot OUT.ot]"), std::string::npos) << help.out;
 		EXPECT_GT(fs::file_size(d / "m.3Dscene"), 1000u);
 		// The saved octree's occupancy: the same occupied volume as the run's map.bt.
 		auto occupiedVolume = [](const std::string& path)

@@ -32,10 +32,10 @@ void put(std::string& s, const T& v)
 }
 }  // namespace
 
-void writeDenseCloudPly(const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names)
+void writeDenseCloudPly(const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names, const std::string& what)
 {
 	std::ostringstream h;
-	h << "ply\nformat binary_little_endian 1.0\ncomment mrpt_yesslam dense semantic map (world = first keyframe)\n";
+	h << "ply\nformat binary_little_endian 1.0\ncomment mrpt_yesslam " << what << " (world = first keyframe)\n";
 	std::map<TSemLabel, std::size_t> present;
 	for (const auto l : c.label) present[l]++;
 	for (const auto& [l, n] : present) h << "comment label " << int(l) << " " << labelName(l, names) << "\n";
@@ -67,7 +67,7 @@ TDenseCloud readDenseCloudPly(const std::string& path)
 	while (std::getline(in, line) && line != "end_header")
 	{
 		if (line.rfind("format binary_little_endian 1.0", 0) == 0) formatOk = true;
-		if (line.rfind("comment mrpt_yesslam dense semantic map", 0) == 0) ours = true;
+		if (line.rfind("comment mrpt_yesslam ", 0) == 0) ours = true;
 		if (line.rfind("element vertex ", 0) == 0) n = std::stoul(line.substr(15));
 	}
 	if (line != "end_header" || !formatOk || !ours) throw InputError(path, "not a dense_cloud.ply written by yesslam");
