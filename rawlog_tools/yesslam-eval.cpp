@@ -21,10 +21,11 @@ int main(int argc, char** argv)
 		[&]() -> int
 		{
 			std::string gtPath, estPath, jsonPath, plotPath, unit = "s", gtFormat = "tum";
+			bool noAlign = false;
 			TEvalOptions o;
 			CommandLine cl(
 				"yesslam-eval",
-				"yesslam-eval --gt GT.txt [--gt-format tum|bonn] --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3] [--rpe-delta 1] "
+				"yesslam-eval --gt GT.txt [--gt-format tum|bonn] --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3 | --no-align] [--rpe-delta 1] "
 				"[--rpe-unit s|f] [--json OUT.json] [--plot OUT.png]",
 				"Absolute trajectory error (ATE) and relative pose error (RPE) of a TUM-format trajectory, computed\n"
 				"as the TUM RGB-D benchmark's evaluate_ate.py and evaluate_rpe.py --fixed_delta compute them:\n"
@@ -42,11 +43,16 @@ int main(int argc, char** argv)
 			cl.number("max-diff", "SECONDS", "largest stamp difference for an associated pair", &o.maxDiff);
 			cl.number("offset", "SECONDS", "time offset added to the estimate's stamps", &o.offset);
 			cl.flag("sim3", "align with scale too (Umeyama Sim(3), for monocular estimates); output says 'alignment: sim3'", &o.sim3);
+			cl.flag(
+				"no-align", "compare the estimate as it is, without aligning it (an estimate already in the ground truth's frame, e.g. localised in a saved map); output says 'alignment: none'",
+				&noAlign);
 			cl.number("rpe-delta", "D", "spacing of RPE pairs, in --rpe-unit", &o.rpeDelta);
 			cl.text("rpe-unit", "s|f", "RPE spacing unit: s = seconds, f = frames", &unit);
 			cl.text("json", "FILE", "also write all figures and the alignment as JSON", &jsonPath);
 			cl.text("plot", "FILE", "write a top-down picture (PNG, or JPEG for .jpg) of ground truth and aligned estimate, coloured by error", &plotPath);
 			if (!cl.parse(argc, argv)) return 0;
+			o.align = !noAlign;
+			if (noAlign && o.sim3) throw InputError("", "--no-align and --sim3 contradict each other: choose one");
 			if (unit != "s" && unit != "f") throw InputError("", "--rpe-unit must be 's' or 'f', got '" + unit + "'");
 			o.rpeDeltaInFrames = unit == "f";
 			if (!(o.maxDiff > 0)) throw InputError("", "--max-diff must be positive");

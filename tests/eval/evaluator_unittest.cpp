@@ -221,3 +221,26 @@ TEST(Evaluator, JitterIsTheEstimatesOwnFrameToFrameErrorBesideTheSteps)
 	// An estimate that follows the truth exactly has none.
 	EXPECT_NEAR(evaluateTrajectories(gt, gt, TEvalOptions(), "gt", "gt").jitter.max, 0.0, 1e-12);
 }
+
+TEST(Evaluator, WithoutAlignmentTheEstimateIsComparedAsItIs)
+{
+	// An estimate 1 m off along x, otherwise exact: aligned (the TUM tools) it has no error; compared
+	// as it is (yesslam-eval --no-align: a run localised in a saved map's frame) it is 1 m off.
+	TTrajectory gt, est;
+	for (int i = 0; i < 30; i++)
+	{
+		TStampedPose g;
+		g.t = i / 30.0;
+		g.tx = 0.01 * i;
+		g.ty = 0.002 * i * i;
+		gt.push_back(g);
+		g.tx += 1.0;
+		est.push_back(g);
+	}
+	TEvalOptions o;
+	EXPECT_LT(evaluateTrajectories(gt, est, o, "gt", "est").ate.stats.rmse, 1e-9);
+	o.align = false;
+	const TEvalReport r = evaluateTrajectories(gt, est, o, "gt", "est");
+	EXPECT_NEAR(r.ate.stats.rmse, 1.0, 1e-9);
+	EXPECT_NE(formatEvalKeyValues(r).find("alignment: none"), std::string::npos);
+}

@@ -55,7 +55,7 @@ std::vector<std::pair<std::string, std::string>> keyValues(const TEvalReport& r)
 	std::vector<std::pair<std::string, std::string>> kv;
 	kv.emplace_back("gt_poses", std::to_string(r.gtPoses));
 	kv.emplace_back("est_poses", std::to_string(r.estPoses));
-	kv.emplace_back("alignment", r.ate.alignment.sim3 ? "sim3" : "se3");
+	kv.emplace_back("alignment", !r.options.align ? "none" : r.ate.alignment.sim3 ? "sim3" : "se3");
 	kv.emplace_back("scale", num(r.ate.alignment.scale));
 	kv.emplace_back("ate_pairs", std::to_string(r.ate.stats.n));
 	kv.emplace_back("ate_rmse", num(r.ate.stats.rmse));

@@ -111,7 +111,9 @@ TAteResult computeAte(
 		model.emplace_back(est[ie].tx, est[ie].ty, est[ie].tz);
 		r.stamps.push_back(gt[ig].t);
 	}
-	r.alignment = alignPositions(model, data, opts.sim3);
+	// Without alignment (a run in a saved map's frame, measured against ground truth in that frame)
+	// the estimate is compared as it is.
+	if (opts.align) r.alignment = alignPositions(model, data, opts.sim3);
 	for (std::size_t i = 0; i < model.size(); i++)
 	{
 		const Eigen::Vector3d aligned = r.alignment.scale * r.alignment.R * model[i] + r.alignment.t;

@@ -35,6 +35,9 @@ struct TEvalOptions
 	double maxDiff = 0.02;	//!< association window, s
 	double offset = 0.0;  //!< added to estimate stamps, s
 	bool sim3 = false;	//!< estimate scale too (Umeyama); the TUM tool has no such mode
+	/** Align the estimate to the ground truth (the TUM tools always do); false: compare as it is,
+	 * for estimates already in the ground truth's frame (a run localised in a saved map). */
+	bool align = true;
 	double rpeDelta = 1.0;	//!< RPE pair spacing
 	bool rpeDeltaInFrames = false;	//!< spacing in frames instead of seconds
 };
