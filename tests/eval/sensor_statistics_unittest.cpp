@@ -56,7 +56,12 @@ TEST(SensorStatistics, MeasureDepthNoiseValidDepthTextureAndSharpness)
 	EXPECT_NEAR(w.noise[3].medianResidual, 0.005, 0.0005);
 	EXPECT_NEAR(w.noiseK, 0.005 / (2.25 * 2.25), 0.0002);
 	for (std::size_t b = 0; b < w.noise.size(); b++)
-		if (b != 3) EXPECT_EQ(w.noise[b].patches, 0u) << b;
+	{
+		if (b != 3)
+		{
+			EXPECT_EQ(w.noise[b].patches, 0u) << b;
+		}
+	}
 }
 
 TEST(SensorStatistics, FlyingPixelsBetweenAPersonAndTheWallAreCounted)
