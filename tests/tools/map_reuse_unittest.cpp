@@ -244,6 +244,25 @@ TEST(MapReuse, APassNeverLocalisedInTheMapIsAnErrorWithNoFakePoses)
 	EXPECT_EQ(rows, 12u);
 }
 
+TEST(MapReuse, ALocaliseOnlyRunSavesTheMapItLoadedOctreeIncluded)
+{
+	// Issue 30 item 2: the re-saved map lost its semantic OctoMap (localisation runs build no dense
+	// map, and the loaded octree was not kept): yesslam-map then said the run had no dense map.
+	TempDir d("map_reuse_resave");
+	const auto mapped = runTool("yesslam", {"--input", walkingSequence60(), "--out", d / "map", "--save-map", d / "a.ysm", "--sequential", "--quiet"});
+	ASSERT_EQ(mapped.exitCode, 0) << mapped.err;
+	const auto loc = runTool(
+		"yesslam", {"--input", walkingSequence60(), "--out", d / "loc", "--load-map", d / "a.ysm", "--localize-only", "--save-map", d / "b.ysm",
+					"--sequential", "--quiet"});
+	ASSERT_EQ(loc.exitCode, 0) << loc.err;
+	const std::string a = readText(d / "a.ysm"), b = readText(d / "b.ysm");
+	ASSERT_FALSE(a.empty());
+	EXPECT_TRUE(a == b) << "the localise-only run must save the map it loaded, byte for byte (" << a.size() << " vs " << b.size() << " bytes)";
+	const auto info = runTool("yesslam-map", {"--map", d / "b.ysm"});
+	ASSERT_EQ(info.exitCode, 0) << info.err;
+	EXPECT_EQ(info.out.find("octree:       none"), std::string::npos) << info.out;
+}
+
 TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 {
 	TempDir d("map_reuse_bad");

@@ -620,10 +620,12 @@ void CYesSlamSystem::loadMap(const std::string& path)
 {
 	if (nextFrameId_ > 0) throw std::logic_error("CYesSlamSystem::loadMap after the first frame");
 	std::unique_ptr<CSemanticOcTree> octree;
-	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, dense_ ? &octree : nullptr);
+	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, &octree);
 	// The saved semantic OctoMap is where this run's dense map starts: the map stays up to date
-	// from one run to the next instead of holding only what this run saw.
+	// from one run to the next instead of holding only what this run saw. A run without a dense
+	// map (localisation only) keeps it as it is, so that saving the map again keeps it too.
 	if (dense_ && octree) dense_->setPrior(*octree);
+	if (!dense_) loadedOctree_ = std::move(octree);
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
 	if (loopDetector_)
 	{
@@ -635,7 +637,7 @@ void CYesSlamSystem::loadMap(const std::string& path)
 
 void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* octree) const
 {
-	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree);
+	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get());
 }
 
 std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const

@@ -150,7 +150,8 @@ class CYesSlamSystem
 	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
 	void loadMap(const std::string& path);
 	/** Saves the sparse map (call after waitForMapping), with the semantic OctoMap when given
-	 * (buildDenseMap's); throws InputError naming the file. */
+	 * (buildDenseMap's), else the one loaded with the map by a run without a dense map; throws
+	 * InputError naming the file. */
 	void saveMap(const std::string& path, const CSemanticOcTree* octree = nullptr) const;
 	const CObjectDetector* detector() const { return builder_.detector(); }
 	/** The vocabulary of place recognition (null when none could be loaded and none was required). */
@@ -208,7 +209,9 @@ class CYesSlamSystem
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
-	std::optional<TKeyFrameId> lastKeyFrame_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
+	std::optional<TKeyFrameId> lastKeyFrame_;
+	/** The loaded map's semantic OctoMap, kept as it was by a run without a dense map (saved again with it). */
+	std::unique_ptr<CSemanticOcTree> loadedOctree_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;
 
