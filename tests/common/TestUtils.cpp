@@ -235,7 +235,10 @@ std::string walkingOniRecording(const std::string& dir)
 	EXPECT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.out.find("frames:       60"), std::string::npos) << r.out;
 	EXPECT_NE(r.out.find("100 um (exact)"), std::string::npos) << r.out;
-	std::filesystem::copy_file(seq + "/detections.txt", dir + "/detections.txt", std::filesystem::copy_options::overwrite_existing);
+	// yesslam-oni copies the detections beside the recording (issue 30: a run on the .oni used to
+	// switch detectors without them).
+	EXPECT_NE(r.out.find("detections:   " + dir + "/detections.txt"), std::string::npos) << r.out;
+	EXPECT_EQ(readText(dir + "/detections.txt"), readText(seq + "/detections.txt"));
 	return oni;
 }
 }  // namespace yesslam_test

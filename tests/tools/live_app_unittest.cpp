@@ -167,11 +167,17 @@ TEST(LiveApp, BadRecordingsAndBadConversionsAreRefusedInOneLine)
 		EXPECT_NE(r.err.find(bad + ": OpenNI2's file driver cannot play it"), std::string::npos) << r.err;
 		EXPECT_FALSE(fs::exists(d / "run"));
 	}
-	// yesslam-oni: a missing input, a folder that is not there for the output.
+	// yesslam-oni: a missing input is an error; a folder that is not there for the output is made
+	// (issue 30: it was an error), one that cannot be made is an error naming the output.
 	const auto missing = runTool("yesslam-oni", {"--input", d / "nothing", "--output", d / "x.oni"});
 	EXPECT_EQ(missing.exitCode, 1);
 	EXPECT_NE(missing.err.find("not found"), std::string::npos) << missing.err;
-	const auto noDir = runTool("yesslam-oni", {"--input", walkingSequence60(), "--output", d / "no/dir/x.oni"});
+	const auto newDir = runTool("yesslam-oni", {"--input", walkingSequence60(), "--output", d / "no/dir/x.oni", "--max-frames", "3", "--quiet"});
+	EXPECT_EQ(newDir.exitCode, 0) << newDir.err;
+	EXPECT_TRUE(fs::exists(d / "no/dir/x.oni"));
+	EXPECT_TRUE(fs::exists(d / "no/dir/detections.txt"));
+	writeText(d / "file", "not a folder");
+	const auto noDir = runTool("yesslam-oni", {"--input", walkingSequence60(), "--output", d / "file/dir/x.oni"});
 	EXPECT_EQ(noDir.exitCode, 1);
 	EXPECT_NE(noDir.err.find("x.oni"), std::string::npos) << noDir.err;
 	EXPECT_FALSE(fs::exists(d / "x.oni"));

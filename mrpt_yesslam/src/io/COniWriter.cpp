@@ -268,6 +268,13 @@ TOniConversion convertToOni(
 {
 	TOniConversion r;
 	auto src = openInputSource(input, inputOptions);
+	const fs::path outDir = fs::path(output).parent_path();
+	if (!outDir.empty())
+	{
+		std::error_code ec;
+		fs::create_directories(outDir, ec);
+		if (!fs::is_directory(outDir)) throw InputError(output, "cannot create its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+	}
 	COniWriter w(output);
 	while (!(maxFrames && r.frames >= maxFrames))
 	{
@@ -296,6 +303,30 @@ TOniConversion convertToOni(
 		std::ifstream in(gt, std::ios::binary);
 		const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 		writeFileAtomically(r.groundTruth, text);
+	}
+	// The detections that go with the frames: without them a run on the .oni silently falls back
+	// to another detector (measured 5.1 -> 11.1 mm ATE on a generated walking sequence).
+	const fs::path in(input);
+	const fs::path det = fs::is_directory(in) ? in / "detections.txt" : in.parent_path() / "detections.txt";
+	std::error_code ec;
+	if (fs::is_regular_file(det, ec))
+	{
+		const fs::path to = (outDir.empty() ? fs::path(".") : outDir) / "detections.txt";
+		const auto read = [](const fs::path& p)
+		{
+			std::ifstream f(p, std::ios::binary);
+			return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+		};
+		const std::string text = read(det);
+		if (fs::equivalent(det, to, ec))
+			r.detections = to.string();
+		else if (fs::exists(to, ec) && read(to) != text)
+			r.detectionsNote = to.string() + " exists and differs from the input's: not replaced";
+		else
+		{
+			writeFileAtomically(to.string(), text);
+			r.detections = to.string();
+		}
 	}
 	return r;
 }

@@ -77,11 +77,15 @@ struct TOniConversion
 	double tFirst = 0, tLast = 0;
 	std::uintmax_t bytes = 0;
 	std::string groundTruth;  //!< the ground truth copied beside the output, empty if none
+	/** The input's detections.txt copied beside the output (where `yesslam --input openni2:OUT.oni`
+	 * looks for it), empty if none; `detectionsNote` says why one was not copied. */
+	std::string detections, detectionsNote;
 	bool interrupted = false;
 };
 
-/** Converts a rawlog or TUM folder into an .oni file (yesslam-oni); the input's ground truth is
- * copied to "<name>_groundtruth.txt" beside it, which yesslam finds for "openni2:<name>.oni".
+/** Converts a rawlog or TUM folder into an .oni file (yesslam-oni), creating its folder; the input's
+ * ground truth is copied to "<name>_groundtruth.txt" beside it, which yesslam finds for
+ * "openni2:<name>.oni", and its detections.txt to detections.txt there (never over a different one).
  * `progress(done, total)` after each frame; `cancel()` ends early and keeps what was written. */
 TOniConversion convertToOni(
 	const std::string& input, const std::string& output, const CInputSource::TOptions& inputOptions, std::size_t maxFrames = 0,
