@@ -197,6 +197,25 @@ TEST(SparseMap, RedundantKeyFramesAreCulled)
 	EXPECT_EQ(std::count(none.begin(), none.end(), TKeyFrameId(1)), 0);
 }
 
+TEST(SparseMap, AKeyFrameWithALoopEdgeIsNeverCulled)
+{
+	// Issue 28 item 3: culling ignored loop edges and the essential graph skips erased keyframes, so
+	// a later pose graph silently lost the loop. The same five redundant views as above, kf2 closing
+	// a loop with kf0: kf2 stays (ORB-SLAM2 marks loop keyframes not-to-erase), and so does its edge.
+	std::mt19937 rng(4);
+	const auto world = wall(80);
+	CSparseMap map;
+	addView(map, 0, {}, world, std::vector<TPointId>(80, -1), rng);
+	for (std::size_t k = 1; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
+	ASSERT_TRUE(map.addLoopEdge(2, 0));
+	const auto erased = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+	EXPECT_EQ(std::count(erased.begin(), erased.end(), TKeyFrameId(2)), 0) << "culled the loop keyframe";
+	EXPECT_FALSE(erased.empty()) << "the other redundant keyframes still go";
+	const auto graph = map.essentialGraph(100);
+	EXPECT_TRUE(std::count(graph.begin(), graph.end(), std::make_pair(TKeyFrameId(0), TKeyFrameId(2))) == 1) << "the loop edge is in the essential graph";
+	expectGraphMatchesObservations(map);
+}
+
 TEST(SparseMap, RecentPointsListHoldsOnlyYoungPoints)
 {
 	std::mt19937 rng(5);

@@ -643,7 +643,9 @@ std::vector<TKeyFrameId> CSparseMap::cullRedundantKeyFrames(
 		auto it = keyFrames_.find(id);
 		if (it == keyFrames_.end()) continue;
 		CKeyFrame& kf = *it->second;
-		if (kf.bad || !kf.parent || id == currentKf) continue;
+		// A keyframe that closes a loop stays (ORB-SLAM2's SetNotErase): erased, its loop edge would
+		// leave the essential graph, and a later pose graph would lose the loop without a word.
+		if (kf.bad || !kf.parent || id == currentKf || !kf.loopEdges.empty()) continue;
 		std::size_t numPoints = 0, redundant = 0;
 		for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
 		{
