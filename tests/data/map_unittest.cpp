@@ -474,13 +474,26 @@ TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
 	EXPECT_NEAR(map.point(made1).position.z, before.z + 0.1, 1e-9);
 	EXPECT_NEAR(map.point(seen0).position.z, before0.z + 0.1, 1e-9);	// kf1 observes it too
 
-	// applyCorrection: kf1 listed, kf2 not: kf2 follows its parent; kf0's points follow kf0 (unlisted
-	// root: no correction), kf1's points follow kf1.
-	map.applyCorrection({{1, mrpt::poses::CPose3D(0, 0, -0.1, 0, 0, 0) + map.keyFramePose(1)}});
+	// applyCorrection: kf1 listed (back down), kf0 listed too (5 cm up), kf2 not: kf2 follows its
+	// parent; kf1's points follow kf1; a point the group step moved with kf1 (seen0, made by kf0)
+	// follows kf1 again, not its creator kf0 (issue 28 item 2: each point is corrected once, as
+	// ORB-SLAM2's mnCorrectedByKF; it used to move with kf0 as well and end 5 cm above either).
+	const auto kf0Before = map.point(20).position;	// made by kf0, seen by kf1 as well: moved in step 1
+	map.applyCorrection(
+		{{1, mrpt::poses::CPose3D(0, 0, -0.1, 0, 0, 0) + map.keyFramePose(1)}, {0, mrpt::poses::CPose3D(0, 0, 0.05, 0, 0, 0) + map.keyFramePose(0)}});
 	EXPECT_NEAR(map.keyFramePose(1).z(), 0.0, 1e-12);
 	EXPECT_NEAR(map.keyFramePose(2).z(), -0.1, 1e-12);
 	EXPECT_NEAR(map.point(made1).position.z, before.z, 1e-9);
-	EXPECT_NEAR(map.point(seen0).position.z, before0.z + 0.1, 1e-9);
+	EXPECT_NEAR(map.point(seen0).position.z, before0.z, 1e-9) << "corrected twice";
+	EXPECT_NEAR(map.point(20).position.z, kf0Before.z - 0.1, 1e-9);
+	// A point only kf0 saw (made by kf0, 60-99 are kf1's own) moves with kf0.
+	CSparseMap map2;
+	std::mt19937 rng2(3);
+	addView(map2, 0, {}, world, none, rng2);
+	const auto p70 = map2.point(70).position;
+	map2.applyCorrection({{0, mrpt::poses::CPose3D(0, 0, 0.05, 0, 0, 0) + map2.keyFramePose(0)}});
+	EXPECT_NEAR(map2.point(70).position.z, p70.z + 0.05, 1e-9);
+	map.applyCorrection({{0, mrpt::poses::CPose3D(0, 0, -0.05, 0, 0, 0) + map.keyFramePose(0)}});  // undo kf0 for what follows
 
 	// The essential graph holds the spanning tree and, once recorded, the loop edge.
 	EXPECT_TRUE(map.addLoopEdge(2, 0));

@@ -815,20 +815,27 @@ void CSparseMap::correctLocked(
 			for (std::size_t hops = 0; a && !delta.count(*a) && hops <= keyFrames_.size(); hops++) a = keyFrames_.at(*a)->parent;
 			if (a && delta.count(*a)) delta[id] = delta.at(*a);
 		}
+	if (!propagate) correctedBy_.clear();
 	for (auto& [pid, p] : points_)
 	{
 		if (p.bad || skip.count(pid)) continue;
 		const mrpt::poses::CPose3D* D = nullptr;
 		if (propagate)
 		{
-			if (keyFrames_.count(p.firstKeyFrame))
-				if (auto it = delta.find(goodAncestorLocked(p.firstKeyFrame)); it != delta.end()) D = &it->second;
+			// A point the group step moved follows the keyframe that moved it, not its creator:
+			// moved once with the group keyframe and again with its creator's correction, it
+			// landed where neither puts it.
+			const auto cb = correctedBy_.find(pid);
+			const TKeyFrameId anchor = cb != correctedBy_.end() ? cb->second : p.firstKeyFrame;
+			if (keyFrames_.count(anchor))
+				if (auto it = delta.find(goodAncestorLocked(anchor)); it != delta.end()) D = &it->second;
 		}
 		else
 			for (const auto& [k, kp] : p.observations)
 				if (auto it = delta.find(k); it != delta.end())
 				{
 					D = &it->second;
+					correctedBy_[pid] = k;
 					break;
 				}
 		if (!D) continue;
@@ -841,6 +848,7 @@ void CSparseMap::correctLocked(
 		auto& kf = *keyFrames_.at(id);
 		kf.pose = D + kf.pose;
 	}
+	if (propagate) correctedBy_.clear();
 	generation_++;
 }
 

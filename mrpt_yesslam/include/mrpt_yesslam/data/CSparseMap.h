@@ -184,7 +184,9 @@ class CSparseMap
 	/** A map-wide correction (pose graph): the listed keyframes get the given poses; every other
 	 * good keyframe (one added while the correction was computed) moves rigidly with its nearest
 	 * listed ancestor in the spanning tree; every good point moves with the keyframe that created it
-	 * (or that keyframe's good ancestor). Starts a new correction generation. */
+	 * (or that keyframe's good ancestor), except a point the last correctKeyFrames moved: it moves
+	 * with the keyframe that moved it then (ORB-SLAM2's mnCorrectedByKF), so that no point is
+	 * corrected twice. Starts a new correction generation. */
 	void applyCorrection(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses);
 	/** Every good keyframe (the first fixed) and every good point: ORB-SLAM2's global BA window. */
 	TBundleWindow globalBundleWindow() const;
@@ -246,5 +248,8 @@ class CSparseMap
 	TKeyFrameId nextKeyFrame_ = 0;
 	TPointId nextPoint_ = 0;
 	std::uint64_t generation_ = 0;
+	/** Points the last correctKeyFrames moved, with the keyframe that moved each; the next map-wide
+	 * correction moves them with that keyframe (and forgets them). */
+	std::map<TPointId, TKeyFrameId> correctedBy_;
 };
 }  // namespace mrpt_yesslam
