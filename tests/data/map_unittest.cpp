@@ -169,6 +169,14 @@ TEST(SparseMap, ErasingAKeyFrameRehangsItsChildrenAndKeepsItsPose)
 	expectGraphMatchesObservations(map);
 }
 
+// A root keyframe making 80 points of a wall, and five more at almost the same place seeing them all.
+static void sixViewsOfOneWall(CSparseMap& map, std::mt19937& rng)
+{
+	const auto world = wall(80);
+	addView(map, 0, {}, world, std::vector<TPointId>(80, -1), rng);
+	for (std::size_t k = 1; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
+}
+
 TEST(SparseMap, RedundantKeyFramesAreCulled)
 {
 	// Five keyframes at almost the same place see the same points: all but the root, the newest and
@@ -176,8 +184,7 @@ TEST(SparseMap, RedundantKeyFramesAreCulled)
 	std::mt19937 rng(4);
 	const auto world = wall(80);
 	CSparseMap map;
-	addView(map, 0, {}, world, std::vector<TPointId>(80, -1), rng);
-	for (std::size_t k = 1; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
+	sixViewsOfOneWall(map, rng);
 	const auto erased = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
 	// Checked oldest first (equal weights): kf1, kf2 and kf3 each still had three other observers
 	// of every point when their turn came; kf4 then had two (kf0, kf5) and stays.
@@ -203,10 +210,8 @@ TEST(SparseMap, AKeyFrameWithALoopEdgeIsNeverCulled)
 	// a later pose graph silently lost the loop. The same five redundant views as above, kf2 closing
 	// a loop with kf0: kf2 stays (ORB-SLAM2 marks loop keyframes not-to-erase), and so does its edge.
 	std::mt19937 rng(4);
-	const auto world = wall(80);
 	CSparseMap map;
-	addView(map, 0, {}, world, std::vector<TPointId>(80, -1), rng);
-	for (std::size_t k = 1; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
+	sixViewsOfOneWall(map, rng);
 	ASSERT_TRUE(map.addLoopEdge(2, 0));
 	const auto erased = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
 	EXPECT_EQ(std::count(erased.begin(), erased.end(), TKeyFrameId(2)), 0) << "culled the loop keyframe";
