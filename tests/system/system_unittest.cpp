@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <set>
 #include <thread>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -450,6 +451,29 @@ TEST(System, TheFrameCallbackSeesEveryFrameAsTrackingLeftIt)
 	EXPECT_EQ(calls, 12u);
 	EXPECT_GE(withInliers, 10u) << "tracked frames carry their inliers' map points";
 	EXPECT_EQ(s.stats.frames, 12u);
+}
+
+TEST(System, ProgressTotalsAreTheFramesThisRunWillProcess)
+{
+	// Issue 30 item 8: the progress line's total was the input's length whatever --max-frames and
+	// --skip-frames said (a 7-frame run of 60 frames stopped at 12 %).
+	auto totals = [](std::size_t maxFrames, std::size_t skipFrames)
+	{
+		TempDir d("system_progress");
+		auto o = jobFor(d.path(), false);
+		o.maxFrames = maxFrames;
+		o.skipFrames = skipFrames;
+		o.slam.dense.enabled = false;
+		std::set<std::size_t> seen;
+		std::size_t last = 0;
+		runSlamJob(o, [&](std::size_t done, std::size_t total, const std::string&) { seen.insert(total), last = done; });
+		EXPECT_EQ(seen.size(), 1u);
+		EXPECT_EQ(last, seen.empty() ? 0 : *seen.begin()) << "the last frame reports done == total";
+		return seen.empty() ? 0 : *seen.begin();
+	};
+	EXPECT_EQ(totals(7, 0), 7u);
+	EXPECT_EQ(totals(0, 55), 5u);
+	EXPECT_EQ(totals(3, 55), 3u);
 }
 
 TEST(System, ParallelLiveInputDropsWhatSlamCannotTakeAndRecordsEverything)

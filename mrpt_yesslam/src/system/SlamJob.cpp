@@ -353,7 +353,11 @@ TSlamJobSummary runSlamJob(
 					std::snprintf(
 						buf, sizeof(buf), "%.1f fps  %s  kf %zu  inliers %zu", s > 0 ? static_cast<double>(done) / s : 0.0, state,
 						sys.map().numKeyFrames(), r.inliers);
-				progress(done, src->sizeHint(), buf);
+				// The total this run will process: the input's frames after the skip, at most --max-frames.
+				std::size_t total = src->sizeHint();
+				if (total > o.skipFrames) total -= o.skipFrames;
+				if (o.maxFrames && (total == 0 || total > o.maxFrames)) total = o.maxFrames;
+				progress(done, total, buf);
 			}
 		}
 	}
