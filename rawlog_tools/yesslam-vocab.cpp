@@ -57,6 +57,8 @@ int main(int argc, char** argv)
 				std::printf("words:     %zu (k=%d, L=%d, %zu nodes)\n", v.numWords(), v.branching(), v.levels(), v.numNodes());
 				std::printf("images:    %llu\n", static_cast<unsigned long long>(v.numTrainingImages()));
 				std::printf("trained:   %s\n", v.description().c_str());
+				// The number saved maps quote (yesslam-map's "vocabulary", a refused --load-map's error).
+				std::printf("fingerprint: %016llx\n", static_cast<unsigned long long>(v.fingerprint()));
 				std::printf("load ms:   %.1f\n", ms);
 				return 0;
 			}

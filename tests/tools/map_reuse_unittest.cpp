@@ -281,6 +281,11 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 		ASSERT_EQ(r.exitCode, 0) << r.err;
 		// The run's semantic OctoMap went into the map file: the one written back out is the run's map.ot.
 		EXPECT_NE(r.out.find("octree:       "), std::string::npos) << r.out;
+		// The vocabulary fingerprint the map quotes is the one yesslam-vocab --info prints.
+		const auto vocab = runTool("yesslam-vocab", {"--info", std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc"});
+		const auto fp = vocab.out.find("fingerprint: ");
+		ASSERT_NE(fp, std::string::npos) << vocab.out;
+		EXPECT_NE(r.out.find("vocabulary " + vocab.out.substr(fp + 13, 16) + ")"), std::string::npos) << r.out << vocab.out;
 		EXPECT_TRUE(readText(d / "m.ot") == readText(d / "map/map.ot")) << "the stored octree differs from the run's map.ot";
 		EXPECT_NE(r.out.find("keyframes:    " + std::to_string(m.numKeyFrames()) + " "), std::string::npos) << r.out;
 		EXPECT_NE(r.out.find("map points:   " + std::to_string(m.numPoints()) + "\n"), std::string::npos) << r.out;
