@@ -592,3 +592,20 @@ TEST(Tools, DetectHelpListsEveryOutputFormat)
 	for (const auto& f : mrpt_yesslam::yoloOutputFormats()) EXPECT_NE(line.find(f), std::string::npos) << f << " missing in: " << line;
 	EXPECT_EQ(mrpt_yesslam::yoloOutputFormats().size(), 8u);
 }
+
+TEST(Tools, EveryToolTakesOutAndOutputAlike)
+{
+	// Issue 30 item 8: tum2rawlog and yesslam-oni name their output --output, the others --out; a
+	// habit from one tool gave "unknown option" in the other. Both spellings work everywhere.
+	TempDir d("out_alias");
+	const std::string desk = std::filesystem::path(sharedFile("data/tum_fr1_desk_9frames/rgb.txt")).parent_path().string();
+	const auto conv = runTool("tum2rawlog", {"--input", desk, "--out", d / "desk.rawlog"});
+	EXPECT_EQ(conv.exitCode, 0) << conv.err;
+	EXPECT_TRUE(fs::exists(d / "desk.rawlog"));
+	const auto run = runTool("yesslam", {"--input", desk, "--output", d / "run", "--detector", "none", "--no-dense-map", "--max-frames", "3", "--quiet"});
+	EXPECT_EQ(run.exitCode, 0) << run.err;
+	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
+	const auto bogus = runTool("yesslam", {"--input", desk, "--outt", d / "x"});
+	EXPECT_EQ(bogus.exitCode, 1);
+	EXPECT_NE(bogus.err.find("unknown option --outt"), std::string::npos) << bogus.err;
+}

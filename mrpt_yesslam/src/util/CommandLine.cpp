@@ -122,6 +122,12 @@ bool CommandLine::parse(int argc, char** argv)
 		Opt* o = nullptr;
 		for (auto& c : opts_)
 			if (c.name == name) o = &c;
+		// Our tools name their output --out or --output (tum2rawlog and yesslam-oni write one file,
+		// the others a folder or a picture): each takes the other spelling too, so a user's habit
+		// from one tool works in all of them.
+		if (!o && (name == "out" || name == "output"))
+			for (auto& c : opts_)
+				if (c.name == (name == "out" ? "output" : "out")) o = &c;
 		if (!o) throw InputError("", "unknown option --" + name + " (see --help)");
 		if (o->takesValue && !inlineValue)
 		{
