@@ -23,20 +23,21 @@ int main(int argc, char** argv)
 			bool quiet = false;
 			CommandLine cl(
 				"yesslam-detect",
-				"yesslam-detect --model MODEL(.cfg|.onnx) [--weights FILE.weights] --names NAMES.txt [--conf 0.6] "
+				"yesslam-detect [--model MODEL(.cfg|.onnx) [--weights FILE.weights] --names NAMES.txt] [--conf 0.6] "
 				"[--dynamic person,...] --input PATH --out DIR [--overlay]",
 				"Runs a YOLO-family detector through OpenCV DNN on the CPU (Darknet cfg+weights, or ONNX exports of\n"
 				"YOLOv5/v7/v8 and YOLOX; the layout is recognised from the output shape) over an image, a TUM folder\n"
 				"or a rawlog. Writes DIR/detections.txt ('timestamp class_id score x y w h instance_id', pixels;\n"
 				"timestamp 0 for a single image), DIR/masks/<stamp>.png (the dynamic-object masks, for inputs with\n"
 				"depth) and with --overlay DIR/overlays/<stamp>.png. The detections file is what the SLAM app's\n"
-				"'file' detector backend reads.",
-				{"yesslam-detect --model yolo-fastest-1.1-xl.cfg --weights yolo-fastest-1.1-xl.weights --names coco.names "
+				"'file' detector backend reads. Without --model it runs the shipped Yolo-Fastest-1.1 (COCO), as yesslam does.",
+				{"yesslam-detect --input photo.jpg --out det --overlay   (the shipped Yolo-Fastest)",
+				 "yesslam-detect --model yolo-fastest-1.1-xl.cfg --weights yolo-fastest-1.1-xl.weights --names coco.names "
 				 "--input rgbd_dataset_freiburg3_walking_xyz --out det --overlay",
 				 "yesslam-detect --model yolov7-tiny.onnx --names coco.names --input photo.jpg --out det --overlay"});
-			cl.text("model", "FILE", "network: darknet .cfg (with --weights) or .onnx", &o.detector.model, true);
+			cl.text("model", "FILE", "network: darknet .cfg (with --weights) or .onnx (default: the shipped Yolo-Fastest-1.1)", &o.detector.model);
 			cl.text("weights", "FILE", "darknet weights", &o.detector.weights);
-			cl.text("names", "FILE", "class names, one per line, in the model's order", &o.detector.names, true);
+			cl.text("names", "FILE", "class names, one per line, in the model's order (needed with --model)", &o.detector.names);
 			cl.number("conf", "P", "drop detections below this confidence (the paper: 0.6)", &conf);
 			cl.text("dynamic", "NAMES", "comma-separated classes treated as dynamic and masked", &o.detector.dynamicClasses);
 			std::string formats;
@@ -52,6 +53,8 @@ int main(int argc, char** argv)
 			cl.text("config", "FILE", "INI/YAML config with [Detector], [DynamicMask], [Input]; options given here win", &configPath);
 			cl.flag("quiet", "no progress bar", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
+			if (cl.given("model") && !cl.given("names") && configPath.empty())
+				throw InputError("", "--names is needed with --model (the class names in the model's order)");
 			if (!configPath.empty())
 			{
 				const TDetectJobOptions cli = o;

@@ -273,6 +273,15 @@ TEST(Tools, DetectOnImageAndTumFolder)
 	EXPECT_EQ(people, 1) << "one person in person.jpg";
 	EXPECT_GE(lines, 2) << "and the dog and horse";
 	EXPECT_TRUE(fs::exists(d / "img/overlays/0.000000.png"));
+	// Without --model: the shipped Yolo-Fastest-1.1 (the same files), so the same detections
+	// (issue 30 item 8: --model and --names were required).
+	const auto shipped = runTool(
+		"yesslam-detect", {"--input", sharedFile("data/detector_test_images/person.jpg"), "--out", d / "shipped", "--conf", "0.5", "--quiet"});
+	ASSERT_EQ(shipped.exitCode, 0) << shipped.err;
+	EXPECT_EQ(readText(d / "shipped/detections.txt"), readText(d / "img/detections.txt"));
+	const auto noNames = runTool("yesslam-detect", {"--model", sharedFile(m + "yolo-fastest-1.1.cfg"), "--input", sharedFile("data/detector_test_images/person.jpg"), "--out", d / "x"});
+	EXPECT_EQ(noNames.exitCode, 1);
+	EXPECT_NE(noNames.err.find("--names"), std::string::npos) << noNames.err;
 
 	args = model;
 	for (const auto& a : {std::string("--input"), sharedFile("data/tum_fr1_desk_9frames"), std::string("--out"), d / "tum"})
