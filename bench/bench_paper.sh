@@ -53,10 +53,7 @@ for p in "${PRESETS[@]}"; do
 done
 # Real sequences: the Bonn slice with its marker ground truth converted (--gt-format bonn).
 BONN_CAM="$OUT/bonn_camera.txt"
-{
-  grep -v '^#' "$SHARED/bonn_crowd_dev/calibration.txt" | awk 'NF >= 4 {print; exit}'
-  grep '^#' "$SHARED/bonn_crowd_dev/calibration.txt" | awk '{n = 0; for (i = 2; i <= NF; i++) if ($i ~ /^-?[0-9.]+(e-?[0-9]+)?$/) n++} n == 5 && NF == 6 {$1 = ""; print; exit}'
-} > "$BONN_CAM"
+"$ROOT/bench/bonn_camera.sh" "$SHARED/bonn_crowd_dev" "$BONN_CAM"
 for cfg in paper default baseline; do
   extra=(); [ $cfg = paper ] && extra=(--config "$CFG/paper.ini"); [ $cfg = baseline ] && extra=(--no-dynamic-filter --policy orbslam)
   run "real_bonn_crowd_dev-$cfg" "$SHARED/bonn_crowd_dev" --gt-format bonn --camera "$BONN_CAM" "${extra[@]}"

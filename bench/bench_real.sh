@@ -21,11 +21,7 @@ done
 OUT="$ROOT/bench_out/real"; mkdir -p "$OUT/runs"
 # The Bonn intrinsics with the distortion the dataset publishes (a comment in its calibration.txt).
 BONN_CAM="$OUT/bonn_camera.txt"
-{
-  grep -v '^#' "$SHARED/bonn_crowd_dev/calibration.txt" | awk 'NF >= 4 {print; exit}'
-  grep '^#' "$SHARED/bonn_crowd_dev/calibration.txt" | awk '{n = 0; for (i = 2; i <= NF; i++) if ($i ~ /^-?[0-9.]+(e-?[0-9]+)?$/) n++} n == 5 && NF == 6 {$1 = ""; print; exit}'
-} > "$BONN_CAM"
-[ "$(wc -l < "$BONN_CAM")" -eq 2 ] || { echo "bench: could not read the Bonn calibration and distortion" >&2; exit 1; }
+"$ROOT/bench/bonn_camera.sh" "$SHARED/bonn_crowd_dev" "$BONN_CAM"
 
 median() { sort -g | awk '{a[NR]=$1} END {if (NR == 0) print "nan"; else print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 field() { awk -v k="$1:" '$1==k {print $2}' "$2"; }

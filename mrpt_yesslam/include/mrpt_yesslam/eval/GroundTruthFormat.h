@@ -20,8 +20,6 @@ enum class EGroundTruthFormat
 
 /** Parses "tum" or "bonn" (case-insensitive); throws InputError naming `option` otherwise. */
 EGroundTruthFormat parseGroundTruthFormat(const std::string& name, const std::string& option = "--gt-format");
-/** The format's name as parseGroundTruthFormat takes it. */
-std::string groundTruthFormatName(EGroundTruthFormat f);
 
 /** Bonn marker poses to camera poses: T_cam = T_ros * T_gt * T_ros * T_m (the dataset's own
  * transform; T_m's 3x3 block, not exactly a rotation as published, is replaced by its nearest
