@@ -3,6 +3,8 @@
 // and redundant-keyframe culling, point fusion, the recent-points list, the generation counter
 // that refuses stale bundle results, and the versioned serialisation of keyframes and points.
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
+#include <mrpt/math/CMatrixFixed.h>
 
 #include <random>
 #include <sstream>
@@ -525,4 +527,31 @@ TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
 	EXPECT_TRUE(map.applyGlobalBundle(w, poses, w.positions, {}));
 	EXPECT_NEAR(map.keyFramePose(3).x(), z3 + 0.2, 1e-9);
 	expectGraphMatchesObservations(map);
+}
+
+TEST(SparseMap, ManyCorrectionsKeepEveryKeyFramesRotationARotation)
+{
+	// A correction writes T_new from T_old by composition; with T_old's rotation off orthonormal
+	// by e, the delta T_new T_old^-1 applied to T_old left it off by 3e, so the first keyframe
+	// (never re-estimated by BA) ended in garbage after some thirty loop corrections (found by
+	// System.ACorrectionBetweenTrackingAndADelayedKeyFrameCarriesOverToIt: NaN poses).
+	std::mt19937 rng(5);
+	const auto world = wall(30);
+	CSparseMap map;
+	addView(map, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
+	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, 0.05, 0, 0), world, range(0, 30), rng);
+	const mrpt::poses::CPose3D T(0.03, -0.01, 0.02, mrpt::DEG2RAD(1.0), mrpt::DEG2RAD(-0.5), 0);
+	mrpt::poses::CPose3D expected;
+	for (int n = 0; n < 80; n++)
+	{
+		std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
+		for (const auto& k : map.keyFramePoses()) poses[k.id] = T + k.pose;
+		map.applyCorrection(poses);
+		expected = T + expected;
+	}
+	const auto R = map.keyFramePose(0).getRotationMatrix().asEigen();
+	EXPECT_LT((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+	EXPECT_LT((map.keyFramePose(0).asVectorVal() - expected.asVectorVal()).norm(), 1e-6);
+	// The keyframes stay where they were relative to each other.
+	EXPECT_NEAR((map.keyFramePose(1) - map.keyFramePose(0)).asVectorVal().head<3>().norm(), 0.1, 1e-6);
 }

@@ -498,3 +498,72 @@ TEST(System, ParallelLiveInputDropsWhatSlamCannotTakeAndRecordsEverything)
 	EXPECT_EQ(n, 60u);
 	EXPECT_GT(s.stats.trackedFrames, s.stats.frames / 2);
 }
+
+namespace
+{
+// A loop correction that moves the whole map rigidly by T (every keyframe and, with it, every point).
+void correctWholeMap(CSparseMap& map, const mrpt::poses::CPose3D& T)
+{
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
+	for (const auto& k : map.keyFramePoses())
+		if (!k.bad) poses[k.id] = T + k.pose;
+	map.applyCorrection(poses);
+}
+}  // namespace
+
+TEST(System, ACorrectionBetweenTrackingAndADelayedKeyFrameCarriesOverToIt)
+{
+	// Algorithm 1 chooses a keyframe among the frames of an interval that has just closed, so the
+	// frame goes into the map frames after it was tracked. A correction landing in between (here a
+	// rigid move of the whole map, as a loop correction would make) must carry over to it: inserted
+	// at the pose tracked back then, the keyframe and its new points stay in the frame from before
+	// and the map holds two copies of the room (issue 28 item 1). Local BA is off: it pulls a new
+	// keyframe and its own points back from wherever they were put (measured: even from 2 m and
+	// 90 degrees off, the same ATE to 0.1 mm), so here the insertion itself is checked.
+	const TTrajectory gt = readTumTrajectory(walkingSequence() + "/groundtruth.txt");
+	// `correctAfter`: the frame after whose processing the map is moved (none: a plain run).
+	// Returns the ATE of frames and keyframes, and (frame index of the chosen frame, frame index of
+	// its insertion) for every keyframe inserted late.
+	struct TRun
+	{
+		double ate = 0, keyFrameAte = 0;
+		std::vector<std::pair<std::size_t, std::size_t>> delayed;
+	};
+	const auto run = [&](std::optional<std::size_t> correctAfter)
+	{
+		TYesSlamOptions o = walkingSystemOptions();
+		o.dense.enabled = false;
+		o.mapping.bundleAdjustment = false;
+		CYesSlamSystem sys(o);
+		auto src = openInputSource(walkingSequence(), o.input);
+		std::vector<double> times;
+		TRun out;
+		for (std::size_t i = 0; auto obs = src->next(); i++)
+		{
+			times.push_back(mrpt::Clock::toDouble(obs->timestamp));
+			const std::size_t before = sys.map().numKeyFrames();
+			const TFrameReport r = sys.processFrame(*obs);
+			if (!r.keyFrame && sys.map().numKeyFrames() > before)
+			{
+				const double t = sys.keyFrameTrajectory().back().t;
+				const auto j = static_cast<std::size_t>(std::find(times.begin(), times.end(), t) - times.begin());
+				out.delayed.emplace_back(j, i);
+			}
+			if (correctAfter && i == *correctAfter)
+				correctWholeMap(sys.mutableMap(), mrpt::poses::CPose3D(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0)));
+		}
+		out.ate = computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse;
+		out.keyFrameAte = computeAte(gt, sys.keyFrameTrajectory(), TEvalOptions()).stats.rmse;
+		return out;
+	};
+	const TRun plain = run(std::nullopt);
+	// The map moves after a frame that becomes a keyframe only frames later.
+	const auto late = std::find_if(plain.delayed.begin(), plain.delayed.end(), [](const auto& d) { return d.first >= 10 && d.second > d.first; });
+	ASSERT_NE(late, plain.delayed.end()) << "the sequence must make a keyframe of an earlier frame";
+	const TRun corrected = run(late->first);
+	// One rigid alignment fits every pose as well as without the correction. Measured: 5.5 / 4.6 mm
+	// (frames / keyframes) either way; with the keyframe inserted at its old pose 5.9 / 140 mm, and
+	// with the first frame left at its absolute pose (not hung from keyframe 0) about 60 mm.
+	EXPECT_LT(corrected.ate, plain.ate + 0.002);
+	EXPECT_LT(corrected.keyFrameAte, plain.keyFrameAte + 0.002);
+}

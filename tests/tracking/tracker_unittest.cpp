@@ -3,6 +3,7 @@
 // nothing to track.
 #include <gtest/gtest.h>
 #include <mrpt/poses/CPose3DQuat.h>
+#include <mrpt/poses/Lie/SO.h>
 
 #include <random>
 #include <set>
@@ -279,4 +280,35 @@ TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 	// Measured: 26 % remain (where the desk behind has too few keypoints to see through), 100 % without.
 	EXPECT_LE(afterOn * 3, beforeOn) << "at most a third of its points may remain once it has left";
 	EXPECT_GE(afterOff * 10, beforeOff * 9) << "without the checks they stay";
+}
+
+TEST(Tracker, AVelocityMeasuredAcrossALoopCorrectionHoldsNoneOfIt)
+{
+	// A correction moves the map between two tracked frames. The next frame is tracked in the
+	// corrected map; its velocity is measured against the last frame's pose in that same map, not
+	// the pose the last frame had before (that difference would hold the whole correction, and a
+	// lost frame right after would coast on it). Issue 28 item 1 (b).
+	const auto frames = deskFrames();
+	ASSERT_EQ(frames.size(), 9u);
+	CYesSlamSystem sys(realOptions());
+	std::vector<mrpt::poses::CPose3D> poses;
+	sys.setFrameCallback([&](const TFrame& f) { poses.push_back(f.pose); });
+	for (std::size_t i = 0; i < 5; i++) ASSERT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
+	const mrpt::poses::CPose3D T(0.5, 0.1, -0.2, mrpt::DEG2RAD(20.0), 0, mrpt::DEG2RAD(5.0));
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> corrected;
+	for (const auto& k : sys.map().keyFramePoses())
+		if (!k.bad) corrected[k.id] = T + k.pose;
+	sys.mutableMap().applyCorrection(corrected);
+	ASSERT_TRUE(sys.processFrame(*frames[5]).tracked);
+	// The last tracked frame is in the corrected map.
+	EXPECT_LT((poses[5].asVectorVal() - (T + poses[4]).asVectorVal()).head<3>().norm(), 0.05);
+	// A covered lens: the lost frame coasts on the last motions (fr1_desk moves about 1.5 cm a frame).
+	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
+	EXPECT_FALSE(sys.processFrame(black, noDepth, observationTime(*frames[6]), frames[6]->cameraParamsIntensity).tracked);
+	ASSERT_EQ(poses.size(), 7u);
+	const mrpt::poses::CPose3D step = poses[6] - poses[5];
+	EXPECT_LT(step.norm(), 0.05) << "coasted " << step.norm() << " m from the last tracked pose";
+	EXPECT_LT(mrpt::poses::Lie::SO<3>::log(step.getRotationMatrix()).norm(), mrpt::DEG2RAD(3.0));
+	// And tracking goes on in the corrected map.
+	for (std::size_t i = 7; i < 9; i++) EXPECT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
 }

@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 
+#include <Eigen/Geometry>
+
 #include "mrpt_yesslam/util/BinaryIO.h"
 
 #include <algorithm>
@@ -31,6 +33,18 @@ void appendPoint(TLocalMapPoints& out, const CMapPoint& p)
 	out.ids.push_back(p.id);
 	out.positions.push_back(p.position);
 	out.descriptors.push_back(p.descriptor);
+}
+// The nearest rotation (through a normalised quaternion). A correction writes T_new, computed from
+// T_old by composition: with T_old's rotation off orthonormal by e, T_new (T_old)^-1 T_old is off
+// by 3e, so a keyframe never re-estimated (the fixed first one) drifted off by a factor of three per
+// correction and its pose became garbage after some thirty loop corrections.
+mrpt::poses::CPose3D orthonormalised(const mrpt::poses::CPose3D& p)
+{
+	Eigen::Quaterniond q(p.getRotationMatrix().asEigen());
+	q.normalize();
+	mrpt::poses::CPose3D out = p;
+	out.setRotationMatrix(mrpt::math::CMatrixDouble33(q.toRotationMatrix()));
+	return out;
 }
 }  // namespace
 
@@ -846,7 +860,8 @@ void CSparseMap::correctLocked(
 	for (const auto& [id, D] : delta)
 	{
 		auto& kf = *keyFrames_.at(id);
-		kf.pose = D + kf.pose;
+		const auto given = poses.find(id);
+		kf.pose = orthonormalised(given != poses.end() ? given->second : D + kf.pose);
 	}
 	if (propagate) correctedBy_.clear();
 	generation_++;

@@ -396,7 +396,7 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
 {
 	const TKeyFrameId kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
-	tracker_.setReferenceKeyFrame(kf);
+	tracker_.setReferenceKeyFrame(kf, f->id);  // the frame tracked last is anchored to it when it is that frame
 	inserter_.keyFrameInserted(f->id);
 	lastKeyFrameFrame_ = f->id;
 	lastKeyFrame_ = kf;
@@ -469,24 +469,32 @@ TFrameReport CYesSlamSystem::processFrame(
 	everTracked_ = everTracked_ || f->tracked;
 	rec.hasPose = everTracked_;
 	rec.online = f->pose;
-	if (const auto ref = tracker_.referenceKeyFrame())
-	{
-		rec.hasRef = true;
-		rec.refKf = *ref;
-		rec.relative = f->pose - map_.keyFramePose(*ref);
-	}
+	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe).
+	CTracker::TAnchor anchor;
+	if (const auto a = tracker_.anchorOf(f->id))
+		anchor = *a;
+	else if ((anchor.refKf = tracker_.referenceKeyFrame()))
+		anchor.relative = f->pose - map_.keyFramePose(*anchor.refKf);
 	else
-		rec.relative = f->pose;
+		anchor.relative = f->pose;
+	rec.hasRef = anchor.refKf.has_value();
+	rec.refKf = anchor.refKf.value_or(0);
+	rec.relative = anchor.relative;
 
 	t0 = Clock::now();
 	std::shared_ptr<const TFrame> frame = f;
-	recent_.push_back(frame);
+	recent_.push_back({frame, anchor});
 	while (recent_.size() > std::max<std::size_t>(1, opts_.system.frameBuffer)) recent_.pop_front();
 	if (initialising)
 	{
 		insertKeyFrame(frame, false);
 		inserter_.addFrame(*frame, {frame->id, 0}, 0);	// the selector's first reference; no new keyframe
 		rep.keyFrame = true;
+		// The frame of the first keyframe hangs from it like every later frame from its reference:
+		// left absolute, a correction that moves the first keyframe left it behind.
+		rec.hasRef = true;
+		rec.refKf = *lastKeyFrame_;
+		rec.relative = mrpt::poses::CPose3D();
 	}
 	else if (frame->tracked && !opts_.system.localizeOnly)
 	{
@@ -507,11 +515,23 @@ TFrameReport CYesSlamSystem::processFrame(
 	// chooses again (bench_dynamic.sh with whole-box masks stopped on this before).
 	if (decision && !(lastKeyFrameFrame_ && decision->frameId <= *lastKeyFrameFrame_))
 	{
-		const auto it = std::find_if(recent_.begin(), recent_.end(), [&](const auto& x) { return x->id == decision->frameId; });
-		if (it != recent_.end() && (*it)->tracked)
+		const auto it = std::find_if(recent_.begin(), recent_.end(), [&](const auto& x) { return x.frame->id == decision->frameId; });
+		if (it != recent_.end() && it->frame->tracked)
 		{
-			insertKeyFrame(*it, decision->forced);
-			rep.keyFrame = (*it)->id == frame->id;
+			// A frame chosen up to frameBuffer frames late goes in at its pose in the map as it is
+			// now: a loop correction or global BA since it was tracked moved its reference keyframe
+			// and the points it matched, and would otherwise leave this keyframe and its new points
+			// in the frame from before (ORB-SLAM2 inserts at once and has no such window).
+			std::shared_ptr<const TFrame> kf = it->frame;
+			const mrpt::poses::CPose3D now = it->anchor.poseIn(map_);
+			if (!(now == kf->pose))
+			{
+				auto moved = std::make_shared<TFrame>(*kf);
+				moved->pose = now;
+				kf = moved;
+			}
+			insertKeyFrame(kf, decision->forced);
+			rep.keyFrame = kf->id == frame->id;
 		}
 	}
 	ms["keyframe"] = msSince(t0);

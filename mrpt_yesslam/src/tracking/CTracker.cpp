@@ -65,11 +65,26 @@ std::optional<TKeyFrameId> CTracker::referenceKeyFrame() const
 	return map_.goodAncestor(*refKf_);
 }
 
+void CTracker::setReferenceKeyFrame(TKeyFrameId kf, std::optional<std::size_t> fromFrame)
+{
+	refKf_ = kf;
+	if (fromFrame && tracked_ && tracked_->frameId == *fromFrame) tracked_->anchor = {kf, mrpt::poses::CPose3D()};
+}
+
+std::optional<CTracker::TAnchor> CTracker::anchorOf(std::size_t frameId) const
+{
+	if (!tracked_ || tracked_->frameId != frameId) return std::nullopt;
+	return tracked_->anchor;
+}
+
 void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 {
+	// The frame track() saw: both poses of the velocity are from the map as tracking read it (a
+	// correction landing since, on the mapping stage, is in neither); its anchor carries it over.
+	const bool fromTrack = tracked_ && tracked_->frameId == f->id;
 	if (last_ && last_->tracked && f->tracked)
 	{
-		velocity_ = f->pose - last_->pose;	// T_{k-1,k} = T_w_{k-1}^-1 T_w_k
+		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		lostRun_ = 0;
 		recentMotion_.push_back(mrpt::poses::Lie::SE<3>::log(*velocity_));
 		while (recentMotion_.size() > opts_.lostVelocityFrames) recentMotion_.pop_front();
@@ -91,8 +106,16 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 			velocity_.reset();
 	}
 	last_ = f;
-	lastRef_ = referenceKeyFrame();
-	if (lastRef_) lastRelative_ = f->pose - map_.keyFramePose(*lastRef_);
+	if (fromTrack)
+	{
+		lastRef_ = tracked_->anchor.refKf;
+		lastRelative_ = tracked_->anchor.relative;
+	}
+	else
+	{
+		lastRef_ = referenceKeyFrame();
+		if (lastRef_) lastRelative_ = f->pose - map_.keyFramePose(*lastRef_);
+	}
 }
 
 mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
@@ -114,6 +137,16 @@ mrpt::poses::CPose3D CTracker::lastFramePose() const
 	if (!last_) return {};
 	// A bad reference still resolves: its pose follows its parent.
 	return lastRef_ ? map_.keyFramePose(*lastRef_) + lastRelative_ : last_->pose;
+}
+
+void CTracker::anchor(const TFrame& f, const mrpt::poses::CPose3D& base)
+{
+	TTracked t;
+	t.frameId = f.id;
+	t.base = base;
+	t.anchor.refKf = referenceKeyFrame();
+	t.anchor.relative = t.anchor.refKf ? f.pose - map_.keyFramePose(*t.anchor.refKf) : f.pose;
+	tracked_ = t;
 }
 
 TPoseEstimate CTracker::refineWith(
@@ -303,11 +336,18 @@ bool CTracker::relocalise(TFrame& f, TResult& r)
 
 CTracker::TResult CTracker::track(TFrame& f)
 {
+	const mrpt::poses::CPose3D lastPose = lastFramePose();
+	const TResult r = trackFrom(f, lastPose);
+	anchor(f, lastPose);
+	return r;
+}
+
+CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& lastPose)
+{
 	TResult r;
 	f.tracked = false;
 	f.numInliers = 0;
 	f.mapPoints.assign(f.size(), -1);
-	const mrpt::poses::CPose3D lastPose = lastFramePose();
 	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
 	f.pose = predicted;
 	if (!refKf_)

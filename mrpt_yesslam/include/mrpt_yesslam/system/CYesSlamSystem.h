@@ -145,6 +145,9 @@ class CYesSlamSystem
 	/** Run statistics so far. */
 	TSlamStats stats() const;
 	const CSparseMap& map() const { return map_; }
+	/** The map for a stage that corrects it from outside the system (tests inject a loop
+	 * correction between frames with it); the system's own stages need no such access. */
+	CSparseMap& mutableMap() { return map_; }
 	/** Starts from a saved map (call before the first frame): its keyframes' words go into the
 	 * place-recognition database and the first frames are placed in it by relocalisation, so the
 	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
@@ -205,7 +208,13 @@ class CYesSlamSystem
 	std::vector<TFrameRecord> records_;	//!< guarded by recordsMtx_ (trajectory() may run on another thread)
 	std::vector<TFrameLogRow> frameLog_;  //!< guarded by recordsMtx_
 	mutable std::mutex recordsMtx_;
-	std::deque<std::shared_ptr<const TFrame>> recent_;
+	/** A recent frame and where its pose hangs in the map (see CTracker::TAnchor). */
+	struct TBufferedFrame
+	{
+		std::shared_ptr<const TFrame> frame;
+		CTracker::TAnchor anchor;
+	};
+	std::deque<TBufferedFrame> recent_;
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe

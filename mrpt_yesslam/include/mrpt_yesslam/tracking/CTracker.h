@@ -88,8 +88,24 @@ class CTracker
 	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
 	TResult track(TFrame& f);
 	/** Makes keyframe `kf` the reference (a new keyframe); tracking then moves it to the keyframe
-	 * sharing most points with each frame. */
-	void setReferenceKeyFrame(TKeyFrameId kf) { refKf_ = kf; }
+	 * sharing most points with each frame. When `kf` was made from the frame tracked last
+	 * (`fromFrame` is its id), that frame is anchored to it (relative pose identity), as ORB-SLAM2
+	 * records a new keyframe's frame relative to it. */
+	void setReferenceKeyFrame(TKeyFrameId kf, std::optional<std::size_t> fromFrame = std::nullopt);
+	/** Where a frame's pose hangs in the map: its reference keyframe and T_ref_frame. A pose used
+	 * later (a delayed keyframe, the next prediction, the trajectory) is re-derived from the
+	 * keyframe's pose at that time, so that a loop correction or a global BA landing in between
+	 * carries over instead of leaving the pose in the frame from before it (issue 28). */
+	struct TAnchor
+	{
+		std::optional<TKeyFrameId> refKf;  //!< none: `relative` is T_w_frame
+		mrpt::poses::CPose3D relative;
+		/** The pose in the map as it is now. */
+		mrpt::poses::CPose3D poseIn(const CSparseMap& map) const { return refKf ? map.keyFramePose(*refKf) + relative : relative; }
+	};
+	/** The anchor of the frame track() saw last, taken right after its pose was computed (the
+	 * keyframe's pose read then, not after a later mapping step moved it); none for another frame. */
+	std::optional<TAnchor> anchorOf(std::size_t frameId) const;
 	/** The reference keyframe: the one sharing most points with the last tracked frame (or the newest
 	 * keyframe), or its nearest good ancestor once it was erased. */
 	std::optional<TKeyFrameId> referenceKeyFrame() const;
@@ -109,6 +125,10 @@ class CTracker
 	const TOptions& options() const { return opts_; }
 
    private:
+	/** track() with the last frame's pose (`lastPose`) read once from the map. */
+	TResult trackFrom(TFrame& f, const mrpt::poses::CPose3D& lastPose);
+	/** Records `f`'s anchor (its reference keyframe's pose read now) and the pose its prediction came from. */
+	void anchor(const TFrame& f, const mrpt::poses::CPose3D& base);
 	/** Pose from matched observations; refines from `guess`. */
 	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
 	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
@@ -139,6 +159,16 @@ class CTracker
 	std::shared_ptr<const TFrame> last_;
 	std::optional<TKeyFrameId> lastRef_;	//!< the last frame's reference keyframe ...
 	mrpt::poses::CPose3D lastRelative_;	//!< ... and its pose relative to it, T_ref_last
+	/** What track() left for setLastFrame and anchorOf: the frame's id, its anchor, and the last
+	 * frame's pose its prediction started from (the velocity is measured against that one, in the
+	 * same state of the map as the new pose). */
+	struct TTracked
+	{
+		std::size_t frameId = 0;
+		TAnchor anchor;
+		mrpt::poses::CPose3D base;
+	};
+	std::optional<TTracked> tracked_;
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
 	/** Motions (SE(3) logs) of the last tracked frames, oldest first (lostVelocityFrames of them). */
 	std::deque<mrpt::math::CVectorFixedDouble<6>> recentMotion_;
