@@ -6,11 +6,14 @@
 #include <Eigen/Dense>
 #include <mrpt/math/CMatrixFixed.h>
 
+#include <functional>
 #include <random>
 #include <sstream>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/io/MapFile.h"
+#include "mrpt_yesslam/util/BinaryIO.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
@@ -527,6 +530,106 @@ TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
 	EXPECT_TRUE(map.applyGlobalBundle(w, poses, w.positions, {}));
 	EXPECT_NEAR(map.keyFramePose(3).x(), z3 + 0.2, 1e-9);
 	expectGraphMatchesObservations(map);
+}
+
+namespace
+{
+// A map body as CSparseMap::serialize writes it, from copies of `map`'s keyframes and points that
+// `edit` may damage first.
+std::string mapBody(const CSparseMap& map, const std::function<void(std::vector<CKeyFrame>&, std::vector<CMapPoint>&)>& edit,
+					std::uint64_t nextKf = 0, std::int64_t nextPt = 0)
+{
+	std::vector<CKeyFrame> kfs;
+	for (const auto& k : map.keyFramePoses()) kfs.push_back(map.keyFrame(k.id));
+	std::vector<CMapPoint> pts = map.points();
+	std::sort(pts.begin(), pts.end(), [](const CMapPoint& a, const CMapPoint& b) { return a.id < b.id; });
+	edit(kfs, pts);
+	std::ostringstream o(std::ios::binary);
+	binio::put<std::uint32_t>(o, CSparseMap::kSerialVersion);
+	binio::put<std::uint64_t>(o, nextKf ? nextKf : kfs.back().id + 1);
+	binio::put<std::int64_t>(o, nextPt ? nextPt : pts.back().id + 1);
+	binio::put<std::uint64_t>(o, 0);
+	binio::put<std::uint64_t>(o, kfs.size());
+	for (const auto& k : kfs) k.serialize(o);
+	binio::put<std::uint64_t>(o, pts.size());
+	for (const auto& p : pts) p.serialize(o);
+	return std::move(o).str();
+}
+}  // namespace
+
+TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
+{
+	// Issue 28 item 4: content behind a valid checksum that the matcher or tracking would trip on.
+	std::mt19937 rng(3);
+	const auto world = wall(30);
+	CSparseMap map;
+	addView(map, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
+	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0), world, range(0, 30), rng);
+	const auto loads = [](const std::string& body)
+	{
+		CSparseMap m;
+		std::istringstream in(body, std::ios::binary);
+		m.deserialize(in);
+		return m.numKeyFrames();
+	};
+	ASSERT_EQ(loads(mapBody(map, [](auto&, auto&) {})), 2u) << "the undamaged copy loads";
+	const auto refused = [&](const char* what, const std::string& body, const std::string& fragment)
+	{
+		CSparseMap m;
+		addView(m, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
+		std::istringstream in(body, std::ios::binary);
+		try
+		{
+			m.deserialize(in);
+			ADD_FAILURE() << what << ": accepted";
+		}
+		catch (const std::runtime_error& e)
+		{
+			EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << what << ": " << e.what();
+		}
+		EXPECT_EQ(m.numKeyFrames(), 1u) << what << ": the map in place is kept";
+	};
+	// An empty point descriptor shifted every later row in the matcher; a 16-byte one threw in tracking.
+	refused("empty descriptor", mapBody(map, [](auto&, auto& p) { p[3].descriptor = cv::Mat(); }), "descriptor of 0 bytes");
+	refused("short descriptor", mapBody(map, [](auto&, auto& p) { p[3].descriptor = p[3].descriptor.colRange(0, 16).clone(); }), "descriptor of 16 bytes");
+	// Intrinsics that projection divides by.
+	refused("zero fx", mapBody(map, [](auto& k, auto&) { k[1].camera.fx(0); }), "intrinsics");
+	refused("NaN cy", mapBody(map, [](auto& k, auto&) { k[0].camera.cy(std::nan("")); }), "intrinsics");
+	// The spanning tree one way only.
+	refused("child without parent", mapBody(map, [](auto& k, auto&) { k[1].parent.reset(); }), "child unknown or with another parent");
+	refused("parent without child", mapBody(map, [](auto& k, auto&) { k[0].children.clear(); }), "does not list it as a child");
+	// A keyframe naming a point that does not observe it back.
+	refused("one-way observation", mapBody(map, [](auto&, auto& p) { p[5].observations.erase(1); }), "not observed back");
+	// Id counters that would overflow.
+	refused("point counter", mapBody(map, [](auto&, auto&) {}, 0, std::int64_t(1) << 62), "id counter out of range");
+
+	// A file whose map is sound but whose octree section is not: refused, and the map in place is
+	// kept (it was replaced before the octree was read).
+	TempDir d("map_bad_octree");
+	std::string file("YESSLAMM", 8);
+	const std::uint32_t version = kMapFileVersion;
+	const std::uint64_t vocabulary = 0, length = 40;
+	file.append(reinterpret_cast<const char*>(&version), 4);
+	file.append(reinterpret_cast<const char*>(&vocabulary), 8);
+	file += mapBody(map, [](auto&, auto&) {});
+	const double threshold = 0.5;
+	file.append(reinterpret_cast<const char*>(&threshold), 8);
+	file.append(reinterpret_cast<const char*>(&length), 8);
+	file += std::string(length, 'x');
+	const std::uint64_t sum = binio::checksum(file.data(), file.size());
+	file.append(reinterpret_cast<const char*>(&sum), 8);
+	writeText(d / "bad_octree.ysm", file);
+	CSparseMap inPlace;
+	addView(inPlace, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
+	expectInputError([&] { loadMapFile(d / "bad_octree.ysm", inPlace, 0); }, {"bad_octree.ysm", "inconsistent"});
+	EXPECT_EQ(inPlace.numKeyFrames(), 1u);
+	// The same map with an empty octree section loads and replaces it.
+	std::string plainFile = file.substr(0, file.size() - 8 - 16 - length) + std::string(16, '\0');
+	const std::uint64_t sum2 = binio::checksum(plainFile.data(), plainFile.size());
+	plainFile.append(reinterpret_cast<const char*>(&sum2), 8);
+	writeText(d / "good.ysm", plainFile);
+	loadMapFile(d / "good.ysm", inPlace, 0);
+	EXPECT_EQ(inPlace.numKeyFrames(), 2u);
 }
 
 TEST(SparseMap, ManyCorrectionsKeepEveryKeyFramesRotationARotation)

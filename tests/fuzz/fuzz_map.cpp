@@ -2,7 +2,8 @@
 // read directly (the content checks behind the file's checksum) and then used as tracking and
 // saving would use it, and it is also wrapped into a file with a valid header and checksum and read
 // through loadMapFile, as yesslam --load-map does. A damaged body must be refused with an
-// exception, never crash or hang.
+// exception, never crash or hang; an accepted one must carry relocalisation and tracking (an
+// exception escaping them other than a one-line runtime_error fails the replay).
 #include <unistd.h>
 
 #include <cstdint>
@@ -13,6 +14,7 @@
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/io/MapFile.h"
+#include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/BinaryIO.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -38,6 +40,25 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		}
 		std::ostringstream out(std::ios::binary);
 		m.serialize(out);
+		// Relocalisation and tracking in it, with each keyframe's own features as the frame (issue
+		// 28: a map that passed validation crashed the matcher): a frame is placed, then tracked again.
+		for (const TKeyFrameId id : m.keyFrameIds())
+		{
+			const CKeyFrame kf = m.keyFrame(id);
+			if (!kf.features) continue;
+			CTracker tracker(CTracker::TOptions(), m);
+			tracker.setMapReadOnly(true);
+			for (std::size_t k = 0; k < 2; k++)
+			{
+				auto f = std::make_shared<TFrame>();
+				f->id = k;
+				f->camera = kf.camera;
+				f->features = *kf.features;
+				tracker.track(*f);
+				tracker.setLastFrame(f);
+			}
+			break;	// one keyframe: the map's content is what is under test
+		}
 	}
 	catch (const std::runtime_error&)
 	{

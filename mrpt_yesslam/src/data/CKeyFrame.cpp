@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/data/CKeyFrame.h"
 
+#include <cmath>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -108,6 +110,13 @@ CKeyFrame CKeyFrame::deserialize(std::istream& i)
 	kf.camera.cx(get<double>(i, "keyframe camera"));
 	kf.camera.cy(get<double>(i, "keyframe camera"));
 	for (int k = 0; k < 5; k++) kf.camera.dist[k] = get<double>(i, "keyframe camera");
+	// Projection divides by fx, fy and sizes grids by the image: a map with other values would give
+	// NaN poses or empty grids far from where it was read.
+	const auto& K = kf.camera;
+	bool intrinsicsOk = K.ncols > 0 && K.nrows > 0 && K.ncols <= 100000 && K.nrows <= 100000 && std::isfinite(K.fx()) && std::isfinite(K.fy()) &&
+						K.fx() > 0 && K.fy() > 0 && std::isfinite(K.cx()) && std::isfinite(K.cy());
+	for (int k = 0; k < 5; k++) intrinsicsOk = intrinsicsOk && std::isfinite(K.dist[k]);
+	if (!intrinsicsOk) throw std::runtime_error("keyframe camera intrinsics not finite and positive");
 	auto f = std::make_shared<TFeatures>();
 	for (const auto& k : getVector<TStoredKeyPoint>(i, "keyframe keypoints"))
 	{

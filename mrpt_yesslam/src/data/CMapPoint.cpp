@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/data/CMapPoint.h"
 
+#include <string>
+
 #include <stdexcept>
 
 #include "mrpt_yesslam/util/BinaryIO.h"
@@ -41,8 +43,11 @@ CMapPoint CMapPoint::deserialize(std::istream& i)
 	p.position.x = get<double>(i, "map point position");
 	p.position.y = get<double>(i, "map point position");
 	p.position.z = get<double>(i, "map point position");
+	// Exactly one ORB row: the matcher stacks point descriptors into one matrix by row, so an empty
+	// one shifts every later point's row (reads out of bounds) and another length throws in tracking.
 	const auto d = getVector<std::uint8_t>(i, "map point descriptor", 1024);
-	if (!d.empty()) p.descriptor = cv::Mat(1, static_cast<int>(d.size()), CV_8U, const_cast<std::uint8_t*>(d.data())).clone();
+	if (d.size() != 32) throw std::runtime_error("map point descriptor of " + std::to_string(d.size()) + " bytes, not one 32-byte ORB descriptor");
+	p.descriptor = cv::Mat(1, 32, CV_8U, const_cast<std::uint8_t*>(d.data())).clone();
 	for (int c = 0; c < 3; c++) p.color[c] = get<std::uint8_t>(i, "map point colour");
 	const auto obs = getVector<std::uint64_t>(i, "map point observations");
 	if (obs.size() % 2) throw std::runtime_error("odd observation list reading map point");

@@ -969,6 +969,9 @@ void CSparseMap::deserialize(std::istream& in)
 	const auto gen = get<std::uint64_t>(in, "map generation");
 	const auto nk = get<std::uint64_t>(in, "map keyframe count");
 	if (nk > (1u << 24)) throw std::runtime_error("implausible keyframe count reading map");
+	// The counters give the next ids: far beyond any map (or negative), they would overflow.
+	if (nextKf > (std::uint64_t(1) << 40) || nextPt < 0 || nextPt > (std::int64_t(1) << 50))
+		throw std::runtime_error("id counter out of range reading map");
 	std::map<TKeyFrameId, std::shared_ptr<CKeyFrame>> kfs;
 	for (std::uint64_t k = 0; k < nk; k++)
 	{
@@ -999,11 +1002,26 @@ void CSparseMap::deserialize(std::istream& in)
 	for (const auto& [id, kf] : kfs)
 	{
 		if (!kf->bad) goodKfs++;
-		for (TPointId pid : kf->mapPoints)
-			if (pid >= 0 && !pts.count(pid)) throw std::runtime_error("keyframe names an unknown map point reading map");
+		for (std::size_t i = 0; i < kf->mapPoints.size(); i++)
+		{
+			const TPointId pid = kf->mapPoints[i];
+			if (pid < 0) continue;
+			const auto it = pts.find(pid);
+			if (it == pts.end()) throw std::runtime_error("keyframe names an unknown map point reading map");
+			// Both ways: the point observes this keyframe at this keypoint (an erased keyframe
+			// observes nothing).
+			const auto o = it->second.observations.find(id);
+			if (kf->bad || o == it->second.observations.end() || o->second != i)
+				throw std::runtime_error("keyframe map point not observed back reading map");
+		}
 		if (kf->parent && !known(*kf->parent)) throw std::runtime_error("keyframe parent unknown reading map");
+		// The spanning tree both ways among the good keyframes (an erased one keeps its parent for
+		// its pose but is no longer its child, and has no children).
+		if (!kf->bad && kf->parent && (kfs.at(*kf->parent)->bad || !kfs.at(*kf->parent)->children.count(id)))
+			throw std::runtime_error("keyframe parent does not list it as a child reading map");
 		for (TKeyFrameId c : kf->children)
-			if (!known(c)) throw std::runtime_error("keyframe child unknown reading map");
+			if (kf->bad || !known(c) || kfs.at(c)->bad || kfs.at(c)->parent != std::optional<TKeyFrameId>(id))
+				throw std::runtime_error("keyframe child unknown or with another parent reading map");
 		for (const auto& [o, w] : kf->connections)
 			if (!known(o)) throw std::runtime_error("keyframe connection unknown reading map");
 		for (TKeyFrameId e : kf->loopEdges)
@@ -1043,5 +1061,21 @@ void CSparseMap::deserialize(std::istream& in)
 	nextKeyFrame_ = nextKf;
 	nextPoint_ = nextPt;
 	generation_ = gen;
+}
+void CSparseMap::swapContent(CSparseMap& other)
+{
+	if (&other == this) return;
+	std::scoped_lock lk(mtx_, other.mtx_);
+	std::swap(keyFrames_, other.keyFrames_);
+	std::swap(points_, other.points_);
+	std::swap(recent_, other.recent_);
+	std::swap(dead_, other.dead_);
+	std::swap(dirty_, other.dirty_);
+	std::swap(numGoodKeyFrames_, other.numGoodKeyFrames_);
+	std::swap(numGoodPoints_, other.numGoodPoints_);
+	std::swap(nextKeyFrame_, other.nextKeyFrame_);
+	std::swap(nextPoint_, other.nextPoint_);
+	std::swap(generation_, other.generation_);
+	std::swap(correctedBy_, other.correctedBy_);
 }
 }  // namespace mrpt_yesslam

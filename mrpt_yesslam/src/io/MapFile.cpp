@@ -77,9 +77,11 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 								   hex(vocabularyFingerprint) + "); load it with the vocabulary it was made with ([LoopClosing] vocabulary)");
 	std::istringstream in(buf.substr(kHeader, size - kHeader - 8), std::ios::binary);
 	std::unique_ptr<CSemanticOcTree> tree;
+	// Read aside and put in place only once the octree section has been read too.
+	CSparseMap staged;
 	try
 	{
-		map.deserialize(in);
+		staged.deserialize(in);
 		const double threshold = binio::get<double>(in, "the semantic octree's occupancy threshold");
 		info.octreeBytes = binio::get<std::uint64_t>(in, "the semantic octree's length");
 		if (info.octreeBytes > size) throw std::runtime_error("implausible semantic octree length");
@@ -98,6 +100,7 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 		throw InputError(path, std::string("map file is inconsistent (") + e.what() + ")");
 	}
 	if (in.peek() != std::char_traits<char>::eof()) throw InputError(path, "map file has data after the map");
+	map.swapContent(staged);
 	if (octree) *octree = std::move(tree);
 	return info;
 }

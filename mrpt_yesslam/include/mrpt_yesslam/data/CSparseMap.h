@@ -213,6 +213,10 @@ class CSparseMap
 	 * unknown keyframe, a keypoint index out of range), leaving the map as it was. */
 	void deserialize(std::istream& in);
 
+	/** Exchanges the whole content with `other` (a map read aside, checked in full, then put in
+	 * place: loading a map file never leaves a half-replaced map). */
+	void swapContent(CSparseMap& other);
+
    private:
 	void addObservation(CMapPoint& p, CKeyFrame& kf, std::size_t kp);
 	void eraseObservation(CMapPoint& p, TKeyFrameId kf);
