@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <type_traits>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
@@ -363,4 +364,56 @@ TEST(DenseMap, PeopleLeaveNoOccupiedVoxelWhereTheyWalkedAndObjectsKeepTheirClass
 	EXPECT_DOUBLE_EQ(bt.getResolution(), 0.05);
 	// The OctoMap is much smaller than the dense cloud (the paper: about 80 %).
 	EXPECT_LT(on.summary.dense.btBytes * 5, on.summary.dense.plyBytes);
+}
+
+// Issue 28 item 5: a node is never copied (OctoMap's node copy slices the children), pruning
+// never merges different label beliefs, and inner nodes carry their children's colour and label.
+static_assert(!std::is_copy_constructible_v<CSemanticOcTreeNode>, "a node copy slices its children");
+
+TEST(SemanticOcTree, InnerNodesShowTheirChildrenAndPruningKeepsDifferentBeliefs)
+{
+	CSemanticOcTree tree(0.1);
+	// One 20 cm cell (depth 15) holding three occupied leaves: two person leaves (COCO 0 -> label 1)
+	// and one chair leaf, with their colours.
+	const auto leaf = [&](float x, float y, float z, std::uint8_t label, float prob, std::uint8_t grey)
+	{
+		CSemanticOcTreeNode* n = tree.updateNode(octomap::point3d(x, y, z), true);
+		for (int k = 0; k < 4; k++) n = tree.updateNode(octomap::point3d(x, y, z), true);
+		n->label = label, n->labelProb = prob, n->r = n->g = n->b = grey;
+	};
+	leaf(0.05f, 0.05f, 0.05f, 1, 0.9f, 100);
+	leaf(0.15f, 0.05f, 0.05f, 1, 0.8f, 200);
+	leaf(0.05f, 0.15f, 0.05f, 57, 0.95f, 30);
+	tree.updateInnerOccupancy();
+	tree.updateInnerSemantics();
+	const CSemanticOcTreeNode* cell = tree.search(octomap::point3d(0.1f, 0.1f, 0.1f), 15);
+	ASSERT_NE(cell, nullptr);
+	EXPECT_TRUE(tree.isNodeOccupied(cell));
+	EXPECT_EQ(cell->label, 1) << "the label with the most probability among the occupied children";
+	EXPECT_NEAR(cell->labelProb, (0.9f + 0.8f) / 3, 1e-5);
+	EXPECT_EQ(cell->r, 110);  // (100 + 200 + 30) / 3
+	// All the way up: the root is not left white and unlabelled.
+	const CSemanticOcTreeNode* root = tree.getRoot();
+	EXPECT_EQ(root->label, 1);
+	EXPECT_EQ(root->g, 110);
+
+	// Eight leaves alike but for their label probability are not pruned into one.
+	CSemanticOcTree t2(0.1);
+	for (int i = 0; i < 8; i++)
+	{
+		const octomap::point3d p(0.05f + 0.1f * (i & 1), 0.05f + 0.1f * ((i >> 1) & 1), 0.05f + 0.1f * ((i >> 2) & 1));
+		CSemanticOcTreeNode* n = nullptr;
+		for (int k = 0; k < 5; k++) n = t2.updateNode(p, true);
+		n->label = 3;
+		n->labelProb = i == 0 ? 0.5f : 0.99f;
+	}
+	t2.updateInnerOccupancy();
+	t2.prune();
+	const std::size_t kept = t2.size();
+	EXPECT_NE(t2.search(octomap::point3d(0.05f, 0.05f, 0.05f), 16), nullptr);
+	EXPECT_FLOAT_EQ(t2.search(octomap::point3d(0.05f, 0.05f, 0.05f))->labelProb, 0.5f);
+	// The same with one belief: pruned to the cell.
+	t2.search(octomap::point3d(0.05f, 0.05f, 0.05f))->labelProb = 0.99f;
+	t2.prune();
+	EXPECT_EQ(t2.size(), kept - 8);
 }

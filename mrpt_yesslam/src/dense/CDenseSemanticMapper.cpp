@@ -474,6 +474,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		node->label = label;
 		node->labelProb = static_cast<float>(prob);
 	}
+	m.octree->updateInnerSemantics();
 	m.octree->prune();
 	m.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 	return m;

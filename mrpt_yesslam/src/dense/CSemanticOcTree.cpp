@@ -2,6 +2,8 @@
 
 #include <octomap/AbstractOcTree.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -47,6 +49,35 @@ CSemanticOcTree::TRegistration::TRegistration()
 CSemanticOcTree::CSemanticOcTree(double resolution) : octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>(resolution)
 {
 	registration_.ensureLinking();
+}
+
+void CSemanticOcTree::updateInnerSemantics()
+{
+	if (root) updateInnerSemanticsRecurs(root, 0);
+}
+
+void CSemanticOcTree::updateInnerSemanticsRecurs(CSemanticOcTreeNode* node, unsigned depth)
+{
+	if (!nodeHasChildren(node)) return;
+	std::uint32_t r = 0, g = 0, b = 0, n = 0;
+	std::array<float, 256> mass{};
+	for (unsigned i = 0; i < 8; i++)
+	{
+		if (!nodeChildExists(node, i)) continue;
+		CSemanticOcTreeNode* c = getNodeChild(node, i);
+		if (depth + 1 < tree_depth) updateInnerSemanticsRecurs(c, depth + 1);
+		if (!isNodeOccupied(c)) continue;
+		r += c->r, g += c->g, b += c->b, n++;
+		mass[c->label] += c->labelProb;
+	}
+	node->updateOccupancyChildren();
+	if (n == 0) return;	 // free space: no colour or label to show
+	node->r = static_cast<std::uint8_t>(r / n);
+	node->g = static_cast<std::uint8_t>(g / n);
+	node->b = static_cast<std::uint8_t>(b / n);
+	const auto best = std::max_element(mass.begin(), mass.end());
+	node->label = static_cast<std::uint8_t>(best - mass.begin());
+	node->labelProb = *best / static_cast<float>(n);
 }
 
 namespace

@@ -23,14 +23,18 @@ class CSemanticOcTreeNode : public octomap::OcTreeNode
 {
    public:
 	CSemanticOcTreeNode() = default;
-	/** OctoMap's node copy constructor copies children as base nodes (sliced): never copy a tree
-	 * of these nodes (CSemanticOcTree(const CSemanticOcTree&) is deleted). */
-	CSemanticOcTreeNode(const CSemanticOcTreeNode& o) = default;
+	/** Deleted: OctoMap's node copy constructor copies the children as its own base node type
+	 * (sliced: their colour and label read past the allocation), and a node's children belong to
+	 * its tree, which deletes them. Trees are not copied either (their copy is deleted too);
+	 * copyData copies a node's own data. */
+	CSemanticOcTreeNode(const CSemanticOcTreeNode& o) = delete;
+	CSemanticOcTreeNode& operator=(const CSemanticOcTreeNode&) = delete;
 
-	/** Equal occupancy, colour and label: the octree prunes only children equal in all three. */
+	/** Equal occupancy, colour, label and label probability: the octree prunes only children
+	 * equal in all of them, so that pruning never merges two different beliefs into one. */
 	bool operator==(const CSemanticOcTreeNode& o) const
 	{
-		return o.value == value && o.r == r && o.g == g && o.b == b && o.label == label;
+		return o.value == value && o.r == r && o.g == g && o.b == b && o.label == label && o.labelProb == labelProb;
 	}
 	/** Copies occupancy and semantics (OctoMap's pruning and expansion use it). */
 	void copyData(const CSemanticOcTreeNode& from)
@@ -58,6 +62,14 @@ class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 	CSemanticOcTree* create() const override { return new CSemanticOcTree(resolution); }
 	std::string getTreeType() const override { return "YesSlamSemanticOcTree"; }
 
+	/** Gives every inner node the colour and label of its occupied children (mean colour; the
+	 * label with the largest summed probability, and that sum over the occupied children as its
+	 * probability), so that a viewer showing a coarser level (octovis' depth slider, a client
+	 * asking for a lower resolution) sees them too; occupancy as updateInnerOccupancy (the
+	 * largest child's). Call after the leaves are set, before prune() (as ColorOcTree's
+	 * updateInnerOccupancy does for its colours). */
+	void updateInnerSemantics();
+
 	/** Reads a .ot file written by write(); throws InputError naming `path` when it is missing,
 	 * corrupt, truncated or holds another tree type. */
 	static std::unique_ptr<CSemanticOcTree> readFile(const std::string& path);
@@ -66,6 +78,8 @@ class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 	static std::unique_ptr<CSemanticOcTree> read(std::istream& in, const std::string& name);
 
    private:
+	/** updateInnerSemantics below `node` (at `depth`). */
+	void updateInnerSemanticsRecurs(CSemanticOcTreeNode* node, unsigned depth);
 	/** Registers the type with OctoMap's factory once (as OctoMap's own trees do). */
 	struct TRegistration
 	{
