@@ -182,3 +182,37 @@ TEST(LiveApp, BadRecordingsAndBadConversionsAreRefusedInOneLine)
 	EXPECT_NE(noDir.err.find("x.oni"), std::string::npos) << noDir.err;
 	EXPECT_FALSE(fs::exists(d / "x.oni"));
 }
+
+TEST(LiveApp, AnOniAtANonAsciiOrLongPathPlaysThroughAShortLink)
+{
+	// OpenNI2's file driver crashed (SIGSEGV, no message) on a path with non-ASCII bytes and
+	// refused one of 256 characters or more as "not an OpenNI recording" (issue 30 item 1): such
+	// a recording is opened through a short link in a private temporary folder, gone afterwards.
+	TempDir d("live_oni_path");
+	const std::string oni = walkingOniRecording(d.path());
+	const std::string umlaut = d / "p\xc3\xbc/t\xc3\xbc.oni";  // "pü/tü.oni"
+	std::string longDir = d / "long";
+	while (longDir.size() < 280) longDir += "/a_rather_long_folder_name";
+	const std::string longPath = longDir + "/walking.oni";
+	fs::create_directories(fs::path(umlaut).parent_path());
+	fs::create_directories(longDir);
+	fs::copy_file(oni, umlaut);
+	fs::copy_file(oni, longPath);
+	fs::create_directories(d / "tmp");
+	setenv("TMPDIR", (d / "tmp").c_str(), 1);  // where the links go (the tools inherit it)
+	// No detector: the copies have no detections.txt beside them.
+	const auto ref = runTool(
+		"yesslam", {"--input", "openni2:" + oni, "--out", d / "ref", "--sequential", "--no-dense-map", "--quiet", "--max-frames", "12", "--detector", "none"});
+	ASSERT_EQ(ref.exitCode, 0) << ref.err;
+	for (const std::string& path : {umlaut, longPath})
+	{
+		const std::string out = d / ("run" + std::to_string(path.size()));
+		const auto r = runTool(
+			"yesslam", {"--input", "openni2:" + path, "--out", out, "--sequential", "--no-dense-map", "--quiet", "--max-frames", "12", "--detector", "none"});
+		ASSERT_EQ(r.exitCode, 0) << path.size() << " characters: " << r.err;
+		EXPECT_EQ(readText(out + "/trajectory.txt"), readText(d / "ref/trajectory.txt")) << path.size() << " characters";
+	}
+	unsetenv("TMPDIR");
+	for (const auto& e : fs::directory_iterator(d / "tmp"))
+		EXPECT_NE(e.path().filename().string().rfind("yesslam-oni-", 0), 0u) << "left behind: " << e.path();
+}

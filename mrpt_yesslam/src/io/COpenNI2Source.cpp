@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <stdlib.h>
 #include <opencv2/imgproc.hpp>
 
 #include "mrpt_yesslam/io/RgbdObservation.h"
@@ -29,6 +30,51 @@ std::string oneLine(std::string s)
 	return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
 }
 
+// OpenNI2 keeps a device URI in a fixed 256-byte buffer and its file driver crashes on a path with
+// bytes outside printable ASCII (SIGSEGV inside libOpenNI2 on "tü.oni"), so such a recording is
+// opened through a short ASCII symbolic link in a private temporary folder (0700, made by
+// mkdtemp), removed again when the source closes.
+bool openNI2CanOpenAsIs(const std::string& path)
+{
+	if (path.size() >= 200) return false;  // well inside ONI_MAX_STR with the driver's own prefix
+	return std::all_of(path.begin(), path.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+}
+
+class CShortLink
+{
+   public:
+	// A link to `target` whose path OpenNI2 can open; throws InputError naming `target`.
+	explicit CShortLink(const std::string& target)
+	{
+		std::error_code ec;
+		std::string base = fs::temp_directory_path(ec).string();
+		if (ec || !openNI2CanOpenAsIs(base + "/yesslam-oni-XXXXXX/recording.oni")) base = "/tmp";
+		std::string tmpl = base + "/yesslam-oni-XXXXXX";
+		if (!::mkdtemp(tmpl.data()))
+			throw InputError(target, "its path is not plain ASCII or is too long for OpenNI2, and no temporary folder for a short link to it could be made in " + base);
+		dir_ = tmpl;
+		link_ = dir_ + "/recording.oni";
+		fs::create_symlink(fs::absolute(target), link_, ec);
+		if (ec)
+		{
+			remove();
+			throw InputError(target, "its path is not plain ASCII or is too long for OpenNI2, and a short link to it failed: " + ec.message());
+		}
+	}
+	~CShortLink() { remove(); }
+	CShortLink(const CShortLink&) = delete;
+	CShortLink& operator=(const CShortLink&) = delete;
+	const std::string& path() const { return link_; }
+
+   private:
+	void remove()
+	{
+		std::error_code ec;
+		if (!link_.empty()) fs::remove(link_, ec);
+		if (!dir_.empty()) fs::remove(dir_, ec);
+	}
+	std::string dir_, link_;
+};
 
 // OpenNI2 is initialised once per process and never shut down: its shutdown unloads drivers that
 // other streams of the same process may still use.
@@ -79,6 +125,7 @@ void chooseMode(openni::VideoStream& s, int w, int h, int fps, bool depth, const
 
 struct COpenNI2Source::TImpl
 {
+	std::unique_ptr<CShortLink> link;	//!< declared first: outlives the device that reads through it
 	openni::Device device;
 	openni::VideoStream depth, color;
 	openni::VideoFrameRef lastDepth, lastColor;
@@ -125,6 +172,11 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 				kWhere, "no OpenNI2 device found (is the camera plugged in - see lsusb - and may this user open it? "
 						"Debian's libopenni2-0 installs the udev rules; replug after installing)");
 		if (uri.empty()) uri = devices.front().uri;
+	}
+	if (file && !openNI2CanOpenAsIs(uri))
+	{
+		impl_->link = std::make_unique<CShortLink>(uri);
+		uri = impl_->link->path();
 	}
 	if (impl_->device.open(uri.c_str()) != openni::STATUS_OK)
 	{
