@@ -152,7 +152,9 @@ int main(int argc, char** argv)
 				o.slam.dense.enabled = false;  // no keyframes to build it from
 			}
 
-			installInterruptHandler();
+			installInterruptHandler(
+				"\nyesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet written)\n",
+				"\nyesslam: second Ctrl-C: the file being written is finished, the rest skipped (Ctrl-C once more kills at once)\n");
 			ProgressBar bar("yesslam", 0, !quiet);
 			const TSlamJobSummary s = runSlamJob(
 				o,
@@ -161,7 +163,7 @@ int main(int argc, char** argv)
 					bar.setTotal(total);
 					bar.update(done, status);
 				},
-				[] { return interruptRequested(); });
+				[] { return interruptRequested(); }, [] { return abortRequested(); });
 			bar.finish();
 			const auto& st = s.stats;
 			std::printf("detector:        %s\n", s.detector.c_str());
@@ -201,7 +203,7 @@ int main(int argc, char** argv)
 			std::printf(
 				"outputs:         %s/{trajectory.txt,trajectory_online.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
 				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
-			if (!o.saveMap.empty() && s.mapFiles.saveError.empty())
+			if (!o.saveMap.empty() && s.mapFiles.saveError.empty() && s.mapFiles.savedBytes > 0)
 				std::printf("map saved:       %s (%zu keyframes, %zu points, %.1f MB)\n", o.saveMap.c_str(), st.keyFramesInMap, st.mapPoints, s.mapFiles.savedBytes / 1e6);
 			if (s.evaluated)
 			{
@@ -219,6 +221,7 @@ int main(int argc, char** argv)
 			}
 			else if (!s.evalProblem.empty())
 				std::fprintf(stderr, "yesslam: warning: no evaluation against %s: %s\n", s.groundTruth.c_str(), s.evalProblem.c_str());
+			for (const auto& k : s.skippedOutputs) std::fprintf(stderr, "yesslam: not written (second Ctrl-C): %s\n", k.c_str());
 			if (!s.mapFiles.saveError.empty())
 			{
 				std::fprintf(stderr, "yesslam: error: the map was not saved: %s\n", s.mapFiles.saveError.c_str());

@@ -70,7 +70,7 @@ std::string stillDeskSequence(const std::string& folder)
 struct TInterrupted
 {
 	int exitCode = -1;
-	std::string out;
+	std::string out, err;
 	bool ready = false;	 //!< `ready()` turned true before the deadline (else it was interrupted anyway)
 	/** The "frames: N" of its summary, -1 without one. */
 	long frames() const
@@ -82,8 +82,10 @@ struct TInterrupted
 
 // Runs one of our tools with `args`, waits (at most 60 s) until `ready()`, presses Ctrl-C (SIGINT,
 // or sends `sig`) and waits for it to end.
+// With `secondAfterMs` >= 0, Ctrl-C is pressed a second time that long after the first.
 TInterrupted interruptWhen(
-	const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready, int sig = SIGINT)
+	const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready, int sig = SIGINT,
+	int secondAfterMs = -1)
 {
 	TempDir tmp("sigint_log");
 	const std::string log = tmp / "stdout.txt", path = std::string(YESSLAM_TOOLS_DIR) + "/" + tool;
@@ -97,6 +99,8 @@ TInterrupted interruptWhen(
 	{
 		const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
 		dup2(fd, 1);
+		const int efd = ::open((log + ".err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+		dup2(efd, 2);
 		execv(path.c_str(), argv.data());
 		_exit(127);
 	}
@@ -104,10 +108,16 @@ TInterrupted interruptWhen(
 	while (std::chrono::steady_clock::now() < deadline && !(r.ready = ready()))
 		std::this_thread::sleep_for(std::chrono::milliseconds(50));
 	kill(pid, sig);
+	if (secondAfterMs >= 0)
+	{
+		std::this_thread::sleep_for(std::chrono::milliseconds(secondAfterMs));
+		kill(pid, sig);
+	}
 	int status = 0;
 	if (waitpid(pid, &status, 0) == pid && WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
-	std::ifstream f(log);
+	std::ifstream f(log), e(log + ".err");
 	r.out.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+	r.err.assign(std::istreambuf_iterator<char>(e), std::istreambuf_iterator<char>());
 	return r;
 }
 }  // namespace
@@ -167,6 +177,8 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 		"yesslam", {"--input", folder, "--out", out, "--detector", "none", "--quiet"},
 		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(5); });
 	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
+	// Said at once, before the saving (issue 30 item 3).
+	EXPECT_NE(r.err.find("yesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet written)"), std::string::npos) << r.err;
 	const long reported = r.frames();
 	ASSERT_GE(reported, 0) << r.out;
 	EXPECT_GT(reported, 0);
@@ -181,6 +193,49 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	const std::string stats((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
 	EXPECT_NE(stats.find("\"complete\": false"), std::string::npos) << stats;
 	EXPECT_NE(stats.find("\"stop_reason\": \"interrupted after " + std::to_string(reported) + " frames\""), std::string::npos) << stats;
+	for (const auto& e : fs::directory_iterator(out))
+		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
+}
+
+TEST(Interrupt, ASecondCtrlCWhileSavingKeepsWhatIsWrittenAndSaysWhatIsNot)
+{
+	// Issue 30 item 3: the second Ctrl-C killed the process during the saving, leaving only the
+	// trajectories. Now the first says at once that the run is stopping and saving; the second
+	// stops the saving after the file being written: the small files are always there, stats.json
+	// names what was skipped, nothing half-written is left, and the exit code is Ctrl-C's.
+	TempDir d("sigint_twice");
+	const std::string folder = stillDeskSequence(d / "seq");
+	ASSERT_FALSE(folder.empty());
+	const std::string out = d / "run";
+	const auto start = std::chrono::steady_clock::now();
+	const auto r = interruptWhen(
+		"yesslam", {"--input", folder, "--out", out, "--detector", "none", "--quiet", "--save-map", d / "map.ysm"},
+		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(4); }, SIGINT, 5);
+	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal\n" << r.err;
+	EXPECT_NE(r.err.find("yesslam: stopping: finishing the map and saving the results"), std::string::npos) << r.err;
+	EXPECT_NE(r.err.find("yesslam: second Ctrl-C"), std::string::npos) << r.err;
+	const long reported = r.frames();
+	ASSERT_GT(reported, 0) << r.out;
+	EXPECT_EQ(static_cast<long>(mrpt_yesslam::readTumTrajectory(out + "/trajectory.txt").size()), reported);
+	for (const char* name : {"trajectory_online.txt", "keyframes.txt", "frames.csv", "config_used.ini", "stats.json"})
+		EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
+	const std::string stats = readText(out + "/stats.json");
+	EXPECT_NE(stats.find("\"complete\": false"), std::string::npos) << stats;
+	// What the second Ctrl-C skipped depends on how far the saving had gone: each output is either
+	// written whole or named as skipped, in stats.json and on stderr; at least the scene, written
+	// last, is skipped this soon after.
+	const auto reason = stats.find("saving aborted by a second Ctrl-C: not written: ");
+	ASSERT_NE(reason, std::string::npos) << stats;
+	const std::string skipped = stats.substr(reason, stats.find('\n', reason) - reason);
+	EXPECT_NE(skipped.find("map.3Dscene"), std::string::npos) << skipped;
+	const std::pair<const char*, std::string> outputs[] = {
+		{"the dense map", out + "/dense_cloud.ply"}, {"the map file", d / "map.ysm"}, {"map.3Dscene", out + "/map.3Dscene"}};
+	for (const auto& [name, file] : outputs)
+	{
+		const bool named = skipped.find(name) != std::string::npos;
+		EXPECT_NE(fs::exists(file), named) << name << ": " << skipped;
+		EXPECT_EQ(r.err.find(std::string("not written (second Ctrl-C): ") + name) != std::string::npos, named) << r.err;
+	}
 	for (const auto& e : fs::directory_iterator(out))
 		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
 }

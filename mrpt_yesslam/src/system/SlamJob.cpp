@@ -147,7 +147,8 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, con
 // then starts with "complete": false, the reason and the frames done, so a run cut short is never
 // taken for a whole one.
 void writeOutputs(
-	const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {}, const std::string& mapPath = {})
+	const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {}, const std::string& mapPath = {},
+	const std::function<bool()>& abort = {})
 {
 	const fs::path d(dir);
 	TStatsContext ctx;
@@ -155,28 +156,50 @@ void writeOutputs(
 	ctx.denseMap = sys.denseMapper() != nullptr;
 	ctx.dynamicFilter = sys.options().system.dynamicFilter;
 	ctx.keyFramePolicy = sys.options().keyFrames.policy;
-	std::string json = formatStatsJson(sys.stats(), ctx);
-	std::string head = std::string("{\n  \"complete\": ") + (stop.empty() ? "true" : "false") + ",\n";
-	if (!stop.empty()) head += "  \"stop_reason\": \"" + jsonEscape(stop) + "\",\n";
+	const std::string body = formatStatsJson(sys.stats(), ctx);
 	const auto& in = sum.input;
-	char buf[256];
-	std::snprintf(
-		buf, sizeof(buf), "  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"dropped_frames\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu",
-		in.live ? "true" : "false", in.stats.captured, in.stats.dropped, in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded);
-	head += buf;
-	head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
-	json = head + json.substr(json.find('\n') + 1);
+	const auto statsJson = [&](const std::string& reason)
+	{
+		std::string head = std::string("{\n  \"complete\": ") + (reason.empty() ? "true" : "false") + ",\n";
+		if (!reason.empty()) head += "  \"stop_reason\": \"" + jsonEscape(reason) + "\",\n";
+		char buf[256];
+		std::snprintf(
+			buf, sizeof(buf), "  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"dropped_frames\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu",
+			in.live ? "true" : "false", in.stats.captured, in.stats.dropped, in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded);
+		head += buf;
+		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
+		return head + body.substr(body.find('\n') + 1);
+	};
+	// The small files first, so that a second Ctrl-C during the slow ones (the dense map's build,
+	// the map file, the scene) never costs the trajectory or the statistics; each file is written
+	// atomically, and after a second Ctrl-C the files not yet begun are skipped and stats.json says
+	// which (issue 30: a second Ctrl-C used to leave only the two trajectories).
+	const TTrajectory trajectory = sys.trajectory();
 	writeTumTrajectory(
-		(d / "trajectory.txt").string(), sys.trajectory(),
+		(d / "trajectory.txt").string(), trajectory,
 		"camera pose (T_w_c) of every frame that has one, world = first keyframe; after the run: keyframes optimised, lost frames "
 		"between tracked ones filled in (frames.csv column pose says which)");
 	writeTumTrajectory(
 		(d / "trajectory_online.txt").string(), sys.onlineTrajectory(),
 		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted), world = first keyframe");
 	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
-	auto scene = buildMapScene(sys.map(), sys.trajectory());
+	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
+	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
+	writeFileAtomically((d / "stats.json").string(), statsJson(stop));
+	sum.stats = sys.stats();
+
+	std::vector<std::string> skipped;
+	const auto go = [&](const std::string& what)
+	{
+		if (abort && abort())
+		{
+			skipped.push_back(what);
+			return false;
+		}
+		return true;
+	};
 	std::optional<TDenseMap> dense;
-	if (sys.denseMapper())
+	if (sys.denseMapper() && go("the dense map (dense_cloud.ply, map.ot, map.bt)"))
 	{
 		// The dense map from the keyframes' final poses: labelled cloud, OctoMaps, and the octree in
 		// the scene (coloured by label) so that yesslam-render pictures it.
@@ -186,18 +209,6 @@ void writeOutputs(
 		writeDenseCloudPly((d / "dense_cloud.ply").string(), dm.cloud, names);
 		writeSemanticOcTree((d / "map.ot").string(), *dm.octree);
 		writeOccupancyBt((d / "map.bt").string(), *dm.octree);
-		scene->insert(semanticOcTreeObject(*dm.octree, names));
-		// The dense cloud too, in its colours ("yesslam-render --hide octomap" shows it alone).
-		auto cloud = mrpt::opengl::CPointCloudColoured::Create();
-		cloud->setName("dense_cloud");
-		cloud->setPointSize(2.0f);
-		for (std::size_t i = 0; i < dm.cloud.size(); i++)
-		{
-			const auto& p = dm.cloud.xyz[i];
-			const auto& c = dm.cloud.bgr[i];
-			cloud->push_back(p.x, p.y, p.z, c[2] / 255.f, c[1] / 255.f, c[0] / 255.f);
-		}
-		scene->insert(cloud);
 		sum.dense.cloudPoints = dm.cloud.size();
 		sum.dense.outliersRemoved = dm.outliersRemoved;
 		sum.dense.buildMs = dm.buildMs;
@@ -209,7 +220,7 @@ void writeOutputs(
 		sum.dense.otBytes = fs::file_size(d / "map.ot", ec);
 		sum.dense.btBytes = fs::file_size(d / "map.bt", ec);
 	}
-	if (!mapPath.empty())
+	if (!mapPath.empty() && go("the map file " + mapPath))
 	{
 		// With the semantic OctoMap of this run when there is one (yesslam-map exports it).
 		try
@@ -223,17 +234,41 @@ void writeOutputs(
 			sum.mapFiles.saveError = e.what();
 		}
 	}
-	saveSceneAtomically(*scene, (d / "map.3Dscene").string());
-	writeFileAtomically((d / "stats.json").string(), json);
-	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
-	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
-	sum.stats = sys.stats();
+	if (go("map.3Dscene"))
+	{
+		auto scene = buildMapScene(sys.map(), trajectory);
+		if (dense)
+		{
+			const auto& names = sys.detector()->classNames();
+			scene->insert(semanticOcTreeObject(*dense->octree, names));
+			// The dense cloud too, in its colours ("yesslam-render --hide octomap" shows it alone).
+			auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+			cloud->setName("dense_cloud");
+			cloud->setPointSize(2.0f);
+			for (std::size_t i = 0; i < dense->cloud.size(); i++)
+			{
+				const auto& p = dense->cloud.xyz[i];
+				const auto& c = dense->cloud.bgr[i];
+				cloud->push_back(p.x, p.y, p.z, c[2] / 255.f, c[1] / 255.f, c[0] / 255.f);
+			}
+			scene->insert(cloud);
+		}
+		saveSceneAtomically(*scene, (d / "map.3Dscene").string());
+	}
+	if (!skipped.empty())
+	{
+		std::string list;
+		for (const auto& k : skipped) list += (list.empty() ? "" : ", ") + k;
+		sum.skippedOutputs = skipped;
+		writeFileAtomically(
+			(d / "stats.json").string(), statsJson((stop.empty() ? std::string() : stop + "; ") + "saving aborted by a second Ctrl-C: not written: " + list));
+	}
 }
 }  // namespace
 
 TSlamJobSummary runSlamJob(
 	const TSlamJobOptions& o, const std::function<void(std::size_t, std::size_t, const std::string&)>& progress,
-	const std::function<bool()>& cancel)
+	const std::function<bool()>& cancel, const std::function<bool()>& abortSaving)
 {
 	TSlamJobSummary sum;
 	TYesSlamOptions opts = o.slam;
@@ -381,7 +416,7 @@ TSlamJobSummary runSlamJob(
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
-	writeOutputs(sys, o.outDir, sum, stop, o.saveMap);
+	writeOutputs(sys, o.outDir, sum, stop, o.saveMap, abortSaving);
 	// A pass that was never placed in the loaded map has no pose to give: an error, not identity
 	// poses and an ATE over them (the outputs say so too: no pose, every frame "none").
 	if (!o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.trackedFrames == 0 && !sum.interrupted)

@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/util/CommandLine.h"
 
+#include <unistd.h>
+
 #include <mrpt/version.h>
 
 #include <atomic>
@@ -182,11 +184,26 @@ namespace
 {
 std::atomic<int> g_interrupts{0};
 std::atomic<int> g_firstSignal{0};
+const char* g_stopMessage = nullptr;
+const char* g_abortMessage = nullptr;
+void writeStderr(const char* m)
+{
+	if (!m) return;
+	std::size_t n = 0;
+	while (m[n]) n++;
+	const ssize_t ignored = ::write(2, m, n);  // async-signal-safe, unlike stdio
+	(void)ignored;
+}
 extern "C" void onSignal(int sig)
 {
 	int none = 0;
 	g_firstSignal.compare_exchange_strong(none, sig);
-	if (g_interrupts.fetch_add(1) >= 1)
+	const int before = g_interrupts.fetch_add(1);
+	if (before == 0)
+		writeStderr(g_stopMessage);
+	else if (before == 1 && g_abortMessage)  // a tool that can stop saving early said so
+		writeStderr(g_abortMessage);
+	else
 	{
 		std::signal(sig, SIG_DFL);
 		std::raise(sig);
@@ -194,13 +211,17 @@ extern "C" void onSignal(int sig)
 }
 }  // namespace
 
-void installInterruptHandler()
+void installInterruptHandler(const char* stopMessage, const char* abortMessage)
 {
+	g_stopMessage = stopMessage;
+	g_abortMessage = abortMessage;
 	std::signal(SIGINT, onSignal);
 	std::signal(SIGTERM, onSignal);
 }
 
 bool interruptRequested() { return g_interrupts.load() > 0; }
+
+bool abortRequested() { return g_interrupts.load() > 1; }
 
 int interruptExitCode()
 {

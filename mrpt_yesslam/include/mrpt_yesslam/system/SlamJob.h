@@ -56,6 +56,8 @@ struct TSlamJobSummary
 {
 	TSlamStats stats;
 	bool interrupted = false;
+	/** Outputs a second Ctrl-C skipped while saving (empty when all were written). */
+	std::vector<std::string> skippedOutputs;
 	std::string groundTruth;  //!< the file evaluated against, empty if none
 	bool evaluated = false;
 	TEvalReport eval;  //!< of trajectory.txt (lost frames filled in after the fact)
@@ -102,9 +104,10 @@ std::string inputFilePath(const std::string& input);
 
 /** Runs SLAM over the input and writes OUT/trajectory.txt, keyframes.txt, map.3Dscene, stats.json,
  * config_used.ini (and eval.json with ground truth; dense_cloud.ply, map.ot, map.bt with dense mapping). `progress(done, total, status)` after each
- * frame; `cancel()` stops early and what exists is saved. A bad frame in the middle of the input
- * saves what exists, then throws the InputError. */
+ * frame; `cancel()` stops early and what exists is saved. The small outputs are written first;
+ * once `abortSaving()` turns true, the outputs not yet begun are skipped (stats.json lists them).
+ * A bad frame in the middle of the input saves what exists, then throws the InputError. */
 TSlamJobSummary runSlamJob(
 	const TSlamJobOptions& opts, const std::function<void(std::size_t, std::size_t, const std::string&)>& progress = {},
-	const std::function<bool()>& cancel = {});
+	const std::function<bool()>& cancel = {}, const std::function<bool()>& abortSaving = {});
 }  // namespace mrpt_yesslam

@@ -53,10 +53,15 @@ class CommandLine
 int runTool(const std::string& program, const std::function<int()>& body);
 
 /** Installs a SIGINT/SIGTERM handler that only sets a flag, so long loops can stop cleanly and save
- * what they have. A second Ctrl-C kills the process the usual way. */
-void installInterruptHandler();
+ * what they have; the first signal prints `stopMessage` at once (when given). With an
+ * `abortMessage`, a second one asks the saving to stop after the file it is writing
+ * (abortRequested; the message printed), so that what is complete stays, and a third kills the
+ * process the usual way; without one, the second kills it. */
+void installInterruptHandler(const char* stopMessage = nullptr, const char* abortMessage = nullptr);
 /** True once Ctrl-C (or SIGTERM) has been received. */
 bool interruptRequested();
+/** True once a second Ctrl-C (or SIGTERM) has been received: stop saving after the current file. */
+bool abortRequested();
 /** The exit code of a run stopped by a signal, as shells report it: 128 + the first signal's
  * number (130 for Ctrl-C, 143 for SIGTERM). */
 int interruptExitCode();
