@@ -499,6 +499,33 @@ TEST(System, ParallelLiveInputDropsWhatSlamCannotTakeAndRecordsEverything)
 	EXPECT_GT(s.stats.trackedFrames, s.stats.frames / 2);
 }
 
+TEST(System, AMappingFailureStillCommitsTheRecordingOfTheFramesSoFar)
+{
+	// Issue 28 item 6: the failure path waited for mapping before it closed the input; a second
+	// keyframe failing there threw past the close, and the recording (written to a temporary file,
+	// renamed on close) was lost. Every keyframe's mapping fails here, slowly, so that several are
+	// queued when the first failure reaches tracking.
+	TempDir d("system_mapping_failure");
+	TSlamJobOptions o = jobFor(d / "run", true);
+	o.record = d / "captured.rawlog";
+	std::atomic<int> failures{0};
+	o.onKeyFrame = [&](TKeyFrameId id)
+	{
+		if (id == 0) return;  // the first keyframe maps: the run goes on until a later one fails
+		std::this_thread::sleep_for(std::chrono::milliseconds(300));
+		failures++;
+		throw std::runtime_error("injected mapping failure at keyframe " + std::to_string(id));
+	};
+	EXPECT_THROW(runSlamJob(o), std::runtime_error);
+	EXPECT_GE(failures.load(), 2) << "the test needs a second failure behind the first";
+	ASSERT_TRUE(fs::exists(o.record)) << "the recording of the frames so far is kept";
+	CRawlogSource rec(o.record);
+	std::size_t n = 0;
+	while (rec.next()) n++;
+	EXPECT_GT(n, 0u);
+	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
+}
+
 namespace
 {
 // A loop correction that moves the whole map rigidly by T (every keyframe and, with it, every point).

@@ -355,6 +355,7 @@ TSlamJobSummary runSlamJob(
 	fs::remove(fs::path(o.outDir) / "eval_online.json", ec);
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
+	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
 	sum.detector = sys.detector()->description();
 	const auto t0 = std::chrono::steady_clock::now();
 	std::size_t done = 0;
@@ -398,15 +399,23 @@ TSlamJobSummary runSlamJob(
 	}
 	catch (const std::exception& e)
 	{
-		// A bad frame, or a failure of the mapping stage: keep what was done up to here.
+		// A bad frame, or a failure of the mapping stage: keep what was done up to here. The input
+		// first (it commits the recording): waiting for mapping may throw again (another keyframe
+		// that failed), and the recording of the frames so far must not be lost with it.
 		try
 		{
-			sys.waitForMapping();
 			closeInput();
 		}
 		catch (const std::exception&)
 		{
 			// Already failing: the first error is the one reported.
+		}
+		try
+		{
+			sys.waitForMapping();
+		}
+		catch (const std::exception&)
+		{
 		}
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
 		throw;

@@ -49,6 +49,9 @@ struct TSlamJobOptions
 	std::string saveMap;
 	/** Optional: called after each frame (CYesSlamSystem::setFrameCallback). */
 	std::function<void(const TFrame&)> onFrame;
+	/** Optional: called on the mapping stage after each keyframe's local mapping
+	 * (CYesSlamSystem::setKeyFrameCallback); what it throws is a mapping failure. */
+	std::function<void(TKeyFrameId)> onKeyFrame;
 };
 
 /** What a run produced. */
