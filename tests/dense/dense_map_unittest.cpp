@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <streambuf>
 #include <type_traits>
 
 #include "TestUtils.h"
@@ -416,4 +418,61 @@ TEST(SemanticOcTree, InnerNodesShowTheirChildrenAndPruningKeepsDifferentBeliefs)
 	t2.search(octomap::point3d(0.05f, 0.05f, 0.05f))->labelProb = 0.99f;
 	t2.prune();
 	EXPECT_EQ(t2.size(), kept - 8);
+}
+
+namespace
+{
+// A stream buffer over `data` that throws once `limit` bytes have been read in all (a disk that
+// fails half-way through the second pass over a file).
+class CFailingBuf : public std::streambuf
+{
+   public:
+	CFailingBuf(std::string data, std::size_t limit) : data_(std::move(data)), limit_(limit) {}
+
+   protected:
+	int_type underflow() override
+	{
+		if (pos_ >= data_.size()) return traits_type::eof();
+		if (delivered_ >= limit_) throw std::runtime_error("injected read failure");
+		const std::size_t n = std::min<std::size_t>(64, data_.size() - pos_);
+		setg(data_.data() + pos_, data_.data() + pos_, data_.data() + pos_ + n);
+		pos_ += n;
+		delivered_ += n;
+		return traits_type::to_int_type(*gptr());
+	}
+	pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override
+	{
+		const off_type cur = static_cast<off_type>(pos_) - (egptr() - gptr());
+		const off_type base = dir == std::ios_base::beg ? 0 : dir == std::ios_base::end ? static_cast<off_type>(data_.size()) : cur;
+		return seekpos(pos_type(base + off), std::ios_base::in);
+	}
+	pos_type seekpos(pos_type p, std::ios_base::openmode) override
+	{
+		if (p < 0 || static_cast<std::size_t>(p) > data_.size()) return pos_type(off_type(-1));
+		pos_ = static_cast<std::size_t>(p);
+		setg(nullptr, nullptr, nullptr);
+		return p;
+	}
+
+   private:
+	std::string data_;
+	std::size_t limit_, pos_ = 0, delivered_ = 0;
+};
+}  // namespace
+
+TEST(SemanticOcTree, AReadThatFailsInsideOctoMapGivesTheConsoleBack)
+{
+	// Issue 28 item 6: OctoMap's progress messages are sent to a private buffer while it reads; an
+	// exception out of OctoMap left std::cout and std::cerr on that destroyed buffer.
+	TempDir d("octree_fail");
+	writeSemanticOcTree(d / "map.ot", *smallTree());
+	const std::string bytes = readText(d / "map.ot");
+	auto* out = std::cout.rdbuf();
+	auto* err = std::cerr.rdbuf();
+	CFailingBuf buf(bytes, bytes.size() + bytes.size() / 2);  // the check passes, OctoMap's read fails
+	std::istream in(&buf);
+	in.exceptions(std::ios::badbit);
+	EXPECT_THROW(CSemanticOcTree::read(in, "failing"), std::exception);
+	EXPECT_EQ(std::cout.rdbuf(), out);
+	EXPECT_EQ(std::cerr.rdbuf(), err);
 }

@@ -163,14 +163,23 @@ std::unique_ptr<CSemanticOcTree> CSemanticOcTree::read(std::istream& in, const s
 	in.seekg(start);
 	CSemanticOcTree probe(0.1);	 // registers the type before the factory looks it up
 	// OctoMap reports its progress on std::cout and std::cerr ("Reading octree type ..."): not for our users.
+	// The streams are restored however the read ends: an exception out of OctoMap (a stream that
+	// throws, bad_alloc) left them pointing at the destroyed buffer, and the next message crashed.
+	struct TQuiet
+	{
+		std::ostringstream sink;
+		std::streambuf* out = std::cout.rdbuf(sink.rdbuf());
+		std::streambuf* err = std::cerr.rdbuf(sink.rdbuf());
+		~TQuiet()
+		{
+			std::cout.rdbuf(out);
+			std::cerr.rdbuf(err);
+		}
+	};
 	std::unique_ptr<octomap::AbstractOcTree> t;
 	{
-		std::ostringstream quiet;
-		auto* oldOut = std::cout.rdbuf(quiet.rdbuf());
-		auto* oldErr = std::cerr.rdbuf(quiet.rdbuf());
+		TQuiet quiet;
 		t.reset(octomap::AbstractOcTree::read(in));
-		std::cout.rdbuf(oldOut);
-		std::cerr.rdbuf(oldErr);
 	}
 	if (!t || t->getTreeType() != probe.getTreeType()) throw InputError(path, "corrupt OctoMap file (OctoMap could not read it)");
 	return std::unique_ptr<CSemanticOcTree>(static_cast<CSemanticOcTree*>(t.release()));
