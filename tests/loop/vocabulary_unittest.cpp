@@ -3,6 +3,8 @@
 // Images: TUM RGB-D frames (CC BY 4.0) in ../shared/data, fr2_desk_loop10 via slambook2 (MIT).
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -209,4 +211,29 @@ TEST(Vocabulary, TheToolTrainsFromAFolderAndReportsTheFile)
 	const auto foreign = runTool("yesslam-vocab", {"--info", sharedFile("models/dbow3_vocab_slambook2/vocabulary.yml.gz")});
 	EXPECT_EQ(foreign.exitCode, 1);
 	EXPECT_NE(foreign.err.find("not a yesslam vocabulary"), std::string::npos) << foreign.err;
+}
+
+TEST(Vocabulary, AFailureInATrainingThreadIsAnErrorNotATermination)
+{
+	// Issue 28 item 6: the subtrees were built on bare std::threads, so anything thrown there (the
+	// progress callback, std::bad_alloc) called std::terminate. Now it reaches the caller.
+	CVocabulary::TTrainOptions o;
+	o.branching = 10;
+	o.levels = 4;
+	o.threads = 3;
+	std::atomic<int> calls{0};
+	try
+	{
+		CVocabulary::train(trainingDescriptors(), o, [&](std::size_t, std::size_t) {
+			if (++calls == 2) throw std::runtime_error("stopped by the caller");
+		});
+		ADD_FAILURE() << "no error";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_STREQ(e.what(), "stopped by the caller");
+	}
+	EXPECT_LT(calls.load(), 10) << "the other workers stop after their subtree";
+	// Training still works after it.
+	EXPECT_GT(smallVocabulary(3).numWords(), 0u);
 }

@@ -12,6 +12,8 @@
 #include <random>
 #include <thread>
 
+#include "mrpt_yesslam/util/CWorkerPool.h"
+
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/BinaryIO.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -182,23 +184,60 @@ CVocabulary CVocabulary::train(
 	const unsigned nThreads = std::max(1u, std::min<unsigned>(o.threads > 0 ? o.threads : std::thread::hardware_concurrency(), top.size()));
 	auto worker = [&]
 	{
-		for (std::size_t c; (c = next++) < top.size();)
+		try
 		{
-			root.children[c].centroid = top[c].first;
-			std::mt19937_64 rng(o.seed * 1000003ull + c + 1);
-			if (top[c].second.size() > 1) grow(root.children[c], top[c].second, 1, rng);
-			const auto d = ++done;
-			if (progress)
+			for (std::size_t c; (c = next++) < top.size();)
 			{
-				std::lock_guard lk(progressMtx);
-				progress(d, top.size());
+				root.children[c].centroid = top[c].first;
+				std::mt19937_64 rng(o.seed * 1000003ull + c + 1);
+				if (top[c].second.size() > 1) grow(root.children[c], top[c].second, 1, rng);
+				const auto d = ++done;
+				if (progress)
+				{
+					std::lock_guard lk(progressMtx);
+					progress(d, top.size());
+				}
 			}
 		}
+		catch (...)
+		{
+			next = top.size();	// the other workers stop after their subtree
+			throw;
+		}
 	};
-	std::vector<std::thread> pool;
-	for (unsigned t = 1; t < nThreads; t++) pool.emplace_back(worker);
-	worker();
-	for (auto& t : pool) t.join();
+	// On the stage mechanism (CWorkerPool): what a worker throws (bad_alloc, the progress callback)
+	// comes back through its future and is rethrown here once all have stopped; on bare threads it
+	// called std::terminate.
+	std::exception_ptr failure;
+	{
+		std::vector<std::future<void>> helpers;
+		std::unique_ptr<CWorkerPool> pool;
+		if (nThreads > 1)
+		{
+			pool = std::make_unique<CWorkerPool>(nThreads - 1);
+			for (unsigned t = 1; t < nThreads; t++) helpers.push_back(pool->submit(worker));
+		}
+		try
+		{
+			worker();
+		}
+		catch (...)
+		{
+			failure = std::current_exception();
+		}
+		for (auto& f : helpers)
+		{
+			try
+			{
+				f.get();
+			}
+			catch (...)
+			{
+				if (!failure) failure = std::current_exception();
+			}
+		}
+	}
+	if (failure) std::rethrow_exception(failure);
 
 	// Flatten breadth first: the children of a node get consecutive ids.
 	CVocabulary v;
