@@ -154,3 +154,34 @@ TEST(BundleAdjustment, ACoarseKeypointsDepthCountsLessThanAFineOnes)
 	EXPECT_LT(err, 0.01) << "z " << s.positions[0].z;
 	EXPECT_GT(s.positions[0].z, P.z + 0.001) << "the coarse depth still counts a little";
 }
+
+TEST(BundleAdjustment, ASolveWhoseResultWentStaleStopsAtTheNextIteration)
+{
+	// Issue 28 item 6: a global BA whose window a newer correction has made stale ran on to the end
+	// and was then refused; TBundleSolveOptions::cancelled (CLoopCloser asks whether the map's
+	// correction generation changed) stops it after the current iteration.
+	std::mt19937 rng(11);
+	std::vector<mrpt::math::TPoint3D> world;
+	for (int i = 0; i < 60; i++) world.emplace_back(0.05 * (i % 10) - 0.25, 0.05 * (i / 10) - 0.15, 2.0 + 0.01 * (i % 7));
+	CSparseMap map;
+	std::vector<TPointId> ids;
+	map.addKeyFrame(observe(0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(world.size(), -1), rng), 10.0);
+	for (TPointId j = 0; j < 60; j++) ids.push_back(j);
+	map.addKeyFrame(observe(1, mrpt::poses::CPose3D(0.1, 0, 0, 0.05, 0, 0), world, ids, rng), 10.0);
+	map.addKeyFrame(observe(2, mrpt::poses::CPose3D(0.2, 0.02, 0, 0.1, 0, 0), world, ids, rng), 10.0);
+	TBundleWindow w = map.globalBundleWindow();
+	for (auto& [k, p] : w.poses)
+		if (k != 0) p = p + mrpt::poses::CPose3D(0.02, -0.01, 0.01, 0.01, 0, 0);	 // something to optimise
+	TBundleSolveOptions o;
+	o.iterations = 50;
+	const TBundleSolution full = solveBundle(w, o);
+	EXPECT_FALSE(full.stats.cancelled);
+	ASSERT_GT(full.stats.iterations, 2);
+	int asked = 0;
+	o.cancelled = [&] { return ++asked >= 2; };
+	const TBundleSolution stopped = solveBundle(w, o);
+	EXPECT_TRUE(stopped.stats.cancelled);
+	EXPECT_EQ(asked, 2);
+	EXPECT_LE(stopped.stats.iterations, 2);
+	EXPECT_TRUE(stopped.poses.empty()) << "a stale result is not handed back";
+}

@@ -107,7 +107,12 @@ TBundleStats CLoopCloser::globalBundleAdjust()
 	so.depthNoise = depthNoise_;
 	so.iterations = opts_.globalIterations;
 	so.sparse = true;
+	// A correction applied meanwhile (a newer loop) makes this result stale: applyGlobalBundle would
+	// refuse it, so the solve stops at its next iteration instead of running on (ORB-SLAM2 aborts
+	// its global BA when a new loop is detected).
+	so.cancelled = [this, &w] { return map_.generation() != w.generation; };
 	TBundleSolution sol = solveBundle(w, so);
+	if (sol.stats.cancelled) return sol.stats;
 	sol.stats.applied = map_.applyGlobalBundle(w, sol.poses, sol.positions, sol.outliers);
 	return sol.stats;
 }

@@ -90,10 +90,26 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 	so.max_num_iterations = o.iterations;
 	so.num_threads = o.threads;
 	so.logging_type = ceres::SILENT;
+	struct CCancel : ceres::IterationCallback
+	{
+		const std::function<bool()>& cancelled;
+		explicit CCancel(const std::function<bool()>& c) : cancelled(c) {}
+		ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override
+		{
+			return cancelled() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+		}
+	} cancel(o.cancelled);
+	if (o.cancelled) so.callbacks.push_back(&cancel);
 	ceres::Solver::Summary sum;
 	ceres::Solve(so, &problem, &sum);
 	st.initialCost = sum.initial_cost;
 	st.finalCost = sum.final_cost;
+	st.iterations = static_cast<int>(sum.iterations.size());
+	if (sum.termination_type == ceres::USER_FAILURE)
+	{
+		st.cancelled = true;
+		return sol;	 // stale: nothing to write back
+	}
 
 	// Observations that are still outliers after the solve are removed from the map (ORB-SLAM2).
 	std::vector<std::pair<TPointId, TKeyFrameId>> outliers;

@@ -3,6 +3,7 @@
 // keyframe and its covisible keyframes) and loop closing (the whole map, ORB-SLAM2's global BA):
 // RGB-D reprojection + depth residuals in Ceres with a Huber loss, then the observations still
 // outside the chi-square 95 % bound listed as outliers. The caller writes the result back.
+#include <functional>
 #include <map>
 #include <utility>
 #include <vector>
@@ -17,6 +18,8 @@ struct TBundleStats
 	std::size_t keyFrames = 0, fixedKeyFrames = 0, points = 0, observations = 0, outliers = 0;
 	double initialCost = 0, finalCost = 0;
 	bool applied = false;  //!< false: the map was corrected meanwhile and the result was dropped
+	bool cancelled = false;	 //!< stopped early by TBundleSolveOptions::cancelled (the result is stale)
+	int iterations = 0;	 //!< Ceres iterations run
 };
 
 /** How to solve. */
@@ -28,6 +31,9 @@ struct TBundleSolveOptions
 	/** Sparse Schur for many cameras (global BA); dense Schur is faster for a local window. */
 	bool sparse = false;
 	int threads = 1;
+	/** Asked after every iteration; true stops the solve (a global BA whose window a newer
+	 * correction has made stale: its result would be refused, so it stops instead of running on). */
+	std::function<bool()> cancelled;
 };
 
 /** The optimised window. */
