@@ -594,3 +594,39 @@ TEST(System, ACorrectionBetweenTrackingAndADelayedKeyFrameCarriesOverToIt)
 	EXPECT_LT(corrected.ate, plain.ate + 0.002);
 	EXPECT_LT(corrected.keyFrameAte, plain.keyFrameAte + 0.002);
 }
+
+TEST(System, ALoopCorrectionDuringAFramesOwnKeyFrameCarriesOverToTheNextPrediction)
+{
+	// Sequential mode maps a keyframe (local BA, loop closing) between tracking a frame and
+	// handing it to tracking as the last frame. A correction made there moves the map under a pose
+	// tracked before it: measured against the moved keyframe, the last frame's pose held the whole
+	// correction, and the next frame was predicted that far off (issue 28 item 1 (c)).
+	const TTrajectory gt = readTumTrajectory(walkingSequence() + "/groundtruth.txt");
+	TYesSlamOptions o = walkingSystemOptions();
+	o.dense.enabled = false;
+	CYesSlamSystem sys(o);
+	bool corrected = false;
+	sys.setKeyFrameCallback(
+		[&](TKeyFrameId id)
+		{
+			if (id < 3 || corrected) return;
+			corrected = true;
+			correctWholeMap(sys.mutableMap(), mrpt::poses::CPose3D(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0)));
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t after = 0;
+	while (auto obs = src->next())
+	{
+		const bool before = corrected;
+		const TFrameReport r = sys.processFrame(*obs);
+		if (before)
+		{
+			EXPECT_TRUE(r.tracked) << "frame " << r.frameId;
+			EXPECT_FALSE(r.relocalised) << "frame " << r.frameId << " had to be found again";
+			after++;
+		}
+	}
+	ASSERT_TRUE(corrected);
+	ASSERT_GT(after, 20u);
+	EXPECT_LT(computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse, 0.02);
+}

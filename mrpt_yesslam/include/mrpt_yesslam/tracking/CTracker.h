@@ -167,6 +167,7 @@ class CTracker
 		std::size_t frameId = 0;
 		TAnchor anchor;
 		mrpt::poses::CPose3D base;
+		std::uint64_t generation = 0;  //!< the map's correction generation when the anchor was taken
 	};
 	std::optional<TTracked> tracked_;
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
