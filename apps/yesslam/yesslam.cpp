@@ -60,7 +60,8 @@ int main(int argc, char** argv)
 			cl.text("input", "PATH", ".rawlog, TUM RGB-D folder, or openni2[:URI|FILE.oni] (required)", &o.input);
 			cl.text("out", "DIR", "output folder, created if missing (required)", &o.outDir);
 			cl.flag("list-devices", "list the OpenNI2 cameras connected (URI, name, USB ids) and exit", &listDevices);
-			cl.text("record", "FILE.rawlog", "write every frame read (live: every frame captured, dropped ones too) to a rawlog; also on Ctrl-C", &o.record);
+			cl.text("record", "FILE.rawlog", "write every frame read (live: every frame captured, dropped ones too) to a rawlog; also on Ctrl-C; an existing FILE is refused without --overwrite", &o.record);
+			cl.flag("overwrite", "--record may replace an existing file", &o.overwrite);
 			cl.flag("realtime", "recorded input: deliver frames at their recorded pace through the live path (frames dropped when SLAM falls behind)", &o.live.realtime);
 			cl.number("speed", "X", "with --realtime or an .oni: playback speed, 1 = as recorded", &speed);
 			cl.number("width", "PX", "OpenNI2 camera: image width (640)", &width);

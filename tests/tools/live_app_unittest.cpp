@@ -103,6 +103,16 @@ TEST(LiveApp, WithoutACameraOrWithBadLiveOptionsNothingStarts)
 	fails({"--input", "openni2", "--out", d / "run", "--width", "-640"}, {"--width must be a whole number"});
 	fails({"--input", seq, "--out", d / "run", "--record", d / "no/such/folder/x.rawlog"}, {"x.rawlog"});
 	fails({"--out", d / "run"}, {"--input is required"});
+	// A recording is data that cannot be made again (issue 30 item 8): an existing file is not
+	// replaced unless asked, and the input itself never.
+	writeText(d / "old.rawlog", "an earlier recording");
+	fails({"--input", seq, "--out", d / "run", "--record", d / "old.rawlog"}, {"old.rawlog", "exists", "--overwrite"});
+	EXPECT_EQ(readText(d / "old.rawlog"), "an earlier recording");
+	const auto again = runTool("yesslam", {"--input", seq, "--out", d / "ok", "--record", d / "old.rawlog", "--overwrite", "--max-frames", "3",
+										   "--sequential", "--no-dense-map", "--quiet", "--detector", "none"});
+	EXPECT_EQ(again.exitCode, 0) << again.err;
+	EXPECT_EQ(rawlogFrames(d / "old.rawlog"), 3u);
+	fails({"--input", d / "old.rawlog", "--out", d / "run", "--record", d / "old.rawlog", "--overwrite"}, {"old.rawlog", "names the input itself"});
 }
 
 

@@ -293,6 +293,15 @@ TSlamJobSummary runSlamJob(
 		if (!o.record.empty() && fs::weakly_canonical(o.record, rm) == fs::weakly_canonical(o.saveMap, rm))
 			throw InputError(o.saveMap, "--save-map and --record name the same file: one would overwrite the other");
 	}
+	if (!o.record.empty())
+	{
+		std::error_code ec;
+		if (fs::is_directory(o.record)) throw InputError(o.record, "cannot record there: it is a folder");
+		if (!inputFilePath(o.input).empty() && fs::exists(o.record) && fs::equivalent(o.record, inputFilePath(o.input), ec))
+			throw InputError(o.record, "--record names the input itself: recording would destroy what is being read");
+		if (fs::exists(o.record) && !o.overwrite)
+			throw InputError(o.record, "exists: a recording is not replaced unless asked (--overwrite), choose another file or remove it");
+	}
 	if (o.skipFrames && (isOpenNI2Input(o.input) || o.live.realtime))
 		throw InputError("", "skipping frames is for recorded input read in order, not for live or real-time input");
 	if (opts.system.localizeOnly)

@@ -41,6 +41,9 @@ struct TSlamJobOptions
 	/** Every frame read (live: every frame captured, dropped ones included) is written to this
 	 * .rawlog as it comes, so the run can be replayed; also on Ctrl-C. Empty = none. */
 	std::string record;
+	/** Whether `record` may replace an existing file (a recording is data that cannot be made
+	 * again: without it, an existing file there is an error before the run). */
+	bool overwrite = false;
 	/** A saved map (.ysm) to start from: the run localises in it and extends it (with
 	 * slam.system.localizeOnly: only localises; the map is not changed, dense mapping is off).
 	 * Empty = start from nothing. */
