@@ -19,7 +19,8 @@ NAMES=(bonn_crowd_dev tum_fr1_desk_9frames)
 INPUT[bonn_crowd_dev]="$SHARED/bonn_crowd_dev"; ARGS[bonn_crowd_dev]="--gt-format bonn"
 INPUT[tum_fr1_desk_9frames]="$SHARED/tum_fr1_desk_9frames"; ARGS[tum_fr1_desk_9frames]=""
 for p in "${PRESETS[@]}"; do
-  for sensor in kinect real; do
+  sensors=(kinect real); [ "$p" = crowd ] && sensors=(real)  # the crowd preset has the real sensor on
+  for sensor in "${sensors[@]}"; do
     seq="$OUT/$p-$sensor"; flag=(); [ $sensor = real ] && flag=(--real-sensor)
     [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$p" --seed 3 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet "${flag[@]}" --out "$seq" >/dev/null
     n="sim $p ($sensor sensor)"; NAMES+=("$n"); INPUT["$n"]="$seq"; ARGS["$n"]=""

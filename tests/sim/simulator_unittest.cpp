@@ -24,6 +24,8 @@
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/eval/CSensorStatistics.h"
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
+#include "mrpt_yesslam/sim/CSimWorld.h"
+#include <mrpt/poses/Lie/SO.h>
 #include "mrpt_yesslam/util/Error.h"
 
 using namespace mrpt_yesslam;
@@ -423,4 +425,47 @@ TEST(Simulator, TheRealSensorLooksLikeTheRealFramesWhereTheKinectModelDidNot)
 	EXPECT_GT(kinect.texturedCellShare, 0.7);
 	EXPECT_LT(real.validDepthShare, kinect.validDepthShare - 0.03) << "dark surfaces lose depth";
 	EXPECT_LT(real.sharpness, 0.3 * kinect.sharpness);
+}
+
+TEST(Simulator, TheCrowdPresetLooksLikeTheRealBonnCrowdFrames)
+{
+	// Issue 27 item 3: what the simulator lacked beside the real Bonn "crowd" slice: bare walls, the
+	// real sensor, people about a metre from a slowly panning camera filling half the view.
+	std::size_t posters[2] = {0, 0};
+	for (int bare = 0; bare < 2; bare++)
+	{
+		const CSimWorld world(3, {}, bare != 0);
+		for (const auto& obj : world.objects()) posters[bare] += obj.name == "poster";
+	}
+	EXPECT_EQ(posters[0], 10u);
+	EXPECT_EQ(posters[1], 0u) << "bare walls";
+
+	TempDir d("sim_crowd");
+	TSimOptions o = quick(d.path(), "crowd", 90);
+	o.seed = 3;
+	const TSimSummary s = runSimulation(o);
+	// Walker 0 crosses about a metre in front of the camera in the first seconds.
+	EXPECT_GT(s.maxDynamicShare, 0.4);
+	EXPECT_LT(s.maxDynamicShare, 0.8) << "the background stays in view";
+	// The real sensor without --real-sensor (meta.json says so): its soft, low-texture images and
+	// the real frames' depth noise (the test above gives the Kinect model's figures).
+	EXPECT_NE(readText(d / "meta.json").find("\"real_sensor\": true"), std::string::npos);
+	CSensorStatistics st;
+	for (const auto& f : loadFrames(d.path())) st.addFrame(f.rgb, f.depth);
+	const auto r = st.result();
+	EXPECT_LT(r.texturedCellShare, 0.6);
+	EXPECT_NEAR(r.noiseK, 0.0011, 0.0003);
+	// The camera pans slowly: 3 mm and under half a degree a frame at most, as the Bonn camera.
+	const TTrajectory gt = readTumTrajectory(d / "groundtruth.txt");
+	ASSERT_EQ(gt.size(), 90u);
+	double maxStep = 0, maxTurn = 0;
+	for (std::size_t k = 1; k < gt.size(); k++)
+	{
+		const mrpt::poses::CPose3D step = gt[k].asPose() - gt[k - 1].asPose();
+		maxStep = std::max(maxStep, step.norm());
+		maxTurn = std::max(maxTurn, mrpt::poses::Lie::SO<3>::log(step.getRotationMatrix()).norm());
+	}
+	EXPECT_LT(maxStep, 0.006);
+	EXPECT_GT(maxStep, 0.001);
+	EXPECT_LT(maxTurn, mrpt::DEG2RAD(0.5));
 }

@@ -49,6 +49,12 @@ const std::vector<TSimPreset>& simPresets()
 		{"office_loop", "one person walks; camera goes round a small loop, never losing sight of its start (back there after 24 s)", "loop", 1, 0, 900},
 		{"office_tour", "two people walk; camera turns round the room centre looking at every wall, back at its start every 16 s from a little further out, 2.5 turns (loop closure)", "tour", 2, 0, 1200},
 		{"static_tour", "the office_tour camera path without people (loop closure in a static room)", "tour", 0, 0, 1200},
+		// What the simulator lacked beside the real Bonn "crowd" frames (issue 27): bare walls, a slow
+		// hand-held pan, three people passing within a metre, the real sensor.
+		{"crowd",
+		 "three people walk past within a metre of a hand-held camera panning slowly over bare walls and desks 2-5 m away "
+		 "(Bonn RGB-D Dynamic crowd); the real sensor model (--real-sensor) on",
+		 "pan", 3, 0, 900, true, true},
 	};
 	return p;
 }
@@ -126,6 +132,16 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 			tv[i] = p[i];
 		}
 		return -basePose() + CPose3D(R, tv);  // relative to the base pose, as the other motions
+	}
+	if (motion == "pan")
+	{
+		// Hand-held: a slow pan left and right (+-26 degrees, at most 9 degrees/s) about the camera's
+		// vertical axis, a slow drift forward and sideways (at most 0.1 m/s: 3 mm a frame, as the
+		// Bonn crowd camera), and hand tremor of a few millimetres and a few tenths of a degree.
+		const double pan = 0.45 * std::sin(s * t / 18.0), k = seed * 0.53;
+		return CPose3D(
+				   0.15 * std::sin(s * t / 11.0) + 0.002 * std::sin(s * 2.3 * t + k), 0.0015 * std::sin(s * 3.7 * t + 2 * k),
+			0.25 * std::sin(s * t / 15.0), 0.004 * std::sin(s * 1.9 * t + 3 * k), pan, 0.003 * std::sin(s * 2.9 * t + k));
 	}
 	if (motion == "loop")
 	{
@@ -311,6 +327,7 @@ TSimSummary runSimulation(
 		throw InputError("", "unknown preset '" + o.preset + "' (known: " + names + ")");
 	}
 	const TSimPreset& preset = *pit;
+	const bool realSensor = o.realSensor || preset.realSensor;	// the crowd preset has it on
 	if (o.detNoise != "none" && o.detNoise != "yolo") throw InputError("", "--det-noise must be none or yolo, got '" + o.detNoise + "'");
 	if (o.outDir.empty()) throw InputError("", "no output folder given (--out)");
 	if (!(o.speed >= 0.1 && o.speed <= 10)) throw InputError("", "--speed must be in 0.1..10");
@@ -356,7 +373,7 @@ TSimSummary runSimulation(
 	const fs::path out(o.outDir);
 
 	// The world and its people.
-	CSimWorld world(o.roomSeed ? o.roomSeed : o.seed, photos);
+	CSimWorld world(o.roomSeed ? o.roomSeed : o.seed, photos, preset.bareWalls);
 	// With a room seed, the pass's seed also moves the people along their paths (another start time),
 	// so that a second pass through the same room meets them elsewhere. Without one, as before.
 	const double phase = o.roomSeed ? 1.7 * static_cast<double>(o.seed % 11) : 0.0;
@@ -369,7 +386,19 @@ TSimSummary runSimulation(
 	{
 		// The tour's camera circles the room centre: its people cross the far and near halves of
 		// the room, in front of the walls the camera looks at, never through the camera.
-		if (preset.motion == "tour" && k < 2)
+		if (preset.motion == "pan" && k < 3)
+		{
+			// The crowd: one across the view about a metre in front of the camera (a person there is
+			// 270 px wide and taller than the image: half the view), one the other way further out,
+			// one walking up to the camera and away again.
+			if (k == 0)
+				world.addWalkingPerson({P2(3.0, 0.6), P2(3.05, 4.4)}, 0.9, 0.0 + phase);
+			else if (k == 1)
+				world.addWalkingPerson({P2(3.8, 4.3), P2(3.6, 0.7)}, 1.0, 2.5 + phase);
+			else
+				world.addWalkingPerson({P2(4.8, 1.6), P2(2.9, 2.35), P2(4.8, 3.4)}, 0.8, 5.0 + phase);
+		}
+		else if (preset.motion == "tour" && k < 2)
 			world.addWalkingPerson(k == 0 ? std::vector<P2>{P2(4.1, 0.9), P2(4.3, 4.1)} : std::vector<P2>{P2(1.1, 4.0), P2(1.0, 1.0)}, 0.9, 2.0 * k + phase);
 		else if (k == 0)	 // comes close to the camera: covers much of the image for a while
 			world.addWalkingPerson({P2(4.4, 1.2), P2(2.95, 2.3), P2(4.4, 3.8)}, 0.8, 0.0 + phase);
@@ -453,32 +482,32 @@ TSimSummary runSimulation(
 
 		// Sensor effects, each from a per-frame seed so that runs are byte-identical.
 		std::mt19937 rng(o.seed * 1000003u + static_cast<uint32_t>(k));
-		if (o.noise && o.realSensor)
+		if (o.noise && realSensor)
 		{
 			cv::Mat grey;
 			cv::cvtColor(rgb, grey, cv::COLOR_BGR2GRAY);
 			addRealSensorDepthError(z, grey, rng);
 		}
 		// With the smooth field carrying part of the error, the per-pixel part is smaller.
-		if (o.noise) addDepthNoise(z, rng, cam, o.realSensor ? 0.6e-3f : 1.425e-3f);
+		if (o.noise) addDepthNoise(z, rng, cam, realSensor ? 0.6e-3f : 1.425e-3f);
 		cv::Mat depth16;
 		z.convertTo(depth16, CV_16U, 5000.0);
 		// A real RGB-D camera's colour image is soft (small lens, Bayer demosaicing, compression),
 		// and its sensor noise comes after the optics: the Laplacian's variance is 170-190 on the
 		// real frames of ../shared, against 950-1,100 on these without it.
-		if (o.realSensor) cv::GaussianBlur(rgb, rgb, cv::Size(), 1.0);
+		if (realSensor) cv::GaussianBlur(rgb, rgb, cv::Size(), 1.0);
 		if (o.noise)
 		{
 			cv::Mat n(rgb.size(), CV_16SC3);
 			cv::theRNG().state = o.seed * 7777u + k;
-			cv::randn(n, cv::Scalar::all(0), cv::Scalar::all(o.realSensor ? 3.5 : 2.5));  // real: as much as the frames of ../shared show
+			cv::randn(n, cv::Scalar::all(0), cv::Scalar::all(realSensor ? 3.5 : 2.5));  // real: as much as the frames of ../shared show
 			cv::Mat r16;
 			rgb.convertTo(r16, CV_16SC3);
 			r16 += n;
 			r16.convertTo(rgb, CV_8UC3);
 		}
-		if (o.autoExposure || o.realSensor) rgb.convertTo(rgb, -1, 1.0 + 0.15 * std::sin(t * 2 * M_PI / 6.0), 0);
-		if ((o.motionBlur || o.realSensor) && k > 0)
+		if (o.autoExposure || realSensor) rgb.convertTo(rgb, -1, 1.0 + 0.15 * std::sin(t * 2 * M_PI / 6.0), 0);
+		if ((o.motionBlur || realSensor) && k > 0)
 		{
 			// Blur along the image motion of the centre pixel between frames.
 			const auto pc = (-poses[k]).composePoint(poses[k - 1].composePoint(mrpt::math::TPoint3D(0, 0, 2)));
@@ -653,7 +682,7 @@ TSimSummary runSimulation(
 	if (o.roomSeed) meta += "  \"room_seed\": " + std::to_string(o.roomSeed) + ",\n";
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
 		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
-	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"real_sensor\": " + (o.realSensor ? "true" : "false") +
+	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"real_sensor\": " + (realSensor ? "true" : "false") +
 			",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
 	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n";
 	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";

@@ -77,7 +77,7 @@ int CSimWorld::addObject(TSimObject o)
 
 int CSimWorld::indexOfId(int id) const { return (id >= 1 && id <= static_cast<int>(objects_.size())) ? id - 1 : -1; }
 
-CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos) : seed_(seed), photos_(photos)
+CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bareWalls) : seed_(seed), photos_(photos)
 {
 	std::mt19937 rng(seed);
 	std::uniform_real_distribution<double> u(0, 1);
@@ -98,17 +98,22 @@ CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos) : seed_(
 	structure("wall near", box(-0.05, 2.5, 1.5, 0.1, 5.2, 3.1, texture({160, 170, 190}, 1024, 0.06)));
 	structure("wall left", box(3, 5.05, 1.5, 6.2, 0.1, 3.1, texture({190, 180, 160}, 1024, 0.06)));
 	structure("wall right", box(3, -0.05, 1.5, 6.2, 0.1, 3.1, texture({150, 175, 180}, 1024, 0.06)));
-	// Posters and boards on the walls: dense texture at eye height, on every wall.
+	// Posters and boards on the walls: dense texture at eye height, on every wall (not on bare
+	// walls; the random draws are made all the same, so the furniture stays where it is).
+	const auto poster = [&](const std::string& name, TSimBox b)
+	{
+		if (!bareWalls) structure(name, b);
+	};
 	for (int i = 0; i < 4; i++)
-		structure("poster", box(5.99, 0.7 + i * 1.2 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.6 + jitter(0.1), 0.8 + jitter(0.1),
+		poster("poster", box(5.99, 0.7 + i * 1.2 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.6 + jitter(0.1), 0.8 + jitter(0.1),
 								texture({200, 200, 200}, 256)));
 	for (int i = 0; i < 2; i++)
 	{
-		structure("poster", box(0.01, 1.2 + i * 2.4 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.7 + jitter(0.1), 0.9 + jitter(0.1),
+		poster("poster", box(0.01, 1.2 + i * 2.4 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.7 + jitter(0.1), 0.9 + jitter(0.1),
 								texture({190, 200, 210}, 256)));
-		structure("poster", box(1.5 + i * 2.5 + jitter(0.15), 4.99, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02, 0.9 + jitter(0.1),
+		poster("poster", box(1.5 + i * 2.5 + jitter(0.15), 4.99, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02, 0.9 + jitter(0.1),
 								texture({210, 200, 190}, 256)));
-		structure("poster", box(1.2 + i * 2.5 + jitter(0.15), 0.01, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02, 0.9 + jitter(0.1),
+		poster("poster", box(1.2 + i * 2.5 + jitter(0.15), 0.01, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02, 0.9 + jitter(0.1),
 								texture({200, 210, 200}, 256)));
 	}
 

@@ -15,9 +15,13 @@ namespace mrpt_yesslam
 struct TSimPreset
 {
 	std::string name, description;
-	std::string motion;	 //!< xyz | rpy | halfsphere | static | loop
+	std::string motion;	 //!< xyz | rpy | halfsphere | static | loop | tour | pan
 	int walking = 0, sitting = 0;  //!< default people
 	std::size_t frames = 600;
+	/** The real sensor model without --real-sensor (a preset made to look like real frames). */
+	bool realSensor = false;
+	/** Walls without posters: the bare painted walls of a lab. */
+	bool bareWalls = false;
 };
 
 /** The presets, in the order --list-presets prints them. */

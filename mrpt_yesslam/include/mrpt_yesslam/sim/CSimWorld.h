@@ -52,8 +52,9 @@ struct TSimPerson
 class CSimWorld
 {
    public:
-	/** Builds the room and furniture from `seed`; textures from `photos` if not empty. */
-	CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos = {});
+	/** Builds the room and furniture from `seed`; textures from `photos` if not empty; with
+	 * `bareWalls` the walls carry no posters (a lab's painted walls: little to track on them). */
+	CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos = {}, bool bareWalls = false);
 
 	/** Adds a walking person along `path` (world x, y on the floor). */
 	void addWalkingPerson(const std::vector<mrpt::math::TPoint2D>& path, double speed, double phase);
