@@ -8,6 +8,8 @@
 #include <regex>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/io/COniWriter.h"
+#include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 
@@ -225,4 +227,47 @@ TEST(LiveApp, AnOniAtANonAsciiOrLongPathPlaysThroughAShortLink)
 	unsetenv("TMPDIR");
 	for (const auto& e : fs::directory_iterator(d / "tmp"))
 		EXPECT_NE(e.path().filename().string().rfind("yesslam-oni-", 0), 0u) << "left behind: " << e.path();
+}
+
+TEST(LiveApp, AnOniHasTheInputsFrameRateAndOneDepthUnit)
+{
+	// Issue 28 item 7: every .oni said 30 fps whatever its input (OpenNI2 applications pace
+	// playback and choose modes by it), and a frame in another depth unit was stored with the
+	// first frame's factor (wrong depths, no error).
+	TempDir d("oni_rate_units");
+	auto frames = makeSyntheticFrames(6, 64, 48);
+	for (std::size_t k = 0; k < frames.size(); k++)
+	{
+		frames[k].tRgb = 1000.0 + static_cast<double>(k) / 15.0;  // 15 Hz
+		frames[k].tDepth = frames[k].tRgb + 0.002;
+	}
+	writeTumFolder(d / "seq", frames);
+	{
+		mrpt_yesslam::COniWriter w(d / "rate.oni");
+		auto src = mrpt_yesslam::openInputSource(d / "seq", mrpt_yesslam::CInputSource::TOptions());
+		while (auto obs = src->next()) w.write(*obs);
+		w.finish();
+		EXPECT_EQ(w.framesPerSecond(), 15u);
+	}
+	// OpenNI2 itself reads the rate back.
+	mrpt_yesslam::COpenNI2Source::TOptions so;
+	so.uri = d / "rate.oni";
+	so.camera = d / "seq/calibration.txt";
+	mrpt_yesslam::COpenNI2Source oni(so);
+	EXPECT_NE(oni.description().find("depth 64x48@15"), std::string::npos) << oni.description();
+
+	// A second frame in another depth unit: refused, naming the file, nothing left behind.
+	auto src = mrpt_yesslam::openInputSource(d / "seq", mrpt_yesslam::CInputSource::TOptions());
+	auto a = src->next(), b = src->next();
+	ASSERT_TRUE(a && b);
+	b->rangeUnits = a->rangeUnits * 5;
+	expectInputError(
+		[&]
+		{
+			mrpt_yesslam::COniWriter w(d / "units.oni");
+			w.write(*a);
+			w.write(*b);
+		},
+		{"units.oni", "one depth unit"});
+	EXPECT_FALSE(fs::exists(d / "units.oni"));
 }

@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/io/COniWriter.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -165,8 +167,11 @@ void COniWriter::start(const mrpt::obs::CObservation3DRangeScan& first)
 		const std::uint64_t one = 1;
 		property(*n, "xnSupportedMapOutputModesCount", &one, 8, true);
 		const std::uint32_t mode[3] = {static_cast<std::uint32_t>(width_), static_cast<std::uint32_t>(height_), 30};
+		// The frame rate is the mode's last field: rewritten by finish() from the frames' times.
 		property(*n, "xnSupportedMapOutputModes", mode, sizeof(mode), false);
+		n->fpsPositions.push_back(static_cast<std::uint64_t>(out_.tellp()) - 4);
 		property(*n, "xnMapOutputMode", mode, sizeof(mode), false);
+		n->fpsPositions.push_back(static_cast<std::uint64_t>(out_.tellp()) - 4);
 		const std::uint32_t supported = n->depth ? 8u : 1u;	 // bit 3: 16-bit grey; bit 0: RGB24
 		property(*n, "xnSupportedPixelFormats", &supported, 4, false);
 		const std::uint64_t xnFormat = n->depth ? kXnGray16 : kXnRgb24;
@@ -194,7 +199,16 @@ void COniWriter::start(const mrpt::obs::CObservation3DRangeScan& first)
 void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs)
 {
 	validateRgbdObservation(obs, path_);
-	if (!started_) start(obs);
+	if (!started_)
+	{
+		firstUnits_ = obs.rangeUnits;
+		start(obs);
+	}
+	// The depth factor was chosen from the first frame: another unit would be stored wrongly scaled.
+	if (obs.rangeUnits != firstUnits_)
+		throw InputError(
+			path_, "frame " + std::to_string(frames_) + " has depth in units of " + std::to_string(obs.rangeUnits) + " m, the recording " +
+					   std::to_string(firstUnits_) + " m (one recording has one depth unit)");
 	if (obs.rangeImage.cols() != width_ || obs.rangeImage.rows() != height_)
 		throw InputError(path_, "frame " + std::to_string(frames_) + " is " + std::to_string(obs.rangeImage.cols()) + "x" +
 									std::to_string(obs.rangeImage.rows()) + ", the recording " + std::to_string(width_) + "x" + std::to_string(height_));
@@ -249,6 +263,24 @@ std::uintmax_t COniWriter::finish()
 		out_.seekp(end);
 	}
 	writeRecord(kEnd, 0, 0, {}, nullptr, 0);
+	// The input's frame rate (OpenNI2 applications pace playback and pick modes by it; 30 was
+	// written for every input).
+	std::uint32_t fps = 30;
+	if (depth_.stamps.size() >= 2)
+	{
+		std::vector<std::uint64_t> dt;
+		for (std::size_t i = 1; i < depth_.stamps.size(); i++) dt.push_back(depth_.stamps[i] - depth_.stamps[i - 1]);
+		std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
+		const double median = static_cast<double>(dt[dt.size() / 2]);
+		if (median > 0) fps = static_cast<std::uint32_t>(std::clamp(std::lround(1e6 / median), 1L, 1000L));
+	}
+	for (TNode* n : {&depth_, &color_})
+		for (const std::uint64_t pos : n->fpsPositions)
+		{
+			out_.seekp(static_cast<std::streamoff>(pos));
+			out_.write(reinterpret_cast<const char*>(&fps), 4);
+		}
+	fps_ = fps;
 	// The header's largest time stamp (after the magic and the 8-byte version).
 	out_.seekp(12);
 	TBytes maxT;

@@ -32,16 +32,18 @@ class COniWriter
 	COniWriter(const COniWriter&) = delete;
 	COniWriter& operator=(const COniWriter&) = delete;
 
-	/** Writes one registered RGB-D frame; the first fixes size, units and field of view, later
-	 * frames must match them (InputError otherwise). */
+	/** Writes one registered RGB-D frame; the first fixes size, depth unit and field of view,
+	 * later frames must match them (InputError otherwise: one recording has one depth unit). */
 	void write(const mrpt::obs::CObservation3DRangeScan& obs);
-	/** Seek tables, final node records and the end record; renames the file into place. Returns
-	 * its size in bytes. Throws InputError when no frame was written. */
+	/** Seek tables, final node records and the end record; the streams' frame rate from the
+	 * frames' times (their median interval; 30 for a single frame); renames the file into place.
+	 * Returns its size in bytes. Throws InputError when no frame was written. */
 	std::uintmax_t finish();
 
 	std::size_t frames() const { return frames_; }	//!< frames written so far
 	std::size_t clippedPixels() const { return clipped_; }	//!< depth pixels beyond the range, stored as 0
 	bool depthIn100um() const { return unit100um_; }  //!< the depth unit chosen from the first frame
+	unsigned framesPerSecond() const { return fps_; }  //!< the frame rate finish() wrote
 
    private:
 	/** One stream (node) of the recording. */
@@ -51,6 +53,7 @@ class COniWriter
 		bool depth = false;
 		std::uint64_t addedPos = 0, lastDataPos = 0, lastPropPos = 0;
 		std::vector<std::uint64_t> stamps, positions;
+		std::vector<std::uint64_t> fpsPositions;	//!< where the video modes' frame rates lie (set by finish())
 	};
 	void start(const mrpt::obs::CObservation3DRangeScan& first);
 	void writeRecord(std::uint32_t type, std::uint32_t node, std::uint64_t undo, const std::string& fields, const void* payload, std::size_t payloadSize);
@@ -63,6 +66,8 @@ class COniWriter
 	bool started_ = false, finished_ = false, unit100um_ = true;
 	int width_ = 0, height_ = 0;
 	double depthFactor_ = 1;  //!< OpenNI2 units per raw unit of the source
+	float firstUnits_ = 0;	//!< the first frame's depth unit (m per raw unit): every frame's
+	unsigned fps_ = 0;
 	std::size_t frames_ = 0, clipped_ = 0;
 	TNode depth_, color_;
 	std::vector<std::uint16_t> depthBuf_;
