@@ -555,6 +555,14 @@ std::string mapBody(const CSparseMap& map, const std::function<void(std::vector<
 	for (const auto& p : pts) p.serialize(o);
 	return std::move(o).str();
 }
+
+// Two keyframes 10 cm apart (the second turned by `yaw`) seeing the 30 points of a wall.
+void twoViews(CSparseMap& map, std::mt19937& rng, double yaw = 0)
+{
+	const auto world = wall(30);
+	addView(map, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
+	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, yaw, 0, 0), world, range(0, 30), rng);
+}
 }  // namespace
 
 TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
@@ -563,8 +571,7 @@ TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
 	std::mt19937 rng(3);
 	const auto world = wall(30);
 	CSparseMap map;
-	addView(map, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
-	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0), world, range(0, 30), rng);
+	twoViews(map, rng);
 	const auto loads = [](const std::string& body)
 	{
 		CSparseMap m;
@@ -639,10 +646,8 @@ TEST(SparseMap, ManyCorrectionsKeepEveryKeyFramesRotationARotation)
 	// (never re-estimated by BA) ended in garbage after some thirty loop corrections (found by
 	// System.ACorrectionBetweenTrackingAndADelayedKeyFrameCarriesOverToIt: NaN poses).
 	std::mt19937 rng(5);
-	const auto world = wall(30);
 	CSparseMap map;
-	addView(map, 0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng);
-	addView(map, 1, mrpt::poses::CPose3D(0.1, 0, 0, 0.05, 0, 0), world, range(0, 30), rng);
+	twoViews(map, rng, 0.05);
 	const mrpt::poses::CPose3D T(0.03, -0.01, 0.02, mrpt::DEG2RAD(1.0), mrpt::DEG2RAD(-0.5), 0);
 	mrpt::poses::CPose3D expected;
 	for (int n = 0; n < 80; n++)
