@@ -108,6 +108,10 @@ TEST(System, WalkingSequenceIsTrackedAccurately)
 		EXPECT_NE(json.find(k), std::string::npos) << k;
 	EXPECT_TRUE(fs::exists(d / "config_used.ini"));
 	EXPECT_TRUE(fs::exists(d / "eval.json"));
+	// With ground truth, the ATE picture too (issue 30 item 9).
+	const cv::Mat plot = cv::imread(d / "ate.png");
+	EXPECT_EQ(plot.cols, 1000);
+	EXPECT_EQ(plot.rows, 800);
 }
 
 TEST(System, DynamicFilterKeepsPeopleOutOfTheMap)

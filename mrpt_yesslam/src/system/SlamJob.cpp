@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
+#include "mrpt_yesslam/eval/TrajectoryPlot.h"
 #include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/CPacedSource.h"
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
@@ -362,6 +363,7 @@ TSlamJobSummary runSlamJob(
 	// An evaluation left by an earlier run in this folder must not pass for this run's.
 	fs::remove(fs::path(o.outDir) / "eval.json", ec);
 	fs::remove(fs::path(o.outDir) / "eval_online.json", ec);
+	fs::remove(fs::path(o.outDir) / "ate.png", ec);
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
@@ -449,6 +451,10 @@ TSlamJobSummary runSlamJob(
 			sum.eval = evaluateTrajectories(gt, sys.trajectory(), eo, sum.groundTruth, "trajectory.txt");
 			sum.evaluated = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval.json").string(), formatEvalJson(sum.eval));
+			// The picture people look at first (yesslam-eval --plot draws the same).
+			plotAteTopDown(
+				sum.eval.ate, gt, (fs::path(o.outDir) / "ate.png").string(),
+				"trajectory.txt vs " + fs::path(sum.groundTruth).filename().string());
 			sum.evalOnline = evaluateTrajectories(gt, sys.onlineTrajectory(), eo, sum.groundTruth, "trajectory_online.txt");
 			sum.evaluatedOnline = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval_online.json").string(), formatEvalJson(sum.evalOnline));
