@@ -29,8 +29,8 @@ lost() { awk '$1=="frames:" {f=$2} $1=="tracked:" {t=$2} END {print f-t}' "$1"; 
 
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo
-echo "| sequence | frames | ATE RMSE | RPE trans | RPE rot | step est / gt | jitter | lost | fps | online ATE |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| sequence | frames | ATE RMSE | RPE trans | RPE rot | step est / gt | jitter | lost | fps | online ATE | Sim(3) scale, ATE |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
 row() {
   local name="$1"; shift
   for i in $(seq "$RUNS"); do
@@ -40,11 +40,16 @@ row() {
   local frames
   frames=$(awk '$1=="frames:" {print $2}' "$OUT/runs/$name-1.log")
   local l; l=$(for i in $(seq "$RUNS"); do lost "$OUT/runs/$name-$i.log"; done | median)
+  # The scale a similarity alignment finds (1 = the estimate's size is the ground truth's), and the
+  # ATE after it: how much of the error is the trajectory's size (the depth sensor's scale).
+  local gt; gt=$(awk '$1=="ground" && $2=="truth:" {print $3}' "$OUT/runs/$name-1.log")
+  local fmt=tum; case " $* " in *" --gt-format bonn "*) fmt=bonn ;; esac
+  sim3() { for i in $(seq "$RUNS"); do "$BIN/yesslam-eval" --gt "$gt" --gt-format "$fmt" --est "$OUT/runs/$name-$i/trajectory.txt" --sim3 | field "$1" /dev/stdin; done | median; }
   awk -v n="$name" -v f="$frames" -v a="$(m ate_rmse)" -v t="$(m rpe_trans_rmse)" -v r="$(m rpe_rot_rmse_deg)" \
       -v se="$(m step_est_median)" -v sg="$(m step_gt_median)" -v j="$(m jitter_median)" -v l="$l" -v fps="$(m fps)" \
-      -v o="$(m online_ate_rmse)" \
-      'BEGIN {printf "| %s | %s | %.1f mm | %.1f mm/s | %.2f deg/s | %.1f / %.1f mm | %.1f mm | %s | %.1f | %.1f mm |\n",
-              n, f, 1000*a, 1000*t, r, 1000*se, 1000*sg, 1000*j, l, fps, 1000*o}'
+      -v o="$(m online_ate_rmse)" -v sc="$(sim3 scale)" -v sa="$(sim3 ate_rmse)" \
+      'BEGIN {printf "| %s | %s | %.1f mm | %.1f mm/s | %.2f deg/s | %.1f / %.1f mm | %.1f mm | %s | %.1f | %.1f mm | %.3f, %.1f mm |\n",
+              n, f, 1000*a, 1000*t, r, 1000*se, 1000*sg, 1000*j, l, fps, 1000*o, sc, 1000*sa}'
 }
 B="$SHARED/bonn_crowd_dev"
 row "bonn_crowd_dev" --input "$B" --gt-format bonn --camera "$BONN_CAM"
