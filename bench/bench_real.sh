@@ -44,7 +44,7 @@ row() {
   # ATE after it: how much of the error is the trajectory's size (the depth sensor's scale).
   local gt; gt=$(awk '$1=="ground" && $2=="truth:" {print $3}' "$OUT/runs/$name-1.log")
   local fmt=tum; case " $* " in *" --gt-format bonn "*) fmt=bonn ;; esac
-  sim3() { for i in $(seq "$RUNS"); do "$BIN/yesslam-eval" --gt "$gt" --gt-format "$fmt" --est "$OUT/runs/$name-$i/trajectory.txt" --sim3 | field "$1" /dev/stdin; done | median; }
+  sim3() { for i in $(seq "$RUNS"); do "$BIN/yesslam-eval" --gt "$gt" --gt-format "$fmt" --est "$OUT/runs/$name-$i/trajectory.txt" --sim3 2>/dev/null | field "$1" /dev/stdin; done | median; }
   awk -v n="$name" -v f="$frames" -v a="$(m ate_rmse)" -v t="$(m rpe_trans_rmse)" -v r="$(m rpe_rot_rmse_deg)" \
       -v se="$(m step_est_median)" -v sg="$(m step_gt_median)" -v j="$(m jitter_median)" -v l="$l" -v fps="$(m fps)" \
       -v o="$(m online_ate_rmse)" -v sc="$(sim3 scale)" -v sa="$(sim3 ate_rmse)" \
