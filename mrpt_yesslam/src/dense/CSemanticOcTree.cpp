@@ -161,10 +161,11 @@ std::unique_ptr<CSemanticOcTree> CSemanticOcTree::read(std::istream& in, const s
 	checkStructure(path, in);
 	in.clear();
 	in.seekg(start);
-	CSemanticOcTree probe(0.1);	 // registers the type before the factory looks it up
-	// OctoMap reports its progress on std::cout and std::cerr ("Reading octree type ..."): not for our users.
-	// The streams are restored however the read ends: an exception out of OctoMap (a stream that
-	// throws, bad_alloc) left them pointing at the destroyed buffer, and the next message crashed.
+	// OctoMap's AbstractOcTree::read, with the tree owned from the start: that one creates the tree
+	// and leaks it when reading its nodes throws (a stream that fails half-way). The header was
+	// checked above (the tree type is ours).
+	// OctoMap reports its progress on std::cout and std::cerr: not for our users. The streams are
+	// restored however the read ends (an exception left them on the destroyed buffer before).
 	struct TQuiet
 	{
 		std::ostringstream sink;
@@ -176,12 +177,16 @@ std::unique_ptr<CSemanticOcTree> CSemanticOcTree::read(std::istream& in, const s
 			std::cerr.rdbuf(err);
 		}
 	};
-	std::unique_ptr<octomap::AbstractOcTree> t;
-	{
-		TQuiet quiet;
-		t.reset(octomap::AbstractOcTree::read(in));
-	}
-	if (!t || t->getTreeType() != probe.getTreeType()) throw InputError(path, "corrupt OctoMap file (OctoMap could not read it)");
-	return std::unique_ptr<CSemanticOcTree>(static_cast<CSemanticOcTree*>(t.release()));
+	TQuiet quiet;
+	std::string line, id;
+	unsigned size = 0;
+	double res = 0;
+	std::getline(in, line);
+	if (line.compare(0, fileHeader.size(), fileHeader) != 0 || !readHeader(in, id, size, res) || !(res > 0))
+		throw InputError(path, "corrupt OctoMap file (OctoMap could not read its header)");
+	auto tree = std::make_unique<CSemanticOcTree>(res);
+	if (size > 0) tree->readData(in);
+	if (!in) throw InputError(path, "corrupt OctoMap file (OctoMap could not read it)");
+	return tree;
 }
 }  // namespace mrpt_yesslam
