@@ -657,7 +657,7 @@ TEST(SparseMap, ManyCorrectionsKeepEveryKeyFramesRotationARotation)
 		map.applyCorrection(poses);
 		expected = T + expected;
 	}
-	const auto R = map.keyFramePose(0).getRotationMatrix().asEigen();
+	const Eigen::Matrix3d R = map.keyFramePose(0).getRotationMatrix().asEigen();
 	EXPECT_LT((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
 	EXPECT_LT((map.keyFramePose(0).asVectorVal() - expected.asVectorVal()).norm(), 1e-6);
 	// The keyframes stay where they were relative to each other.
