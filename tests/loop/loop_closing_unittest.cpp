@@ -157,6 +157,11 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	EXPECT_LT(on.eval.ate.stats.rmse, 0.005);
 	const std::string json = readText(a / "stats.json");
 	EXPECT_NE(json.find("\"corrections\": " + std::to_string(on.stats.loopCorrections)), std::string::npos) << json;
+	// How far the largest correction moved its keyframe (the drift it removed: millimetres here).
+	EXPECT_GT(on.stats.largestLoopCorrection, 0.0005);
+	EXPECT_LT(on.stats.largestLoopCorrection, 0.05);
+	EXPECT_NE(json.find("\"largest_correction_m\": "), std::string::npos) << json;
+	EXPECT_NE(json.find("\"global_ba_cancelled\": " + std::to_string(on.stats.globalBundleCancelled)), std::string::npos) << json;
 	// Sequential mode stays deterministic through detection, correction and global BA.
 	run(seq, a2.path(), true);
 	EXPECT_EQ(readText(a / "trajectory.txt"), readText(a2 / "trajectory.txt"));

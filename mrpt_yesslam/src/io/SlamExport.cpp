@@ -74,7 +74,8 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	o << "  \"loop_closing\": " << (ctx.loopClosing ? "true" : "false") << ",\n";
 	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent << ", \"accepted\": " << s.loops.accepted
 	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
-	  << ", \"global_ba_runs\": " << s.globalBundleRuns << ", \"global_ba_applied\": " << s.globalBundleApplied << "},\n";
+	  << ", \"largest_correction_m\": " << s.largestLoopCorrection << ", \"global_ba_runs\": " << s.globalBundleRuns
+	  << ", \"global_ba_applied\": " << s.globalBundleApplied << ", \"global_ba_cancelled\": " << s.globalBundleCancelled << "},\n";
 	o << "  \"dense_map\": " << (ctx.denseMap ? "true" : "false") << ",\n";
 	if (ctx.denseMap)
 	{

@@ -104,7 +104,6 @@ double CLoopDetector::loopScore(const CKeyFrame& a, const CKeyFrame& b, double r
 
 std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 {
-	lastConsistent_.clear();
 	if (!opts_.enabled || map_.numKeyFrames() < opts_.minKeyFrames || !map_.hasKeyFrame(id) || map_.isBad(id))
 	{
 		groups_.clear();
@@ -158,7 +157,6 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 		current.push_back(std::move(g));
 	}
 	groups_ = std::move(current);
-	lastConsistent_ = consistent;
 	if (consistent.empty()) return std::nullopt;
 	stats_.consistent++;
 	for (const auto c : consistent)

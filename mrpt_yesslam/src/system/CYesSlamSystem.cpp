@@ -190,6 +190,7 @@ void CYesSlamSystem::runGlobalBundle()
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	stats_.globalBundleRuns++;
 	if (st.applied) stats_.globalBundleApplied++;
+	if (st.cancelled) stats_.globalBundleCancelled++;
 	stats_.stageMs["global_ba"].push_back(ms);
 }
 
@@ -261,10 +262,11 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 		loopMs = msSince(t0);
 	}
 	std::optional<double> correctMs;
+	TLoopCorrection correction;
 	if (loop)
 	{
 		t0 = Clock::now();
-		loopCloser_->correct(*loop);
+		correction = loopCloser_->correct(*loop);
 		correctMs = msSince(t0);
 	}
 	{
@@ -280,6 +282,7 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 		{
 			loops_.push_back(*loop);
 			stats_.loopCorrections++;
+			stats_.largestLoopCorrection = std::max(stats_.largestLoopCorrection, correction.correctionMetres);
 			stats_.stageMs["loop_correct"].push_back(*correctMs);
 		}
 	}
@@ -339,16 +342,6 @@ void CYesSlamSystem::waitForMapping()
 			throw std::runtime_error(std::string("global bundle adjustment failed: ") + e.what());
 		}
 	}
-}
-
-void CYesSlamSystem::pauseMapping()
-{
-	if (mappingStage_) mappingStage_->pause();
-}
-
-void CYesSlamSystem::resumeMapping()
-{
-	if (mappingStage_) mappingStage_->resume();
 }
 
 TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs)

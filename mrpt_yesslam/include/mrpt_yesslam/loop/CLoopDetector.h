@@ -110,8 +110,6 @@ class CLoopDetector
 	double referenceScore(const CKeyFrame& k) const;
 	/** S_G (eq. 10) of two keyframes on their static detections. */
 	double semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b) const;
-	/** The consistent candidates of the last call to detect() (before geometry), for evaluation. */
-	const std::vector<TKeyFrameId>& lastConsistent() const { return lastConsistent_; }
 	/** Geometric verification of `kf` against `candidate` alone (no consistency test). */
 	std::optional<TLoop> verify(TKeyFrameId kf, TKeyFrameId candidate) const;
 	const TLoopDetectionStats& stats() const { return stats_; }
@@ -135,7 +133,6 @@ class CLoopDetector
 	CSemanticKeyFrameSelector::TOptions semantic_;
 	double scaleFactor_, maxDepth_;
 	std::vector<TGroup> groups_;  //!< candidate groups of the previous keyframe
-	std::vector<TKeyFrameId> lastConsistent_;
 	TKeyFrameId sessionStart_ = 0;  //!< see setSessionStart
 	TLoopDetectionStats stats_;
 };

@@ -111,10 +111,6 @@ class CYesSlamSystem
 	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
 	 * local mapping failed (once per failure). */
 	void waitForMapping();
-	/** Holds local mapping still (the keyframe in progress finishes first) and resumes it; for a
-	 * stage that corrects the whole map (loop closing). No effect in sequential mode. */
-	void pauseMapping();
-	void resumeMapping();
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
 	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }
