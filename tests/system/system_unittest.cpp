@@ -507,16 +507,24 @@ TEST(System, AMappingFailureStillCommitsTheRecordingOfTheFramesSoFar)
 {
 	// Issue 28 item 6: the failure path waited for mapping before it closed the input; a second
 	// keyframe failing there threw past the close, and the recording (written to a temporary file,
-	// renamed on close) was lost. Every keyframe's mapping fails here, slowly, so that several are
-	// queued when the first failure reaches tracking.
+	// renamed on close) was lost. Every keyframe's mapping after the first fails here; the first
+	// failure waits until tracking has gone 15 frames further, so that more keyframes are queued
+	// behind it (whatever the machine's speed: ASan included).
 	TempDir d("system_mapping_failure");
 	TSlamJobOptions o = jobFor(d / "run", true);
 	o.record = d / "captured.rawlog";
 	std::atomic<int> failures{0};
+	std::atomic<std::size_t> frames{0};
+	o.onFrame = [&](const TFrame&) { frames++; };
 	o.onKeyFrame = [&](TKeyFrameId id)
 	{
 		if (id == 0) return;  // the first keyframe maps: the run goes on until a later one fails
-		std::this_thread::sleep_for(std::chrono::milliseconds(300));
+		if (failures == 0)
+		{
+			const std::size_t until = frames + 15;
+			const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+			while (frames < until && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+		}
 		failures++;
 		throw std::runtime_error("injected mapping failure at keyframe " + std::to_string(id));
 	};
