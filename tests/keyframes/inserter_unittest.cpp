@@ -3,6 +3,9 @@
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/keyframes/CKeyFrameInserter.h"
+#include "mrpt_yesslam/keyframes/CRecentFrames.h"
+
+#include <random>
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
@@ -144,4 +147,39 @@ TEST(KeyFrameInserter, SemanticChoiceCoveredByTheMapIsNotInserted)
 	EXPECT_EQ(decisions(0.9, 300), 4u);	 // 75 % of the reference's points: new content, one per interval
 	EXPECT_EQ(decisions(0.9, 380), 0u);	 // 95 %: the map covers the view
 	EXPECT_EQ(decisions(1.0, 380), 4u);	 // the check off: the paper's Algorithm 1 alone
+}
+
+TEST(RecentFrames, AChosenFrameComesAtItsPoseInTheMapAsItIsNow)
+{
+	// The frames Algorithm 1 may still choose: the last `capacity`, the tracked ones only, each
+	// placed through its reference keyframe's current pose (issue 28 item 1).
+	std::mt19937 rng(1);
+	std::vector<mrpt::math::TPoint3D> world;
+	for (int i = 0; i < 30; i++) world.emplace_back(0.05 * i - 0.7, 0.02 * i - 0.3, 2.0 + 0.03 * i);
+	CSparseMap map;
+	const TKeyFrameId kf = map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng), 10.0);
+	CRecentFrames recent(2);
+	for (std::size_t id = 1; id <= 3; id++)
+	{
+		auto f = std::make_shared<TFrame>();
+		f->id = id;
+		f->tracked = id != 2;
+		f->pose = mrpt::poses::CPose3D(0.01 * static_cast<double>(id), 0, 0, 0, 0, 0);
+		CTracker::TAnchor a;
+		a.refKf = kf;
+		a.relative = f->pose;  // keyframe 0 is at the origin
+		recent.push(f, a);
+	}
+	EXPECT_EQ(recent.tracked(1, map), nullptr) << "pushed out (capacity 2)";
+	EXPECT_EQ(recent.tracked(2, map), nullptr) << "lost frames are never keyframes";
+	const auto same = recent.tracked(3, map);
+	ASSERT_NE(same, nullptr);
+	EXPECT_NEAR(same->pose.x(), 0.03, 1e-12);
+	// The map moves under it: the frame comes where the map is now.
+	map.applyCorrection({{kf, mrpt::poses::CPose3D(1, 2, 3, 0.5, 0, 0)}});
+	const auto moved = recent.tracked(3, map);
+	ASSERT_NE(moved, nullptr);
+	const mrpt::poses::CPose3D want = mrpt::poses::CPose3D(1, 2, 3, 0.5, 0, 0) + mrpt::poses::CPose3D(0.03, 0, 0, 0, 0, 0);
+	EXPECT_LT((moved->pose.asVectorVal() - want.asVectorVal()).norm(), 1e-9);
+	EXPECT_NE(moved.get(), same.get()) << "a copy: the tracked frame itself is left as it was";
 }

@@ -106,7 +106,8 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 		  opts_.geometric),
 	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric),
 	  inserter_(opts_.keyFrames),
-	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth)
+	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth),
+	  recent_(opts_.system.frameBuffer)
 {
 	tracker_.setMapReadOnly(opts_.system.localizeOnly);
 	// Algorithm 1 may name any frame of the interval that just closed: the buffer must hold it.
@@ -353,37 +354,14 @@ TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeSc
 
 double CYesSlamSystem::motionToReference(const TFrame& f) const
 {
-	// Eq. 12-16 on the 3D points the frame shares with the reference keyframe, each measured by
-	// its own depth; the tracked relative pose when too few points are shared. The reference is
-	// tracking's (the keyframe sharing most points: D then says how far the view is from the map
-	// it is tracked against), or Algorithm 1's own F_ref, the keyframe its last interval chose
-	// ([KeyFrames] motionReference = previous; a candidate refused for N_in <= 20 never became a
-	// keyframe, so the one before stays F_ref there).
+	// Eq. 12-16 against the reference: tracking's (the keyframe sharing most points: D then says
+	// how far the view is from the map it is tracked against), or Algorithm 1's own F_ref, the
+	// keyframe its last interval chose ([KeyFrames] motionReference = previous; a candidate refused
+	// for N_in <= 20 never became a keyframe, so the one before stays F_ref there).
 	std::optional<TKeyFrameId> ref = tracker_.referenceKeyFrame();
 	if (opts_.keyFrames.motionReference == "previous" && lastKeyFrame_) ref = map_.goodAncestor(*lastKeyFrame_);
 	if (!ref) return 0;
-	const CKeyFrame kf = map_.keyFrame(*ref);
-	std::map<TPointId, std::size_t> refKp;
-	for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
-		if (kf.mapPoints[i] >= 0) refKp[kf.mapPoints[i]] = i;
-	std::vector<Eigen::Vector3d> cur, prev;
-	for (std::size_t i = 0; i < f.size(); i++)
-	{
-		if (f.mapPoints[i] < 0 || f.features.depth[i] <= 0) continue;
-		const auto it = refKp.find(f.mapPoints[i]);
-		if (it == refKp.end() || kf.features->depth[it->second] <= 0) continue;
-		const cv::Point3d a = f.backProject(i), b = kf.backProject(it->second);
-		cur.emplace_back(a.x, a.y, a.z);
-		prev.emplace_back(b.x, b.y, b.z);
-	}
-	Eigen::Matrix3d R;
-	Eigen::Vector3d t;
-	if (cur.size() >= 10 && rigidMotionFromPoints(cur, prev, R, t)) return motionAmplitude(R, t);
-	const mrpt::poses::CPose3D rel = f.pose - kf.pose;
-	const auto Rm = rel.getRotationMatrix();
-	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++) R(i, j) = Rm(i, j);
-	return motionAmplitude(R, Eigen::Vector3d(rel.x(), rel.y(), rel.z()));
+	return motionToKeyFrame(f, map_.keyFrame(*ref));
 }
 
 void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
@@ -476,8 +454,7 @@ TFrameReport CYesSlamSystem::processFrame(
 
 	t0 = Clock::now();
 	std::shared_ptr<const TFrame> frame = f;
-	recent_.push_back({frame, anchor});
-	while (recent_.size() > std::max<std::size_t>(1, opts_.system.frameBuffer)) recent_.pop_front();
+	recent_.push(frame, anchor);
 	if (initialising)
 	{
 		insertKeyFrame(frame, false);
@@ -508,21 +485,10 @@ TFrameReport CYesSlamSystem::processFrame(
 	// chooses again (bench_dynamic.sh with whole-box masks stopped on this before).
 	if (decision && !(lastKeyFrameFrame_ && decision->frameId <= *lastKeyFrameFrame_))
 	{
-		const auto it = std::find_if(recent_.begin(), recent_.end(), [&](const auto& x) { return x.frame->id == decision->frameId; });
-		if (it != recent_.end() && it->frame->tracked)
+		// At its pose in the map as it is now (CRecentFrames): a loop correction or global BA since
+		// it was tracked would otherwise leave this keyframe and its new points in the old frame.
+		if (const auto kf = recent_.tracked(decision->frameId, map_))
 		{
-			// A frame chosen up to frameBuffer frames late goes in at its pose in the map as it is
-			// now: a loop correction or global BA since it was tracked moved its reference keyframe
-			// and the points it matched, and would otherwise leave this keyframe and its new points
-			// in the frame from before (ORB-SLAM2 inserts at once and has no such window).
-			std::shared_ptr<const TFrame> kf = it->frame;
-			const mrpt::poses::CPose3D now = it->anchor.poseIn(map_);
-			if (!(now == kf->pose))
-			{
-				auto moved = std::make_shared<TFrame>(*kf);
-				moved->pose = now;
-				kf = moved;
-			}
 			insertKeyFrame(kf, decision->forced);
 			rep.keyFrame = kf->id == frame->id;
 		}

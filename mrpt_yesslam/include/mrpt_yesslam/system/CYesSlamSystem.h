@@ -31,6 +31,7 @@
 #include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
 #include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/keyframes/CRecentFrames.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/system/CFrameBuilder.h"
 #include "mrpt_yesslam/system/TSlamStats.h"
@@ -204,13 +205,7 @@ class CYesSlamSystem
 	std::vector<TFrameRecord> records_;	//!< guarded by recordsMtx_ (trajectory() may run on another thread)
 	std::vector<TFrameLogRow> frameLog_;  //!< guarded by recordsMtx_
 	mutable std::mutex recordsMtx_;
-	/** A recent frame and where its pose hangs in the map (see CTracker::TAnchor). */
-	struct TBufferedFrame
-	{
-		std::shared_ptr<const TFrame> frame;
-		CTracker::TAnchor anchor;
-	};
-	std::deque<TBufferedFrame> recent_;
+	CRecentFrames recent_;	//!< what Algorithm 1 may still choose from
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
