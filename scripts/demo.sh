@@ -49,7 +49,7 @@ M="$SHARED/models/yolo_fastest_darknet"
 
 echo
 echo "demo: results in $OUT"
-echo "  SLAM (main job): $OUT/slam_walking_xyz/ (trajectory.txt, keyframes.txt, map.3Dscene, map.png, dense_cloud.ply, map.ot, map.bt, octomap.png, stats.json, eval.json)"
+echo "  SLAM (main job): $OUT/slam_walking_xyz/ (trajectory.txt, keyframes.txt, map.3Dscene, map.png, dense_cloud.ply, map.ot, map.bt, octomap.png, stats.json, eval.json, ate.png)"
 echo "  without filter:  $OUT/slam_walking_xyz_unfiltered/"
 echo "  simulation:      $OUT/sim_walking_xyz/ (TUM folder, groundtruth.txt, labels/, labels/overlay/, detections.txt)"
 echo "  real frames:     $OUT/slam_fr1_desk/, rawlog $OUT/fr1_desk_9frames.rawlog"
