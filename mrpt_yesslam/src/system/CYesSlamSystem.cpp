@@ -440,21 +440,13 @@ TFrameReport CYesSlamSystem::processFrame(
 	everTracked_ = everTracked_ || f->tracked;
 	rec.hasPose = everTracked_;
 	rec.online = f->pose;
-	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe).
-	CTracker::TAnchor anchor;
-	if (const auto a = tracker_.anchorOf(f->id))
-		anchor = *a;
-	else if ((anchor.refKf = tracker_.referenceKeyFrame()))
-		anchor.relative = f->pose - map_.keyFramePose(*anchor.refKf);
-	else
-		anchor.relative = f->pose;
-	rec.hasRef = anchor.refKf.has_value();
-	rec.refKf = anchor.refKf.value_or(0);
-	rec.relative = anchor.relative;
+	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe);
+	// a frame tracking did not see (before the map exists) keeps its absolute pose.
+	rec.anchor = tracker_.anchorOf(f->id).value_or(CTracker::TAnchor{std::nullopt, f->pose});
 
 	t0 = Clock::now();
 	std::shared_ptr<const TFrame> frame = f;
-	recent_.push(frame, anchor);
+	recent_.push(frame, rec.anchor);
 	if (initialising)
 	{
 		insertKeyFrame(frame, false);
@@ -462,9 +454,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		rep.keyFrame = true;
 		// The frame of the first keyframe hangs from it like every later frame from its reference:
 		// left absolute, a correction that moves the first keyframe left it behind.
-		rec.hasRef = true;
-		rec.refKf = *lastKeyFrame_;
-		rec.relative = mrpt::poses::CPose3D();
+		rec.anchor = {*lastKeyFrame_, mrpt::poses::CPose3D()};
 	}
 	else if (frame->tracked && !opts_.system.localizeOnly)
 	{
@@ -573,8 +563,9 @@ TTrajectory CYesSlamSystem::trajectory() const
 	for (const auto& r : records)
 	{
 		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
-		const auto it = r.hasRef ? poses.find(r.refKf) : poses.end();
-		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.relative : r.relative));
+		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.
+		const auto it = r.anchor.refKf ? poses.find(*r.anchor.refKf) : poses.end();
+		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.anchor.relative : r.anchor.relative));
 		tracked.push_back(r.tracked);
 	}
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the

@@ -111,8 +111,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		// A map-wide correction (loop, global BA) landed since tracking: the frame's pose is in the
 		// map from before it, so it hangs from its keyframe as tracking read it (ORB-SLAM2's
 		// UpdateLastFrame with the relative pose recorded when tracked).
-		lastRef_ = tracked_->anchor.refKf;
-		lastRelative_ = tracked_->anchor.relative;
+		lastAnchor_ = tracked_->anchor;
 	}
 	else
 	{
@@ -120,8 +119,8 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		// prediction's start. Following the keyframe through local BA instead was identical on the
 		// simulator and worse on the real Bonn slice (sequential 17.2 -> 17.8 mm ATE, three parallel
 		// runs 17.8 -> 18.3 mm median), as was hanging a frame that became a keyframe from it (17.9 mm).
-		lastRef_ = referenceKeyFrame();
-		if (lastRef_) lastRelative_ = f->pose - map_.keyFramePose(*lastRef_);
+		lastAnchor_.refKf = referenceKeyFrame();
+		if (lastAnchor_.refKf) lastAnchor_.relative = f->pose - map_.keyFramePose(*lastAnchor_.refKf);
 	}
 }
 
@@ -143,7 +142,7 @@ mrpt::poses::CPose3D CTracker::lastFramePose() const
 {
 	if (!last_) return {};
 	// A bad reference still resolves: its pose follows its parent.
-	return lastRef_ ? map_.keyFramePose(*lastRef_) + lastRelative_ : last_->pose;
+	return lastAnchor_.refKf ? lastAnchor_.poseIn(map_) : last_->pose;
 }
 
 void CTracker::anchor(const TFrame& f, const mrpt::poses::CPose3D& base)

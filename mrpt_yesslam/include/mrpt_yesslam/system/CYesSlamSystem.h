@@ -193,9 +193,7 @@ class CYesSlamSystem
 	struct TFrameRecord
 	{
 		double t = 0;
-		std::size_t refKf = 0;
-		bool hasRef = false;
-		mrpt::poses::CPose3D relative;	//!< T_ref_frame (or T_w_frame without a reference)
+		CTracker::TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
 		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
 		bool tracked = false;
 		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)

@@ -157,8 +157,7 @@ class CTracker
 	COrbMatcher matcher_;
 	double scaleFactor_;
 	std::shared_ptr<const TFrame> last_;
-	std::optional<TKeyFrameId> lastRef_;	//!< the last frame's reference keyframe ...
-	mrpt::poses::CPose3D lastRelative_;	//!< ... and its pose relative to it, T_ref_last
+	TAnchor lastAnchor_;	//!< where the last frame hangs in the map (its reference keyframe, T_ref_last)
 	/** What track() left for setLastFrame and anchorOf: the frame's id, its anchor, and the last
 	 * frame's pose its prediction started from (the velocity is measured against that one, in the
 	 * same state of the map as the new pose). */
