@@ -7,7 +7,7 @@
 #include <string>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
-#include "mrpt_yesslam/dense/SemanticMapScoring.h"
+#include "mrpt_yesslam/eval/SemanticMapScoring.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/system/SlamJob.h"
 

@@ -19,6 +19,7 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/io/MapFile.h"
 #include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -64,6 +65,8 @@ int localisation(const std::string& gt1Path, const std::string& gt2Path, const s
 	const auto gt1 = readTumTrajectory(gt1Path), gt2 = readTumTrajectory(gt2Path), est = readTumTrajectory(trajPath);
 	if (gt1.empty()) throw InputError(gt1Path, "empty ground truth");
 	const auto origin = gt1.front().asPose();
+	// The run's export frame (z-up by default; kept from the loaded map) as its header states it.
+	const mrpt::poses::CPose3D worldFromMap = readWorldFromMap(trajPath).value_or(mrpt::poses::CPose3D());
 	// frames.csv: which frames were tracked, and their times.
 	std::ifstream csv(csvPath);
 	if (!csv) throw InputError(csvPath, "cannot open");
@@ -90,7 +93,7 @@ int localisation(const std::string& gt1Path, const std::string& gt2Path, const s
 		for (const auto& g : gt2)
 			if (std::abs(g.t - est[i].t) < 1e-4)
 			{
-				const auto expected = g.asPose() - origin;
+				const auto expected = worldFromMap + (g.asPose() - origin);
 				const auto got = est[i].asPose();
 				sum += std::pow(got.x() - expected.x(), 2) + std::pow(got.y() - expected.y(), 2) + std::pow(got.z() - expected.z(), 2);
 				used++;

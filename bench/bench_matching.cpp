@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/data/TFrame.h"
 #include "mrpt_yesslam/feature/COrbMatcher.h"
 #include "mrpt_yesslam/io/CTumFolderSource.h"

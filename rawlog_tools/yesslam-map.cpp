@@ -9,7 +9,7 @@
 #include "mrpt_yesslam/io/MapFile.h"
 #include "mrpt_yesslam/io/MapSummary.h"
 #include "mrpt_yesslam/io/SceneExport.h"
-#include "mrpt_yesslam/io/SlamExport.h"
+#include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ShareDir.h"
@@ -53,7 +53,9 @@ int main(int argc, char** argv)
 				names = readClassNames(share + "/models/yolo-fastest-1.1/coco.names");
 			std::printf("map:          %s (format %u, %.1f MB, vocabulary %016llx)\n", map.c_str(), info.version, info.bytes / 1e6,
 						static_cast<unsigned long long>(info.vocabularyFingerprint));
-			std::fputs(formatMapSummary(summarizeMap(m, names)).c_str(), stdout);
+			std::fputs(formatMapSummary(summarizeMap(m, names, info.worldFrame.worldFromMap)).c_str(), stdout);
+			const std::string frame = info.worldFrame.describe();
+			std::printf("exports in:   %s\n", frame.substr(0, frame.find('\n')).c_str());
 			if (octree)
 			{
 				std::map<std::string, std::size_t> byLabel;
@@ -80,18 +82,18 @@ int main(int argc, char** argv)
 			{
 				TTrajectory path;
 				for (const auto& k : m.keyFramePoses())
-					if (!k.bad) path.push_back(TStampedPose::fromPose(k.timestamp, k.pose));
-				saveSceneAtomically(*buildMapScene(m, path), scene);
+					if (!k.bad) path.push_back(TStampedPose::fromPose(k.timestamp, info.worldFrame.worldFromMap + k.pose));
+				saveSceneAtomically(*buildMapScene(m, path, info.worldFrame.worldFromMap), scene);
 				std::printf("scene:        %s\n", scene.c_str());
 			}
 			if (!ply.empty())
 			{
-				writeDenseCloudPly(ply, mapPointCloud(m), names, "sparse map points, without labels (label 0; the dense semantic map is yesslam's dense_cloud.ply)");
+				writeDenseCloudPly(ply, mapPointCloud(m, info.worldFrame.worldFromMap), names, "sparse map points, without labels (label 0; the dense semantic map is yesslam's dense_cloud.ply)");
 				std::printf("ply:          %s\n", ply.c_str());
 			}
 			if (!bt.empty())
 			{
-				const auto fromPoints = octree ? nullptr : mapOccupancy(m, resolution);
+				const auto fromPoints = octree ? nullptr : mapOccupancy(m, resolution, info.worldFrame.worldFromMap);
 				const CSemanticOcTree& tree = octree ? *octree : *fromPoints;
 				writeOccupancyBt(bt, tree);
 				std::printf("bt:           %s (%zu leaves at %.3f m, %s)\n", bt.c_str(), tree.getNumLeafNodes(), tree.getResolution(),

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "mrpt_yesslam/render/SceneRenderer.h"
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -22,7 +22,10 @@ int main(int argc, char** argv)
 				"yesslam-render", "yesslam-render --scene MAP.3Dscene --out MAP.png [options]",
 				"Renders an MRPT .3Dscene (maps written by yesslam, scenes by yesslam-sim) to a PNG with MRPT's\n"
 				"CFBORender through EGL: no X server or display is needed. The camera orbits the look-at point:\n"
-				"azimuth around the vertical axis, elevation above the horizon, at the given distance.",
+				"azimuth around the vertical (z) axis, elevation above the horizon, at the given distance; by default\n"
+				"it looks at the centre of the scene from as near as keeps all of it in the picture. A yesslam map\n"
+				"shows its dense cloud, map points, keyframes and trajectory (red); with its OctoMap shown (--hide\n"
+				"dense_cloud,map_points,keyframe) the label legend is drawn in the top-left corner.",
 				{"yesslam-render --scene out/map.3Dscene --out map.png",
 				 "yesslam-render --scene map.3Dscene --out top.png --elevation 89 --width 1600 --height 1200",
 				 "yesslam-render --scene sim/scene.3Dscene --out inside.png --hide ceiling,wall --elevation 50"});
@@ -30,20 +33,29 @@ int main(int argc, char** argv)
 			cl.text("out", "FILE", "image to write (atomically): PNG, or JPEG for a .jpg/.jpeg name", &outPath, true);
 			cl.count("width", "PX", "image width", &width);
 			cl.count("height", "PX", "image height", &height);
-			cl.number("azimuth", "DEG", "camera azimuth around the vertical axis", &o.azimuthDeg);
+			cl.number("azimuth", "DEG", "camera azimuth around the vertical axis [default: 200: a yesslam map from behind its first camera, whose view is the map's x axis]", &o.azimuthDeg);
 			cl.number("elevation", "DEG", "camera elevation above the horizon (90 = top-down)", &o.elevationDeg);
 			cl.number("distance", "M", "camera distance to the look-at point [default: fits the whole scene]", &distance);
 			cl.text("look-at", "X,Y,Z", "point the camera looks at [default: centre of the scene]", &lookAt);
 			cl.number("fov", "DEG", "vertical field of view", &o.fovDeg);
 			cl.text("background", "R,G,B", "background colour, components in 0..1 [default: 1,1,1 (white)]", &background);
 			std::string hide;
-			cl.text("hide", "NAMES", "comma-separated: leave out objects whose name starts with one of these (yesslam-sim scenes: ceiling, wall, desk, ...)", &hide);
+			cl.text(
+				"hide", "NAMES",
+				"comma-separated: leave out objects whose name starts with one of these (yesslam maps: dense_cloud, octomap, map_points, keyframe, "
+				"trajectory; yesslam-sim scenes: ceiling, wall, desk, ...); none: show everything [default: a yesslam map's octomap, which would "
+				"cover its dense cloud]",
+				&hide);
 			if (!cl.parse(argc, argv)) return 0;
-			for (std::size_t a = 0; !hide.empty() && a <= hide.size();)
+			if (cl.given("hide"))
 			{
-				const auto b = std::min(hide.find(',', a), hide.size());
-				if (b > a) o.hide.push_back(hide.substr(a, b - a));
-				a = b + 1;
+				o.hide.emplace();
+				for (std::size_t a = 0; hide != "none" && a <= hide.size();)
+				{
+					const auto b = std::min(hide.find(',', a), hide.size());
+					if (b > a) o.hide->push_back(hide.substr(a, b - a));
+					a = b + 1;
+				}
 			}
 			o.width = static_cast<unsigned>(width);
 			o.height = static_cast<unsigned>(height);

@@ -3,7 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
-#include "mrpt_yesslam/loop/VocabularyTraining.h"
+#include "mrpt_yesslam/feature/COrbExtractor.h"
+#include "mrpt_yesslam/place/VocabularyTraining.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"

@@ -22,8 +22,9 @@ TRAJ="$SHARED/data/tum_eval_trajectories"
 echo; echo "== 1. The main job: SLAM on a walking sequence (people crossing an office), against exact ground truth =="
 "$BIN/yesslam-sim" --preset walking_xyz --frames 150 --out "$OUT/sim_walking_xyz" --overlays --quiet
 "$BIN/yesslam" --input "$OUT/sim_walking_xyz" --config "$ROOT/share/mrpt_yesslam/config/sim.ini" --out "$OUT/slam_walking_xyz" --detector file --quiet
-"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/map.png" --azimuth -60 --elevation 35 --hide octomap
-"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/octomap.png" --azimuth -60 --elevation 35 \
+# The default view: the z-up map from behind its first camera, dense cloud, map points and path.
+"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/map.png" --elevation 45
+"$BIN/yesslam-render" --scene "$OUT/slam_walking_xyz/map.3Dscene" --out "$OUT/slam_walking_xyz/octomap.png" --elevation 45 \
   --hide dense_cloud,map_points,keyframe
 
 echo; echo "== 2. The same run without any dynamic handling (--no-dynamic-filter: people's features used, as ORB-SLAM2 would) =="

@@ -18,7 +18,7 @@ int main(int argc, char** argv)
 		[&]() -> int
 		{
 			TSlamJobOptions o;
-			std::string config, detector = "auto", policy, camera, gtFormat = "tum";
+			std::string config, detector = "auto", policy, camera, worldFrame, gtFormat = "tum";
 			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false, listDevices = false,
 				 localizeOnly = false;
 			double octomapRes = 0.05, width = 640, height = 480, fps = 30, speed = 1;
@@ -35,7 +35,9 @@ int main(int argc, char** argv)
 				"--list-devices) or an .oni recording played through OpenNI2. Live frames are captured on their own\n"
 				"thread; when SLAM falls behind the oldest waiting frame is dropped (counted in stats.json and the\n"
 				"status line: capture fps, processed fps, dropped frames, tracking state). --record keeps every frame.\n"
-				"OUTDIR receives trajectory.txt (TUM format, a pose for every frame that has one, after the run's\n"
+				"Every output is in a z-up world frame (x forward, y left, z up; levelled by the floor, which is at z = 0,\n"
+				"when one is seen; the file headers state it and T_world_map), or with --world-frame optical in the first\n"
+				"keyframe's camera frame. OUTDIR receives trajectory.txt (TUM format, a pose for every frame that has one, after the run's\n"
 				"optimisation, lost frames filled in), trajectory_online.txt (each frame's pose as the run had it then,\n"
 				"what a robot had; its ATE is printed as online_ate_rmse), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
@@ -97,6 +99,10 @@ int main(int argc, char** argv)
 				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform",
 				&gtFormat);
 			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &camera);
+			cl.text(
+				"world-frame", "zup|optical",
+				"frame of every output ([System] worldFrame): zup = x forward, y left, z up, the floor at z = 0 when seen (default); optical = the first keyframe's camera (x right, y down, z forward); a loaded map keeps its own",
+				&worldFrame);
 			cl.flag("sequential", "run local mapping in the tracking thread ([System] parallel=false): deterministic", &sequential);
 			cl.flag("quiet", "no progress line", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
@@ -145,6 +151,11 @@ int main(int argc, char** argv)
 				o.slam.dense.octomapResolution = octomapRes;
 			}
 			if (!policy.empty()) o.slam.keyFrames.policy = policy;
+			if (!worldFrame.empty())
+			{
+				if (worldFrame != "zup" && worldFrame != "optical") throw InputError("", "--world-frame is zup or optical, got '" + worldFrame + "'");
+				o.slam.system.worldFrame = worldFrame;
+			}
 			if (!camera.empty()) o.slam.input.camera = camera;
 			if (sequential) o.slam.system.parallel = false;
 			if (localizeOnly)

@@ -3,6 +3,8 @@
 // and redundant-keyframe culling, point fusion, the recent-points list, the generation counter
 // that refuses stale bundle results, and the versioned serialisation of keyframes and points.
 #include <gtest/gtest.h>
+
+#include <cstring>
 #include <Eigen/Dense>
 #include <mrpt/math/CMatrixFixed.h>
 
@@ -614,7 +616,7 @@ TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
 	// kept (it was replaced before the octree was read).
 	TempDir d("map_bad_octree");
 	std::string file("YESSLAMM", 8);
-	const std::uint32_t version = kMapFileVersion;
+	const std::uint32_t version = 1;  // a version 1 file (no export frame after the octree) is still read
 	const std::uint64_t vocabulary = 0, length = 40;
 	file.append(reinterpret_cast<const char*>(&version), 4);
 	file.append(reinterpret_cast<const char*>(&vocabulary), 8);
@@ -635,8 +637,49 @@ TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
 	const std::uint64_t sum2 = binio::checksum(plainFile.data(), plainFile.size());
 	plainFile.append(reinterpret_cast<const char*>(&sum2), 8);
 	writeText(d / "good.ysm", plainFile);
-	loadMapFile(d / "good.ysm", inPlace, 0);
+	const TMapFileInfo info = loadMapFile(d / "good.ysm", inPlace, 0);
 	EXPECT_EQ(inPlace.numKeyFrames(), 2u);
+	// Its octree was built in the map's own frame: exports stay there.
+	EXPECT_EQ(info.worldFrame.kind, TWorldFrame::EKind::Optical);
+	EXPECT_EQ(info.worldFrame.worldFromMap, mrpt::poses::CPose3D());
+}
+
+TEST(SparseMap, AMapFileKeepsItsExportFrameExactlyAndRefusesABrokenOne)
+{
+	// Issue 30 item 4: the frame the map's octree was built in (and a later run exports in) is
+	// saved with it, bit for bit, so that a map saved again keeps its bytes.
+	std::mt19937 rng(8);
+	CSparseMap map;
+	twoViews(map, rng, 0.05);
+	TempDir d("map_frame");
+	TWorldFrame f;
+	f.kind = TWorldFrame::EKind::ZUp;
+	f.floorSeen = true;
+	f.cameraHeight = 1.234;
+	f.worldFromMap = mrpt::poses::CPose3D(0.1, -0.2, 1.234, mrpt::DEG2RAD(-91.0), mrpt::DEG2RAD(2.0), mrpt::DEG2RAD(-95.0));
+	saveMapFile(d / "a.ysm", map, 0, nullptr, f);
+	CSparseMap back;
+	const TMapFileInfo info = loadMapFile(d / "a.ysm", back, 0);
+	EXPECT_EQ(info.version, kMapFileVersion);
+	EXPECT_EQ(info.worldFrame.kind, TWorldFrame::EKind::ZUp);
+	EXPECT_TRUE(info.worldFrame.floorSeen);
+	EXPECT_EQ(info.worldFrame.cameraHeight, 1.234);
+	EXPECT_EQ(info.worldFrame.worldFromMap.getRotationMatrix(), f.worldFromMap.getRotationMatrix());
+	EXPECT_EQ(info.worldFrame.worldFromMap.asVectorVal().head<3>(), f.worldFromMap.asVectorVal().head<3>());
+	saveMapFile(d / "b.ysm", back, 0, nullptr, info.worldFrame);
+	EXPECT_EQ(readText(d / "a.ysm"), readText(d / "b.ysm"));
+	// A frame whose rotation is no rotation (a scaled matrix) is refused, checksum and all right.
+	std::string bytes = readText(d / "a.ysm");
+	const std::size_t r00 = bytes.size() - 8 - 12 * 8;	// the rotation's first entry, before the translation and the checksum
+	double v;
+	std::memcpy(&v, bytes.data() + r00, 8);
+	v *= 1.5;
+	std::memcpy(bytes.data() + r00, &v, 8);
+	bytes.resize(bytes.size() - 8);
+	const std::uint64_t sum = binio::checksum(bytes.data(), bytes.size());
+	bytes.append(reinterpret_cast<const char*>(&sum), 8);
+	writeText(d / "bad.ysm", bytes);
+	expectInputError([&] { loadMapFile(d / "bad.ysm", back, 0); }, {"bad.ysm", "not a rotation"});
 }
 
 TEST(SparseMap, ManyCorrectionsKeepEveryKeyFramesRotationARotation)

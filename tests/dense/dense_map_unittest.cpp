@@ -15,7 +15,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
 #include "mrpt_yesslam/dense/DenseMapExport.h"
-#include "mrpt_yesslam/dense/SemanticMapScoring.h"
+#include "mrpt_yesslam/eval/SemanticMapScoring.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/system/SlamJob.h"
 #include "mrpt_yesslam/util/Error.h"

@@ -67,6 +67,8 @@ TEST(LiveSource, ASlowConsumerGetsTheNewestFramesAndTheDropsAreCounted)
 	EXPECT_EQ(seen, frames.size()) << "the recording sees dropped frames too";
 	EXPECT_GT(s.dropped, 0u);
 	EXPECT_EQ(got.size() + s.dropped, s.captured);
+	EXPECT_EQ(s.delivered, got.size());
+	EXPECT_EQ(s.waiting, 0u);
 	for (std::size_t i = 1; i < got.size(); i++) EXPECT_GT(got[i], got[i - 1]) << "never an older frame after a newer one";
 	EXPECT_NEAR(got.back(), frames.back().tRgb, 0.01) << "the newest frame is never the one dropped";
 	EXPECT_GT(s.captureFps, 10.0);
@@ -102,6 +104,38 @@ TEST(LiveSource, StoppedOrDestroyedMidStreamWithoutHanging)
 	CLiveSource dropped(std::make_unique<CTumFolderSource>(d.path()), 1, false);
 	ASSERT_TRUE(dropped.next());
 }  // destroyed with the capture thread blocked on a full slot
+
+TEST(LiveSource, EveryCapturedFrameIsDeliveredDroppedOrStillWaiting)
+{
+	// Issue 28 item 7: a run stopped early had frames captured but neither delivered nor dropped,
+	// so stats.json's captured and dropped did not add up to what SLAM saw.
+	TempDir d("live");
+	writeTumFolder(d.path(), makeSyntheticFrames(10));
+	CLiveSource live(std::make_unique<CTumFolderSource>(d.path()), 3, false);
+	ASSERT_TRUE(live.next());
+	ASSERT_TRUE(live.next());
+	std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the slots fill up
+	live.stop();
+	const TLiveStats s = live.stats();
+	EXPECT_EQ(s.delivered, 2u);
+	EXPECT_EQ(s.waiting, 3u);
+	EXPECT_EQ(s.captured, s.delivered + s.dropped + s.waiting);
+}
+
+TEST(DeviceClock, FramesKeepTheDevicesSpacingOnTheHostClock)
+{
+	// Issue 28 item 7: a camera's frames were stamped with the host's clock when they arrived, so
+	// USB and pairing latency (and an NTP step) went into every frame time. Now the device's own
+	// times are mapped onto the host clock once.
+	CDeviceClock c;
+	EXPECT_DOUBLE_EQ(c.toHost(2'000'000, 1000.0), 1000.0);	// the anchor
+	EXPECT_NEAR(c.toHost(2'033'333, 1000.051), 1000.033333, 1e-9) << "arrived 18 ms late: the device's time counts";
+	EXPECT_NEAR(c.toHost(2'066'667, 999.5), 1000.066667, 1e-9) << "the host clock stepped back (NTP): no jump";
+	EXPECT_NEAR(c.toHost(2'100'000, 1000.101), 1000.1, 1e-9);
+	// A device reset (its clock starts again): anchored anew at the host's time.
+	EXPECT_DOUBLE_EQ(c.toHost(1'000, 1000.2), 1000.2);
+	EXPECT_NEAR(c.toHost(34'333, 1000.25), 1000.233333, 1e-9);
+}
 
 TEST(PacedSource, FramesComeNoEarlierThanTheirRecordedTime)
 {

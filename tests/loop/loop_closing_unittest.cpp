@@ -10,8 +10,9 @@
 #include <set>
 
 #include "TestUtils.h"
-#include "mrpt_yesslam/loop/CBowDatabase.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/feature/COrbExtractor.h"
+#include "mrpt_yesslam/place/CBowDatabase.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/loop/PoseGraph.h"
 #include "mrpt_yesslam/system/SlamJob.h"
 

@@ -11,8 +11,8 @@
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
-#include "mrpt_yesslam/loop/VocabularyTraining.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
+#include "mrpt_yesslam/place/VocabularyTraining.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ShareDir.h"
 

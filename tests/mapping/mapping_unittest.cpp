@@ -13,7 +13,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/mapping/BundleCosts.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 using namespace mrpt_yesslam;
 

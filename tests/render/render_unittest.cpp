@@ -3,11 +3,16 @@
 #include <mrpt/opengl/CBox.h>
 #include <mrpt/opengl/CGridPlaneXY.h>
 #include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
 
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/dense/DenseMapExport.h"
+#include "mrpt_yesslam/detection/CObjectDetector.h"
+#include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/render/SceneRenderer.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -103,10 +108,81 @@ TEST(Render, ASimulatedRoomIsFramedFromAboveAndSeenFromInside)
 	// From above, the centre of the picture is the ceiling; with the ceiling hidden, the floor.
 	o.elevationDeg = 89;
 	renderSceneFileToPng(d / "room.3Dscene", d / "closed.png", o);
-	o.hide = {"ceiling", "wall"};
+	o.hide = std::vector<std::string>{"ceiling", "wall"};
 	renderSceneFileToPng(d / "room.3Dscene", d / "open.png", o);
 	const cv::Vec3b closed = cv::imread(d / "closed.png", cv::IMREAD_COLOR).at<cv::Vec3b>(120, 160);
 	const cv::Vec3b open = cv::imread(d / "open.png", cv::IMREAD_COLOR).at<cv::Vec3b>(120, 160);
 	EXPECT_GT(closed[0] + closed[1] + closed[2], 3 * 190) << "the ceiling is light";
 	EXPECT_LT(open[0] + open[1] + open[2], 3 * 150) << "the floor is dark";
+}
+
+TEST(Render, AMapsDefaultPictureShowsItsCloudAndPathFilledAndTheLegendOverTheOctoMap)
+{
+	// Issue 30 item 9: a yesslam map.3Dscene: a dense cloud (a 4 x 3 m green floor with two stray
+	// points 40 m away, as real depth leaves), the OctoMap over it (blue-ish voxels of one label),
+	// a 2 m camera path. The default picture shows the cloud and a visible path (not the voxels
+	// that cover the cloud), fills the frame despite the stray points, and the legend of the
+	// OctoMap's labels is drawn on the picture, the same from any elevation.
+	TempDir d("render_map");
+	CSparseMap emptyMap;
+	TTrajectory path;
+	for (int i = 0; i <= 100; i++) path.push_back(TStampedPose::fromPose(i, mrpt::poses::CPose3D(0.5 + 0.02 * i, 1.2, 1.0, 0, 0, 0)));
+	auto scene = buildMapScene(emptyMap, path);
+	auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+	cloud->setName("dense_cloud");
+	cloud->setPointSize(3.0f);
+	for (double x = 0; x <= 4; x += 0.02)
+		for (double y = 0; y <= 3; y += 0.02) cloud->push_back(static_cast<float>(x), static_cast<float>(y), 0.f, 0.1f, 0.7f, 0.1f);
+	cloud->push_back(40.f, 40.f, 5.f, 0.1f, 0.7f, 0.1f);
+	cloud->push_back(-40.f, 45.f, 5.f, 0.1f, 0.7f, 0.1f);
+	scene->insert(cloud);
+	CSemanticOcTree tree(0.1);
+	for (double x = 0.05; x < 4; x += 0.1)
+		for (double y = 0.05; y < 3; y += 0.1)
+			for (int k = 0; k < 4; k++) tree.updateNode(octomap::point3d(static_cast<float>(x), static_cast<float>(y), 0.05f), true)->label = 57;  // c + 1: COCO chair
+	const std::vector<std::string> names = readClassNames(std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/models/yolo-fastest-1.1/coco.names");
+	scene->insert(semanticOcTreeObject(tree, names));
+	ASSERT_TRUE(scene->saveToFile(d / "map.3Dscene"));
+
+	const cv::Vec3b label = labelColour(57);
+	auto count = [](const cv::Mat& img, const std::function<bool(const cv::Vec3b&)>& is)
+	{
+		std::size_t n = 0;
+		for (int y = 0; y < img.rows; y++)
+			for (int x = 0; x < img.cols; x++) n += is(img.at<cv::Vec3b>(y, x));
+		return n;
+	};
+	auto near = [](const cv::Vec3b& a, const cv::Vec3b& b, int tol) { return std::abs(a[0] - b[0]) <= tol && std::abs(a[1] - b[1]) <= tol && std::abs(a[2] - b[2]) <= tol; };
+	TRenderOptions o;
+	o.width = 400;
+	o.height = 300;
+	for (const double elevation : {35.0, 90.0})
+	{
+		SCOPED_TRACE(elevation);
+		o.elevationDeg = elevation;
+		renderSceneFileToPng(d / "map.3Dscene", d / "default.png", o);
+		const cv::Mat img = cv::imread(d / "default.png", cv::IMREAD_COLOR);
+		const std::size_t green = count(img, [](const cv::Vec3b& p) { return p[1] > 120 && p[0] < 80 && p[2] < 80; });
+		const std::size_t red = count(img, [](const cv::Vec3b& p) { return p[2] > 150 && p[1] < 90 && p[0] < 90; });
+		EXPECT_GT(green, static_cast<std::size_t>(img.total() / 4)) << "the cloud fills the picture (stray points aside), voxels hidden";
+		EXPECT_GT(red, 250u) << "the path is a visible line";
+		cv::Mat grey, diff;
+		cv::absdiff(img, cv::Scalar(255, 255, 255), diff);
+		cv::cvtColor(diff, grey, cv::COLOR_BGR2GRAY);
+		const cv::Rect r = cv::boundingRect(grey > 8);
+		EXPECT_GT(std::max(static_cast<double>(r.width) / img.cols, static_cast<double>(r.height) / img.rows), 0.85) << "framed to fill";
+	}
+	// The OctoMap shown: its legend (the label's swatch and name) in the top-left corner, from the
+	// side and from straight above.
+	o.hide = std::vector<std::string>{"dense_cloud", "map_points", "keyframe"};
+	for (const double elevation : {10.0, 90.0})
+	{
+		SCOPED_TRACE(elevation);
+		o.elevationDeg = elevation;
+		renderSceneFileToPng(d / "map.3Dscene", d / "octomap.png", o);
+		const cv::Mat img = cv::imread(d / "octomap.png", cv::IMREAD_COLOR);
+		const cv::Mat corner = img(cv::Rect(0, 0, img.cols / 4, img.rows / 8));
+		EXPECT_GT(count(corner, [&](const cv::Vec3b& p) { return near(p, label, 6); }), 20u) << "the legend's swatch";
+		EXPECT_GT(count(corner, [&](const cv::Vec3b& p) { return p[0] < 80 && p[1] < 80 && p[2] < 80; }), 30u) << "the legend's text";
+	}
 }

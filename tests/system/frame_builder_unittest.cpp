@@ -7,6 +7,7 @@
 #include <random>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/system/CFrameBuilder.h"
 

@@ -11,6 +11,7 @@
 #include "mrpt_yesslam/io/COniWriter.h"
 #include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
+#include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 
 using namespace yesslam_test;
@@ -270,4 +271,55 @@ TEST(LiveApp, AnOniHasTheInputsFrameRateAndOneDepthUnit)
 		},
 		{"units.oni", "one depth unit"});
 	EXPECT_FALSE(fs::exists(d / "units.oni"));
+}
+
+TEST(LiveApp, ARecordingIsPairedByTimeWhenAColourFrameIsMissingAndColourIsLate)
+{
+	// Issue 28 item 7: playing an .oni in order took one frame of each stream per request, so one
+	// colour frame missing (as cameras' recordings have) paired every later depth frame with the
+	// next moment's colour. Pairs are now made by time: frame k's depth encodes k, its colour too.
+	TempDir d("oni_pairing");
+	auto frames = makeSyntheticFrames(10, 64, 48);
+	writeTumFolder(d / "seq", frames);
+	{
+		mrpt_yesslam::COniWriter w(d / "gap.oni");
+		auto src = mrpt_yesslam::openInputSource(d / "seq", mrpt_yesslam::CInputSource::TOptions());
+		int k = 0;
+		while (auto obs = src->next())
+		{
+			obs->rangeImage.setConstant(static_cast<float>(0.5 + 0.1 * k) / obs->rangeUnits);
+			obs->intensityImage = mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * k)), mrpt::img::DEEP_COPY);
+			mrpt_yesslam::TOniStreams streams;
+			streams.colourDelay = 0.008;  // colour taken 8 ms after depth
+			streams.colour = k != 4;
+			w.write(*obs, streams);
+			k++;
+		}
+		w.finish();
+	}
+	for (const double speed : {-1.0, 1.0})  // in order (sequential runs), and at the recorded pace
+	{
+		SCOPED_TRACE(speed);
+		mrpt_yesslam::COpenNI2Source::TOptions so;
+		so.uri = d / "gap.oni";
+		so.camera = d / "seq/calibration.txt";
+		so.playbackSpeed = speed;
+		mrpt_yesslam::COpenNI2Source oni(so);
+		std::vector<int> seen;
+		while (auto f = oni.next())
+		{
+			const int fromDepth = static_cast<int>(std::lround((f->rangeImage(24, 32) * f->rangeUnits - 0.5) / 0.1));
+			const int fromColour = f->intensityImage.asCvMatRef().at<cv::Vec3b>(24, 32)[0] / 20;
+			EXPECT_EQ(fromDepth, fromColour) << "frame " << seen.size() << " pairs depth " << fromDepth << " with colour " << fromColour;
+			EXPECT_NEAR(mrpt_yesslam::observationTime(*f), frames[static_cast<std::size_t>(fromDepth)].tRgb, 0.01) << "the depth frame's time";
+			seen.push_back(fromDepth);
+		}
+		if (speed < 0)
+		{
+			EXPECT_EQ(seen, (std::vector<int>{0, 1, 2, 3, 5, 6, 7, 8, 9}));
+			EXPECT_EQ(oni.skipped(), 1u) << "frame 4's depth had no colour";
+		}
+		else
+			EXPECT_GE(seen.size(), 7u);
+	}
 }

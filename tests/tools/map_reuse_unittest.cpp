@@ -19,6 +19,7 @@
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/io/MapFile.h"
 #include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/util/BinaryIO.h"
 
 using namespace yesslam_test;
@@ -69,9 +70,9 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 	EXPECT_NE(mapped.out.find("map saved:"), std::string::npos) << mapped.out;
 	ASSERT_TRUE(fs::exists(d / "room.ysm"));
 
-	// The saved map loads into the same points and poses.
+	// The saved map loads into the same points and poses, placed by the export frame it keeps.
 	mrpt_yesslam::CSparseMap loaded;
-	mrpt_yesslam::loadMapFile(d / "room.ysm", loaded, 0);
+	const auto info = mrpt_yesslam::loadMapFile(d / "room.ysm", loaded, 0);
 	const auto kfTraj = mrpt_yesslam::readTumTrajectory(d / "map/keyframes.txt");
 	ASSERT_EQ(loaded.numKeyFrames(), kfTraj.size());
 	std::size_t k = 0;
@@ -79,7 +80,7 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 		if (!kp.bad)
 		{
 			const auto written = kfTraj[k++].asPose();
-			EXPECT_LT((written - kp.pose).norm(), 1e-6) << "keyframe " << kp.id;
+			EXPECT_LT((written - (info.worldFrame.worldFromMap + kp.pose)).norm(), 1e-6) << "keyframe " << kp.id;
 		}
 
 	const auto loc = secondPass({"--out", d / "loc", "--load-map", d / "room.ysm", "--localize-only", "--save-map", d / "again.ysm"});
@@ -111,9 +112,15 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 
 	// In the saved map's frame: the first pass's first camera pose is the map's origin, and both
 	// passes' ground truths are in the same room frame, so without any alignment the second pass's
-	// poses must be T_first0^-1 T_second(t).
+	// poses must be T_world_map T_first0^-1 T_second(t), with the export frame (T_world_map) the
+	// first pass wrote and saved with the map: the second pass exports in it too (issue 30 item 4).
 	const auto gt1 = mrpt_yesslam::readTumTrajectory(first + "/groundtruth.txt");
 	const auto gt2 = mrpt_yesslam::readTumTrajectory(second + "/groundtruth.txt");
+	const auto worldFromMap = mrpt_yesslam::readWorldFromMap(d / "map/trajectory.txt");
+	ASSERT_TRUE(worldFromMap.has_value());
+	const auto locFrame = mrpt_yesslam::readWorldFromMap(d / "loc/trajectory.txt");
+	ASSERT_TRUE(locFrame.has_value());
+	EXPECT_LT((locFrame->asVectorVal() - worldFromMap->asVectorVal()).norm(), 1e-8) << "the loaded map's export frame is kept";
 	const auto origin = gt1.front().asPose();
 	auto errorInMapFrame = [&](const std::string& trajectory)
 	{
@@ -124,7 +131,7 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 			for (const auto& g : gt2)
 				if (std::abs(g.t - e.t) < 1e-4)
 				{
-					const auto expected = g.asPose() - origin;
+					const auto expected = *worldFromMap + (g.asPose() - origin);
 					const auto got = e.asPose();
 					sum += std::pow(got.x() - expected.x(), 2) + std::pow(got.y() - expected.y(), 2) + std::pow(got.z() - expected.z(), 2);
 					used++;

@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 #include <sstream>
+
+#include <octomap/OcTree.h>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/dense/DenseMapExport.h"
@@ -312,6 +315,61 @@ TEST(Tools, ThePaperConfigurationRunsThePapersPipelineAsWritten)
 						  "semanticRefRatio = 1", "etaAsWritten = true", "normaliseBow = false", "seeThroughFrames = 0", "depthNoise = 0"})
 		EXPECT_NE(used.find(std::string("\n") + k + "\n"), std::string::npos) << k;
 	EXPECT_EQ(used.find("depthNoise = 0.0025"), std::string::npos) << "eq. 7 and eq. 24 without the depth term";
+}
+
+TEST(Tools, OutputsAreZUpLevelledByTheFloorAndOpticalKeepsTheFirstCamerasFrame)
+{
+	// Issue 30 item 4: yesslam-sim's ground truth is z-up with the floor at z = 0, so a levelled
+	// export puts every camera at its true height with its true tilt (the heading and the
+	// horizontal origin are the first camera's, so only z and the up axis are compared). Before,
+	// every output was in the first camera's optical frame: z forward, the floor a wall.
+	TempDir d("world_frame");
+	const std::string seq = walkingSequence60();
+	const auto r = runTool("yesslam", {"--input", seq, "--out", d / "run", "--sequential", "--quiet"});
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	const std::string head = readText(d / "run/trajectory.txt");
+	EXPECT_NE(head.find("# world frame: zup (x forward, y left, z up), levelled by the floor plane: floor at z = 0"), std::string::npos) << head.substr(0, 400);
+	EXPECT_NE(head.find("# T_world_map: "), std::string::npos);
+	const auto est = mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt");
+	const auto gt = mrpt_yesslam::readTumTrajectory(seq + "/groundtruth.txt");
+	std::map<long long, mrpt::poses::CPose3D> truth;
+	for (const auto& p : gt) truth[std::llround(p.t * 1000)] = p.asPose();
+	std::size_t n = 0;
+	double worstZ = 0, worstTilt = 0;
+	for (const auto& e : est)
+	{
+		const auto it = truth.find(std::llround(e.t * 1000));
+		if (it == truth.end()) continue;
+		// Copies: asEigen() of a temporary is a view of memory gone at the end of the statement.
+		const Eigen::Matrix3d a = e.asPose().getRotationMatrix().asEigen(), b = it->second.getRotationMatrix().asEigen();
+		worstZ = std::max(worstZ, std::abs(e.tz - it->second.z()));
+		worstTilt = std::max(worstTilt, mrpt::RAD2DEG(std::acos(std::clamp(a.row(2).dot(b.row(2)), -1.0, 1.0))));
+		n++;
+	}
+	EXPECT_EQ(n, 60u);
+	EXPECT_LT(worstZ, 0.03) << "camera height above the floor, m";
+	EXPECT_LT(worstTilt, 1.5) << "degrees between the estimated and the true up axis in the camera";
+	// The OctoMap navigation stacks read: the floor is a layer at z = 0, nothing occupied under it.
+	octomap::OcTree bt(d / "run/map.bt");
+	std::size_t occupied = 0, floor = 0, under = 0;
+	for (auto it = bt.begin_leafs(), end = bt.end_leafs(); it != end; ++it)
+		if (bt.isNodeOccupied(*it))
+		{
+			occupied++;
+			floor += std::abs(it.getZ()) < 0.05;
+			under += it.getZ() < -0.1;
+		}
+	EXPECT_GT(floor, occupied / 10) << occupied << " occupied";
+	EXPECT_LT(under, occupied / 100 + 1) << occupied << " occupied";
+
+	// optical: today's frame, the first keyframe's camera at the origin.
+	const auto o = runTool("yesslam", {"--input", seq, "--out", d / "optical", "--sequential", "--quiet", "--no-dense-map", "--world-frame", "optical"});
+	ASSERT_EQ(o.exitCode, 0) << o.err;
+	EXPECT_NE(readText(d / "optical/trajectory.txt").find("# world frame: optical"), std::string::npos);
+	const auto first = mrpt_yesslam::readTumTrajectory(d / "optical/trajectory.txt").at(0);
+	EXPECT_NEAR(std::abs(first.qw), 1.0, 1e-9);
+	EXPECT_NEAR(std::hypot(first.tx, first.ty, first.tz), 0.0, 1e-9);
+	expectCleanFailure(runTool("yesslam", {"--input", seq, "--out", d / "x", "--world-frame", "enu"}), {"--world-frame", "enu"});
 }
 
 TEST(Tools, SlamAppOnRealFramesAndItsErrors)

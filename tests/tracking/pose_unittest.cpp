@@ -8,7 +8,7 @@
 #include <random>
 
 #include "mrpt_yesslam/io/RgbdCamera.h"
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 using namespace mrpt_yesslam;
 

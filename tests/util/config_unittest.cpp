@@ -8,7 +8,7 @@
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
 #include "mrpt_yesslam/system/CYesSlamSystem.h"
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 

@@ -316,7 +316,7 @@ std::size_t CDenseSemanticMapper::numStoredPoints() const
 	return n;
 }
 
-std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const
+std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf, std::size_t step) const
 {
 	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds;
 	{
@@ -327,7 +327,11 @@ std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<m
 	for (const auto& [id, c] : clouds)
 	{
 		const auto T = poseOf(id);
-		for (const auto& p : c->points) out.push_back(transform(T, cv::Point3f(p.x, p.y, p.z) * static_cast<float>(unit_)));
+		for (std::size_t i = 0; i < c->points.size(); i += std::max<std::size_t>(step, 1))
+		{
+			const auto& p = c->points[i];
+			out.push_back(transform(T, cv::Point3f(p.x, p.y, p.z) * static_cast<float>(unit_)));
+		}
 	}
 	return out;
 }

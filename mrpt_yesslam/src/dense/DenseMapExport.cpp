@@ -2,7 +2,6 @@
 
 #include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/CText.h>
-#include <mrpt/opengl/CBox.h>
 
 #include <cstring>
 #include <fstream>
@@ -151,27 +150,24 @@ mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tre
 	vox->setBoundingBox({minx, miny, minz}, {maxx, maxy, maxz});
 	set->insert(vox);
 	if (!byLabel) return set;
-	// The legend: a cube of each label's colour and its name, stacked beside the map's +x side,
-	// the most frequent label first.
+	// The legend: each label's name and voxel count in its colour, the most frequent first, kept as
+	// data (a hidden set named "legend") that yesslam-render draws as an overlay on the picture;
+	// placed in 3D beside the map it was edge-on, tiny or out of the picture from most viewpoints.
 	std::vector<std::pair<std::size_t, TSemLabel>> order;
 	for (const auto& [l, n] : present) order.emplace_back(n, l);
 	std::sort(order.rbegin(), order.rend());
-	const double side = std::max(0.08, 0.025 * std::max({maxx - minx, maxy - miny, maxz - minz}));
-	double z = maxz;
+	auto legend = mrpt::opengl::CSetOfObjects::Create();
+	legend->setName("legend");
+	legend->setVisibility(false);
 	for (const auto& [n, l] : order)
 	{
 		const cv::Vec3b col = labelColour(l);
-		auto box = mrpt::opengl::CBox::Create(mrpt::math::TPoint3D(0, 0, 0), mrpt::math::TPoint3D(side, side, side));
-		box->setLocation(maxx + 2 * side, miny, z);
-		box->setColor_u8(col[2], col[1], col[0]);
-		box->setName("legend_" + labelName(l, names));
-		set->insert(box);
 		auto text = mrpt::opengl::CText::Create(labelName(l, names) + " (" + std::to_string(n) + ")");
-		text->setLocation(maxx + 3.5 * side, miny, z);
+		text->setName("legend_" + labelName(l, names));
 		text->setColor_u8(col[2], col[1], col[0]);
-		set->insert(text);
-		z -= 3 * side;	// CText has a fixed size in pixels: room for it at the usual distances
+		legend->insert(text);
 	}
+	set->insert(legend);
 	return set;
 }
 }  // namespace mrpt_yesslam

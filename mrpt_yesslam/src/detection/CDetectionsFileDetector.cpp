@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ShareDir.h"

@@ -13,7 +13,7 @@
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
 #include "mrpt_yesslam/detection/CHogPeopleDetector.h"
 #include "mrpt_yesslam/detection/CYoloDnnDetector.h"
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

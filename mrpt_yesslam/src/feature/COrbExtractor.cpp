@@ -23,8 +23,6 @@ COptionTable COrbExtractor::TOptions::table()
 	return t;
 }
 
-std::size_t TFeatures::numStatic() const { return static_cast<std::size_t>(std::count(dynamic.begin(), dynamic.end(), false)); }
-
 COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 {
 	if (o.numFeatures < 10) throw InputError("", "[ORB] numFeatures must be at least 10");

@@ -48,13 +48,15 @@ void CLiveSource::captureLoop()
 		while (!stop_)
 		{
 			auto obs = source_->next();
+			unpaired_ = source_->skipped();	 // the source is read on this thread only
 			if (!obs) break;
 			if (onCaptured_) onCaptured_(obs);
 			std::unique_lock<std::mutex> lk(mtx_);
 			const double now = steadySeconds();
 			if (firstCapture_ < 0) firstCapture_ = now;
 			lastCapture_ = now;
-			captured_++;
+			// Counted once its fate is known, so that captured = delivered + dropped + waiting
+			// holds whenever stats() looks (a frame blocked on a full slot is not yet captured).
 			if (drop_)
 			{
 				while (waiting_.size() >= slots_)
@@ -65,7 +67,12 @@ void CLiveSource::captureLoop()
 			}
 			else
 				space_.wait(lk, [&] { return waiting_.size() < slots_ || stop_; });
-			if (stop_) break;
+			captured_++;
+			if (stop_)
+			{
+				dropped_++;	 // captured while the run stopped: never delivered
+				break;
+			}
 			waiting_.push_back(std::move(obs));
 			ready_.notify_all();
 		}
@@ -89,6 +96,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr CLiveSource::next()
 	{
 		auto obs = std::move(waiting_.front());
 		waiting_.pop_front();
+		taken_++;
 		space_.notify_all();
 		return obs;
 	}
@@ -107,7 +115,10 @@ TLiveStats CLiveSource::stats() const
 	std::lock_guard<std::mutex> lk(mtx_);
 	TLiveStats s;
 	s.captured = captured_;
+	s.delivered = taken_;
 	s.dropped = dropped_;
+	s.waiting = waiting_.size();
+	s.unpaired = unpaired_;
 	if (captured_ > 1 && lastCapture_ > firstCapture_) s.captureFps = static_cast<double>(captured_ - 1) / (lastCapture_ - firstCapture_);
 	return s;
 }

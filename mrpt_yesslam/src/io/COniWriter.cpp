@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "mrpt_yesslam/io/RgbdObservation.h"
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -196,8 +196,10 @@ void COniWriter::start(const mrpt::obs::CObservation3DRangeScan& first)
 	started_ = true;
 }
 
-void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs)
+void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs, const TOniStreams& streams)
 {
+	if (!streams.depth && !streams.colour) return;
+	if (!(streams.colourDelay >= 0 && streams.colourDelay < 1)) throw InputError(path_, "colour delay must be in [0, 1) s");
 	validateRgbdObservation(obs, path_);
 	if (!started_)
 	{
@@ -215,7 +217,9 @@ void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs)
 	const double t = observationTime(obs);
 	if (!(t >= 0)) throw InputError(path_, "frame " + std::to_string(frames_) + " has a negative time");
 	const std::uint64_t stamp = static_cast<std::uint64_t>(std::llround(t * 1e6));
-	if (!depth_.stamps.empty() && stamp <= depth_.stamps.back())
+	const std::uint64_t colourStamp = stamp + static_cast<std::uint64_t>(std::llround(streams.colourDelay * 1e6));
+	if ((streams.depth && !depth_.stamps.empty() && stamp <= depth_.stamps.back()) ||
+		(streams.colour && !color_.stamps.empty() && colourStamp <= color_.stamps.back()))
 		throw InputError(path_, "frame " + std::to_string(frames_) + " is not later than the one before (OpenNI2 plays frames in time order)");
 
 	depthBuf_.resize(static_cast<std::size_t>(width_) * height_);
@@ -238,14 +242,15 @@ void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs)
 		cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
 	else
 		cv::cvtColor(bgr, rgb, cv::COLOR_GRAY2RGB);
-	newData(depth_, stamp, depthBuf_.data(), depthBuf_.size() * 2);
-	newData(color_, stamp, rgb.data, rgb.total() * 3);
+	if (streams.depth) newData(depth_, stamp, depthBuf_.data(), depthBuf_.size() * 2);
+	if (streams.colour) newData(color_, colourStamp, rgb.data, rgb.total() * 3);
 	frames_++;
 }
 
 std::uintmax_t COniWriter::finish()
 {
 	if (frames_ == 0) throw InputError(path_, "no frame to write");
+	if (depth_.stamps.empty() || color_.stamps.empty()) throw InputError(path_, "no frame of one of the streams (depth and colour are both needed)");
 	for (TNode* n : {&depth_, &color_})
 	{
 		writeRecord(kNodeRemoved, n->id, n->addedPos, {}, nullptr, 0);
@@ -284,7 +289,7 @@ std::uintmax_t COniWriter::finish()
 	// The header's largest time stamp (after the magic and the 8-byte version).
 	out_.seekp(12);
 	TBytes maxT;
-	maxT.put(depth_.stamps.back());
+	maxT.put(std::max(depth_.stamps.back(), color_.stamps.back()));
 	out_.write(maxT.b.data(), 8);
 	out_.close();
 	if (!out_) throw InputError(path_, "write failed (disk full?)");

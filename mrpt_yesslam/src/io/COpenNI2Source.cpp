@@ -123,6 +123,21 @@ void chooseMode(openni::VideoStream& s, int w, int h, int fps, bool depth, const
 }
 }  // namespace
 
+double CDeviceClock::toHost(std::uint64_t deviceMicros, double hostNow)
+{
+	// Re-anchored when the device clock runs backwards (a reset, a reconnect) or stands still
+	// more than a minute behind the host (a suspended device).
+	const double sinceAnchor = (static_cast<double>(deviceMicros) - static_cast<double>(deviceAnchor_)) * 1e-6;
+	if (!anchored_ || deviceMicros < deviceAnchor_ || hostNow - (hostAnchor_ + sinceAnchor) > 60)
+	{
+		anchored_ = true;
+		deviceAnchor_ = deviceMicros;
+		hostAnchor_ = hostNow;
+		return hostNow;
+	}
+	return hostAnchor_ + sinceAnchor;
+}
+
 struct COpenNI2Source::TImpl
 {
 	std::unique_ptr<CShortLink> link;	//!< declared first: outlives the device that reads through it
@@ -265,25 +280,39 @@ mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
 	if (ended_) return nullptr;
 	auto& I = *impl_;
 	const bool file = isFile();
-	if (file && I.depthFrames > 0 && I.depthRead >= I.depthFrames)
+	// A file whose streams are read to the end has no pair left (OpenNI2's player would wait).
+	const auto exhausted = [&](bool depth)
+	{
+		return file && (depth ? I.depthFrames > 0 && I.depthRead >= I.depthFrames && !I.lastDepth.isValid()
+							  : I.colorFrames > 0 && I.colorRead >= I.colorFrames && !I.lastColor.isValid());
+	};
+	if (exhausted(true) || exhausted(false))
 	{
 		ended_ = true;
 		return nullptr;
 	}
-	// Read until a depth frame and a colour frame of the same moment are at hand (OpenNI2's
-	// depth-colour sync gives matching timestamps; a file written by yesslam-oni has equal ones).
+	// Read until a depth frame and a colour frame of the same moment are at hand: their times
+	// within half a frame period (OpenNI2's depth-colour sync gives close times; a file written by
+	// yesslam-oni equal ones; a camera's recording may hold a frame of one stream only). The older
+	// of two frames too far apart can have no partner any more: it is counted (skipped()) and the
+	// next frame of its stream read.
+	const double halfPeriod = 0.5e6 / std::max(1, I.depth.getVideoMode().getFps());  // us
 	for (;;)
 	{
 		if (I.manual)
 		{
-			// One frame of each stream per request: nothing is skipped.
-			if (I.depth.readFrame(&I.lastDepth) != openni::STATUS_OK || I.color.readFrame(&I.lastColor) != openni::STATUS_OK)
+			// One frame per request from each stream that needs one: nothing is skipped unread.
+			for (const bool depth : {true, false})
 			{
-				ended_ = true;
-				return nullptr;
+				openni::VideoFrameRef& slot = depth ? I.lastDepth : I.lastColor;
+				if (slot.isValid()) continue;
+				if (exhausted(depth) || (depth ? I.depth : I.color).readFrame(&slot) != openni::STATUS_OK)
+				{
+					ended_ = true;
+					return nullptr;
+				}
+				(depth ? I.depthRead : I.colorRead)++;
 			}
-			I.depthRead++;
-			I.colorRead++;
 		}
 		else
 		{
@@ -296,22 +325,21 @@ mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
 				disconnected_ = !file;
 				return nullptr;
 			}
-			if (ready == 0)
-			{
-				I.depth.readFrame(&I.lastDepth);
-				I.depthRead++;
-			}
-			else
-			{
-				I.color.readFrame(&I.lastColor);
-				I.colorRead++;
-			}
-			if (!I.lastDepth.isValid() || !I.lastColor.isValid()) continue;
-			const double dt = std::abs(static_cast<double>(I.lastDepth.getTimestamp()) - static_cast<double>(I.lastColor.getTimestamp())) * 1e-6;
-			const double fps = std::max(1, I.depth.getVideoMode().getFps());
-			if (dt > 0.5 / fps) continue;
+			openni::VideoFrameRef& slot = ready == 0 ? I.lastDepth : I.lastColor;
+			if (slot.isValid()) unpaired_++;  // replaced before a partner came
+			(ready == 0 ? I.depth : I.color).readFrame(&slot);
+			(ready == 0 ? I.depthRead : I.colorRead)++;
 		}
-		break;
+		if (!I.lastDepth.isValid() || !I.lastColor.isValid()) continue;
+		const double td = static_cast<double>(I.lastDepth.getTimestamp()), tc = static_cast<double>(I.lastColor.getTimestamp());
+		if (std::abs(td - tc) <= halfPeriod) break;
+		unpaired_++;
+		(td < tc ? I.lastDepth : I.lastColor).release();
+		if (exhausted(true) || exhausted(false))
+		{
+			ended_ = true;
+			return nullptr;
+		}
 	}
 	const openni::VideoFrameRef& d = I.lastDepth;
 	const openni::VideoFrameRef& c = I.lastColor;
@@ -319,11 +347,12 @@ mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
 	const cv::Mat rgb(c.getHeight(), c.getWidth(), CV_8UC3, const_cast<void*>(c.getData()), static_cast<std::size_t>(c.getStrideInBytes()));
 	cv::Mat bgr;
 	cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-	// A device's timestamps count from its own start: frames get the host's clock. A recording
-	// keeps the times it holds (yesslam-oni writes the source's Unix times, so ground truth and
-	// detection files still match).
+	// A device's timestamps count from its own start: they are mapped once onto the host's clock
+	// (CDeviceClock), so frames keep the device's spacing, not the jitter of their arrival. A
+	// recording keeps the times it holds (yesslam-oni writes the source's Unix times, so ground
+	// truth and detection files still match).
 	const double t = file ? static_cast<double>(d.getTimestamp()) * 1e-6
-						  : std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+						  : clock_.toHost(d.getTimestamp(), std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
 	auto obs = makeRgbdObservation(t, bgr, depth16.clone(), camera_, "OPENNI2");
 	// Each pair is used once.
 	I.lastDepth.release();

@@ -7,7 +7,7 @@
 
 #include "mrpt_yesslam/io/Association.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace fs = std::filesystem;

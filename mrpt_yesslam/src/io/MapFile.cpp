@@ -1,5 +1,8 @@
 #include "mrpt_yesslam/io/MapFile.h"
 
+#include <Eigen/Dense>
+
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -23,7 +26,8 @@ std::string hex(std::uint64_t v)
 }
 }  // namespace
 
-void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree)
+void saveMapFile(
+	const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree, const TWorldFrame& frame)
 {
 	std::ostringstream o(std::ios::binary);
 	o.write(kMagic, 8);
@@ -42,6 +46,15 @@ void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t v
 	binio::put<double>(o, octree ? octree->getOccupancyThres() : 0.0);
 	binio::put<std::uint64_t>(o, ot.size());
 	o.write(ot.data(), static_cast<std::streamsize>(ot.size()));
+	// Version 2: the export frame (kind, how it was levelled, T_world_map as its rotation matrix row
+	// by row and its translation: read back exactly, so that a map saved again keeps its bytes).
+	binio::put<std::uint8_t>(o, frame.kind == TWorldFrame::EKind::ZUp ? 1 : 0);
+	binio::put<std::uint8_t>(o, frame.floorSeen ? 1 : 0);
+	binio::put<double>(o, frame.cameraHeight);
+	const auto R = frame.worldFromMap.getRotationMatrix();
+	for (int r = 0; r < 3; r++)
+		for (int c = 0; c < 3; c++) binio::put<double>(o, R(r, c));
+	for (double v : {frame.worldFromMap.x(), frame.worldFromMap.y(), frame.worldFromMap.z()}) binio::put<double>(o, v);
 	std::string buf = std::move(o).str();
 	const std::uint64_t sum = binio::checksum(buf.data(), buf.size());
 	buf.append(reinterpret_cast<const char*>(&sum), 8);
@@ -93,6 +106,28 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 			tree = CSemanticOcTree::read(os, "its semantic octree");
 			if (!(threshold > 0 && threshold < 1)) throw std::runtime_error("occupancy threshold out of (0, 1)");
 			tree->setOccupancyThres(threshold);
+		}
+		if (info.version >= 2)
+		{
+			const auto kind = binio::get<std::uint8_t>(in, "the export frame's kind");
+			const auto floor = binio::get<std::uint8_t>(in, "the export frame's levelling");
+			if (kind > 1 || floor > 1) throw std::runtime_error("unknown export frame kind");
+			info.worldFrame.kind = kind ? TWorldFrame::EKind::ZUp : TWorldFrame::EKind::Optical;
+			info.worldFrame.floorSeen = floor == 1;
+			info.worldFrame.cameraHeight = binio::get<double>(in, "the first camera's height");
+			double v[12];
+			for (double& x : v)
+			{
+				x = binio::get<double>(in, "the export frame's T_world_map");
+				if (!std::isfinite(x)) throw std::runtime_error("export frame is not finite");
+			}
+			mrpt::math::CMatrixDouble33 R;
+			mrpt::math::CVectorFixedDouble<3> t;
+			for (int k = 0; k < 9; k++) R(k / 3, k % 3) = v[k];
+			for (int k = 0; k < 3; k++) t[k] = v[9 + k];
+			if ((R.asEigen() * R.asEigen().transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.asEigen().determinant() < 0)
+				throw std::runtime_error("export frame's rotation is not a rotation");
+			info.worldFrame.worldFromMap = mrpt::poses::CPose3D(R, t);
 		}
 	}
 	catch (const std::exception& e)

@@ -7,7 +7,7 @@
 
 namespace mrpt_yesslam
 {
-TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames)
+TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames, const mrpt::poses::CPose3D& worldFromMap)
 {
 	TMapSummary s;
 	std::map<int, std::size_t> seen;
@@ -39,10 +39,11 @@ TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& 
 	for (const auto& p : map.points())
 	{
 		s.points++;
+		const auto w = worldFromMap.composePoint(p.position);
 		for (int a = 0; a < 3; a++)
 		{
-			s.min[a] = std::min(s.min[a], p.position[a]);
-			s.max[a] = std::max(s.max[a], p.position[a]);
+			s.min[a] = std::min(s.min[a], w[a]);
+			s.max[a] = std::max(s.max[a], w[a]);
 		}
 	}
 	if (!s.points) s.min = s.max = {0, 0, 0};
@@ -76,12 +77,13 @@ std::string formatMapSummary(const TMapSummary& s)
 	return out;
 }
 
-TDenseCloud mapPointCloud(const CSparseMap& map)
+TDenseCloud mapPointCloud(const CSparseMap& map, const mrpt::poses::CPose3D& worldFromMap)
 {
 	TDenseCloud c;
 	for (const auto& p : map.points())
 	{
-		c.xyz.emplace_back(static_cast<float>(p.position.x), static_cast<float>(p.position.y), static_cast<float>(p.position.z));
+		const auto w = worldFromMap.composePoint(p.position);
+		c.xyz.emplace_back(static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z));
 		c.bgr.push_back(p.color);
 		c.label.push_back(0);
 		c.labelProb.push_back(0.f);
@@ -90,15 +92,19 @@ TDenseCloud mapPointCloud(const CSparseMap& map)
 	return c;
 }
 
-std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution)
+std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution, const mrpt::poses::CPose3D& worldFromMap)
 {
 	auto tree = std::make_unique<CSemanticOcTree>(resolution);
 	for (const TKeyFrameId id : map.keyFrameIds())
 	{
 		const TLocalMapPoints pts = map.keyFramePoints(id);
-		const auto pose = map.keyFramePose(id);
+		const auto pose = worldFromMap + map.keyFramePose(id);
 		octomap::Pointcloud cloud;
-		for (const auto& p : pts.positions) cloud.push_back(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+		for (const auto& q : pts.positions)
+		{
+			const auto p = worldFromMap.composePoint(q);
+			cloud.push_back(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+		}
 		tree->insertPointCloud(cloud, octomap::point3d(static_cast<float>(pose.x()), static_cast<float>(pose.y()), static_cast<float>(pose.z())));
 	}
 	tree->updateInnerOccupancy();

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <regex>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

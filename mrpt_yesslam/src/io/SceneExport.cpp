@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mrpt_yesslam/eval/TrajectoryEvaluator.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"

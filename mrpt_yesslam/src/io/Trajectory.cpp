@@ -8,8 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -20,6 +21,16 @@ mrpt::poses::CPose3D TStampedPose::asPose() const
 	const double n = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
 	const mrpt::math::CQuaternionDouble q(qw / n, qx / n, qy / n, qz / n);
 	return mrpt::poses::CPose3D(q, tx, ty, tz);
+}
+
+TTrajectory uniqueSortedByTime(const TTrajectory& traj)
+{
+	std::map<double, TStampedPose> m;
+	for (const auto& p : traj) m[p.t] = p;	// later lines win, like a Python dict
+	TTrajectory out;
+	out.reserve(m.size());
+	for (const auto& kv : m) out.push_back(kv.second);
+	return out;
 }
 
 void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked)

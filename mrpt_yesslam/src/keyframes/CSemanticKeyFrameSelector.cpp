@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "mrpt_yesslam/eval/TrajectoryEvaluator.h"
+#include "mrpt_yesslam/geometry/Alignment.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

@@ -5,7 +5,7 @@
 
 #include <array>
 
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 namespace mrpt_yesslam
 {

@@ -7,7 +7,7 @@
 
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/mapping/BundleCosts.h"
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 namespace mrpt_yesslam
 {

@@ -21,7 +21,7 @@
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include "mrpt_yesslam/sim/SimTextures.h"

@@ -27,6 +27,10 @@ COptionTable TYesSlamOptions::TSystem::table()
 	t.flag("asyncDetection", asyncDetection, "detect on a worker thread while ORB features are extracted");
 	t.count("mappingQueue", mappingQueue, 1, 10000, "parallel: keyframes waiting for local mapping before tracking waits");
 	t.flag("localizeOnly", localizeOnly, "localisation in a loaded map only (yesslam --load-map): no keyframes, the map is not changed");
+	t.text(
+		"worldFrame", worldFrame,
+		"frame of every export: zup (x forward, y left, z up; floor at z = 0 when seen) or optical (the first keyframe's camera: x right, y down, z forward); a loaded map keeps its own",
+		{"zup", "optical"});
 	return t;
 }
 
@@ -180,7 +184,35 @@ void CYesSlamSystem::denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const T
 TDenseMap CYesSlamSystem::buildDenseMap() const
 {
 	if (!dense_) throw std::logic_error("dense mapping is off ([DenseMapping] enabled = false)");
-	return dense_->build([this](TKeyFrameId id) { return map_.keyFramePose(id); });
+	const mrpt::poses::CPose3D worldFromMap = worldFrame().worldFromMap;
+	return dense_->build([&](TKeyFrameId id) { return worldFromMap + map_.keyFramePose(id); });
+}
+
+TWorldFrame CYesSlamSystem::worldFrame() const
+{
+	std::lock_guard<std::mutex> lk(worldFrameMtx_);
+	if (worldFrame_) return *worldFrame_;
+	TWorldFrame f;
+	if (opts_.system.worldFrame == "zup")
+	{
+		// The first keyframe's camera (the map's origin unless a correction moved it).
+		mrpt::poses::CPose3D first;
+		std::optional<TKeyFrameId> firstId;
+		for (const auto& k : map_.keyFramePoses())
+			if (!firstId || k.id < *firstId) firstId = k.id, first = k.pose;
+		// The dense clouds see the floor far better than the sparse points (textured spots only).
+		std::vector<mrpt::math::TPoint3D> pts;
+		if (dense_ && dense_->numKeyFrames() > 0)
+		{
+			const std::size_t step = std::max<std::size_t>(1, dense_->numStoredPoints() / 200000);
+			for (const auto& p : dense_->worldPoints([this](TKeyFrameId id) { return map_.keyFramePose(id); }, step)) pts.emplace_back(p.x, p.y, p.z);
+		}
+		else
+			for (const auto& p : map_.points()) pts.push_back(p.position);
+		f = estimateZUpWorldFrame(pts, first);
+	}
+	worldFrame_ = f;
+	return f;
 }
 
 void CYesSlamSystem::runGlobalBundle()
@@ -590,12 +622,17 @@ void CYesSlamSystem::loadMap(const std::string& path)
 {
 	if (nextFrameId_ > 0) throw std::logic_error("CYesSlamSystem::loadMap after the first frame");
 	std::unique_ptr<CSemanticOcTree> octree;
-	loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, &octree);
+	const TMapFileInfo info = loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, &octree);
 	// The saved semantic OctoMap is where this run's dense map starts: the map stays up to date
 	// from one run to the next instead of holding only what this run saw. A run without a dense
 	// map (localisation only) keeps it as it is, so that saving the map again keeps it too.
 	if (dense_ && octree) dense_->setPrior(*octree);
 	if (!dense_) loadedOctree_ = std::move(octree);
+	// The saved octree is in the frame the map was exported in: this run's exports stay in it.
+	{
+		std::lock_guard<std::mutex> lk(worldFrameMtx_);
+		worldFrame_ = info.worldFrame;
+	}
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
 	if (loopDetector_)
 	{
@@ -607,7 +644,7 @@ void CYesSlamSystem::loadMap(const std::string& path)
 
 void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* octree) const
 {
-	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get());
+	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get(), worldFrame());
 }
 
 std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const

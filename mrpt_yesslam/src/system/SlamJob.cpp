@@ -18,8 +18,9 @@
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
 #include "mrpt_yesslam/io/SceneExport.h"
-#include "mrpt_yesslam/io/SlamExport.h"
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/system/SlamExport.h"
+#include "mrpt_yesslam/util/TextParsing.h"
+#include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -163,10 +164,13 @@ void writeOutputs(
 	{
 		std::string head = std::string("{\n  \"complete\": ") + (reason.empty() ? "true" : "false") + ",\n";
 		if (!reason.empty()) head += "  \"stop_reason\": \"" + jsonEscape(reason) + "\",\n";
-		char buf[256];
+		char buf[512];
 		std::snprintf(
-			buf, sizeof(buf), "  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"dropped_frames\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu",
-			in.live ? "true" : "false", in.stats.captured, in.stats.dropped, in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded);
+			buf, sizeof(buf),
+			"  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"delivered_frames\": %zu, \"dropped_frames\": %zu, \"waiting_frames\": %zu, "
+			"\"unpaired_frames\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu",
+			in.live ? "true" : "false", in.stats.captured, in.stats.delivered, in.stats.dropped, in.stats.waiting, in.stats.unpaired, in.stats.captureFps,
+			in.disconnected ? "true" : "false", in.recorded);
 		head += buf;
 		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
 		return head + body.substr(body.find('\n') + 1);
@@ -175,15 +179,18 @@ void writeOutputs(
 	// the map file, the scene) never costs the trajectory or the statistics; each file is written
 	// atomically, and after a second Ctrl-C the files not yet begun are skipped and stats.json says
 	// which (issue 30: a second Ctrl-C used to leave only the two trajectories).
-	const TTrajectory trajectory = sys.trajectory();
+	// Every export in the run's world frame (z-up by default, issue 30), found once here.
+	const TWorldFrame world = sys.worldFrame();
+	const std::string frameNote = "\n" + world.describe();
+	const TTrajectory trajectory = toWorldFrame(sys.trajectory(), world.worldFromMap);
 	writeTumTrajectory(
 		(d / "trajectory.txt").string(), trajectory,
-		"camera pose (T_w_c) of every frame that has one, world = first keyframe; after the run: keyframes optimised, lost frames "
-		"between tracked ones filled in (frames.csv column pose says which)");
+		"camera pose (T_w_c) of every frame that has one; after the run: keyframes optimised, lost frames between tracked ones "
+		"filled in (frames.csv column pose says which)" + frameNote);
 	writeTumTrajectory(
-		(d / "trajectory_online.txt").string(), sys.onlineTrajectory(),
-		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted), world = first keyframe");
-	writeTumTrajectory((d / "keyframes.txt").string(), sys.keyFrameTrajectory(), "keyframe poses (T_w_c)");
+		(d / "trajectory_online.txt").string(), toWorldFrame(sys.onlineTrajectory(), world.worldFromMap),
+		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted)" + frameNote);
+	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap), "keyframe poses (T_w_c)" + frameNote);
 	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
 	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
 	writeFileAtomically((d / "stats.json").string(), statsJson(stop));
@@ -237,7 +244,7 @@ void writeOutputs(
 	}
 	if (go("map.3Dscene"))
 	{
-		auto scene = buildMapScene(sys.map(), trajectory);
+		auto scene = buildMapScene(sys.map(), trajectory, world.worldFromMap);
 		if (dense)
 		{
 			const auto& names = sys.detector()->classNames();

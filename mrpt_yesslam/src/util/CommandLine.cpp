@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

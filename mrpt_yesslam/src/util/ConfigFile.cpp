@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "mrpt_yesslam/feature/COrbExtractor.h"
+#include "mrpt_yesslam/data/TFeatures.h"
 #include "mrpt_yesslam/types.h"
 
 namespace mrpt_yesslam

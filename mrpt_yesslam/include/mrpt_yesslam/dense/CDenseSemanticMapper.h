@@ -148,8 +148,9 @@ class CDenseSemanticMapper
 	void setPrior(const CSemanticOcTree& tree);
 	/** The fused, filtered cloud and the octree, with each keyframe placed by `poseOf(id)` (T_w_c). */
 	TDenseMap build(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
-	/** Only the world cloud of every keyframe, unfused (for tests of re-placing). */
-	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
+	/** Only the world cloud of every keyframe, unfused (tests of re-placing; every `step`-th point
+	 * for finding the floor). */
+	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf, std::size_t step = 1) const;
 
 	std::size_t numKeyFrames() const;
 	/** Stored points over all keyframes (memory: 12 bytes each, storedBytes()). */

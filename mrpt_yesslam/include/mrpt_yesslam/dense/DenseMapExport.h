@@ -25,7 +25,8 @@ void writeSemanticOcTree(const std::string& path, const CSemanticOcTree& tree);
 void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree);
 
 /** The occupied leaves as MRPT voxels coloured by label (or by colour with `byLabel` false), with
- * a legend of the labels present beside the map; named "octomap". */
+ * the legend of the labels present as a hidden set "legend" of coloured texts (yesslam-render
+ * draws it over the picture); named "octomap". */
 mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree, const std::vector<std::string>& names, bool byLabel = true);
 
 /** "name" of a label: "background" for 0, names[label - 1], or "class N". */

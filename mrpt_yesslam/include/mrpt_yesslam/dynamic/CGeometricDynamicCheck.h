@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "mrpt_yesslam/feature/COrbExtractor.h"
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 #include "mrpt_yesslam/types.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 

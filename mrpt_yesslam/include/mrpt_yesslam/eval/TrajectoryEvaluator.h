@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "mrpt_yesslam/geometry/Alignment.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 
 namespace mrpt_yesslam
@@ -18,15 +19,6 @@ struct TErrorStats
 	double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0;
 	/** Computes the statistics of `v` (all zero when empty). */
 	static TErrorStats of(const std::vector<double>& v);
-};
-
-/** The transform that maps estimate positions onto ground truth: gt ~ scale * R * est + t. */
-struct TAlignment
-{
-	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-	Eigen::Vector3d t = Eigen::Vector3d::Zero();
-	double scale = 1.0;
-	bool sim3 = false;	//!< true when the scale was estimated (monocular estimates)
 };
 
 /** How to associate and compare two trajectories (the TUM tools' defaults). */
@@ -72,12 +64,4 @@ TRpeResult computeRpe(
 	const TTrajectory& gt, const TTrajectory& est, const TEvalOptions& opts, double scale = 1.0,
 	const std::string& estName = "estimate");
 
-/** The TUM tools read trajectories into a dict: duplicate stamps keep the last pose. Returns the
- * poses sorted by stamp with that rule applied. */
-TTrajectory uniqueSortedByTime(const TTrajectory& traj);
-
-/** The rigid (sim3=false) or similarity alignment of `model` onto `data` (Horn/Umeyama closed form
- * with the reflection fix), exactly as evaluate_ate.py's align(). Needs at least 3 points. */
-TAlignment alignPositions(
-	const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data, bool sim3);
 }  // namespace mrpt_yesslam

@@ -22,7 +22,10 @@ namespace mrpt_yesslam
 struct TLiveStats
 {
 	std::size_t captured = 0;  //!< frames the source delivered to the capture thread
+	std::size_t delivered = 0;	//!< of those, frames SLAM took
 	std::size_t dropped = 0;  //!< of those, frames replaced by a newer one before SLAM took them
+	std::size_t waiting = 0;  //!< of those, frames still waiting (a run stopped early): captured = delivered + dropped + waiting
+	std::size_t unpaired = 0;  //!< frames of one stream the source found no partner for (never captured as frames)
 	double captureFps = 0;	//!< captured frames per second since the first one
 };
 
@@ -47,7 +50,7 @@ class CLiveSource : public CInputSource
 	 * frame was taken; an error of the source (or of onCaptured) is rethrown here once. */
 	mrpt::obs::CObservation3DRangeScan::Ptr next() override;
 	std::size_t sizeHint() const override { return sizeHint_; }
-	std::size_t skipped() const override { return source_->skipped(); }
+	std::size_t skipped() const override { return unpaired_; }
 	const std::string& path() const override { return path_; }
 
 	/** Frames captured and dropped so far (thread-safe). */
@@ -71,7 +74,8 @@ class CLiveSource : public CInputSource
 	bool ended_ = false, delivered_ = false;
 	std::exception_ptr error_;
 	std::atomic<bool> stop_{false};
-	std::size_t captured_ = 0, dropped_ = 0;
+	std::size_t captured_ = 0, dropped_ = 0, taken_ = 0;
+	std::atomic<std::size_t> unpaired_{0};	//!< the source's skipped(), read on the capture thread
 	double firstCapture_ = -1, lastCapture_ = -1;  //!< steady clock seconds
 	std::future<void> done_;
 	CWorkerPool capture_{1};  //!< last: stopped before what the loop uses is destroyed

@@ -21,6 +21,14 @@
 
 namespace mrpt_yesslam
 {
+/** Which streams a frame writes, and when its colour was taken: a camera's recording has colour
+ * and depth at slightly different times and now and then a frame of one stream only. */
+struct TOniStreams
+{
+	bool depth = true, colour = true;
+	double colourDelay = 0;	 //!< s: the colour frame's time after the depth frame's (the observation's time)
+};
+
 /** Appends frames to a new .oni file, written atomically (temp file renamed by finish()). */
 class COniWriter
 {
@@ -34,7 +42,7 @@ class COniWriter
 
 	/** Writes one registered RGB-D frame; the first fixes size, depth unit and field of view,
 	 * later frames must match them (InputError otherwise: one recording has one depth unit). */
-	void write(const mrpt::obs::CObservation3DRangeScan& obs);
+	void write(const mrpt::obs::CObservation3DRangeScan& obs, const TOniStreams& streams = {});
 	/** Seek tables, final node records and the end record; the streams' frame rate from the
 	 * frames' times (their median interval; 30 for a single frame); renames the file into place.
 	 * Returns its size in bytes. Throws InputError when no frame was written. */

@@ -5,6 +5,7 @@
 // by index only (no URI, so no .oni files), gives no playback control, and its destructor throws
 // when no device is present.
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +15,23 @@
 
 namespace mrpt_yesslam
 {
+/** Maps a device's frame times (microseconds since the device started) onto the host's clock
+ * once, at the first frame: host time then + device time since. Frames keep the device's own
+ * spacing (no pairing or USB latency jitter), the clock never jumps with NTP, and the times are
+ * comparable with other host-stamped data. */
+class CDeviceClock
+{
+   public:
+	/** Host time (s) of a frame the device stamped `deviceMicros`, `hostNow` being the host's
+	 * clock when it arrived (used for the anchor). */
+	double toHost(std::uint64_t deviceMicros, double hostNow);
+
+   private:
+	bool anchored_ = false;
+	std::uint64_t deviceAnchor_ = 0;
+	double hostAnchor_ = 0;
+};
+
 /** One OpenNI2 device as `yesslam --list-devices` shows it. */
 struct TOpenNI2Device
 {
@@ -66,6 +84,8 @@ class COpenNI2Source : public CInputSource
 	bool isFile() const;
 	/** A device stopped delivering frames before the run ended. */
 	bool disconnected() const { return disconnected_; }
+	/** Frames of one stream that found no partner of the other within half a frame period. */
+	std::size_t skipped() const override { return unpaired_; }
 
    private:
 	struct TImpl;
@@ -73,6 +93,8 @@ class COpenNI2Source : public CInputSource
 	std::string path_, description_;
 	TRgbdCamera camera_;
 	std::atomic<bool> disconnected_{false};  //!< written by the reading thread, read by any
+	std::atomic<std::size_t> unpaired_{0};	//!< skipped(): written by the reading thread
+	CDeviceClock clock_;
 	bool ended_ = false;
 	int timeoutMs_ = 5000;
 };

@@ -10,6 +10,7 @@
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/dense/CSemanticOcTree.h"
+#include "mrpt_yesslam/io/WorldFrame.h"
 
 namespace mrpt_yesslam
 {
@@ -20,15 +21,21 @@ struct TMapFileInfo
 	std::uint64_t vocabularyFingerprint = 0;  //!< 0: saved without a vocabulary
 	std::uint64_t bytes = 0;
 	std::uint64_t octreeBytes = 0;	//!< the semantic OctoMap's .ot inside (0 = none)
+	/** The frame the map's exports (and its octree) are in; version 1 files: optical. */
+	TWorldFrame worldFrame;
 };
 
-/** Format version of .ysm files; readers refuse newer ones. */
-constexpr std::uint32_t kMapFileVersion = 1;
+/** Format version of .ysm files; readers refuse newer ones. 2: the export frame after the octree
+ * (version 1 files are read as optical: their octree was built in the map's own frame). */
+constexpr std::uint32_t kMapFileVersion = 2;
 
 /** Writes `map` to `path` atomically (also what Ctrl-C saves); `vocabularyFingerprint` is
  * CVocabulary::fingerprint() of the run's vocabulary, 0 without one; `octree`, the run's semantic
- * OctoMap, is stored with it when given. Throws InputError naming the file. */
-void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree = nullptr);
+ * OctoMap, is stored with it when given, in `frame` (the frame the octree was built in and later
+ * runs export in). Throws InputError naming the file. */
+void saveMapFile(
+	const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree = nullptr,
+	const TWorldFrame& frame = {});
 
 /** Reads a map file into `map` (replacing its content; after an error it is unspecified). `vocabularyFingerprint`: this run's
  * vocabulary (0: none); a map saved under another vocabulary is refused (saved or loaded without

@@ -22,13 +22,16 @@ struct TMapSummary
 	std::vector<std::pair<std::string, std::size_t>> classes;
 };
 
-/** Figures of `map`; `classNames[c]` names class c (others are "class c"). */
-TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames);
+/** Figures of `map`; `classNames[c]` names class c (others are "class c"); the extent in the
+ * frame `worldFromMap` places the map in (the map file's TWorldFrame). */
+TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames, const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
 /** The summary as "key: value" lines (yesslam-map's output). */
 std::string formatMapSummary(const TMapSummary& s);
-/** The good points as a cloud (colour; label 0, observations = keyframes seeing each), for writeDenseCloudPly. */
-TDenseCloud mapPointCloud(const CSparseMap& map);
+/** The good points as a cloud (colour; label 0, observations = keyframes seeing each), for
+ * writeDenseCloudPly, placed by `worldFromMap` (the map file's TWorldFrame). */
+TDenseCloud mapPointCloud(const CSparseMap& map, const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
 /** Occupancy from the map: each good keyframe's points inserted as a scan from its camera centre
- * (the space in front of them free, their voxels occupied), at `resolution` metres. */
-std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution);
+ * (the space in front of them free, their voxels occupied), at `resolution` metres, placed by
+ * `worldFromMap`. */
+std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution, const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
 }  // namespace mrpt_yesslam

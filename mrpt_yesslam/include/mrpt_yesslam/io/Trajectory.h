@@ -29,6 +29,10 @@ using TTrajectory = std::vector<TStampedPose>;
  * rotation geodesic. Runs before the first or after the last tracked pose are left as they are. */
 void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked);
 
+/** The TUM tools read trajectories into a dict: duplicate stamps keep the last pose. Returns the
+ * poses sorted by stamp with that rule applied. */
+TTrajectory uniqueSortedByTime(const TTrajectory& traj);
+
 /** Reads a TUM trajectory; throws InputError naming the file and line for anything malformed
  * (wrong field count, non-numbers, NaN/Inf, zero-norm quaternion). An empty file gives an empty list. */
 TTrajectory readTumTrajectory(const std::string& path);

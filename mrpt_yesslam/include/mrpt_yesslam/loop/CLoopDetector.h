@@ -26,8 +26,8 @@
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
-#include "mrpt_yesslam/loop/CBowDatabase.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/place/CBowDatabase.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam

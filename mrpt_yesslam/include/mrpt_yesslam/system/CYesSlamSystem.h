@@ -27,10 +27,11 @@
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/keyframes/CKeyFrameInserter.h"
-#include "mrpt_yesslam/loop/CBowDatabase.h"
+#include "mrpt_yesslam/io/WorldFrame.h"
+#include "mrpt_yesslam/place/CBowDatabase.h"
 #include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/keyframes/CRecentFrames.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/system/CFrameBuilder.h"
@@ -57,6 +58,10 @@ struct TYesSlamOptions
 		std::size_t mappingQueue = 4;  //!< parallel: keyframes waiting for local mapping before tracking waits
 		/** Localisation in a loaded map only: no keyframes, no map changes (needs loadMap). */
 		bool localizeOnly = false;
+		/** zup: exports (trajectories, dense cloud, OctoMaps, scene, saved map's octree) in x forward,
+		 * y left, z up, levelled by the floor (io/WorldFrame.h); optical: the first keyframe's camera
+		 * frame, as before. A loaded map keeps the frame it was saved in. */
+		std::string worldFrame = "zup";
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -134,9 +139,13 @@ class CYesSlamSystem
 	TTrajectory keyFrameTrajectory() const;
 	/** One row per processed frame, in order (frames.csv), with where trajectory() got its pose. */
 	std::vector<TFrameLogRow> frameLog() const;
-	/** The dense semantic map from every keyframe's cloud at its current pose (call after
-	 * waitForMapping for the final map); throws std::logic_error with dense mapping off. */
+	/** The dense semantic map from every keyframe's cloud at its current pose, in worldFrame()
+	 * (call after waitForMapping for the final map); throws std::logic_error with dense mapping off. */
 	TDenseMap buildDenseMap() const;
+	/** The frame every export is in ([System] worldFrame): a loaded map's own; else found at the
+	 * first call from the map as it is then (call after waitForMapping) and kept, so that the
+	 * trajectories, the dense map and the saved map agree. */
+	TWorldFrame worldFrame() const;
 	/** The dense mapper; null with [DenseMapping] enabled = false. */
 	const CDenseSemanticMapper* denseMapper() const { return dense_.get(); }
 	/** Run statistics so far. */
@@ -209,6 +218,8 @@ class CYesSlamSystem
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
 	std::optional<TKeyFrameId> lastKeyFrame_;
 	/** The loaded map's semantic OctoMap, kept as it was by a run without a dense map (saved again with it). */
+	mutable std::mutex worldFrameMtx_;
+	mutable std::optional<TWorldFrame> worldFrame_;	 //!< worldFrame() once found, or the loaded map's
 	std::unique_ptr<CSemanticOcTree> loadedOctree_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;

@@ -22,9 +22,9 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/dynamic/CGeometricDynamicCheck.h"
 #include "mrpt_yesslam/feature/COrbMatcher.h"
-#include "mrpt_yesslam/loop/CBowDatabase.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/place/CBowDatabase.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam

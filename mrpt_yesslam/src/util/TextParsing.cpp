@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 #include <cerrno>
 #include <cmath>

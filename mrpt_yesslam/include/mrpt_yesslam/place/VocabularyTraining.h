@@ -9,7 +9,7 @@
 
 #include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/io/CInputSource.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
 
 namespace mrpt_yesslam
 {

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/loop/VocabularyTraining.h"
+#include "mrpt_yesslam/place/VocabularyTraining.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,10 +1,12 @@
-#include "mrpt_yesslam/io/SlamExport.h"
+#include "mrpt_yesslam/system/SlamExport.h"
 
 #include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/CPointCloud.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -21,7 +23,7 @@ double percentile(std::vector<double> v, double q)
 }
 }  // namespace
 
-mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& traj)
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& traj, const mrpt::poses::CPose3D& worldFromMap)
 {
 	auto scene = mrpt::opengl::COpenGLScene::Create();
 	// Named, so that yesslam-render --hide can leave parts out.
@@ -29,9 +31,11 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTraj
 	cloud->setName("map_points");
 	cloud->setPointSize(3.0f);
 	for (const auto& p : map.points())
+	{
+		const auto w = worldFromMap.composePoint(p.position);
 		cloud->push_back(
-			static_cast<float>(p.position.x), static_cast<float>(p.position.y), static_cast<float>(p.position.z),
-			p.color[2] / 255.f, p.color[1] / 255.f, p.color[0] / 255.f);
+			static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z), p.color[2] / 255.f, p.color[1] / 255.f, p.color[0] / 255.f);
+	}
 	scene->insert(cloud);
 	for (const auto& k : map.keyFramePoses())
 	{
@@ -41,16 +45,41 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTraj
 		auto fr = mrpt::opengl::CFrustum::Create(0.02f, 0.12f, 62.f, 48.f, 1.5f, true, false);
 		fr->setName("keyframe");
 		fr->setColor_u8(0, 90, 220);
-		fr->setPose(kf);
+		fr->setPose(worldFromMap + kf);
 		scene->insert(fr);
 	}
 	auto path = mrpt::opengl::CSetOfLines::Create();
 	path->setName("trajectory");
 	path->setColor_u8(220, 30, 30);
 	path->setLineWidth(2.0f);
+	// The same path as close red dots of a few pixels: OpenGL core profiles (CFBORender's EGL
+	// context among them) draw every line one pixel wide, which a picture of a room all but loses.
+	auto dots = mrpt::opengl::CPointCloud::Create();
+	dots->setName("trajectory_dots");
+	dots->setColor_u8(220, 30, 30);
+	dots->setPointSize(4.0f);
+	double length = 0;
 	for (std::size_t i = 1; i < traj.size(); i++)
-		path->appendLine(traj[i - 1].tx, traj[i - 1].ty, traj[i - 1].tz, traj[i].tx, traj[i].ty, traj[i].tz);
-	if (!path->empty()) scene->insert(path);
+		length += std::hypot(traj[i].tx - traj[i - 1].tx, traj[i].ty - traj[i - 1].ty, traj[i].tz - traj[i - 1].tz);
+	const double step = std::max(0.003, length / 20000);
+	for (std::size_t i = 1; i < traj.size(); i++)
+	{
+		const auto &a = traj[i - 1], &b = traj[i];
+		path->appendLine(a.tx, a.ty, a.tz, b.tx, b.ty, b.tz);
+		const double seg = std::hypot(b.tx - a.tx, b.ty - a.ty, b.tz - a.tz);
+		const int n = std::max(1, static_cast<int>(std::ceil(seg / step)));
+		for (int k = 0; k < n; k++)
+		{
+			const double s = static_cast<double>(k) / n;
+			dots->insertPoint(
+				static_cast<float>(a.tx + s * (b.tx - a.tx)), static_cast<float>(a.ty + s * (b.ty - a.ty)), static_cast<float>(a.tz + s * (b.tz - a.tz)));
+		}
+	}
+	if (!path->empty())
+	{
+		scene->insert(path);
+		scene->insert(dots);
+	}
 	return scene;
 }
 

@@ -1,9 +1,9 @@
-#include "mrpt_yesslam/loop/CBowDatabase.h"
+#include "mrpt_yesslam/place/CBowDatabase.h"
 
 #include <algorithm>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
-#include "mrpt_yesslam/loop/CVocabulary.h"
+#include "mrpt_yesslam/place/CVocabulary.h"
 
 #include <map>
 #include <set>

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/dense/SemanticMapScoring.h"
+#include "mrpt_yesslam/eval/SemanticMapScoring.h"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "mrpt_yesslam/io/TextParsing.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/util/Error.h"
 

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/tracking/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
