@@ -280,6 +280,13 @@ TEST(LiveApp, ARecordingIsPairedByTimeWhenAColourFrameIsMissingAndColourIsLate)
 	// next moment's colour. Pairs are now made by time: frame k's depth encodes k, its colour too.
 	TempDir d("oni_pairing");
 	auto frames = makeSyntheticFrames(10, 64, 48);
+	// Recorded at 5 Hz: paced playback, like a camera, drops a frame whenever the reader stalls
+	// longer than a frame period; at 30 Hz (33 ms) a loaded CI machine failed this test once.
+	for (std::size_t k = 0; k < frames.size(); k++)
+	{
+		frames[k].tRgb = 1000.0 + static_cast<double>(k) / 5.0;
+		frames[k].tDepth = frames[k].tRgb + 0.004;
+	}
 	writeTumFolder(d / "seq", frames);
 	{
 		mrpt_yesslam::COniWriter w(d / "gap.oni");
