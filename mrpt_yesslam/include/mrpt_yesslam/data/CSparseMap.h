@@ -67,10 +67,17 @@ struct TKeyFramePose
 	bool bad = false;
 };
 
+struct TSparseMapStore;
+
 /** The map. Thread-safe. */
 class CSparseMap
 {
    public:
+	CSparseMap();
+	~CSparseMap();
+	CSparseMap(const CSparseMap&) = delete;
+	CSparseMap& operator=(const CSparseMap&) = delete;
+
 	/** Adds a keyframe of a tracked frame: observations for the map points tracking matched
 	 * (`frame->mapPoints`), and a new map point for every other static keypoint with depth up to
 	 * `maxDepth` (RGB-D: depth gives the point at once, as in ORB-SLAM2's RGB-D mode). Updates the
@@ -218,42 +225,9 @@ class CSparseMap
 	void swapContent(CSparseMap& other);
 
    private:
-	void addObservation(CMapPoint& p, CKeyFrame& kf, std::size_t kp);
-	void eraseObservation(CMapPoint& p, TKeyFrameId kf);
-	void eraseKeyFrameLocked(CKeyFrame& kf);
-	bool replacePointLocked(TPointId oldId, TPointId newId);
-	void reorderDirty();
-	/** Removes the listed (point, keyframe) observations of a bundle result; a point left without
-	 * observations goes bad. */
-	void eraseOutliersLocked(const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
-	/** Sets keyframe poses and moves points (see applyCorrection); `propagate` false: only the
-	 * listed keyframes move, and the points they observe (correctKeyFrames). Points in `skip` keep
-	 * their position. */
-	void correctLocked(
-		const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate, const std::set<TPointId>& skip = {});
-	const CMapPoint* goodPoint(TPointId id) const;
-	/** Sets the bad flag, counts it and schedules the point to be forgotten. */
-	void markBadLocked(CMapPoint& p);
-	/** Removes the bad points erased long enough ago (see kForgetBadPointsAfter). */
-	void forgetDeadPointsLocked();
-	mrpt::poses::CPose3D poseLocked(TKeyFrameId id) const;
-	std::vector<TKeyFrameId> covisibleLocked(TKeyFrameId id, std::size_t max, int minWeight) const;
-	TKeyFrameId goodAncestorLocked(TKeyFrameId id) const;
-	TLocalMapPoints pointsOfKeyFramesLocked(const std::vector<TKeyFrameId>& ids) const;
-
 	mutable std::shared_mutex mtx_;
-	std::map<TKeyFrameId, std::shared_ptr<CKeyFrame>> keyFrames_;
-	std::unordered_map<TPointId, CMapPoint> points_;
-	std::deque<TPointId> recent_;  //!< points created in the last keyframes, oldest first
-	/** Bad points to forget, oldest first, with the next keyframe id when they went bad. */
-	std::deque<std::pair<TKeyFrameId, TPointId>> dead_;
-	std::vector<TKeyFrameId> dirty_;  //!< keyframes whose ordered connections need sorting
-	std::size_t numGoodKeyFrames_ = 0, numGoodPoints_ = 0;
-	TKeyFrameId nextKeyFrame_ = 0;
-	TPointId nextPoint_ = 0;
-	std::uint64_t generation_ = 0;
-	/** Points the last correctKeyFrames moved, with the keyframe that moved each; the next map-wide
-	 * correction moves them with that keyframe (and forgets them). */
-	std::map<TPointId, TKeyFrameId> correctedBy_;
+	/** The content, behind mtx_ (src/data/SparseMapStore.h: storage and bookkeeping; the rules
+	 * that work on it are in the files beside it). */
+	std::unique_ptr<TSparseMapStore> s_;
 };
 }  // namespace mrpt_yesslam
