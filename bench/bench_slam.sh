@@ -4,6 +4,8 @@
 # ground truth), then RUNS runs with dynamic filtering and RUNS without (--no-dynamic-filter), and
 # one run with each keyframe policy. Prints a markdown table of medians.
 # Usage: bench/bench_slam.sh [FRAMES] [RUNS] [PRESETS...]   (sequences are kept in bench_out/slam/)
+# SIM_FLAGS="--real-sensor" bench/bench_slam.sh ...: the sequences made with those yesslam-sim
+# options too (kept in bench_out/slam--real-sensor/, one folder per set of options).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
@@ -12,13 +14,15 @@ PRESETS=("$@"); [ ${#PRESETS[@]} -gt 0 ] || PRESETS=(static_office walking_xyz w
 SHARED="$ROOT/../shared"
 CFG="$ROOT/share/mrpt_yesslam/config/sim.ini"  # the shipped configuration for yesslam-sim sequences
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
-OUT="$ROOT/bench_out/slam"; mkdir -p "$OUT/runs"
+SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
+OUT="$ROOT/bench_out/slam$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs"
 # Peak memory through GNU time (Debian package "time") when it is there.
 TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 field() { awk -v k="$1:" '$1==k {print $2}' "$2"; }
 kf() { awk -F'[:,]' '/"keyframes"/ {gsub(/ /,"",$2); print $2; exit}' "$1"; }  # the first: stats.json has other "keyframes" keys
 rate() { awk -F'[:,]' '/"tracking_rate"/ {gsub(/ /,"",$2); print $2}' "$1"; }
+[ -z "$SIM_FLAGS" ] || echo "sequences: yesslam-sim $SIM_FLAGS"
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo
 echo "| preset | frames | ATE RMSE filtered (m) | ATE RMSE unfiltered (m) | ratio | tracking rate | keyframes semantic | keyframes orbslam | fps | max RSS (MB) |"
@@ -28,7 +32,7 @@ for p in "${PRESETS[@]}"; do
   if [ ! -f "$seq/meta.json" ]; then
     extra=()
     [ "$p" = walking_xyz ] && extra=(--trajectory "$SHARED/data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt")
-    "$BIN/yesslam-sim" --preset "$p" --seed 1 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet --out "$seq" "${extra[@]}" >/dev/null
+    "$BIN/yesslam-sim" --preset "$p" --seed 1 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet --out "$seq" "${extra[@]}" "${SIMX[@]}" >/dev/null
   fi
   for mode in filtered unfiltered; do
     flag=(); [ $mode = unfiltered ] && flag=(--no-dynamic-filter)
