@@ -3,10 +3,12 @@
 // Images for the database test: TUM fr1/desk (CC BY 4.0) in ../shared/data.
 #include <gtest/gtest.h>
 
+#include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <mutex>
 #include <set>
 
 #include "TestUtils.h"
@@ -163,6 +165,21 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	EXPECT_LT(on.stats.largestLoopCorrection, 0.05);
 	EXPECT_NE(json.find("\"largest_correction_m\": "), std::string::npos) << json;
 	EXPECT_NE(json.find("\"global_ba_cancelled\": " + std::to_string(on.stats.globalBundleCancelled)), std::string::npos) << json;
+	// Each corrected loop is listed with what its correction did (issue 28 item 8: the correction's
+	// figures were computed and thrown away).
+	ASSERT_EQ(on.stats.loopRecords.size(), on.stats.loopCorrections);
+	double largest = 0;
+	for (const auto& r : on.stats.loopRecords)
+	{
+		EXPECT_GT(r.current, r.matched);
+		EXPECT_GE(r.groupKeyFrames, 1u);
+		EXPECT_GE(r.graphEdges, r.graphKeyFrames) << "a spanning tree and the loop edge at least";
+		largest = std::max(largest, r.correctionMetres);
+	}
+	EXPECT_EQ(largest, on.stats.largestLoopCorrection);
+	std::size_t listed = 0;
+	for (auto at = json.find("\"matched\": "); at != std::string::npos; at = json.find("\"matched\": ", at + 1)) listed++;
+	EXPECT_EQ(listed, on.stats.loopCorrections) << json;
 	// Sequential mode stays deterministic through detection, correction and global BA.
 	run(seq, a2.path(), true);
 	EXPECT_EQ(readText(a / "trajectory.txt"), readText(a2 / "trajectory.txt"));
@@ -194,6 +211,46 @@ TEST(LoopClosing, ACorrectionWhileTrackingContinuesLosesNothing)
 	EXPECT_EQ(readTumTrajectory(d / "keyframes.txt").size(), s.stats.keyFramesInMap);
 	// Measured: 4.0 mm (8.3 mm without loop closing).
 	EXPECT_LT(s.eval.ate.stats.rmse, 0.006);
+}
+
+TEST(LoopClosing, LocalMappingGoesOnWhileALoopIsCorrected)
+{
+	// Issue 28 item 8: detection and correction ran on the mapping stage, so every keyframe queued
+	// behind the loop work of the one before it. They run on their own stage now (ORB-SLAM2's
+	// LoopClosing thread): while the first loop's callback holds that stage, local mapping must go
+	// on mapping the keyframes tracking inserts (on the mapping stage this wait would time out).
+	TempDir d("loop_stage");
+	std::mutex m;
+	std::condition_variable changed;
+	std::size_t mapped = 0, mappedWhileHeld = 0;
+	bool held = false;
+	TSlamJobOptions o;
+	o.input = tour("office_tour", 2.5, 240);
+	o.outDir = d.path();
+	o.slam.detector.backend = "auto";
+	o.slam.system.parallel = true;
+	o.slam.loop.detection.enabled = true;
+	o.onKeyFrame = [&](TKeyFrameId)
+	{
+		std::lock_guard<std::mutex> lk(m);
+		mapped++;
+		changed.notify_all();
+	};
+	o.onLoop = [&](const TLoop&)
+	{
+		std::unique_lock<std::mutex> lk(m);
+		if (held) return;
+		held = true;
+		const std::size_t at = mapped;
+		changed.wait_for(lk, std::chrono::seconds(120), [&] { return mapped >= at + 2; });
+		mappedWhileHeld = mapped - at;
+	};
+	const auto s = runSlamJob(o);
+	ASSERT_TRUE(held) << "no loop was closed";
+	EXPECT_GE(mappedWhileHeld, 2u) << "local mapping waited for loop closing";
+	EXPECT_GE(s.stats.loopCorrections, 1u);
+	EXPECT_EQ(s.stats.keyFramesInMap + s.stats.culledKeyFrames, s.stats.keyFrames);
+	EXPECT_EQ(s.stats.stageMs.at("loop_detect").size(), s.stats.keyFrames) << "every keyframe is looked up once";
 }
 
 TEST(Relocalisation, AKidnappedCameraIsFoundAgainByPlaceRecognition)

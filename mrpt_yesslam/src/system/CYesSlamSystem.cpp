@@ -153,6 +153,7 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	{
 		if (dense_) denseStage_ = std::make_unique<CWorkerPool>(1, opts_.dense.queue);
 		gbaStage_ = std::make_unique<CWorkerPool>(1);
+		if (loopDetector_) loopStage_ = std::make_unique<CWorkerPool>(1);
 		mappingStage_ = std::make_unique<CWorkerPool>(1, opts_.system.mappingQueue);
 	}
 }
@@ -168,6 +169,7 @@ CYesSlamSystem::~CYesSlamSystem()
 	// Let the queued keyframes finish (their futures would otherwise break), ignoring failures: a
 	// destructor must not throw, and a failure has been or will not be reported.
 	if (mappingStage_) mappingStage_->waitIdle();
+	if (loopStage_) loopStage_->waitIdle();
 	if (gbaStage_) gbaStage_->waitIdle();
 	if (denseStage_) denseStage_->waitIdle();
 }
@@ -278,49 +280,81 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
-	auto t0 = Clock::now();
-	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
-	// detection find it; culled keyframes leave the database with the map.
-	addWords(kf);
-	const TMappingStats st = mapper_.step(kf);
-	if (bowDatabase_)
-		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
+	const auto t0 = Clock::now();
+	TMappingStats st;
+	{
+		// Waits while a loop correction is written (counted in the mapping time: that is the stall).
+		std::lock_guard<std::mutex> lk(mapUpdateMtx_);
+		// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and
+		// loop detection find it; culled keyframes leave the database with the map.
+		addWords(kf);
+		st = mapper_.step(kf);
+		if (bowDatabase_)
+			for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
+	}
 	const double ms = msSince(t0);
-	std::optional<TLoop> loop;
-	double loopMs = 0;
+	{
+		std::lock_guard<std::mutex> sl(statsMtx_);
+		stats_.stageMs["mapping"].push_back(ms);
+		stats_.culledKeyFrames += st.erasedKeyFrames.size();
+	}
 	if (loopDetector_)
 	{
-		t0 = Clock::now();
-		loop = loopDetector_->detect(kf);
-		loopMs = msSince(t0);
+		if (loopStage_)
+		{
+			// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local
+			// mapping goes on with the next keyframes meanwhile instead of waiting for them.
+			std::lock_guard<std::mutex> lk(loopTasksMtx_);
+			loopTasks_.push_back(loopStage_->submit([this, kf] { closeLoops(kf); }));
+		}
+		else
+			closeLoops(kf);
 	}
+	if (keyFrameCallback_) keyFrameCallback_(kf);
+}
+
+void CYesSlamSystem::closeLoops(TKeyFrameId kf)
+{
+	auto t0 = Clock::now();
+	const std::optional<TLoop> loop = loopDetector_->detect(kf);
+	const double loopMs = msSince(t0);
 	std::optional<double> correctMs;
 	TLoopCorrection correction;
 	if (loop)
 	{
+		std::lock_guard<std::mutex> lk(mapUpdateMtx_);
 		t0 = Clock::now();
 		correction = loopCloser_->correct(*loop);
 		correctMs = msSince(t0);
 	}
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
-		stats_.stageMs["mapping"].push_back(ms);
-		stats_.culledKeyFrames += st.erasedKeyFrames.size();
-		if (loopDetector_)
-		{
-			stats_.stageMs["loop_detect"].push_back(loopMs);
-			stats_.loops = loopDetector_->stats();
-		}
+		stats_.stageMs["loop_detect"].push_back(loopMs);
+		stats_.loops = loopDetector_->stats();
 		if (loop)
 		{
 			loops_.push_back(*loop);
 			stats_.loopCorrections++;
 			stats_.largestLoopCorrection = std::max(stats_.largestLoopCorrection, correction.correctionMetres);
 			stats_.stageMs["loop_correct"].push_back(*correctMs);
+			TLoopRecord r;
+			r.current = loop->current;
+			r.matched = loop->matched;
+			r.score = loop->score;
+			r.ransacInliers = loop->ransacInliers;
+			r.groupKeyFrames = correction.groupKeyFrames;
+			r.fused = correction.fused;
+			r.loopLinks = correction.loopLinks;
+			r.graphKeyFrames = correction.graphKeyFrames;
+			r.graphEdges = correction.graphEdges;
+			r.correctionMetres = correction.correctionMetres;
+			r.correctMs = *correctMs;
+			stats_.loopRecords.push_back(r);
 		}
 	}
-	if (loop) requestGlobalBundle();
-	if (keyFrameCallback_) keyFrameCallback_(kf);
+	if (!loop) return;
+	requestGlobalBundle();
+	if (loopCallback_) loopCallback_(*loop);
 }
 
 namespace
@@ -351,6 +385,22 @@ void CYesSlamSystem::collectMapping(bool wait)
 {
 	collectTasks(denseTasks_, wait, "dense mapping");
 	collectTasks(mappingTasks_, wait, "local mapping");
+	// The loop-closing stage is fed by the mapping stage (another thread): its futures are taken
+	// out under the lock and waited for outside it.
+	for (;;)
+	{
+		std::deque<std::future<void>> ready;
+		{
+			std::lock_guard<std::mutex> lk(loopTasksMtx_);
+			while (!loopTasks_.empty() && (wait || loopTasks_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready))
+			{
+				ready.push_back(std::move(loopTasks_.front()));
+				loopTasks_.pop_front();
+			}
+		}
+		if (ready.empty()) return;
+		collectTasks(ready, true, "loop closing");
+	}
 }
 
 void CYesSlamSystem::waitForMapping()

@@ -105,6 +105,21 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
 	  << ", \"largest_correction_m\": " << s.largestLoopCorrection << ", \"global_ba_runs\": " << s.globalBundleRuns
 	  << ", \"global_ba_applied\": " << s.globalBundleApplied << ", \"global_ba_cancelled\": " << s.globalBundleCancelled << "},\n";
+	// Each corrected loop: the pair and what the correction did (so a bad correction can be found).
+	o << "  \"loop_corrections\": [";
+	for (std::size_t i = 0; i < s.loopRecords.size(); i++)
+	{
+		const TLoopRecord& r = s.loopRecords[i];
+		char rec[512];
+		std::snprintf(
+			rec, sizeof(rec),
+			"{\"current\": %zu, \"matched\": %zu, \"score\": %.4f, \"inliers\": %zu, \"group_keyframes\": %zu, \"fused\": %zu, "
+			"\"loop_links\": %zu, \"graph_keyframes\": %zu, \"graph_edges\": %zu, \"correction_m\": %.6f, \"ms\": %.1f}",
+			r.current, r.matched, r.score, r.ransacInliers, r.groupKeyFrames, r.fused, r.loopLinks, r.graphKeyFrames, r.graphEdges,
+			r.correctionMetres, r.correctMs);
+		o << (i ? ",\n    " : "\n    ") << rec;
+	}
+	o << (s.loopRecords.empty() ? "],\n" : "\n  ],\n");
 	o << "  \"dense_map\": " << (ctx.denseMap ? "true" : "false") << ",\n";
 	if (ctx.denseMap)
 	{

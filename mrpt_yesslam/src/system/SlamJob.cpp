@@ -374,6 +374,7 @@ TSlamJobSummary runSlamJob(
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
+	if (o.onLoop) sys.setLoopCallback(o.onLoop);
 	sum.detector = sys.detector()->description();
 	const auto t0 = std::chrono::steady_clock::now();
 	std::size_t done = 0;

@@ -120,6 +120,10 @@ class CYesSlamSystem
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
 	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }
+	/** Called after each accepted loop has been corrected (on the loop-closing stage in parallel
+	 * mode, while local mapping goes on), with the loop; what it throws is reported as a
+	 * loop-closing failure. */
+	void setLoopCallback(std::function<void(const TLoop&)> cb) { loopCallback_ = std::move(cb); }
 	/** Called on the caller's thread at the end of each processFrame with the frame as tracking left
 	 * it (features with their dynamic and uncertain flags, the map point of each inlier, the pose):
 	 * for viewers and for benchmarks that score the frame against labels. */
@@ -177,6 +181,9 @@ class CYesSlamSystem
 	 * without a vocabulary or for a bad keyframe). */
 	void addWords(TKeyFrameId kf);
 	void mapKeyFrame(TKeyFrameId kf);
+	/** Loop detection for keyframe `kf`, and correction of an accepted loop (on the loop-closing
+	 * stage in parallel mode, as ORB-SLAM2's LoopClosing thread). */
+	void closeLoops(TKeyFrameId kf);
 	/** Collects finished mapping tasks (all queued ones with `wait`); rethrows the first failure. */
 	void collectMapping(bool wait);
 	/** Asks for a global BA: inline in sequential mode, else on the global-BA stage (one at a
@@ -192,11 +199,12 @@ class CYesSlamSystem
 	CLocalMapper mapper_;
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<CBowDatabase> bowDatabase_;
-	std::unique_ptr<CLoopDetector> loopDetector_;  //!< used on the mapping stage only
-	std::unique_ptr<CLoopCloser> loopCloser_;	//!< corrections on the mapping stage, global BA on its own
+	std::unique_ptr<CLoopDetector> loopDetector_;  //!< used on the loop-closing stage only
+	std::unique_ptr<CLoopCloser> loopCloser_;	//!< corrections on the loop-closing stage, global BA on its own
 	std::unique_ptr<CDenseSemanticMapper> dense_;  //!< keyframe clouds on the dense stage
 	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
 	std::function<void(TKeyFrameId)> keyFrameCallback_;
+	std::function<void(const TLoop&)> loopCallback_;
 	std::function<void(const TFrame&)> frameCallback_;
 
 	struct TFrameRecord
@@ -235,6 +243,16 @@ class CYesSlamSystem
 	std::unique_ptr<CWorkerPool> denseStage_;
 	/** The cloud of one keyframe (on the dense stage in parallel mode). */
 	void denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f);
+
+	/** Held by a keyframe's local mapping and by a loop correction: local mapping stops while a
+	 * correction is computed and written (ORB-SLAM2's LoopClosing stops LocalMapping), so that no
+	 * local BA result lands between the correction's snapshot of the poses and its write-back. */
+	std::mutex mapUpdateMtx_;
+
+	// Loop-closing stage (parallel mode): fed by the mapping stage, collected by the caller.
+	std::mutex loopTasksMtx_;
+	std::deque<std::future<void>> loopTasks_;  //!< guarded by loopTasksMtx_
+	std::unique_ptr<CWorkerPool> loopStage_;  //!< stopped after the mapping stage that feeds it
 
 	// Local mapping stage (parallel mode): futures of queued keyframes, collected by the caller.
 	std::deque<std::future<void>> mappingTasks_;

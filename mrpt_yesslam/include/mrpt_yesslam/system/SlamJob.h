@@ -55,6 +55,9 @@ struct TSlamJobOptions
 	/** Optional: called on the mapping stage after each keyframe's local mapping
 	 * (CYesSlamSystem::setKeyFrameCallback); what it throws is a mapping failure. */
 	std::function<void(TKeyFrameId)> onKeyFrame;
+	/** Optional: called after each accepted loop's correction (CYesSlamSystem::setLoopCallback);
+	 * what it throws is a loop-closing failure. */
+	std::function<void(const TLoop&)> onLoop;
 };
 
 /** What a run produced. */

@@ -34,6 +34,21 @@ struct TFrameLogRow
 	EPoseSource pose = EPoseSource::None;  //!< what trajectory.txt holds for it
 };
 
+/** One loop closed during a run (stats.json's "loop_corrections"): the pair, how sure detection was,
+ * and what its correction did to the map. */
+struct TLoopRecord
+{
+	TKeyFrameId current = 0, matched = 0;
+	double score = 0;  //!< S_Loop of the pair (eq. 23)
+	std::size_t ransacInliers = 0;
+	std::size_t groupKeyFrames = 0;	 //!< keyframes moved rigidly with the current one
+	std::size_t fused = 0;	//!< observations added and duplicate points fused
+	std::size_t loopLinks = 0;	//!< new covisibility links across the loop
+	std::size_t graphKeyFrames = 0, graphEdges = 0;	 //!< the essential graph optimised
+	double correctionMetres = 0;  //!< how far the current keyframe moved
+	double correctMs = 0;  //!< the whole correction, pose graph included
+};
+
 /** Statistics of a run (stats.json). */
 struct TSlamStats
 {
@@ -48,6 +63,7 @@ struct TSlamStats
 	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
 	std::size_t globalBundleCancelled = 0;	//!< global BAs stopped early: a newer correction made them stale
 	double largestLoopCorrection = 0;  //!< metres the current keyframe moved in the largest loop correction
+	std::vector<TLoopRecord> loopRecords;  //!< every corrected loop, in order
 	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
 	std::size_t denseBytes = 0;	 //!< memory those clouds take
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
