@@ -9,6 +9,8 @@
 # lost frames and the tracking median.
 # Runs are sequential, so each accuracy figure is exact and repeatable (a median of identical runs).
 # Usage: bench/bench_dynamic.sh [FRAMES] [SEED]   (sequences are kept in bench_out/dynamic/)
+# SIM_FLAGS="--real-sensor" bench/bench_dynamic.sh ...: the sequences made with those yesslam-sim
+# options too (kept in bench_out/dynamic--real-sensor/, one folder per set of options).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
@@ -17,7 +19,8 @@ SIMCFG="$ROOT/share/mrpt_yesslam/config/sim.ini"
 for t in yesslam-sim yesslam-eval; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
 USE="$ROOT/build/bench/bench_keypoint_use"
 [ -x "$USE" ] || { echo "bench: build the benchmarks first (cmake --build build --target bench_keypoint_use)" >&2; exit 1; }
-OUT="$ROOT/bench_out/dynamic"; mkdir -p "$OUT/runs" "$OUT/cfg"
+SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
+OUT="$ROOT/bench_out/dynamic$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs" "$OUT/cfg"
 # A config: the base (empty = defaults, or sim.ini) with some sections' keys replaced.
 mkcfg() {  # mkcfg OUT BASE "Section.key=value ..."
   local out="$1" base="$2"; shift 2
@@ -34,13 +37,14 @@ declare -A SEQS=(
   [walking_halfsphere]="--preset walking_halfsphere"
   [undetected]="--preset walking_xyz --undetected-people 1"
   [miss_rate]="--preset walking_xyz --miss-rate 0.5")
+[ -z "$SIM_FLAGS" ] || echo "sequences: yesslam-sim $SIM_FLAGS"
 echo "frames $FRAMES, seed $SEED; ATE / RPE RMSE / worst 1 s RPE in mm; people among the inlier keypoints and static keypoints kept, %; lost frames; tracking median ms"
 echo
 echo "| sequence | config | variant | ATE | RPE | worst 1 s | people in inliers | static kept | lost | track ms |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for name in walking_xyz walking_static walking_rpy walking_halfsphere undetected miss_rate; do
   seq="$OUT/${name}_${FRAMES}f_s${SEED}"
-  [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" ${SEQS[$name]} --seed "$SEED" --frames "$FRAMES" --no-rawlog --quiet --out "$seq" > /dev/null
+  [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" ${SEQS[$name]} --seed "$SEED" --frames "$FRAMES" --no-rawlog --quiet --out "$seq" "${SIMX[@]}" > /dev/null
   for cfg in default sim; do
     base=""; [ "$cfg" = sim ] && base="$SIMCFG"
     for variant in mask check box; do
