@@ -172,9 +172,9 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	for (const auto& r : on.stats.loopRecords)
 	{
 		EXPECT_GT(r.current, r.matched);
-		EXPECT_GE(r.groupKeyFrames, 1u);
-		EXPECT_GE(r.graphEdges, r.graphKeyFrames) << "a spanning tree and the loop edge at least";
-		largest = std::max(largest, r.correctionMetres);
+		EXPECT_GE(r.correction.groupKeyFrames, 1u);
+		EXPECT_GE(r.correction.graphEdges, r.correction.graphKeyFrames) << "a spanning tree and the loop edge at least";
+		largest = std::max(largest, r.correction.correctionMetres);
 	}
 	EXPECT_EQ(largest, on.stats.largestLoopCorrection);
 	std::size_t listed = 0;

@@ -337,19 +337,7 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 			stats_.loopCorrections++;
 			stats_.largestLoopCorrection = std::max(stats_.largestLoopCorrection, correction.correctionMetres);
 			stats_.stageMs["loop_correct"].push_back(*correctMs);
-			TLoopRecord r;
-			r.current = loop->current;
-			r.matched = loop->matched;
-			r.score = loop->score;
-			r.ransacInliers = loop->ransacInliers;
-			r.groupKeyFrames = correction.groupKeyFrames;
-			r.fused = correction.fused;
-			r.loopLinks = correction.loopLinks;
-			r.graphKeyFrames = correction.graphKeyFrames;
-			r.graphEdges = correction.graphEdges;
-			r.correctionMetres = correction.correctionMetres;
-			r.correctMs = *correctMs;
-			stats_.loopRecords.push_back(r);
+			stats_.loopRecords.push_back({loop->current, loop->matched, loop->score, loop->ransacInliers, correction, *correctMs});
 		}
 	}
 	if (!loop) return;

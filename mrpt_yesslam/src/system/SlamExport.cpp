@@ -115,8 +115,8 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 			rec, sizeof(rec),
 			"{\"current\": %zu, \"matched\": %zu, \"score\": %.4f, \"inliers\": %zu, \"group_keyframes\": %zu, \"fused\": %zu, "
 			"\"loop_links\": %zu, \"graph_keyframes\": %zu, \"graph_edges\": %zu, \"correction_m\": %.6f, \"ms\": %.1f}",
-			r.current, r.matched, r.score, r.ransacInliers, r.groupKeyFrames, r.fused, r.loopLinks, r.graphKeyFrames, r.graphEdges,
-			r.correctionMetres, r.correctMs);
+			r.current, r.matched, r.score, r.ransacInliers, r.correction.groupKeyFrames, r.correction.fused, r.correction.loopLinks,
+			r.correction.graphKeyFrames, r.correction.graphEdges, r.correction.correctionMetres, r.correctMs);
 		o << (i ? ",\n    " : "\n    ") << rec;
 	}
 	o << (s.loopRecords.empty() ? "],\n" : "\n  ],\n");

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
 
 namespace mrpt_yesslam
@@ -41,11 +42,7 @@ struct TLoopRecord
 	TKeyFrameId current = 0, matched = 0;
 	double score = 0;  //!< S_Loop of the pair (eq. 23)
 	std::size_t ransacInliers = 0;
-	std::size_t groupKeyFrames = 0;	 //!< keyframes moved rigidly with the current one
-	std::size_t fused = 0;	//!< observations added and duplicate points fused
-	std::size_t loopLinks = 0;	//!< new covisibility links across the loop
-	std::size_t graphKeyFrames = 0, graphEdges = 0;	 //!< the essential graph optimised
-	double correctionMetres = 0;  //!< how far the current keyframe moved
+	TLoopCorrection correction;	 //!< what the correction moved, fused and optimised
 	double correctMs = 0;  //!< the whole correction, pose graph included
 };
 
