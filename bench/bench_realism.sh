@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The simulator held against real frames (issue 27 item 3): sensor statistics of the real
 # sequences in ../shared and of yesslam-sim sequences side by side (build/bench/bench_realism:
-# valid depth, textured cells, sharpness, depth noise against distance as the plane residual of
+# valid depth (all, on dark and on light surfaces away from the border), missing depth in holes
+# under 16 px, textured cells, sharpness, depth noise against distance as the plane residual of
 # 8 x 8 patches, flying pixels), then what SLAM makes of each with the default configuration
 # (median inliers per feature, jitter: the median per-frame error of the estimate's steps).
 # Usage: bench/bench_realism.sh [FRAMES] [PRESETS...]   (sim sequences in bench_out/realism/)
@@ -26,8 +27,8 @@ for p in "${PRESETS[@]}"; do
     n="sim $p ($sensor sensor)"; NAMES+=("$n"); INPUT["$n"]="$seq"; ARGS["$n"]=""
   done
 done
-echo "| sequence | valid depth | textured cells | sharpness | noise 8 / 32 px at 2-2.5 m | noise 8 / 32 px at 3-3.5 m | k (sigma = k z^2) | inliers / features | jitter / true step | ATE |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| sequence | valid depth | valid dark / light | holes < 16 px | textured cells | sharpness | noise 8 / 32 px at 2-2.5 m | noise 8 / 32 px at 3-3.5 m | k (sigma = k z^2) | inliers / features | jitter / true step | ATE |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for n in "${NAMES[@]}"; do
   tag="${n// /_}"
   "$STATS" --step 5 --max-frames "$FRAMES" "${INPUT[$n]}" > "$OUT/$tag.stats"
@@ -35,9 +36,10 @@ for n in "${NAMES[@]}"; do
   "$BIN/yesslam" --input "${INPUT[$n]}" ${ARGS[$n]} --max-frames "$FRAMES" --sequential --quiet --no-dense-map --out "$OUT/run_$tag" > "$OUT/run_$tag.log" 2>&1 || true
   ratio=$(awk -F, 'NR > 1 && $6 > 0 {print $9 / $6}' "$OUT/run_$tag/frames.csv" | sort -g | awk '{a[NR]=$1} END {print (NR ? a[int((NR+1)/2)] : 0)}')
   s="$OUT/$tag.stats"
-  awk -v n="$n" -v v="$(field valid_depth_share "$s")" -v t="$(field textured_cell_share "$s")" -v sh="$(field sharpness "$s")" \
+  awk -v n="$n" -v v="$(field valid_depth_share "$s")" -v vd="$(field dark_valid_share "$s")" -v vl="$(field light_valid_share "$s")" \
+      -v sp="$(field speckle_hole_share "$s")" -v t="$(field textured_cell_share "$s")" -v sh="$(field sharpness "$s")" \
       -v a="$(field noise_2.0_2.5_mm "$s")" -v a32="$(field noise32_2.0_2.5_mm "$s")" -v b="$(field noise_3.0_3.5_mm "$s")" -v b32="$(field noise32_3.0_3.5_mm "$s")" \
       -v k="$(field noise_k "$s")" -v r="$ratio" -v j="$(field jitter_median "$OUT/run_$tag.log")" -v st="$(field step_gt_median "$OUT/run_$tag.log")" \
       -v ate="$(field ate_rmse "$OUT/run_$tag.log")" \
-      'BEGIN {printf "| %s | %.2f | %.2f | %.0f | %.1f / %.1f mm | %.1f / %.1f mm | %.4f | %.2f | %.1f / %.1f mm | %.1f mm |\n", n, v, t, sh, a, a32, b, b32, k, r, 1000*j, 1000*st, 1000*ate}'
+      'BEGIN {printf "| %s | %.2f | %.2f / %.2f | %.3f | %.2f | %.0f | %.1f / %.1f mm | %.1f / %.1f mm | %.4f | %.2f | %.1f / %.1f mm | %.1f mm |\n", n, v, vd, vl, sp, t, sh, a, a32, b, b32, k, r, 1000*j, 1000*st, 1000*ate}'
 done

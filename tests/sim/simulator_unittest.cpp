@@ -398,6 +398,10 @@ TEST(Simulator, TheRealSensorLooksLikeTheRealFramesWhereTheKinectModelDidNot)
 	// times more than 8 x 8 ones (an error smooth over tens of pixels), k of sigma = k z^2 about
 	// 0.0011 for the 8 x 8 ones, 39-43 % of 32 x 32 cells with a corner, 82-85 % valid depth. The
 	// Kinect model (white noise) scattered alike at both scales, with k 0.0017 and 83 % corner cells.
+	// Depth is lost in blobs: 0.3-2 % of the real frames' missing pixels lie in holes under 16 px
+	// (13-20 % when the model dropped dark pixels one by one, 45 % with the Kinect model's edges).
+	// Dark surfaces keep 88-94 % of their depth (the model kept 30 %), light ones 95-98 %; what
+	// the real frames miss is mostly the border that depth registration leaves empty.
 	TempDir d("sim_real_sensor");
 	TSimOptions o = quick(d / "kinect", "static_office", 12);
 	o.seed = 3;
@@ -423,7 +427,11 @@ TEST(Simulator, TheRealSensorLooksLikeTheRealFramesWhereTheKinectModelDidNot)
 	EXPECT_GT(kinect.noiseK, 0.0014);
 	EXPECT_LT(real.texturedCellShare, 0.6);
 	EXPECT_GT(kinect.texturedCellShare, 0.7);
-	EXPECT_LT(real.validDepthShare, kinect.validDepthShare - 0.03) << "dark surfaces lose depth";
+	EXPECT_LT(real.validDepthShare, kinect.validDepthShare - 0.03) << "the registration border";
+	EXPECT_GT(real.darkValidShare, 0.75) << "dark surfaces keep most of their depth";
+	EXPECT_GT(real.lightValidShare, 0.85);
+	EXPECT_LT(real.speckleHoleShare, 0.04) << "depth lost pixel by pixel";
+	EXPECT_GT(kinect.speckleHoleShare, 0.2);
 	EXPECT_LT(real.sharpness, 0.3 * kinect.sharpness);
 }
 
@@ -455,6 +463,7 @@ TEST(Simulator, TheCrowdPresetLooksLikeTheRealBonnCrowdFrames)
 	const auto r = st.result();
 	EXPECT_LT(r.texturedCellShare, 0.6);
 	EXPECT_NEAR(r.noiseK, 0.0011, 0.0003);
+	EXPECT_LT(r.speckleHoleShare, 0.04) << "dark clothes lose depth in blobs, as on the real frames";
 	// The camera pans slowly: 3 mm and under half a degree a frame at most, as the Bonn camera.
 	const TTrajectory gt = readTumTrajectory(d / "groundtruth.txt");
 	ASSERT_EQ(gt.size(), 90u);

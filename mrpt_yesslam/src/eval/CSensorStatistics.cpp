@@ -70,6 +70,16 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 	patches(8, residuals_);
 	patches(32, residuals32_);
 
+	// Holes of missing depth and their sizes.
+	cv::Mat holes = depth <= 0, labels, comp, centroids;
+	const int n = cv::connectedComponentsWithStats(holes, labels, comp, centroids, 4, CV_32S);
+	for (int i = 1; i < n; i++)
+	{
+		const auto area = static_cast<std::size_t>(comp.at<int>(i, cv::CC_STAT_AREA));
+		missing_ += area;
+		if (area < 16) speckle_ += area;
+	}
+
 	// Flying pixels: between their horizontal neighbours across a jump.
 	for (int y = 0; y < depth.rows; y++)
 	{
@@ -88,6 +98,22 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 		cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
 	else
 		grey = bgr;
+	cv::Mat window;
+	cv::blur(grey, window, cv::Size(9, 9));
+	constexpr int B = 32;
+	for (int y = B; y < depth.rows - B; y++)
+	{
+		const float* pz = depth.ptr<float>(y);
+		const uchar* pw = window.ptr<uchar>(y);
+		for (int x = B; x < depth.cols - B; x++)
+		{
+			const bool ok = pz[x] > 0;
+			if (pw[x] < 60)
+				dark_++, darkValid_ += ok;
+			else
+				light_++, lightValid_ += ok;
+		}
+	}
 	std::vector<cv::KeyPoint> corners;
 	cv::FAST(grey, corners, 20, false);  // existence per cell; non-maximum suppression is not needed
 	constexpr int C = 32;
@@ -109,6 +135,9 @@ CSensorStatistics::TResult CSensorStatistics::result() const
 	if (frames_ == 0) return r;
 	r.validDepthShare = validSum_ / static_cast<double>(frames_);
 	r.flyingPixelShare = valid_ ? static_cast<double>(flying_) / static_cast<double>(valid_) : 0.0;
+	r.speckleHoleShare = missing_ ? static_cast<double>(speckle_) / static_cast<double>(missing_) : 0.0;
+	r.darkValidShare = dark_ ? static_cast<double>(darkValid_) / static_cast<double>(dark_) : 0.0;
+	r.lightValidShare = light_ ? static_cast<double>(lightValid_) / static_cast<double>(light_) : 0.0;
 	r.texturedCellShare = texturedSum_ / static_cast<double>(frames_);
 	r.sharpness = median(sharpness_);
 	double num = 0, den = 0;
@@ -137,10 +166,11 @@ CSensorStatistics::TResult CSensorStatistics::result() const
 std::string CSensorStatistics::format(const TResult& r)
 {
 	std::string out;
-	char b[160];
+	char b[256];
 	std::snprintf(
-		b, sizeof(b), "frames: %zu\nvalid_depth_share: %.4f\nflying_pixel_share: %.5f\ntextured_cell_share: %.4f\nsharpness: %.1f\n", r.frames,
-		r.validDepthShare, r.flyingPixelShare, r.texturedCellShare, r.sharpness);
+		b, sizeof(b), "frames: %zu\nvalid_depth_share: %.4f\nflying_pixel_share: %.5f\nspeckle_hole_share: %.4f\ndark_valid_share: %.4f\n"
+		"light_valid_share: %.4f\ntextured_cell_share: %.4f\nsharpness: %.1f\n",
+		r.frames, r.validDepthShare, r.flyingPixelShare, r.speckleHoleShare, r.darkValidShare, r.lightValidShare, r.texturedCellShare, r.sharpness);
 	out += b;
 	for (const auto& n : r.noise)
 	{

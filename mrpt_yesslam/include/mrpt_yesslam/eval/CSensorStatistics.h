@@ -10,6 +10,13 @@
 // - flying pixels: valid pixels lying between their left and right neighbours across a jump of
 //   more than 10 % of the depth, at least 3 % from both (the mixed returns of a structured-light
 //   sensor at silhouettes).
+// - speckled holes: the share of missing depth pixels lying in holes (4-connected) of under 16
+//   pixels. A structured-light sensor matches windows of its pattern, so where too little of it
+//   comes back (dark or shiny surfaces) it loses depth in blobs, not pixel by pixel; speckle
+//   breaks the 4-neighbour flood fill of the masker (eq. 4-5) at every step.
+// - valid depth on dark and on light surfaces, 32 px or more from the image border (registered
+//   depth leaves the border empty): dark where the 9 x 9 window round the pixel (a structured-light
+//   correlation window) averages under 60 grey levels.
 // - texture: the share of 32 x 32 cells with a FAST corner at threshold 20; sharpness: the
 //   median over frames of the variance of the grey image's Laplacian (motion blur lowers it).
 #include <opencv2/core.hpp>
@@ -38,6 +45,9 @@ class CSensorStatistics
 		std::size_t frames = 0;
 		double validDepthShare = 0;	 //!< mean over frames of valid depth pixels / all pixels
 		double flyingPixelShare = 0;  //!< flying pixels / valid pixels
+		double speckleHoleShare = 0;  //!< missing pixels in holes under 16 px / missing pixels
+		double darkValidShare = 0;	//!< valid depth on dark surfaces, away from the border
+		double lightValidShare = 0;	 //!< valid depth on light surfaces, away from the border
 		double texturedCellShare = 0;  //!< mean over frames
 		double sharpness = 0;  //!< median Laplacian variance (grey levels^2)
 		std::vector<TNoiseBin> noise;  //!< 0.5-1, 1-1.5, ... 4.5-5 m
@@ -54,7 +64,8 @@ class CSensorStatistics
    private:
 	std::size_t frames_ = 0;
 	double validSum_ = 0, texturedSum_ = 0;
-	std::size_t flying_ = 0, valid_ = 0;
+	std::size_t flying_ = 0, valid_ = 0, missing_ = 0, speckle_ = 0;
+	std::size_t dark_ = 0, darkValid_ = 0, light_ = 0, lightValid_ = 0;
 	std::vector<double> sharpness_;
 	std::vector<std::vector<double>> residuals_ = std::vector<std::vector<double>>(9);
 	std::vector<std::vector<double>> residuals32_ = std::vector<std::vector<double>>(9);
