@@ -92,6 +92,34 @@ TEST(Masker, PersonInFrontOfWallIoUAbove90Percent)
 	EXPECT_EQ(cv::countNonZero(CDynamicObjectMasker(o).compute(depth, {chair}).mask), 0);
 }
 
+TEST(Masker, HolesInAPersonsDepthDoNotStopTheEdgeEnhancedFill)
+{
+	// Real sensors lose depth in blobs (dark patches, the edges of folds): 2 % of the Bonn Xtion's
+	// missing pixels are in holes under 16 px, the rest in larger ones. Read as 0 m, each hole was a
+	// step of the full depth that eq. 4's Laplacian multiplied and eq. 5's blur spread into the
+	// surface round it, and the fill stopped there (on the simulator's real sensor the masks fell
+	// from IoU 0.85 to 0.67). The hole stays a barrier, the surface round it is fillable (and the
+	// holes the object encloses are its own again at the end).
+	const cv::Mat person = personShape();
+	cv::Mat depth = noisyDepth(person, 1.2, 3.0, 5);
+	std::mt19937 rng(11);
+	std::uniform_int_distribution<int> ux(240, 400), uy(80, 460), ur(3, 9);
+	int holes = 0;
+	while (holes < 60)
+	{
+		const cv::Point c(ux(rng), uy(rng));
+		if (!person.at<uchar>(c)) continue;
+		cv::circle(depth, c, ur(rng), cv::Scalar(0), cv::FILLED);
+		holes++;
+	}
+	CDynamicObjectMasker::TOptions o;
+	o.dilatePixels = 0;
+	const auto r = CDynamicObjectMasker(o).compute(depth, {personBox(person, 0.04f)});
+	ASSERT_EQ(r.regions.size(), 1u);
+	EXPECT_FALSE(r.regions[0].usedBox) << "the fill stopped near its seed";
+	EXPECT_GE(iou(r.mask, person), 0.85);
+}
+
 TEST(Masker, FallsBackToTheBoxWhenTheFillFails)
 {
 	const cv::Mat person = personShape();

@@ -59,9 +59,37 @@ cv::Mat CDynamicObjectMasker::prepare(const cv::Mat& depth) const
 	{
 		// Eq. 4-5: Laplacian sharpening steepens depth discontinuities, the blur removes the noise the
 		// Laplacian amplified. Missing pixels are barriers again afterwards.
+		// The filters see missing depth as its nearest valid neighbour's, not as 0: a hole (a dark
+		// patch, a depth-edge dropout) read as 0 m is a step of the full depth, which the Laplacian
+		// multiplies and the blur spreads into the surface round it, so a fill stopped at every hole
+		// of a person (as eq. 4 is written for an image without holes).
+		cv::Mat src = d;
+		if (cv::countNonZero(invalid) > 0 && cv::countNonZero(invalid) < invalid.rows * invalid.cols)
+		{
+			cv::Mat dist, labels;
+			cv::distanceTransform(invalid, dist, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+			std::vector<float> value(static_cast<std::size_t>(d.rows) * static_cast<std::size_t>(d.cols) + 1, 0.0f);
+			for (int y = 0; y < d.rows; y++)
+			{
+				const uchar* pi = invalid.ptr<uchar>(y);
+				const int* pl = labels.ptr<int>(y);
+				const float* pd = d.ptr<float>(y);
+				for (int x = 0; x < d.cols; x++)
+					if (!pi[x]) value[static_cast<std::size_t>(pl[x])] = pd[x];
+			}
+			src = d.clone();
+			for (int y = 0; y < d.rows; y++)
+			{
+				const uchar* pi = invalid.ptr<uchar>(y);
+				const int* pl = labels.ptr<int>(y);
+				float* ps = src.ptr<float>(y);
+				for (int x = 0; x < d.cols; x++)
+					if (pi[x]) ps[x] = value[static_cast<std::size_t>(pl[x])];
+			}
+		}
 		cv::Mat lap;
-		cv::Laplacian(d, lap, CV_32F, opts_.laplacianKernel);
-		cv::Mat enhanced = d - opts_.laplacianGain * lap;
+		cv::Laplacian(src, lap, CV_32F, opts_.laplacianKernel);
+		cv::Mat enhanced = src - opts_.laplacianGain * lap;
 		if (opts_.blurSigma > 0) cv::GaussianBlur(enhanced, enhanced, cv::Size(0, 0), opts_.blurSigma);
 		enhanced.setTo(0, invalid);
 		return enhanced;
