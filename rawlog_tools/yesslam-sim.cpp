@@ -50,8 +50,12 @@ int main(int argc, char** argv)
 			cl.flag("auto-exposure", "vary image brightness slowly, like auto exposure", &o.autoExposure);
 			cl.flag(
 				"real-sensor",
-				"the sensor as measured on real Xtion/Kinect frames (bench/bench_realism.sh): depth error smooth over tens of pixels, no depth on dark surfaces, soft colour images, motion blur, auto exposure",
+				"the sensor as measured on real Xtion/Kinect frames (bench/bench_realism.sh): depth error smooth over tens of pixels, depth lost in blobs (silhouettes, some dark surfaces) and in the registration border, soft colour images, motion blur, auto exposure",
 				&o.realSensor);
+			cl.number(
+				"depth-offset", "MS",
+				"take each depth image up to MS milliseconds before or after its colour image, the offset drifting through that range and back every 15 s (0.15 ms a frame at 16.7, as between two free-running 30 Hz streams) (depth.txt gets the depth's own stamps; the real Bonn frames: 16.7)",
+				&o.depthOffsetMs);
 			cl.number("speed", "F", "the preset's camera moves F times faster (0.1..10; the path is the same, frames stay 30 Hz)", &o.speed);
 			cl.flag("moving-chair", "also push a chair across the room (a dynamic object that is not a person)", &o.movingChair);
 			cl.count("undetected-people", "K", "K of the moving people never appear in detections.txt (movers the detector never reports)", &o.undetectedPeople);

@@ -2,6 +2,7 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/math/CMatrixDynamic.h>
+#include <mrpt/math/slerp.h>
 #include <mrpt/opengl/COpenGLScene.h>
 
 #include <algorithm>
@@ -405,6 +406,7 @@ TSimSummary runSimulation(
 	}
 
 	// Inputs first: a run that cannot start leaves no output folder behind.
+	if (!(o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100)) throw InputError("", "--depth-offset must be in [0, 100] ms");
 	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
 	std::error_code ec;
 	fs::create_directories(fs::path(o.outDir), ec);
@@ -478,6 +480,18 @@ TSimSummary runSimulation(
 		throw InputError("", "--undetected-people " + std::to_string(o.undetectedPeople) + ": the scene has only " +
 								 std::to_string(undetected.size()) + " moving people");
 
+	// The camera's pose at any stamp inside the sequence: poses are given at the colour stamps.
+	const auto poseAt = [&](double s)
+	{
+		const auto it = std::upper_bound(stamps.begin(), stamps.end(), s);
+		if (it == stamps.begin()) return poses.front();
+		if (it == stamps.end()) return poses.back();
+		const std::size_t j = static_cast<std::size_t>(it - stamps.begin());
+		mrpt::math::TPose3D p;
+		mrpt::math::slerp(poses[j - 1].asTPose(), poses[j].asTPose(), (s - stamps[j - 1]) / (stamps[j] - stamps[j - 1]), p);
+		return CPose3D(p);
+	};
+
 	CAsyncPngWriter pngs(2, 16);
 	clock.lap("setup");
 	for (std::size_t k = 0; k < stamps.size(); k++)
@@ -491,6 +505,22 @@ TSimSummary runSimulation(
 		world.setTime(t);
 		cv::Mat rgb, z, inst;
 		renderer.render(world.rayBoxes(), poses[k], cam.intrinsics, rgb, z, inst);
+		// The depth camera's own moment (--depth-offset): the scene rendered again there, people
+		// and camera moved on; its colour is what the depth camera saw (dark surfaces below).
+		// A triangle wave rather than the streams' sawtooth: at the sawtooth's wrap the depth stamp
+		// would step back past the previous frame's (the real association then skips a depth
+		// image), which a TUM list cannot hold. Same range, same drift rate.
+		const double ph = std::fmod(static_cast<double>(k) / 444.0 + 0.37 * o.seed, 1.0);
+		const double depthOffset = o.depthOffsetMs * 1e-3 * (ph < 0.5 ? 4 * ph - 1 : 3 - 4 * ph);
+		const double depthStamp = stamps[k] + depthOffset;
+		cv::Mat depthSceneRgb = rgb;
+		if (depthOffset != 0)
+		{
+			world.setTime(t + depthOffset);
+			cv::Mat inst2;
+			renderer.render(world.rayBoxes(), poseAt(depthStamp), cam.intrinsics, depthSceneRgb, z, inst2);
+			world.setTime(t);
+		}
 		clock.lap("render");
 
 		// Class labels, visible pixels and box of every instance, share of moving pixels.
@@ -530,7 +560,7 @@ TSimSummary runSimulation(
 		if (o.noise && realSensor)
 		{
 			cv::Mat grey;
-			cv::cvtColor(rgb, grey, cv::COLOR_BGR2GRAY);
+			cv::cvtColor(depthSceneRgb, grey, cv::COLOR_BGR2GRAY);
 			drop = coherentUniform(z.size(), 8, rng);
 			addRealSensorDepthError(z, grey, drop, rng);
 		}
@@ -673,12 +703,13 @@ TSimSummary runSimulation(
 			};
 		clock.lap("overlays");
 		pngs.write((out / "rgb" / name).string(), rgb, linkForRawlog);
-		pngs.write((out / "depth" / name).string(), depth16);
+		const std::string depthName = stampText(depthStamp) + ".png";
+		pngs.write((out / "depth" / depthName).string(), depth16);
 		pngs.write((out / "labels/class" / name).string(), cls);
 		pngs.write((out / "labels/instance" / name).string(), inst);
 		rgbTxt += stampText(stamps[k]) + " rgb/" + name + "\n";
-		depthTxt += stampText(stamps[k]) + " depth/" + name + "\n";
-		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(stamps[k]) + " depth/" + name + "\n";
+		depthTxt += stampText(depthStamp) + " depth/" + depthName + "\n";
+		assoc += stampText(stamps[k]) + " rgb/" + name + " " + stampText(depthStamp) + " depth/" + depthName + "\n";
 		gt.push_back(TStampedPose::fromPose(stamps[k], poses[k]));
 		clock.lap("png queue wait");
 		if (rawlog)
@@ -730,7 +761,7 @@ TSimSummary runSimulation(
 		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
 	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"real_sensor\": " + (realSensor ? "true" : "false") +
 			",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
-	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n";
+	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n  \"depth_offset_ms\": " + std::to_string(o.depthOffsetMs) + ",\n";
 	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
 	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";
 	meta += "  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, \"depth_scale\": 5000},\n";

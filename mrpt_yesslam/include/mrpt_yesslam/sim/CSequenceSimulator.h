@@ -45,9 +45,14 @@ struct TSimOptions
 	bool motionBlur = false;
 	bool autoExposure = false;
 	/** The sensor as measured on the real Xtion/Kinect frames of ../shared (bench/bench_realism.sh):
-	 * depth noise smooth over tens of pixels beside the per-pixel part, depth missing on dark
-	 * surfaces, an optically soft colour image; motion blur and auto exposure on. */
+	 * depth noise smooth over tens of pixels beside the per-pixel part, depth lost in blobs (at
+	 * silhouettes, on some dark surfaces) and in the registration border, an optically soft colour
+	 * image; motion blur and auto exposure on. */
 	bool realSensor = false;
+	/** Each depth image is taken up to this many ms before or after its colour image (0 = with
+	 * it): the offset drifts through [-ms, +ms] and back every 444 frames, 0.15 ms a frame at
+	 * 16.7 ms, as between the two free-running 30 Hz streams of the real Bonn Xtion. */
+	double depthOffsetMs = 0;
 	bool movingChair = false;  //!< a chair pushed across the room (not a person)
 	/** The preset's camera motion runs this many times faster (frames stay at 30 Hz): a shorter
 	 * sequence with the same path (tests), or a harder one. People keep their pace. */
