@@ -3,6 +3,8 @@
 // Images for the database test: TUM fr1/desk (CC BY 4.0) in ../shared/data.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
@@ -161,8 +163,8 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	const std::string json = readText(a / "stats.json");
 	EXPECT_NE(json.find("\"corrections\": " + std::to_string(on.stats.loopCorrections)), std::string::npos) << json;
 	// How far the largest correction moved its keyframe (the drift it removed: millimetres here).
-	EXPECT_GT(on.stats.largestLoopCorrection, 0.0005);
-	EXPECT_LT(on.stats.largestLoopCorrection, 0.05);
+	EXPECT_GT(on.stats.largestLoopCorrection(), 0.0005);
+	EXPECT_LT(on.stats.largestLoopCorrection(), 0.05);
 	EXPECT_NE(json.find("\"largest_correction_m\": "), std::string::npos) << json;
 	EXPECT_NE(json.find("\"global_ba_cancelled\": " + std::to_string(on.stats.globalBundleCancelled)), std::string::npos) << json;
 	// Each corrected loop is listed with what its correction did (issue 28 item 8: the correction's
@@ -176,7 +178,9 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 		EXPECT_GE(r.correction.graphEdges, r.correction.graphKeyFrames) << "a spanning tree and the loop edge at least";
 		largest = std::max(largest, r.correction.correctionMetres);
 	}
-	EXPECT_EQ(largest, on.stats.largestLoopCorrection);
+	std::ostringstream largestText;  // stats.json's largest correction is the records' largest
+	largestText << "\"largest_correction_m\": " << largest << ",";
+	EXPECT_NE(json.find(largestText.str()), std::string::npos) << json;
 	std::size_t listed = 0;
 	for (auto at = json.find("\"matched\": "); at != std::string::npos; at = json.find("\"matched\": ", at + 1)) listed++;
 	EXPECT_EQ(listed, on.stats.loopCorrections) << json;

@@ -64,7 +64,8 @@ cv::Mat CDynamicObjectMasker::prepare(const cv::Mat& depth) const
 		// multiplies and the blur spreads into the surface round it, so a fill stopped at every hole
 		// of a person (as eq. 4 is written for an image without holes).
 		cv::Mat src = d;
-		if (cv::countNonZero(invalid) > 0 && cv::countNonZero(invalid) < invalid.rows * invalid.cols)
+		const int missing = cv::countNonZero(invalid);
+		if (missing > 0 && missing < invalid.rows * invalid.cols)
 		{
 			cv::Mat dist, labels;
 			cv::distanceTransform(invalid, dist, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);

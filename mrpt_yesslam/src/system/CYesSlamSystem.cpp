@@ -281,17 +281,18 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
 	const auto t0 = Clock::now();
+	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
+	// detection find it; culled keyframes leave the database with the map. The words and the
+	// database (its own lock) are nothing a loop correction writes: outside the map-update lock.
+	addWords(kf);
 	TMappingStats st;
 	{
 		// Waits while a loop correction is written (counted in the mapping time: that is the stall).
 		std::lock_guard<std::mutex> lk(mapUpdateMtx_);
-		// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and
-		// loop detection find it; culled keyframes leave the database with the map.
-		addWords(kf);
 		st = mapper_.step(kf);
-		if (bowDatabase_)
-			for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
 	}
+	if (bowDatabase_)
+		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
 	const double ms = msSince(t0);
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
@@ -335,7 +336,6 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 		{
 			loops_.push_back(*loop);
 			stats_.loopCorrections++;
-			stats_.largestLoopCorrection = std::max(stats_.largestLoopCorrection, correction.correctionMetres);
 			stats_.stageMs["loop_correct"].push_back(*correctMs);
 			stats_.loopRecords.push_back({loop->current, loop->matched, loop->score, loop->ransacInliers, correction, *correctMs});
 		}

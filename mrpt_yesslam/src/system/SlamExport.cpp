@@ -103,7 +103,7 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	o << "  \"loop_closing\": " << (ctx.loopClosing ? "true" : "false") << ",\n";
 	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent << ", \"accepted\": " << s.loops.accepted
 	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
-	  << ", \"largest_correction_m\": " << s.largestLoopCorrection << ", \"global_ba_runs\": " << s.globalBundleRuns
+	  << ", \"largest_correction_m\": " << s.largestLoopCorrection() << ", \"global_ba_runs\": " << s.globalBundleRuns
 	  << ", \"global_ba_applied\": " << s.globalBundleApplied << ", \"global_ba_cancelled\": " << s.globalBundleCancelled << "},\n";
 	// Each corrected loop: the pair and what the correction did (so a bad correction can be found).
 	o << "  \"loop_corrections\": [";

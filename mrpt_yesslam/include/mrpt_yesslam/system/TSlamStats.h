@@ -3,6 +3,7 @@
 // that exporters (io/SlamExport) need not include the system.
 #include <cstddef>
 #include <map>
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -59,8 +60,14 @@ struct TSlamStats
 	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
 	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
 	std::size_t globalBundleCancelled = 0;	//!< global BAs stopped early: a newer correction made them stale
-	double largestLoopCorrection = 0;  //!< metres the current keyframe moved in the largest loop correction
 	std::vector<TLoopRecord> loopRecords;  //!< every corrected loop, in order
+	/** Metres the current keyframe moved in the largest loop correction (0 without one). */
+	double largestLoopCorrection() const
+	{
+		double m = 0;
+		for (const auto& r : loopRecords) m = std::max(m, r.correction.correctionMetres);
+		return m;
+	}
 	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
 	std::size_t denseBytes = 0;	 //!< memory those clouds take
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
