@@ -49,8 +49,9 @@ TEST(OrbExtractor, BudgetSpreadAndDepthOnARealFrame)
 	std::set<int> levels;
 	for (const auto& k : f.keypoints) levels.insert(k.octave);
 	EXPECT_GE(levels.size(), 5u);
-	// Depth is the registered depth at the keypoint's pixel, kept only where the 5x5 neighbourhood
-	// is one surface (3% + 1 cm): corners on depth edges get none. Most desk keypoints keep theirs.
+	// Depth is the registered depth at the keypoint (between its four pixels), kept only where the
+	// 5x5 neighbourhood of its pixel is one surface (3% + 1 cm): corners on depth edges get none.
+	// Most desk keypoints keep theirs.
 	std::size_t withDepth = 0, onEdges = 0;
 	for (std::size_t i = 0; i < f.keypoints.size(); i++)
 	{
@@ -66,12 +67,47 @@ TEST(OrbExtractor, BudgetSpreadAndDepthOnARealFrame)
 				hi = std::max(hi, static_cast<double>(w));
 			}
 		const bool smooth = z > 0 && lo > 0 && hi - z <= 0.03 * z + 0.01 && z - lo <= 0.03 * z + 0.01;
-		EXPECT_FLOAT_EQ(f.depth[i], smooth ? z : 0.f);
+		if (smooth)
+		{
+			EXPECT_GE(f.depth[i], lo - 1e-6);
+			EXPECT_LE(f.depth[i], hi + 1e-6);
+		}
+		else
+			EXPECT_EQ(f.depth[i], 0.f);
 		withDepth += f.depth[i] > 0;
 		onEdges += z > 0 && !smooth;
 	}
 	EXPECT_GT(withDepth, f.keypoints.size() / 2) << onEdges << " on depth edges";
 	EXPECT_GT(onEdges, 0u);
+}
+
+TEST(OrbExtractor, KeypointDepthIsTheSurfacesAtTheKeypointNotAtItsNearestPixel)
+{
+	// A wall seen at a slant: depth grows 1 cm a pixel across the image (a floor 3-4 m away does
+	// that). Keypoints of the coarser pyramid levels sit between pixels; the nearest pixel's depth
+	// would be up to 5 mm off the surface along the keypoint's ray (the point then lies off the wall).
+	cv::Mat img(480, 640, CV_8UC3);
+	cv::RNG rng(7);
+	for (int y = 0; y < img.rows; y += 8)
+		for (int x = 0; x < img.cols; x += 8)
+			img(cv::Rect(x, y, 8, 8)).setTo(cv::Scalar::all(rng.uniform(0, 256)));
+	cv::Mat depth(480, 640, CV_32F);
+	for (int y = 0; y < depth.rows; y++)
+		for (int x = 0; x < depth.cols; x++) depth.at<float>(y, x) = 1.5f + 0.01f * static_cast<float>(x);
+	const auto f = COrbExtractor().extract(img, depth);
+	std::size_t between = 0, withDepth = 0;
+	double worst = 0;
+	for (std::size_t i = 0; i < f.keypoints.size(); i++)
+	{
+		if (!(f.depth[i] > 0)) continue;
+		withDepth++;
+		const double x = f.keypoints[i].pt.x;
+		between += std::abs(x - std::round(x)) > 0.2;
+		worst = std::max(worst, std::abs(f.depth[i] - (1.5 + 0.01 * x)));
+	}
+	EXPECT_GT(withDepth, f.keypoints.size() * 9 / 10);
+	EXPECT_GT(between, withDepth / 5) << "keypoints between pixels";
+	EXPECT_LT(worst, 1e-4) << "largest depth error along the keypoint's ray, m";
 }
 
 TEST(OrbExtractor, DynamicMaskFlagsOrExcludes)

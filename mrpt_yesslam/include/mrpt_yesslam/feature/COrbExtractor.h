@@ -47,6 +47,9 @@ class COrbExtractor
 	 * and flagging afterwards gives the same features as extract() with the mask, unless
 	 * excludeMasked, so detection can run while features are extracted. */
 	static void flagDynamic(TFeatures& features, const cv::Mat& dynamicMask);
+	/** A keypoint's depth at raw pixel (x, y) of a depth image (CV_32F metres): the nearest pixel's,
+	 * or 0 outside the image, without depth, or where its neighbourhood is not one surface. */
+	static float depthAt(const cv::Mat& depthMetres, double x, double y);
 
 	const TOptions& options() const { return opts_; }
 
