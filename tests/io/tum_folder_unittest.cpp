@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -62,6 +63,28 @@ TEST(TumFolder, PairsLikeAssociatePyAndCountsSkipped)
 	EXPECT_EQ(src.sizeHint(), 3u);
 	EXPECT_EQ(src.skipped(), 1u);
 	EXPECT_NEAR(src.frames()[2].tRgb, frames[3].tRgb, 1e-9);
+}
+
+TEST(TumFolder, TellsWhenEachDepthImageWasTakenAlsoThroughAPrefetcher)
+{
+	// Real fr1/desk stamps (TUM RGB-D, CC BY 4.0; via slambook, MIT): each depth image 9-15 ms after
+	// its colour image. SLAM moves keypoint depth by that much camera motion ([Tracking] depthMoment).
+	const std::string folder = sharedFile("data/tum_fr1_desk_9frames");
+	auto src = std::make_unique<CTumFolderSource>(folder);
+	const std::vector<TTumFrame> frames = src->frames();
+	ASSERT_EQ(frames.size(), 9u);
+	CPrefetchingSource ahead(std::move(src), 3);
+	for (const auto& f : frames)
+	{
+		auto obs = ahead.next();  // the reader thread runs on meanwhile
+		ASSERT_TRUE(obs);
+		const auto td = ahead.depthTime(observationTime(*obs));
+		ASSERT_TRUE(td) << std::fixed << f.tRgb;
+		EXPECT_NEAR(*td, f.tDepth, 1e-6);
+		EXPECT_GT(*td - f.tRgb, 0.009);
+		EXPECT_LT(*td - f.tRgb, 0.015);
+	}
+	EXPECT_FALSE(ahead.depthTime(frames[0].tRgb + 0.01)) << "no colour image has that stamp";
 }
 
 TEST(TumFolder, RealFr1DeskFrames)

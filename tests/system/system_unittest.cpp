@@ -16,6 +16,8 @@
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/eval/TrajectoryEvaluator.h"
+#include "mrpt_yesslam/feature/COrbExtractor.h"
+#include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
@@ -641,4 +643,58 @@ TEST(System, ALoopCorrectionDuringAFramesOwnKeyFrameCarriesOverToTheNextPredicti
 	ASSERT_TRUE(corrected);
 	ASSERT_GT(after, 20u);
 	EXPECT_LT(computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse, 0.02);
+}
+
+TEST(System, DepthTakenAtAnotherMomentIsMovedToTheColourImages)
+{
+	// Issue 27: where a TUM folder's depth image was taken at another moment than its colour image
+	// (depth.txt's stamps; the simulator's --depth-offset), [Tracking] depthMoment moves each
+	// keypoint's depth to the colour image's moment with the motion model. Exact sensor, fast
+	// camera; the synchronised twin of the sequence gives the depth at the colour image's moment.
+	TempDir d("system_depth_moment");
+	TSimOptions sim;
+	sim.preset = "static_office";
+	sim.frames = 30;
+	sim.seed = 3;
+	sim.noise = false;
+	sim.speed = 4;
+	sim.writeRawlog = false;
+	sim.outDir = d / "sync";
+	runSimulation(sim);
+	sim.depthOffsetMs = 16.7;
+	sim.outDir = d / "offset";
+	runSimulation(sim);
+	const auto syncDepth = readTumFileList(d / "sync/depth.txt");
+
+	// Median keypoint depth error against the synchronised depth, over frames with a velocity.
+	const auto medianError = [&](bool depthMoment)
+	{
+		TSlamJobOptions o;
+		o.input = d / "offset";
+		o.outDir = d / (depthMoment ? "on" : "off");
+		o.slam.detector.backend = "none";
+		o.slam.system.parallel = false;
+		o.slam.tracking.depthMoment = depthMoment;
+		std::vector<double> err;
+		o.onFrame = [&](const TFrame& f)
+		{
+			if (f.id < 3) return;
+			cv::Mat z;
+			cv::imread(d / ("sync/" + syncDepth[f.id].file), cv::IMREAD_UNCHANGED).convertTo(z, CV_32F, 1.0 / 5000);
+			for (std::size_t i = 0; i < f.features.keypoints.size(); i++)
+			{
+				const auto& p = f.features.keypoints[i].pt;
+				const float truth = COrbExtractor::depthAt(z, p.x, p.y);
+				if (f.features.depth[i] > 0 && truth > 0) err.push_back(std::abs(f.features.depth[i] - truth));
+			}
+		};
+		const auto s = runSlamJob(o);
+		EXPECT_EQ(s.stats.trackedFrames, 30u);
+		EXPECT_GT(err.size(), 5000u);
+		std::nth_element(err.begin(), err.begin() + static_cast<long>(err.size() / 2), err.end());
+		return err[err.size() / 2];
+	};
+	const double off = medianError(false), on = medianError(true);
+	EXPECT_GT(off, 0.002) << "the offset moves keypoint depth by millimetres";
+	EXPECT_LT(on, 0.3 * off) << "median keypoint depth error, m: " << on << " with depthMoment, " << off << " without";
 }

@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -110,6 +112,15 @@ CTumFolderSource::CTumFolderSource(const std::string& folder, const TOptions& op
 	}
 	skipped_ = rgb.size() - matches.size();
 	camera_ = resolveTumCamera(opts.camera, folder);
+}
+
+std::optional<double> CTumFolderSource::depthTime(double colourTime) const
+{
+	// frames_ is in colour-time order and never changes after construction (thread-safe to read).
+	const auto it = std::lower_bound(
+		frames_.begin(), frames_.end(), colourTime - 1e-5, [](const TTumFrame& f, double t) { return f.tRgb < t; });
+	if (it == frames_.end() || std::abs(it->tRgb - colourTime) > 1e-5) return std::nullopt;
+	return it->tDepth;
 }
 
 mrpt::obs::CObservation3DRangeScan::Ptr CTumFolderSource::next()

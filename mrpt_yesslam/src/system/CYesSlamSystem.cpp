@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "mrpt_yesslam/feature/DepthMoment.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -415,11 +416,11 @@ void CYesSlamSystem::waitForMapping()
 	}
 }
 
-TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs)
+TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs, std::optional<double> depthTime)
 {
 	cv::Mat bgr = obs.intensityImage.asCvMatRef();
 	if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);
-	return processFrame(bgr, depthInMetres(obs), observationTime(obs), obs.cameraParamsIntensity);
+	return processFrame(bgr, depthInMetres(obs), observationTime(obs), obs.cameraParamsIntensity, depthTime);
 }
 
 double CYesSlamSystem::motionToReference(const TFrame& f) const
@@ -465,7 +466,7 @@ void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool
 }
 
 TFrameReport CYesSlamSystem::processFrame(
-	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera)
+	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera, std::optional<double> depthTime)
 {
 	collectMapping(false);	// a failure of the mapping stage ends the run here, with its message
 	TFrameReport rep;
@@ -474,6 +475,12 @@ TFrameReport CYesSlamSystem::processFrame(
 	rep.frameId = f->id;
 
 	auto t0 = Clock::now();
+	// Under 0.1 ms apart the depth moves by micrometres: nothing to do.
+	if (opts_.tracking.depthMoment && depthTime && std::abs(*depthTime - timestamp) > 1e-4)
+		if (const auto motion = tracker_.motionOver(*depthTime - timestamp))
+			moveDepthToColourMoment(f->features, depth, CPinholeCamera(f->camera), *motion);
+	ms["orb"] += msSince(t0);
+	t0 = Clock::now();
 	rep.features = f->size();
 	rep.staticFeatures = f->features.numStatic();
 	rep.detections = f->detections.size();

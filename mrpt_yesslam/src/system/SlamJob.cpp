@@ -17,6 +17,7 @@
 #include "mrpt_yesslam/io/CPacedSource.h"
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
+#include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/TextParsing.h"
@@ -390,7 +391,7 @@ TSlamJobSummary runSlamJob(
 			auto obs = src->next();
 			if (!obs) break;
 			if (record) record(obs);
-			const TFrameReport r = sys.processFrame(*obs);
+			const TFrameReport r = sys.processFrame(*obs, src->depthTime(observationTime(*obs)));
 			done++;
 			if (progress)
 			{

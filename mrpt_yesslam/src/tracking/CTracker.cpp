@@ -27,6 +27,7 @@ COptionTable CTracker::TOptions::table()
 	t.flag("lostInterpolate", lostInterpolate, "trajectory: lost frames between two tracked ones are placed between them by time once tracking resumes (false: the coasted pose written while lost)");
 	t.count("lostVelocityFrames", lostVelocityFrames, 1, 1000, "lost frames continue the mean velocity of this many last tracked frames (1: the last one alone)");
 	t.integer("seeThroughFrames", seeThroughFrames, 0, 1000, "a map point with farther surfaces measured around it in this many consecutive frames has moved away: erased (0 = never)");
+	t.flag("depthMoment", depthMoment, "where the depth image was taken at another moment than the colour image (TUM folders: depth.txt's stamps), keypoint depth is moved to the colour image's moment with the motion model");
 	return t;
 }
 
@@ -85,6 +86,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 	if (last_ && last_->tracked && f->tracked)
 	{
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
+		velocityInterval_ = f->timestamp - last_->timestamp;
 		lostRun_ = 0;
 		recentMotion_.push_back(mrpt::poses::Lie::SE<3>::log(*velocity_));
 		while (recentMotion_.size() > opts_.lostVelocityFrames) recentMotion_.pop_front();
@@ -122,6 +124,15 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		lastAnchor_.refKf = referenceKeyFrame();
 		if (lastAnchor_.refKf) lastAnchor_.relative = f->pose - map_.keyFramePose(*lastAnchor_.refKf);
 	}
+}
+
+std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
+{
+	// A lost frame's velocity is a guess (coasting): it moves nothing.
+	if (!velocity_ || lostRun_ > 0 || !(velocityInterval_ > 0)) return std::nullopt;
+	auto v = mrpt::poses::Lie::SE<3>::log(*velocity_);
+	for (int k = 0; k < 6; k++) v[k] *= seconds / velocityInterval_;
+	return mrpt::poses::Lie::SE<3>::exp(v);
 }
 
 mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const

@@ -46,6 +46,16 @@ class CPinholeCamera
 	bool distorted() const { return dist_[0] != 0 || dist_[1] != 0 || dist_[2] != 0 || dist_[3] != 0 || dist_[4] != 0; }
 	/** Undistorted pixel positions of raw (distorted) ones, in place; nothing to do without distortion. */
 	void undistort(std::vector<cv::Point2f>& pixels) const;
+	/** The raw (distorted) pixel of an undistorted one: where it lies in the images as recorded. */
+	cv::Point2d distort(double u, double v) const
+	{
+		if (!distorted()) return {u, v};
+		const double x = (u - cx_) / fx_, y = (v - cy_) / fy_, r2 = x * x + y * y;
+		const double radial = 1 + r2 * (dist_[0] + r2 * (dist_[1] + r2 * dist_[4]));
+		const double xd = x * radial + 2 * dist_[2] * x * y + dist_[3] * (r2 + 2 * x * x);
+		const double yd = y * radial + dist_[2] * (r2 + 2 * y * y) + 2 * dist_[3] * x * y;
+		return {fx_ * xd + cx_, fy_ * yd + cy_};
+	}
 
    private:
 	double fx_ = 1, fy_ = 1, cx_ = 0, cy_ = 0;

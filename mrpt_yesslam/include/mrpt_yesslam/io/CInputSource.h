@@ -7,6 +7,7 @@
 #include "mrpt_yesslam/util/ConfigFile.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include "mrpt_yesslam/util/OptionTable.h"
 
@@ -44,6 +45,14 @@ class CInputSource
 	virtual std::size_t skipped() const { return 0; }
 	/** The path the source reads. */
 	virtual const std::string& path() const = 0;
+	/** When the depth image delivered with the colour image stamped `colourTime` was taken, where
+	 * the source knows it (TUM folders: depth.txt); none: with the colour image. Safe to call while
+	 * next() runs on another thread (a prefetching reader). */
+	virtual std::optional<double> depthTime(double colourTime) const
+	{
+		(void)colourTime;
+		return std::nullopt;
+	}
 };
 
 /** Opens a rawlog file (*.rawlog, gz-compressed or not) or a TUM RGB-D folder; throws InputError

@@ -52,6 +52,7 @@ class CLiveSource : public CInputSource
 	std::size_t sizeHint() const override { return sizeHint_; }
 	std::size_t skipped() const override { return unpaired_; }
 	const std::string& path() const override { return path_; }
+	std::optional<double> depthTime(double colourTime) const override { return source_->depthTime(colourTime); }
 
 	/** Frames captured and dropped so far (thread-safe). */
 	TLiveStats stats() const;

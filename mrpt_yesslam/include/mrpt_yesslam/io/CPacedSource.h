@@ -21,6 +21,7 @@ class CPacedSource : public CInputSource
 	std::size_t sizeHint() const override { return source_->sizeHint(); }
 	std::size_t skipped() const override { return source_->skipped(); }
 	const std::string& path() const override { return source_->path(); }
+	std::optional<double> depthTime(double colourTime) const override { return source_->depthTime(colourTime); }
 
    private:
 	std::unique_ptr<CInputSource> source_;

@@ -28,6 +28,7 @@ class CPrefetchingSource : public CInputSource
 	std::size_t sizeHint() const override { return sizeHint_; }
 	std::size_t skipped() const override { return skipped_; }
 	const std::string& path() const override { return path_; }
+	std::optional<double> depthTime(double colourTime) const override { return source_->depthTime(colourTime); }
 
    private:
 	/** Runs on the reader thread: the source's next frame, nothing once it has ended or thrown. */

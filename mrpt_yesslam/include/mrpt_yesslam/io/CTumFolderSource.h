@@ -40,6 +40,8 @@ class CTumFolderSource : public CInputSource
 	std::size_t sizeHint() const override { return frames_.size(); }
 	std::size_t skipped() const override { return skipped_; }
 	const std::string& path() const override { return folder_; }
+	/** depth.txt's stamp of the depth image paired with the colour image stamped `colourTime`. */
+	std::optional<double> depthTime(double colourTime) const override;
 
 	/** The associated frames, in time order. */
 	const std::vector<TTumFrame>& frames() const { return frames_; }

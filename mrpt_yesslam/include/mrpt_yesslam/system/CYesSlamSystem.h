@@ -110,10 +110,14 @@ class CYesSlamSystem
 	CYesSlamSystem& operator=(const CYesSlamSystem&) = delete;
 
 	/** Processes one RGB-D frame (validated by the input source). Never throws for hard frames: a
-	 * frame that cannot be tracked gets a motion-model pose and tracked = false. */
-	TFrameReport processFrame(const mrpt::obs::CObservation3DRangeScan& obs);
+	 * frame that cannot be tracked gets a motion-model pose and tracked = false. `depthTime`: when
+	 * the depth image was taken, where the source knows it and it is not the frame's timestamp
+	 * (CInputSource::depthTime); keypoint depth is then moved to the colour image's moment. */
+	TFrameReport processFrame(const mrpt::obs::CObservation3DRangeScan& obs, std::optional<double> depthTime = std::nullopt);
 	/** Same, from images: BGR colour, depth in metres (CV_32F, 0 = none), intrinsics. */
-	TFrameReport processFrame(const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera);
+	TFrameReport processFrame(
+		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera,
+		std::optional<double> depthTime = std::nullopt);
 	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
 	 * local mapping failed (once per failure). */
 	void waitForMapping();

@@ -63,6 +63,10 @@ class CTracker
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
 		 * frames has moved away and is erased (0 = never). */
 		int seeThroughFrames = 3;
+		/** Where the depth image was taken at another moment than the colour image (TUM folders:
+		 * depth.txt's stamps), each keypoint's depth is moved to the colour image's moment with the
+		 * motion model's velocity (feature/DepthMoment.h). */
+		bool depthMoment = false;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -112,6 +116,9 @@ class CTracker
 	/** The frame tracking saw last, for the next prediction; its pose is kept relative to the
 	 * reference keyframe at this moment. */
 	void setLastFrame(const std::shared_ptr<const TFrame>& f);
+	/** The camera's motion over the next `seconds` at the motion model's velocity: the pose of the
+	 * camera then in the camera's frame now; none without a velocity (the start, or long lost). */
+	std::optional<mrpt::poses::CPose3D> motionOver(double seconds) const;
 	/** Relocalisation by place recognition (ORB-SLAM2's: BoW candidates of the keyframe database,
 	 * grouped by covisibility, then PnP RANSAC) instead of trying the newest keyframes. */
 	void setPlaceRecognition(std::shared_ptr<const CVocabulary> vocabulary, std::shared_ptr<const CBowDatabase> database)
@@ -170,6 +177,7 @@ class CTracker
 	};
 	std::optional<TTracked> tracked_;
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
+	double velocityInterval_ = 0;  //!< seconds between the two frames of velocity_
 	/** Motions (SE(3) logs) of the last tracked frames, oldest first (lostVelocityFrames of them). */
 	std::deque<mrpt::math::CVectorFixedDouble<6>> recentMotion_;
 	std::size_t lostRun_ = 0;  //!< consecutive lost frames so far
