@@ -49,6 +49,27 @@ TEST(SensorStatistics, MeasureDepthNoiseValidDepthTextureAndSharpness)
 	EXPECT_GT(r.texturedCellShare, 0.9);
 	EXPECT_EQ(flat.result().texturedCellShare, 0.0) << "a flat grey image has no corner";
 	EXPECT_LT(blurred.result().sharpness, 0.2 * r.sharpness) << "blur lowers the Laplacian's variance";
+	EXPECT_LT(flat.result().colourNoise, 0.01) << "no noise on a flat grey image";
+	{
+		// Immerkaer's estimate recovers the sigma of white noise, and blocks' edges barely move it.
+		CSensorStatistics noisy, noisyBlocks;
+		for (unsigned k = 0; k < 2; k++)
+		{
+			cv::Mat n(480, 640, CV_16S), img, img2;
+			cv::theRNG().state = 11 + k;
+			cv::randn(n, 0, 2.0);
+			cv::Mat base16;
+			cv::Mat(480, 640, CV_8U, cv::Scalar(128)).convertTo(base16, CV_16S);
+			cv::Mat(base16 + n).convertTo(img, CV_8U);
+			cv::Mat b16;
+			blocks(32).convertTo(b16, CV_16S);
+			cv::Mat(b16 + n).convertTo(img2, CV_8U);
+			noisy.addFrame(img, noisyWall(0.005, k));
+			noisyBlocks.addFrame(img2, noisyWall(0.005, k));
+		}
+		EXPECT_NEAR(noisy.result().colourNoise, 2.0, 0.1);
+		EXPECT_NEAR(noisyBlocks.result().colourNoise, 2.0, 0.4);
+	}
 	// The wall's patches measure the noise: 5 mm at 2.1-2.3 m (bin 2.0-2.5 m), k = 5 mm / 2.2^2.
 	const auto w = flat.result();
 	EXPECT_NEAR(w.validDepthShare, 1.0, 1e-9);

@@ -126,6 +126,12 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 	cv::Scalar mean, sd;
 	cv::meanStdDev(lap, mean, sd);
 	sharpness_.push_back(sd[0] * sd[0]);
+	const cv::Mat N = (cv::Mat_<double>(3, 3) << 1, -2, 1, -2, 4, -2, 1, -2, 1);
+	cv::Mat nr;
+	cv::filter2D(grey, nr, CV_64F, N);
+	const cv::Rect inner(1, 1, grey.cols - 2, grey.rows - 2);
+	colourNoise_.push_back(
+		std::sqrt(M_PI / 2) * cv::norm(nr(inner), cv::NORM_L1) / (6.0 * inner.width * inner.height));
 }
 
 CSensorStatistics::TResult CSensorStatistics::result() const
@@ -140,6 +146,7 @@ CSensorStatistics::TResult CSensorStatistics::result() const
 	r.lightValidShare = light_ ? static_cast<double>(lightValid_) / static_cast<double>(light_) : 0.0;
 	r.texturedCellShare = texturedSum_ / static_cast<double>(frames_);
 	r.sharpness = median(sharpness_);
+	r.colourNoise = median(colourNoise_);
 	double num = 0, den = 0;
 	for (std::size_t b = 0; b < residuals_.size(); b++)
 	{
@@ -169,8 +176,9 @@ std::string CSensorStatistics::format(const TResult& r)
 	char b[256];
 	std::snprintf(
 		b, sizeof(b), "frames: %zu\nvalid_depth_share: %.4f\nflying_pixel_share: %.5f\nspeckle_hole_share: %.4f\ndark_valid_share: %.4f\n"
-		"light_valid_share: %.4f\ntextured_cell_share: %.4f\nsharpness: %.1f\n",
-		r.frames, r.validDepthShare, r.flyingPixelShare, r.speckleHoleShare, r.darkValidShare, r.lightValidShare, r.texturedCellShare, r.sharpness);
+		"light_valid_share: %.4f\ntextured_cell_share: %.4f\nsharpness: %.1f\ncolour_noise: %.2f\n",
+		r.frames, r.validDepthShare, r.flyingPixelShare, r.speckleHoleShare, r.darkValidShare, r.lightValidShare, r.texturedCellShare, r.sharpness,
+		r.colourNoise);
 	out += b;
 	for (const auto& n : r.noise)
 	{

@@ -18,7 +18,10 @@
 //   depth leaves the border empty): dark where the 9 x 9 window round the pixel (a structured-light
 //   correlation window) averages under 60 grey levels.
 // - texture: the share of 32 x 32 cells with a FAST corner at threshold 20; sharpness: the
-//   median over frames of the variance of the grey image's Laplacian (motion blur lowers it).
+//   median over frames of the variance of the grey image's Laplacian (motion blur lowers it; strong
+//   edges raise it); colour noise: Immerkaer's estimate of the grey image's noise (J. Immerkaer,
+//   "Fast noise variance estimation", CVIU 1996: a mask blind to planes and lines of grey), median
+//   over frames, in grey levels (texture adds to it: an upper bound).
 #include <opencv2/core.hpp>
 
 #include <string>
@@ -50,6 +53,7 @@ class CSensorStatistics
 		double lightValidShare = 0;	 //!< valid depth on light surfaces, away from the border
 		double texturedCellShare = 0;  //!< mean over frames
 		double sharpness = 0;  //!< median Laplacian variance (grey levels^2)
+		double colourNoise = 0;	 //!< median Immerkaer noise sigma of the grey image (grey levels)
 		std::vector<TNoiseBin> noise;  //!< 0.5-1, 1-1.5, ... 4.5-5 m
 		double noiseK = 0;	//!< k of sigma = k z^2, least squares over the bins' medians (0 without patches)
 	};
@@ -66,7 +70,7 @@ class CSensorStatistics
 	double validSum_ = 0, texturedSum_ = 0;
 	std::size_t flying_ = 0, valid_ = 0, missing_ = 0, speckle_ = 0;
 	std::size_t dark_ = 0, darkValid_ = 0, light_ = 0, lightValid_ = 0;
-	std::vector<double> sharpness_;
+	std::vector<double> sharpness_, colourNoise_;
 	std::vector<std::vector<double>> residuals_ = std::vector<std::vector<double>>(9);
 	std::vector<std::vector<double>> residuals32_ = std::vector<std::vector<double>>(9);
 };
