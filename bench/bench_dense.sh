@@ -9,6 +9,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${YESSLAM_BUILD:-$ROOT/build}"	# another Release build folder with bench/ (YESSLAM_BUILD=...)
 BIN="$BUILD/rawlog_tools"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 BENCH="$BUILD/bench/bench_dense"
 SEEDS="${1:-41 42}"
 for t in "$BIN/yesslam-sim" "$BENCH"; do
@@ -22,7 +24,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for preset in walking_xyz walking_halfsphere sitting_xyz; do
   for seed in $SEEDS; do
     seq="$OUT/${preset}_s$seed"
-    [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$preset" --seed "$seed" --frames 600 --no-rawlog --quiet --out "$seq" > /dev/null
+    sim_sequence "$seq" --preset "$preset" --seed "$seed" --frames 600 --no-rawlog --quiet
     for filter in on off; do
       extra=""; [ $filter = off ] && extra="--no-dynamic-filter"
       line=$("$BENCH" "$seq" "$OUT/runs/${preset}_s${seed}_$filter" $extra | head -1)

@@ -14,6 +14,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 FRAMES="${1:-600}"; SEED="${2:-21}"
 SIMCFG="$ROOT/share/mrpt_yesslam/config/sim.ini"
 for t in yesslam-sim yesslam-eval; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
@@ -44,7 +46,8 @@ echo "| sequence | config | variant | ATE | RPE | worst 1 s | people in inliers 
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for name in walking_xyz walking_static walking_rpy walking_halfsphere undetected miss_rate; do
   seq="$OUT/${name}_${FRAMES}f_s${SEED}"
-  [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" ${SEQS[$name]} --seed "$SEED" --frames "$FRAMES" --no-rawlog --quiet --out "$seq" "${SIMX[@]}" > /dev/null
+  # shellcheck disable=SC2086
+  sim_sequence "$seq" ${SEQS[$name]} --seed "$SEED" --frames "$FRAMES" --no-rawlog --quiet "${SIMX[@]}"
   for cfg in default sim; do
     base=""; [ "$cfg" = sim ] && base="$SIMCFG"
     for variant in mask check box; do

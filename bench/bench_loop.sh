@@ -12,6 +12,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 SEEDS="${1:-31 32 33}"
 PR="$ROOT/build/bench/bench_loop_pr"
 for t in "$BIN/yesslam-sim" "$BIN/yesslam" "$BIN/yesslam-vocab" "$PR"; do
@@ -30,7 +32,8 @@ for preset in office_tour static_tour office_loop walking_xyz walking_halfsphere
   offs=(); ons=(); loops=(); per=""
   for seed in $SEEDS; do
     seq="$OUT/${preset}_s$seed"
-    [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$preset" --seed "$seed" $frames --no-rawlog --quiet --out "$seq" > /dev/null
+    # shellcheck disable=SC2086
+    sim_sequence "$seq" --preset "$preset" --seed "$seed" $frames --no-rawlog --quiet
     for lc in on off; do
       run="$OUT/runs/${preset}_s${seed}_$lc"
       extra=""; [ $lc = off ] && extra="--no-loop-closure"

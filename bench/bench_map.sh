@@ -12,10 +12,12 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ROOM="${1:-41}"; FRAMES="${2:-600}"
 BIN="$ROOT/build/rawlog_tools"; BENCH="$ROOT/build/bench/bench_map"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 for t in "$BIN/yesslam" "$BIN/yesslam-sim" "$BENCH"; do [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh build -DYESSLAM_BUILD_BENCH=ON)" >&2; exit 1; }; done
 OUT="$ROOT/bench_out/map"; mkdir -p "$OUT"
 sim() {  # sim NAME PRESET SEED
-  [ -f "$OUT/$1/meta.json" ] || "$BIN/yesslam-sim" --preset "$2" --room-seed "$ROOM" --seed "$3" --frames "$FRAMES" --no-rawlog --quiet --out "$OUT/$1" > /dev/null
+  sim_sequence "$OUT/$1" --preset "$2" --room-seed "$ROOM" --seed "$3" --frames "$FRAMES" --no-rawlog --quiet
 }
 sim pass1 office_tour "$ROOM"
 "$BIN/yesslam" --input "$OUT/pass1" --out "$OUT/run_pass1" --sequential --quiet --no-dense-map --save-map "$OUT/room.ysm" > "$OUT/run_pass1.log"

@@ -16,6 +16,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 FRAMES="${1:-600}"
 CFG="$ROOT/share/mrpt_yesslam/config"
 SHARED="$ROOT/../shared/data"
@@ -45,7 +47,7 @@ run() {  # run TAG INPUT [args...]: one run, its log in $OUT/runs/TAG.log
 SEQS=()
 for p in "${PRESETS[@]}"; do
   seq="$OUT/$p"
-  [ -f "$seq/meta.json" ] || "$BIN/yesslam-sim" --preset "$p" --seed 1 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet --out "$seq" >/dev/null
+  sim_sequence "$seq" --preset "$p" --seed 1 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet
   run "$p-paper" "$seq" --config "$CFG/paper.ini"
   run "$p-default" "$seq"
   run "$p-baseline" "$seq" --no-dynamic-filter --policy orbslam

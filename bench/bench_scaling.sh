@@ -13,10 +13,12 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 FRAMES="${1:-3000}"; RUNS="${2:-3}"; BUILD="${3:-$ROOT/build}"
 BIN="$BUILD/rawlog_tools"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 CFG="${BENCH_CONFIG:-$ROOT/share/mrpt_yesslam/config/sim.ini}"  # BENCH_CONFIG: another config to compare
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
 OUT="$ROOT/bench_out/scaling"; SEQ="$OUT/static_office_$FRAMES"; mkdir -p "$OUT/runs"
-[ -f "$SEQ/meta.json" ] || "$BIN/yesslam-sim" --preset static_office --seed 1 --frames "$FRAMES" --no-rawlog --quiet --out "$SEQ" >/dev/null
+sim_sequence "$SEQ" --preset static_office --seed 1 --frames "$FRAMES" --no-rawlog --quiet
 TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 num() { awk -F'[:,]' -v k="\"$1\"" '$1 ~ k {gsub(/ /,"",$2); print $2; exit}' "$2"; }

@@ -9,6 +9,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
+# shellcheck source=bench/sim_sequence.sh
+source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 FRAMES="${1:-600}"; RUNS="${2:-3}"; shift 2 || true
 PRESETS=("$@"); [ ${#PRESETS[@]} -gt 0 ] || PRESETS=(static_office walking_xyz walking_static walking_rpy walking_halfsphere)
 SHARED="$ROOT/../shared"
@@ -29,11 +31,9 @@ echo "| preset | frames | ATE RMSE filtered (m) | ATE RMSE unfiltered (m) | rati
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for p in "${PRESETS[@]}"; do
   seq="$OUT/$p"
-  if [ ! -f "$seq/meta.json" ]; then
-    extra=()
-    [ "$p" = walking_xyz ] && extra=(--trajectory "$SHARED/data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt")
-    "$BIN/yesslam-sim" --preset "$p" --seed 1 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet --out "$seq" "${extra[@]}" "${SIMX[@]}" >/dev/null
-  fi
+  extra=()
+  [ "$p" = walking_xyz ] && extra=(--trajectory "$SHARED/data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt")
+  sim_sequence "$seq" --preset "$p" --seed 1 --frames "$FRAMES" --det-noise yolo --no-rawlog --quiet "${extra[@]}" "${SIMX[@]}"
   for mode in filtered unfiltered; do
     flag=(); [ $mode = unfiltered ] && flag=(--no-dynamic-filter)
     for i in $(seq "$RUNS"); do

@@ -18,7 +18,7 @@ int main(int argc, char** argv)
 			TSimOptions o;
 			std::size_t seed = o.seed, frames = 0, roomSeed = 0;
 			double people = -1;
-			bool list = false, noNoise = false, noRawlog = false, quiet = false, verbose = false;
+			bool list = false, modelHash = false, noNoise = false, noRawlog = false, quiet = false, verbose = false;
 			CommandLine cl(
 				"yesslam-sim",
 				"yesslam-sim --preset NAME --out DIR [--seed S] [--frames N] [--people K] [--trajectory FILE] "
@@ -63,9 +63,15 @@ int main(int argc, char** argv)
 			cl.flag("no-rawlog", "do not write sequence.rawlog", &noRawlog);
 			cl.flag("overlays", "also write labels/overlay/: colour images with labels tinted and object boxes drawn", &o.overlays);
 			cl.flag("list-presets", "print the presets and exit", &list);
+			cl.flag("model-hash", "print the version of the simulator's model (a hash of its sources; meta.json's \"model\") and exit", &modelHash);
 			cl.flag("quiet", "no progress bar", &quiet);
 			cl.flag("verbose", "also print the time per frame of each stage (rendering, labels, noise, encoding, ...)", &verbose);
 			if (!cl.parse(argc, argv)) return 0;
+			if (modelHash)
+			{
+				std::printf("%s\n", simulatorModelHash().c_str());
+				return 0;
+			}
 			if (list)
 			{
 				for (const auto& p : simPresets())

@@ -676,3 +676,38 @@ TEST(Tools, EveryToolTakesOutAndOutputAlike)
 	EXPECT_EQ(bogus.exitCode, 1);
 	EXPECT_NE(bogus.err.find("unknown option --outt"), std::string::npos) << bogus.err;
 }
+
+TEST(Tools, BenchesMakeASimulatedSequenceAgainWhenTheSimulatorHasChanged)
+{
+	// The benches reuse the sequences they made (rendering is the slow part), but one made by an
+	// earlier model of the world or the sensor would be measured as if it were this one's (issue
+	// 27: realism changes went unmeasured until the folders were deleted by hand). meta.json and
+	// yesslam-sim --model-hash carry the model's version; bench/sim_sequence.sh compares it.
+	TempDir d("bench_sim_sequence");
+	const auto hash = runTool("yesslam-sim", {"--model-hash"});
+	ASSERT_EQ(hash.exitCode, 0) << hash.err;
+	const std::string model = hash.out.substr(0, hash.out.find('\n'));
+	EXPECT_EQ(model.size(), 12u) << hash.out;
+	const std::string script = std::string(YESSLAM_SOURCE_DIR) + "/bench/sim_sequence.sh";
+	const auto make = [&]
+	{
+		return runCommand(
+			"bash", {"-c", "BIN='" + std::string(YESSLAM_TOOLS_DIR) + "'; source '" + script + "'; sim_sequence '" + (d / "seq") +
+							   "' --preset static_office --frames 2 --no-rawlog --quiet"});
+	};
+	ASSERT_EQ(make().exitCode, 0);
+	EXPECT_NE(readText(d / "seq/meta.json").find("\"model\": \"" + model + "\""), std::string::npos);
+	// Made once: a marker left in the folder survives the next call.
+	{
+		std::ofstream(d / "seq/marker") << "kept";
+	}
+	ASSERT_EQ(make().exitCode, 0);
+	EXPECT_TRUE(fs::exists(d / "seq/marker")) << "the same model and arguments: reused";
+	// Made by another model (its key says so): made again.
+	{
+		std::ofstream(d / "seq/.bench_key") << "0123456789ab --preset static_office --frames 2 --no-rawlog --quiet";
+	}
+	ASSERT_EQ(make().exitCode, 0);
+	EXPECT_FALSE(fs::exists(d / "seq/marker")) << "another model: made again";
+	EXPECT_TRUE(fs::exists(d / "seq/meta.json"));
+}

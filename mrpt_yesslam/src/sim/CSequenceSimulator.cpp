@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
 
+#include "SimModelHash.h"
+
 #include <mrpt/img/CImage.h>
 #include <mrpt/math/CMatrixDynamic.h>
 #include <mrpt/math/slerp.h>
@@ -35,6 +37,8 @@ using mrpt::poses::CPose3D;
 
 namespace mrpt_yesslam
 {
+std::string simulatorModelHash() { return YESSLAM_SIM_MODEL_HASH; }
+
 const std::vector<TSimPreset>& simPresets()
 {
 	static const std::vector<TSimPreset> p = {
@@ -760,6 +764,7 @@ TSimSummary runSimulation(
 	sum.maxDynamicShare = mx;
 	std::string meta = "{\n  \"tool\": \"yesslam-sim\",\n";
 	meta += "  \"command\": \"" + jsonEscape(o.commandLine) + "\",\n";
+	meta += "  \"model\": \"" + simulatorModelHash() + "\",\n";
 	meta += "  \"preset\": \"" + o.preset + "\",\n  \"seed\": " + std::to_string(o.seed) + ",\n";
 	if (o.roomSeed) meta += "  \"room_seed\": " + std::to_string(o.roomSeed) + ",\n";
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +

@@ -27,6 +27,10 @@ struct TSimPreset
 /** The presets, in the order --list-presets prints them. */
 const std::vector<TSimPreset>& simPresets();
 
+/** The version of the simulator's model of world and sensor: a hash of its sources, written into
+ * meta.json ("model"), so that a sequence made by another model is not taken for this one's. */
+std::string simulatorModelHash();
+
 /** Everything yesslam-sim can be told. */
 struct TSimOptions
 {
