@@ -96,3 +96,21 @@ TEST(SensorStatistics, FlyingPixelsBetweenAPersonAndTheWallAreCounted)
 	s.addFrame(cv::Mat(480, 640, CV_8U, cv::Scalar(128)), d);
 	EXPECT_NEAR(s.result().flyingPixelShare, 300.0 / (640 * 480), 1e-9);
 }
+
+TEST(SensorStatistics, DarkSurfacesAreWhereTheCorrelationWindowIsDark)
+{
+	// One definition for the statistics and the simulator's real sensor: the 9 x 9 window's mean
+	// under 60 grey levels. A 40-grey square on a 200-grey wall: dark inside, light outside, and the
+	// window decides along the square's edge.
+	cv::Mat g(100, 100, CV_8U, cv::Scalar(200));
+	g(cv::Rect(30, 30, 40, 40)).setTo(40);
+	const cv::Mat d = CSensorStatistics::darkSurfaces(g);
+	ASSERT_EQ(d.type(), CV_8U);
+	EXPECT_EQ(d.at<uchar>(50, 50), 255);
+	EXPECT_EQ(d.at<uchar>(10, 10), 0);
+	EXPECT_EQ(d.at<uchar>(50, 33), 255) << "3 px inside: one light column of 9, mean 58";
+	EXPECT_EQ(d.at<uchar>(50, 30), 0) << "on the edge: 4 of 9 columns light, mean 111";
+	EXPECT_EQ(cv::countNonZero(d(cv::Rect(30, 30, 40, 40))), cv::countNonZero(d)) << "nothing dark outside the square";
+	EXPECT_GT(cv::countNonZero(d), 30 * 30);
+	EXPECT_LT(cv::countNonZero(d), 34 * 34) << "the square's rim and corners are not: their windows reach the wall";
+}

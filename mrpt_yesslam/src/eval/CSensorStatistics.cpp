@@ -98,17 +98,16 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 		cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
 	else
 		grey = bgr;
-	cv::Mat window;
-	cv::blur(grey, window, cv::Size(9, 9));
+	const cv::Mat dark = darkSurfaces(grey);
 	constexpr int B = 32;
 	for (int y = B; y < depth.rows - B; y++)
 	{
 		const float* pz = depth.ptr<float>(y);
-		const uchar* pw = window.ptr<uchar>(y);
+		const uchar* pd = dark.ptr<uchar>(y);
 		for (int x = B; x < depth.cols - B; x++)
 		{
 			const bool ok = pz[x] > 0;
-			if (pw[x] < 60)
+			if (pd[x])
 				dark_++, darkValid_ += ok;
 			else
 				light_++, lightValid_ += ok;
@@ -168,6 +167,14 @@ CSensorStatistics::TResult CSensorStatistics::result() const
 	}
 	r.noiseK = den > 0 ? num / den : 0.0;
 	return r;
+}
+
+cv::Mat CSensorStatistics::darkSurfaces(const cv::Mat& grey)
+{
+	cv::Mat window, dark;
+	cv::blur(grey, window, cv::Size(9, 9));
+	cv::compare(window, 60, dark, cv::CMP_LT);
+	return dark;
 }
 
 std::string CSensorStatistics::format(const TResult& r)

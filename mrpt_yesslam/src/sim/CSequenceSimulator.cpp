@@ -19,6 +19,7 @@
 #include <random>
 
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
+#include "mrpt_yesslam/eval/CSensorStatistics.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
 #include "mrpt_yesslam/io/RgbdCamera.h"
@@ -188,8 +189,7 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 // depth edges (addDepthNoise) leave 4-7 px.
 void addRealSensorDepthError(cv::Mat& z, const cv::Mat& grey, const cv::Mat& drop, std::mt19937& rng)
 {
-	cv::Mat window;
-	cv::blur(grey, window, cv::Size(9, 9));
+	const cv::Mat dark = CSensorStatistics::darkSurfaces(grey);
 	cv::RNG cvRng(rng());
 	cv::Mat coarse(z.rows / 16 + 1, z.cols / 16 + 1, CV_32F), field;
 	cvRng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
@@ -201,13 +201,13 @@ void addRealSensorDepthError(cv::Mat& z, const cv::Mat& grey, const cv::Mat& dro
 	{
 		float* pz = z.ptr<float>(y);
 		const float *pf = field.ptr<float>(y), *pu = drop.ptr<float>(y);
-		const uchar* pg = window.ptr<uchar>(y);
+		const uchar* pd = dark.ptr<uchar>(y);
 		for (int x = 0; x < z.cols; x++)
 		{
 			if (pz[x] <= 0) continue;
 			const float rag = 4 * pu[x], fx = static_cast<float>(x), fy = static_cast<float>(y);
 			const bool border = fx < left - rag || fx >= right + rag || fy < top - rag || fy >= bottom + rag;
-			if (border || (pg[x] < 60 && pu[x] < 0.1f))  // dark: too little of the pattern comes back
+			if (border || (pd[x] && pu[x] < 0.1f))	// dark: too little of the pattern comes back
 			{
 				pz[x] = 0;
 				continue;

@@ -64,6 +64,10 @@ class CSensorStatistics
 	TResult result() const;
 	/** The result as "key: value" lines, noise bins as noise_<zmin>_<zmax>_mm. */
 	static std::string format(const TResult& r);
+	/** Where a surface is dark to a structured-light sensor (CV_8U, 255): the 9 x 9 window round
+	 * the pixel (its correlation window) averages under 60 grey levels. The one definition, for
+	 * the statistics and for the simulator's real sensor, which must agree. */
+	static cv::Mat darkSurfaces(const cv::Mat& grey);
 
    private:
 	std::size_t frames_ = 0;
