@@ -5,6 +5,8 @@
 # simulator's labels, file sizes, dense-stage time per keyframe and end-of-run build time, and
 # tracking fps (parallel mode, file detector) - with the dynamic filter and with --no-dynamic-filter.
 # Usage: bench/bench_dense.sh [SEEDS]   (default "41 42"; sequences are kept in bench_out/dense/)
+# SIM_FLAGS="--real-sensor" bench/bench_dense.sh ...: the sequences made with those yesslam-sim
+# flags too (kept apart, in bench_out/dense--real-sensor/).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${YESSLAM_BUILD:-$ROOT/build}"	# another Release build folder with bench/ (YESSLAM_BUILD=...)
@@ -16,7 +18,9 @@ SEEDS="${1:-41 42}"
 for t in "$BIN/yesslam-sim" "$BENCH"; do
   [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh builds the tools and bench/)" >&2; exit 1; }
 done
-OUT="$ROOT/bench_out/dense"; mkdir -p "$OUT/runs"
+SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
+OUT="$ROOT/bench_out/dense$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs"
+[ -z "$SIM_FLAGS" ] || echo "sequences: yesslam-sim $SIM_FLAGS"
 kv() { tr ' ' '\n' | awk -F= -v k="$1" '$1 == k {print $2}'; }
 
 echo "| sequence | seed | filter | ATE mm | fps | fps without dense map | dense ms/kf | build s | swept voxels | ghosts | label acc. | object precision | object recall | .ply MB | .ot MB | .bt MB |"
@@ -24,7 +28,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for preset in walking_xyz walking_halfsphere sitting_xyz; do
   for seed in $SEEDS; do
     seq="$OUT/${preset}_s$seed"
-    sim_sequence "$seq" --preset "$preset" --seed "$seed" --frames 600 --no-rawlog --quiet
+    sim_sequence "$seq" --preset "$preset" --seed "$seed" --frames 600 --no-rawlog --quiet "${SIMX[@]}"
     for filter in on off; do
       extra=""; [ $filter = off ] && extra="--no-dynamic-filter"
       line=$("$BENCH" "$seq" "$OUT/runs/${preset}_s${seed}_$filter" $extra | head -1)
