@@ -9,6 +9,8 @@
 # Runs are sequential (deterministic): one run per seed is exact; the table gives the median
 # over the seeds and every seed.
 # Usage: bench/bench_loop.sh [SEEDS]   (default "31 32 33"; sequences are kept in bench_out/loop/)
+# SIM_FLAGS="--real-sensor" bench/bench_loop.sh ...: the sequences made with those yesslam-sim
+# flags too (kept apart, in bench_out/loop--real-sensor/).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="$ROOT/build/rawlog_tools"
@@ -19,7 +21,9 @@ PR="$ROOT/build/bench/bench_loop_pr"
 for t in "$BIN/yesslam-sim" "$BIN/yesslam" "$BIN/yesslam-vocab" "$PR"; do
   [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh builds the tools and bench/)" >&2; exit 1; }
 done
-OUT="$ROOT/bench_out/loop"; mkdir -p "$OUT/runs"
+SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
+OUT="$ROOT/bench_out/loop$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs"
+[ -z "$SIM_FLAGS" ] || echo "sequences: yesslam-sim $SIM_FLAGS"
 median() { sort -g | awk '{a[NR]=$1} END {if (NR == 0) print "-"; else if (NR % 2) print a[(NR+1)/2]; else printf "%.2f\n", (a[NR/2]+a[NR/2+1])/2}'; }
 field() { grep -o "\"$2\": [0-9.]*" "$1" | head -1 | awk '{print $2}'; }
 
@@ -33,7 +37,7 @@ for preset in office_tour static_tour office_loop walking_xyz walking_halfsphere
   for seed in $SEEDS; do
     seq="$OUT/${preset}_s$seed"
     # shellcheck disable=SC2086
-    sim_sequence "$seq" --preset "$preset" --seed "$seed" $frames --no-rawlog --quiet
+    sim_sequence "$seq" --preset "$preset" --seed "$seed" $frames --no-rawlog --quiet "${SIMX[@]}"
     for lc in on off; do
       run="$OUT/runs/${preset}_s${seed}_$lc"
       extra=""; [ $lc = off ] && extra="--no-loop-closure"
