@@ -9,6 +9,8 @@
 # its frames against those of its own first 300, so the machine's load drifting between runs does not
 # enter the ratio).
 # Usage: bench/bench_scaling.sh [FRAMES] [RUNS] [BUILD_DIR]   (the sequence is kept in bench_out/scaling/)
+# SIM_FLAGS="--real-sensor" bench/bench_scaling.sh ...: the sequence made with those yesslam-sim
+# flags too (kept apart, in bench_out/scaling--real-sensor/).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 FRAMES="${1:-3000}"; RUNS="${2:-3}"; BUILD="${3:-$ROOT/build}"
@@ -17,8 +19,10 @@ BIN="$BUILD/rawlog_tools"
 source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 CFG="${BENCH_CONFIG:-$ROOT/share/mrpt_yesslam/config/sim.ini}"  # BENCH_CONFIG: another config to compare
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
-OUT="$ROOT/bench_out/scaling"; SEQ="$OUT/static_office_$FRAMES"; mkdir -p "$OUT/runs"
-sim_sequence "$SEQ" --preset static_office --seed 1 --frames "$FRAMES" --no-rawlog --quiet
+SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
+OUT="$ROOT/bench_out/scaling$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; SEQ="$OUT/static_office_$FRAMES"; mkdir -p "$OUT/runs"
+[ -z "$SIM_FLAGS" ] || echo "sequence: yesslam-sim $SIM_FLAGS"
+sim_sequence "$SEQ" --preset static_office --seed 1 --frames "$FRAMES" --no-rawlog --quiet "${SIMX[@]}"
 TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
 num() { awk -F'[:,]' -v k="\"$1\"" '$1 ~ k {gsub(/ /,"",$2); print $2; exit}' "$2"; }
