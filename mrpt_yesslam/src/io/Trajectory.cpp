@@ -33,6 +33,20 @@ TTrajectory uniqueSortedByTime(const TTrajectory& traj)
 	return out;
 }
 
+mrpt::poses::CPose3D interpolatePose(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b, double s)
+{
+	const mrpt::math::CMatrixDouble33 Ra = a.getRotationMatrix();
+	const mrpt::math::CMatrixDouble33 dR(Ra.asEigen().transpose() * b.getRotationMatrix().asEigen());
+	const auto w = mrpt::poses::Lie::SO<3>::log(dR);
+	mrpt::poses::CPose3D p;
+	p.setRotationMatrix(mrpt::math::CMatrixDouble33(
+		Ra.asEigen() * mrpt::poses::Lie::SO<3>::exp(mrpt::poses::Lie::SO<3>::tangent_vector(w.asEigen() * s)).asEigen()));
+	p.x((1 - s) * a.x() + s * b.x());
+	p.y((1 - s) * a.y() + s * b.y());
+	p.z((1 - s) * a.z() + s * b.z());
+	return p;
+}
+
 void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked)
 {
 	const std::size_t n = std::min(traj.size(), tracked.size());
@@ -50,20 +64,8 @@ void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked)
 		{
 			const TStampedPose a = traj[i - 1], b = traj[j];
 			const mrpt::poses::CPose3D pa = a.asPose(), pb = b.asPose();
-			const mrpt::math::CMatrixDouble33 Ra = pa.getRotationMatrix();
-			const mrpt::math::CMatrixDouble33 dR(Ra.asEigen().transpose() * pb.getRotationMatrix().asEigen());
-			const auto w = mrpt::poses::Lie::SO<3>::log(dR);
 			for (std::size_t k = i; k < j; k++)
-			{
-				const double s = std::clamp((traj[k].t - a.t) / (b.t - a.t), 0.0, 1.0);
-				mrpt::poses::CPose3D p;
-				const mrpt::math::CMatrixDouble33 R(Ra.asEigen() * mrpt::poses::Lie::SO<3>::exp(mrpt::poses::Lie::SO<3>::tangent_vector(w.asEigen() * s)).asEigen());
-				p.setRotationMatrix(R);
-				p.x((1 - s) * a.tx + s * b.tx);
-				p.y((1 - s) * a.ty + s * b.ty);
-				p.z((1 - s) * a.tz + s * b.tz);
-				traj[k] = TStampedPose::fromPose(traj[k].t, p);
-			}
+				traj[k] = TStampedPose::fromPose(traj[k].t, interpolatePose(pa, pb, std::clamp((traj[k].t - a.t) / (b.t - a.t), 0.0, 1.0)));
 		}
 		i = j;
 	}

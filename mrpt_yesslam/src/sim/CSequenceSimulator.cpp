@@ -4,7 +4,6 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/math/CMatrixDynamic.h>
-#include <mrpt/math/slerp.h>
 #include <mrpt/opengl/COpenGLScene.h>
 
 #include <algorithm>
@@ -491,9 +490,7 @@ TSimSummary runSimulation(
 		if (it == stamps.begin()) return poses.front();
 		if (it == stamps.end()) return poses.back();
 		const std::size_t j = static_cast<std::size_t>(it - stamps.begin());
-		mrpt::math::TPose3D p;
-		mrpt::math::slerp(poses[j - 1].asTPose(), poses[j].asTPose(), (s - stamps[j - 1]) / (stamps[j] - stamps[j - 1]), p);
-		return CPose3D(p);
+		return interpolatePose(poses[j - 1], poses[j], (s - stamps[j - 1]) / (stamps[j] - stamps[j - 1]));
 	};
 
 	CAsyncPngWriter pngs(2, 16);

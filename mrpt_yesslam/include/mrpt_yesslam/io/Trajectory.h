@@ -24,6 +24,10 @@ struct TStampedPose
 /** A trajectory: poses in file order. */
 using TTrajectory = std::vector<TStampedPose>;
 
+/** The pose a fraction `s` (0..1) of the way from `a` to `b`: position linear, orientation on the
+ * rotation geodesic (what a camera moving steadily between two poses passes through). */
+mrpt::poses::CPose3D interpolatePose(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b, double s);
+
 /** Places the poses of every run of untracked frames (`tracked[i]` false) that lies between two
  * tracked ones on the path between those two, by time: position linear, orientation on the
  * rotation geodesic. Runs before the first or after the last tracked pose are left as they are. */
