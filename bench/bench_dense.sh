@@ -18,8 +18,7 @@ SEEDS="${1:-41 42}"
 for t in "$BIN/yesslam-sim" "$BENCH"; do
   [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh builds the tools and bench/)" >&2; exit 1; }
 done
-SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
-OUT="$ROOT/bench_out/dense$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs"
+OUT="$(bench_out dense)"; mkdir -p "$OUT/runs"
 [ -z "$SIM_FLAGS" ] || echo "sequences: yesslam-sim $SIM_FLAGS"
 kv() { tr ' ' '\n' | awk -F= -v k="$1" '$1 == k {print $2}'; }
 

@@ -21,8 +21,7 @@ SIMCFG="$ROOT/share/mrpt_yesslam/config/sim.ini"
 for t in yesslam-sim yesslam-eval; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
 USE="$ROOT/build/bench/bench_keypoint_use"
 [ -x "$USE" ] || { echo "bench: build the benchmarks first (cmake --build build --target bench_keypoint_use)" >&2; exit 1; }
-SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
-OUT="$ROOT/bench_out/dynamic$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs" "$OUT/cfg"
+OUT="$(bench_out dynamic)"; mkdir -p "$OUT/runs" "$OUT/cfg"
 # A config: the base (empty = defaults, or sim.ini) with some sections' keys replaced.
 mkcfg() {  # mkcfg OUT BASE "Section.key=value ..."
   local out="$1" base="$2"; shift 2

@@ -21,8 +21,7 @@ PR="$ROOT/build/bench/bench_loop_pr"
 for t in "$BIN/yesslam-sim" "$BIN/yesslam" "$BIN/yesslam-vocab" "$PR"; do
   [ -x "$t" ] || { echo "bench: build first (./scripts/build.sh builds the tools and bench/)" >&2; exit 1; }
 done
-SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
-OUT="$ROOT/bench_out/loop$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs"
+OUT="$(bench_out loop)"; mkdir -p "$OUT/runs"
 [ -z "$SIM_FLAGS" ] || echo "sequences: yesslam-sim $SIM_FLAGS"
 median() { sort -g | awk '{a[NR]=$1} END {if (NR == 0) print "-"; else if (NR % 2) print a[(NR+1)/2]; else printf "%.2f\n", (a[NR/2]+a[NR/2+1])/2}'; }
 field() { grep -o "\"$2\": [0-9.]*" "$1" | head -1 | awk '{print $2}'; }

@@ -19,8 +19,7 @@ BIN="$BUILD/rawlog_tools"
 source "$(dirname "${BASH_SOURCE[0]}")/sim_sequence.sh"
 CFG="${BENCH_CONFIG:-$ROOT/share/mrpt_yesslam/config/sim.ini}"  # BENCH_CONFIG: another config to compare
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
-SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
-OUT="$ROOT/bench_out/scaling$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; SEQ="$OUT/static_office_$FRAMES"; mkdir -p "$OUT/runs"
+OUT="$(bench_out scaling)"; SEQ="$OUT/static_office_$FRAMES"; mkdir -p "$OUT/runs"
 [ -z "$SIM_FLAGS" ] || echo "sequence: yesslam-sim $SIM_FLAGS"
 sim_sequence "$SEQ" --preset static_office --seed 1 --frames "$FRAMES" --no-rawlog --quiet "${SIMX[@]}"
 TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")

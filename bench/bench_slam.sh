@@ -16,8 +16,7 @@ PRESETS=("$@"); [ ${#PRESETS[@]} -gt 0 ] || PRESETS=(static_office walking_xyz w
 SHARED="$ROOT/../shared"
 CFG="$ROOT/share/mrpt_yesslam/config/sim.ini"  # the shipped configuration for yesslam-sim sequences
 for t in yesslam yesslam-sim; do [ -x "$BIN/$t" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }; done
-SIM_FLAGS="${SIM_FLAGS:-}"; read -r -a SIMX <<< "$SIM_FLAGS"
-OUT="$ROOT/bench_out/slam$(printf '%s' "$SIM_FLAGS" | tr -c 'a-z0-9.' '-')"; mkdir -p "$OUT/runs"
+OUT="$(bench_out slam)"; mkdir -p "$OUT/runs"
 # Peak memory through GNU time (Debian package "time") when it is there.
 TIMECMD=(); [ -x /usr/bin/time ] && TIMECMD=(/usr/bin/time -f "maxrss_kb: %M")
 median() { sort -g | awk '{a[NR]=$1} END {print (NR%2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
