@@ -56,6 +56,10 @@ int main(int argc, char** argv)
 				"depth-offset", "MS",
 				"take each depth image up to MS milliseconds before or after its colour image, the offset drifting through that range and back every 15 s (0.15 ms a frame at 16.7, as between two free-running 30 Hz streams) (depth.txt gets the depth's own stamps; the real Bonn frames: 16.7)",
 				&o.depthOffsetMs);
+			cl.number(
+				"readout", "MS",
+				"rolling shutter: read the rows of the colour and depth images top to bottom over MS milliseconds, each from the camera's pose and the people's positions at its moment (the stamp is the middle row's); 0 = global shutter (default: 28 with --real-sensor, as Kinect and Xtion, else 0); written to calibration.txt and meta.json",
+				&o.readoutMs);
 			cl.number("speed", "F", "the preset's camera moves F times faster (0.1..10; the path is the same, frames stay 30 Hz)", &o.speed);
 			cl.flag("moving-chair", "also push a chair across the room (a dynamic object that is not a person)", &o.movingChair);
 			cl.count("undetected-people", "K", "K of the moving people never appear in detections.txt (movers the detector never reports)", &o.undetectedPeople);

@@ -27,6 +27,7 @@
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include <mrpt/poses/Lie/SO.h>
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
@@ -491,6 +492,82 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	EXPECT_GT(hi - lo, 0.0005) << "the offset drifts";
 	off.depthOffsetMs = -1;
 	expectInputError([&] { runSimulation(off); }, {"--depth-offset"});
+}
+
+TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)
+{
+	// Issue 27: Kinect and Xtion read their colour and depth rows one after another over ~28 ms
+	// (the real frames' tracking gains from undoing it). --readout renders each band of rows from
+	// the camera at its row's moment, the stamp being the middle row's. Exact sensor, fast camera.
+	TempDir d("sim_rolling_shutter");
+	const fs::path gsDir = d / "global", rsDir = d / "rolling", replayDir = d / "replayed";
+	TSimOptions o = quick(d / "global", "walking_rpy", 10);
+	o.noise = false;
+	o.detNoise = "none";
+	o.speed = 4;
+	o.writeRawlog = false;
+	o.readoutMs = 0;
+	runSimulation(o);
+	TSimOptions rs = o;
+	rs.outDir = d / "rolling";
+	rs.readoutMs = 28;
+	runSimulation(rs);
+	EXPECT_NE(readTextFile((rsDir / "meta.json").string()).find("\"readout_ms\": 28.0"), std::string::npos);
+	const auto gsList = readTumFileList((gsDir / "depth.txt").string()), rsList = readTumFileList((rsDir / "depth.txt").string());
+	ASSERT_EQ(rsList.size(), 10u);
+	const auto load = [](const fs::path& f)
+	{
+		cv::Mat z;
+		cv::imread(f.string(), cv::IMREAD_UNCHANGED).convertTo(z, CV_32F, 1.0 / 5000);
+		return z;
+	};
+	// Summed over 8 frames (the rpy camera also changes direction): each outer band is nearer the
+	// global-shutter images interpolated to its row's moment than to the stamp's; the middle band
+	// is the stamp's.
+	double toStamp = 0, toRow = 0, midToStamp = 0;
+	std::size_t tested = 0, nearer = 0;
+	for (std::size_t k = 1; k + 1 < rsList.size(); k++)
+	{
+		EXPECT_EQ(rsList[k].t, gsList[k].t) << "stamped at the middle row's moment";
+		const cv::Mat z = load(rsDir / rsList[k].file), a = load(gsDir / gsList[k].file);
+		for (const int r0 : {0, 30, 225, 420, 450})	// bands of 30 rows; the outer ones 10-13 ms from the middle row
+		{
+			const double dt = ((r0 + 14.5) - 240.0) / 480.0 * 0.028;
+			const std::size_t other = dt > 0 ? k + 1 : k - 1;
+			const cv::Mat b = load(gsDir / gsList[other].file);
+			const double w = std::abs(dt) / std::abs(gsList[other].t - gsList[k].t);
+			const cv::Rect band(0, r0, 640, 30);
+			const cv::Mat zb = z(band), ab = a(band), bb = b(band);
+			// On surfaces: across a depth edge a pixelwise interpolation says nothing.
+			const cv::Mat valid = (zb > 0) & (ab > 0) & (bb > 0) & (cv::abs(ab - bb) < 0.05);
+			const double s = cv::mean(cv::abs(zb - ab), valid)[0], r = cv::mean(cv::abs(zb - ((1 - w) * ab + w * bb)), valid)[0];
+			if (r0 == 225)
+			{
+				midToStamp += s;
+				continue;
+			}
+			toStamp += s;
+			toRow += r;
+			nearer += r < s;
+			tested++;
+		}
+	}
+	EXPECT_EQ(tested, 32u);
+	EXPECT_GE(nearer, 29u);
+	EXPECT_LT(toRow, 0.3 * toStamp) << "mean depth difference, rows against the stamp's image";
+	EXPECT_LT(midToStamp / 8, 0.4 * toStamp / 32) << "the middle rows are the stamp's (0.29 measured; the first row's moment would give about 1)";
+	// A sensor reads its rows within a frame: a trajectory replayed at its 100 Hz stamps gets 10 ms.
+	TSimOptions fast = quick(d / "replayed", "walking_xyz", 4);
+	fast.trajectoryFile = sharedFile("data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt");
+	fast.writeRawlog = false;
+	fast.realSensor = true;
+	runSimulation(fast);
+	const std::string meta = readTextFile((replayDir / "meta.json").string());
+	const auto at = meta.find("\"readout_ms\": ");
+	ASSERT_NE(at, std::string::npos);
+	EXPECT_NEAR(std::stod(meta.substr(at + 14)), 10.0, 0.2) << "the realistic sensor's 28 ms, limited to the frame interval";
+	rs.readoutMs = 101;
+	expectInputError([&] { runSimulation(rs); }, {"--readout"});
 }
 
 TEST(Simulator, TheCrowdPresetLooksLikeTheRealBonnCrowdFrames)

@@ -76,9 +76,12 @@ inline void faceUv(int face, const double p[3], const double h[3], double& u, do
 
 void CBoxRaycaster::render(
 	const std::vector<TRayBox>& boxes, const mrpt::poses::CPose3D& Twc, const mrpt::img::TCamera& K, cv::Mat& bgr, cv::Mat& depth,
-	cv::Mat& instance) const
+	cv::Mat& instance, cv::Range only) const
 {
 	const int W = static_cast<int>(K.ncols), H = static_cast<int>(K.nrows);
+	if (only == cv::Range::all()) only = cv::Range(0, H);
+	only = cv::Range(std::clamp(only.start, 0, H), std::clamp(only.end, 0, H));
+	if (only.empty()) return;
 	// The system's camera model (geometry/CPinholeCamera), so that the simulator and tracking
 	// project with the same formula.
 	const CPinholeCamera cam(K);
@@ -166,7 +169,7 @@ void CBoxRaycaster::render(
 	const double nearClip = options.nearClip;
 	// Rows are independent: stripes in parallel give the same images as one thread.
 	cv::parallel_for_(
-		cv::Range(0, H),
+		only,
 		[&](const cv::Range& rows)
 		{
 			const int n = (rows.end - rows.start) * W;

@@ -27,6 +27,7 @@
 #include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
+#include "mrpt_yesslam/sim/SimSensorModel.h"
 #include "mrpt_yesslam/sim/SimTextures.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/CAsyncPngWriter.h"
@@ -161,124 +162,6 @@ CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
 		0.0005 * std::sin(9.1 * t), 0.0005 * std::sin(7.3 * t), 0.0005 * std::sin(5.9 * t));
 }
 
-// Kinect-like depth noise (Khoshelham & Elberink 2012): sigma_z = 1.425e-3 z^2, disparity quantised
-// to 1/8 pixel, no depth nearer than 0.5 m or beyond 4.5 m, missing depth at depth edges and in
-// small holes.
-// The real sensor (--real-sensor), against the frames of ../shared side by side in
-// bench/bench_realism.sh: its error is not white. A structured-light sensor matches 9 x 9 windows
-// of its pattern, so neighbouring pixels share their error: on the real Xtion and Kinect frames
-// 8 x 8 patches of smooth surfaces scatter by 1.1e-3 z^2 about their plane while 32 x 32 ones
-// scatter 1.4 times more, where white noise scatters the same at both scales. Such an error does
-// not average out over a frame's keypoints. Modelled as a smooth field (1/16 of the resolution,
-// bilinear) beside a smaller per-pixel part.
-// Where depth is missing, measured on the real frames (bench_realism's speckle_hole_share and the
-// ones below): a window either matches or not, so depth is lost in blobs, not pixel by pixel (0.3-2 %
-// of the real frames' missing pixels lie in holes under 16 px); the dropout draws come from a
-// smooth field (`drop`, uniform on [0, 1] at every pixel). Away from the image border, surfaces
-// dark to the colour camera keep 88-94 % of their depth against 95-98 % for light ones (jeans and
-// dark jumpers keep theirs; black office chairs lose blobs): dark 9 x 9 windows lose 10 %. Most
-// missing depth is the border that registering depth to the colour camera leaves empty (Bonn
-// Xtion: 20 px left, 22 right, 6 top, 18 bottom, ragged over a few pixels; about 10 % of the
-// image). The model had dropped 70 % of dark pixels one by one before: 13-20 % speckle, a third
-// of the depth on dark clothes, and a masker fill (eq. 4-5) that stopped at its seed on every
-// dark-clothed person (61 % of fills succeeded against 94 % on the real Bonn frames).
-// No projector shadow is modelled: where a person (< 1.6 m) stands before a wall (> 2.4 m) the
-// real Bonn frames lose 6-8 px of depth on either side alike, not the 18-20 px band on one side
-// that a shadow would leave (their depth is registered to the colour camera); the dropouts at
-// depth edges (addDepthNoise) leave 4-7 px.
-void addRealSensorDepthError(cv::Mat& z, const cv::Mat& grey, const cv::Mat& drop, std::mt19937& rng)
-{
-	const cv::Mat dark = CSensorStatistics::darkSurfaces(grey);
-	cv::RNG cvRng(rng());
-	cv::Mat coarse(z.rows / 16 + 1, z.cols / 16 + 1, CV_32F), field;
-	cvRng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
-	cv::resize(coarse, field, z.size(), 0, 0, cv::INTER_LINEAR);
-	// Registration border at 640 x 480, scaled to other sizes; ragged by up to 4 px.
-	const float sx = z.cols / 640.0f, sy = z.rows / 480.0f;
-	const float left = 20 * sx, right = z.cols - 22 * sx, top = 6 * sy, bottom = z.rows - 18 * sy;
-	for (int y = 0; y < z.rows; y++)
-	{
-		float* pz = z.ptr<float>(y);
-		const float *pf = field.ptr<float>(y), *pu = drop.ptr<float>(y);
-		const uchar* pd = dark.ptr<uchar>(y);
-		for (int x = 0; x < z.cols; x++)
-		{
-			if (pz[x] <= 0) continue;
-			const float rag = 4 * pu[x], fx = static_cast<float>(x), fy = static_cast<float>(y);
-			const bool border = fx < left - rag || fx >= right + rag || fy < top - rag || fy >= bottom + rag;
-			if (border || (pd[x] && pu[x] < 0.1f))	// dark: too little of the pattern comes back
-			{
-				pz[x] = 0;
-				continue;
-			}
-			pz[x] += 2.0e-3f * pz[x] * pz[x] * pf[x];
-		}
-	}
-}
-
-// Random numbers uniform on [0, 1] at every pixel but alike over about `cell` pixels: a Gaussian
-// field on a coarse grid, interpolated, scaled to unit variance and mapped through the normal CDF.
-cv::Mat coherentUniform(cv::Size size, int cell, std::mt19937& rng)
-{
-	cv::RNG cvRng(rng());
-	cv::Mat coarse(size.height / cell + 2, size.width / cell + 2, CV_32F), field;
-	cvRng.fill(coarse, cv::RNG::NORMAL, 0.0, 1.0);
-	// Cubic interpolation keeps more of the variance than bilinear and leaves no grid pattern.
-	cv::resize(coarse, field, cv::Size(coarse.cols * cell, coarse.rows * cell), 0, 0, cv::INTER_CUBIC);
-	field = field(cv::Rect(cell / 2, cell / 2, size.width, size.height)).clone();
-	cv::Scalar mean, sd;
-	cv::meanStdDev(field, mean, sd);
-	const float m = static_cast<float>(mean[0]), k = static_cast<float>(1.0 / (std::max(sd[0], 1e-6) * std::sqrt(2.0)));
-	field.forEach<float>([&](float& v, const int*) { v = 0.5f * (1.0f + std::erf((v - m) * k)); });
-	return field;
-}
-
-// `drop`: the dropout draws at depth edges (uniform on [0, 1]); per pixel when empty.
-// `edgeRadius`: how far from a depth edge depth may be lost (1 px for the Kinect model; 3 px for
-// the real sensor, whose frames lose 6-8 px across a person's silhouette).
-void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK, const cv::Mat& drop, int edgeRadius)
-{
-	const float fb = static_cast<float>(cam.intrinsics.fx() * 0.075);	// focal length x baseline
-	// Depth edge: a valid neighbour (within edgeRadius) differs by more than 8 %: the sensor often
-	// sees nothing there. Largest and smallest valid neighbour by dilation and erosion (missing
-	// depth counts as +inf for the smallest; pixels outside the image are ignored by both).
-	cv::Mat mx, mn, zInf = z.clone();
-	zInf.setTo(std::numeric_limits<float>::infinity(), z <= 0);
-	const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * edgeRadius + 1, 2 * edgeRadius + 1));
-	cv::dilate(z, mx, kernel);
-	cv::erode(zInf, mn, kernel);
-	// Per-pixel random numbers drawn in bulk (OpenCV's generator, seeded from the frame's).
-	cv::RNG cvRng(rng());
-	cv::Mat gauss(z.size(), CV_32F), unif(z.size(), CV_32F);
-	cvRng.fill(gauss, cv::RNG::NORMAL, 0.0, 1.0);
-	if (drop.empty())
-		cvRng.fill(unif, cv::RNG::UNIFORM, 0.0, 1.0);
-	else
-		unif = drop;
-	for (int y = 0; y < z.rows; y++)
-	{
-		float* pz = z.ptr<float>(y);
-		const float *pmx = mx.ptr<float>(y), *pmn = mn.ptr<float>(y), *pg = gauss.ptr<float>(y), *pu = unif.ptr<float>(y);
-		for (int x = 0; x < z.cols; x++)
-		{
-			float v = pz[x];
-			if (v <= 0) continue;
-			const bool edge = pmx[x] > 1.08f * v || pmn[x] < 0.92f * v;
-			if (v < 0.5f || v > 4.5f || (edge && pu[x] < 0.7f))
-			{
-				pz[x] = 0;
-				continue;
-			}
-			v += whiteK * v * v * pg[x];
-			const float disp = std::nearbyint(fb / v * 8.0f) / 8.0f;
-			pz[x] = disp > 0 ? fb / disp : 0;
-		}
-	}
-	// Small holes.
-	std::uniform_int_distribution<int> px(0, z.cols - 1), py(0, z.rows - 1), rad(1, 4);
-	for (int i = 0; i < 40; i++) cv::circle(z, {px(rng), py(rng)}, rad(rng), cv::Scalar(0), cv::FILLED);
-}
-
 // Pixels covered by an object's boxes if nothing occluded them (its faces rasterised).
 std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc, const TRgbdCamera& cam, cv::Mat& scratch)
 {
@@ -410,6 +293,7 @@ TSimSummary runSimulation(
 
 	// Inputs first: a run that cannot start leaves no output folder behind.
 	if (!(o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100)) throw InputError("", "--depth-offset must be in [0, 100] ms");
+	if (!(o.readoutMs == -1 || (o.readoutMs >= 0 && o.readoutMs <= 100))) throw InputError("", "--readout must be in [0, 100] ms");
 	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
 	std::error_code ec;
 	fs::create_directories(fs::path(o.outDir), ec);
@@ -493,6 +377,34 @@ TSimSummary runSimulation(
 		return interpolatePose(poses[j - 1], poses[j], (s - stamps[j - 1]) / (stamps[j] - stamps[j - 1]));
 	};
 
+	// Rolling shutter: bands of rows, each rendered from the camera (and people) at the band's
+	// middle row's moment. 16 bands of 30 rows: at 28 ms and a camera turning 20 deg/s the image
+	// shears 5 px from top to bottom, so the steps between bands stay a third of a pixel.
+	// A sensor reads its rows within a frame period: a replayed trajectory's 100 Hz stamps get a
+	// shorter readout (the frame interval), as a faster camera has.
+	double readout = (o.readoutMs < 0 ? (realSensor ? 28.0 : 0.0) : o.readoutMs) * 1e-3;
+	if (stamps.size() > 1)
+	{
+		std::vector<double> gaps;
+		for (std::size_t k = 1; k < stamps.size(); k++) gaps.push_back(stamps[k] - stamps[k - 1]);
+		std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
+		readout = std::min(readout, gaps[gaps.size() / 2]);
+	}
+	const auto renderRolling = [&](double stamp, cv::Mat& bgr, cv::Mat& depth, cv::Mat& instance)
+	{
+		const int H = static_cast<int>(cam.intrinsics.nrows), bands = 16;
+		bgr.create(H, static_cast<int>(cam.intrinsics.ncols), CV_8UC3);
+		depth.create(bgr.size(), CV_32F);
+		instance.create(bgr.size(), CV_16U);
+		for (int b = 0; b < bands; b++)
+		{
+			const int r0 = b * H / bands, r1 = (b + 1) * H / bands;
+			const double dt = ((r0 + r1 - 1) / 2.0 - H / 2.0) / H * readout;
+			world.setTime(stamp + dt - stamps[0]);
+			renderer.render(world.rayBoxes(), poseAt(stamp + dt), cam.intrinsics, bgr, depth, instance, cv::Range(r0, r1));
+		}
+	};
+
 	CAsyncPngWriter pngs(2, 16);
 	clock.lap("setup");
 	for (std::size_t k = 0; k < stamps.size(); k++)
@@ -505,7 +417,10 @@ TSimSummary runSimulation(
 		const double t = stamps[k] - stamps[0];
 		world.setTime(t);
 		cv::Mat rgb, z, inst;
-		renderer.render(world.rayBoxes(), poses[k], cam.intrinsics, rgb, z, inst);
+		if (readout > 0)
+			renderRolling(stamps[k], rgb, z, inst);
+		else
+			renderer.render(world.rayBoxes(), poses[k], cam.intrinsics, rgb, z, inst);
 		// The depth camera's own moment (--depth-offset): the scene rendered again there, people
 		// and camera moved on; its colour is what the depth camera saw (dark surfaces below).
 		// A triangle wave rather than the streams' sawtooth: at the sawtooth's wrap the depth stamp
@@ -517,9 +432,14 @@ TSimSummary runSimulation(
 		cv::Mat depthSceneRgb = rgb;
 		if (depthOffset != 0)
 		{
-			world.setTime(t + depthOffset);
 			cv::Mat inst2;
-			renderer.render(world.rayBoxes(), poseAt(depthStamp), cam.intrinsics, depthSceneRgb, z, inst2);
+			if (readout > 0)
+				renderRolling(depthStamp, depthSceneRgb, z, inst2);
+			else
+			{
+				world.setTime(t + depthOffset);
+				renderer.render(world.rayBoxes(), poseAt(depthStamp), cam.intrinsics, depthSceneRgb, z, inst2);
+			}
 			world.setTime(t);
 		}
 		clock.lap("render");
@@ -769,6 +689,7 @@ TSimSummary runSimulation(
 	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"real_sensor\": " + (realSensor ? "true" : "false") +
 			",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
 	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n  \"depth_offset_ms\": " + std::to_string(o.depthOffsetMs) + ",\n";
+	meta += "  \"readout_ms\": " + std::to_string(readout * 1e3) + ",\n";
 	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
 	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";
 	meta += "  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, \"depth_scale\": 5000},\n";

@@ -48,10 +48,12 @@ class CBoxRaycaster
 
 	/** Renders `boxes` from camera pose `Twc` (optical frame: z forward, x right, y down) with
 	 * pinhole `K` (pixel centres at integer coordinates). Outputs: `bgr` 8UC3, `depth` 32F in
-	 * metres along z (0 = nothing), `instance` 16U (box id, 0 = nothing). */
+	 * metres along z (0 = nothing), `instance` 16U (box id, 0 = nothing). With `rows`, only those
+	 * rows are written (the others keep what the images held): a rolling shutter renders each band
+	 * of rows from the camera's pose at its own moment. */
 	void render(
 		const std::vector<TRayBox>& boxes, const mrpt::poses::CPose3D& Twc, const mrpt::img::TCamera& K, cv::Mat& bgr, cv::Mat& depth,
-		cv::Mat& instance) const;
+		cv::Mat& instance, cv::Range rows = cv::Range::all()) const;
 
 	TOptions options;
 };

@@ -57,6 +57,12 @@ struct TSimOptions
 	 * it): the offset drifts through [-ms, +ms] and back every 444 frames, 0.15 ms a frame at
 	 * 16.7 ms, as between the two free-running 30 Hz streams of the real Bonn Xtion. */
 	double depthOffsetMs = 0;
+	/** Rolling shutter: the rows of colour and depth image are read top to bottom over this many
+	 * ms, each from the camera's pose and the people's positions at its own moment (the stamp is
+	 * the middle row's); 0 = global shutter; -1 = the sensor's: 28 with realSensor (Kinect and
+	 * Xtion read both images with rolling-shutter CMOS sensors; Kerl et al., ICCV 2015, simulate
+	 * 28 ms), else 0. */
+	double readoutMs = -1;
 	bool movingChair = false;  //!< a chair pushed across the room (not a person)
 	/** The preset's camera motion runs this many times faster (frames stay at 30 Hz): a shorter
 	 * sequence with the same path (tests), or a harder one. People keep their pace. */
