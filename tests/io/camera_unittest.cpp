@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -67,4 +69,25 @@ TEST(Camera, BadCameraFilesAndSpecs)
 	// A folder with no calibration.txt and no freiburg name cannot be guessed.
 	TempDir plain("plain_sequence");
 	expectInputError([&] { resolveTumCamera("", plain.path()); }, {"cannot tell the camera"});
+}
+
+TEST(Camera, ASimulatedSequenceStatesItsRollingShutterAndARecordingDoesNot)
+{
+	// [Tracking] rollingShutter = -1 (auto): a yesslam-sim sequence's readout from its meta.json
+	// (in the folder, or beside its rawlog), 0 for one made before the simulator had a rolling
+	// shutter; nothing for any other input (yesslam then assumes a Kinect-class camera).
+	TempDir d("stated_readout");
+	const std::filesystem::path dir = d.path();
+	const auto write = [](const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; };
+	EXPECT_FALSE(statedReadout(d.path()).has_value()) << "no meta.json";
+	write(dir / "meta.json", "{\n  \"tool\": \"yesslam-sim\",\n  \"readout_ms\": 28.000000,\n  \"frames\": 3\n}\n");
+	ASSERT_TRUE(statedReadout(d.path()).has_value());
+	EXPECT_NEAR(*statedReadout(d.path()), 0.028, 1e-12);
+	EXPECT_NEAR(*statedReadout((dir / "sequence.rawlog").string()), 0.028, 1e-12) << "beside a rawlog";
+	write(dir / "meta.json", "{\n  \"tool\": \"yesslam-sim\",\n  \"depth_offset_ms\": 0.000000\n}\n");
+	EXPECT_EQ(statedReadout(d.path()), std::optional<double>(0.0)) << "an older simulator: global shutter";
+	write(dir / "meta.json", "{\n  \"tool\": \"some-recorder\",\n  \"readout_ms\": 28\n}\n");
+	EXPECT_FALSE(statedReadout(d.path()).has_value()) << "only the simulator's meta.json is read";
+	write(dir / "meta.json", "{\n  \"tool\": \"yesslam-sim\",\n  \"readout_ms\": 2.8e+\n}\n");
+	expectInputError([&] { statedReadout(d.path()); }, {"meta.json", "readout_ms"});
 }

@@ -4,10 +4,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <regex>
 
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 namespace fs = std::filesystem;
 
@@ -42,5 +45,22 @@ std::string findGroundTruthFor(const std::string& inputPath)
 	else
 		cand = p.parent_path() / (p.stem().string() + "_groundtruth.txt");
 	return fs::is_regular_file(cand, ec) ? cand.string() : std::string();
+}
+
+std::optional<double> statedReadout(const std::string& inputPath)
+{
+	std::error_code ec;
+	const fs::path p(inputPath);
+	const fs::path meta = (fs::is_directory(p, ec) ? p : p.parent_path()) / "meta.json";
+	if (!fs::is_regular_file(meta, ec)) return std::nullopt;
+	std::ifstream f(meta);
+	const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	static const std::regex tool("\"tool\"\\s*:\\s*\"yesslam-sim\""), readout("\"readout_ms\"\\s*:\\s*([0-9.eE+-]+)");
+	if (!std::regex_search(text, tool)) return std::nullopt;
+	std::smatch m;
+	if (!std::regex_search(text, m, readout)) return 0.0;
+	double ms = 0;
+	if (!parseFiniteDouble(m[1].str(), ms) || ms < 0) throw InputError(meta.string(), "readout_ms is not a duration: '" + m[1].str() + "'");
+	return ms * 1e-3;
 }
 }  // namespace mrpt_yesslam

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
+#include "mrpt_yesslam/feature/RollingShutter.h"
 #include "mrpt_yesslam/eval/TrajectoryPlot.h"
 #include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/CPacedSource.h"
@@ -318,6 +319,10 @@ TSlamJobSummary runSlamJob(
 		if (o.loadMap.empty()) throw InputError("", "localisation only needs a map to localise in (--load-map MAP.ysm)");
 		opts.dense.enabled = false;	 // no keyframes: nothing to build a dense map from
 	}
+	// The camera's rolling shutter: what the input says (a simulated sequence), else what RGB-D
+	// cameras have; config_used.ini then records the value the run used.
+	if (opts.tracking.rollingShutter < 0)
+		opts.tracking.rollingShutter = (isOpenNI2Input(o.input) ? std::nullopt : statedReadout(o.input)).value_or(kConsumerRgbdReadout);
 	// The system (detector model, options) and the map first: a run that cannot start leaves no
 	// output folder.
 	CYesSlamSystem sys(opts);

@@ -62,4 +62,10 @@ std::unique_ptr<CInputSource> openInputSource(const std::string& path, const CIn
 /** The ground-truth file that belongs with an input: "groundtruth.txt" in a TUM folder, or
  * "<name>_groundtruth.txt" beside "<name>.rawlog" (as tum2rawlog writes it); empty if none. */
 std::string findGroundTruthFor(const std::string& inputPath);
+
+/** The rolling-shutter readout (seconds, first row to last) an input states: a sequence made by
+ * yesslam-sim (its meta.json, in the folder or beside the rawlog) says its "readout_ms", and one
+ * made before the simulator had a rolling shutter says nothing and was a global shutter (0).
+ * None for anything else (recorded cameras say nothing about it). */
+std::optional<double> statedReadout(const std::string& inputPath);
 }  // namespace mrpt_yesslam

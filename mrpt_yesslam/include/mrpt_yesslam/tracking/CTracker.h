@@ -67,6 +67,12 @@ class CTracker
 		 * depth.txt's stamps), each keypoint's depth is moved to the colour image's moment with the
 		 * motion model's velocity (feature/DepthMoment.h). */
 		bool depthMoment = false;
+		/** The colour camera's rolling-shutter readout, seconds from its first row to its last:
+		 * keypoints are moved to the middle row's moment with the motion model's velocity
+		 * (feature/RollingShutter.h); 0 = global shutter; -1 = auto, which yesslam resolves from
+		 * its input (SlamJob: a yesslam-sim sequence's own, else kConsumerRgbdReadout); a system
+		 * used directly takes -1 as 0. */
+		double rollingShutter = -1;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
