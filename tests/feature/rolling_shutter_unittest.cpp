@@ -7,6 +7,7 @@
 #include <random>
 
 #include "mrpt_yesslam/feature/RollingShutter.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
 
 using namespace mrpt_yesslam;
 
@@ -80,25 +81,7 @@ void expectUnrolled(const mrpt::img::TCamera& cam)
 }
 }  // namespace
 
-TEST(RollingShutter, KeypointsAreMovedToTheMiddleRowsMoment)
-{
-	mrpt::img::TCamera cam;
-	cam.ncols = 640;
-	cam.nrows = 480;
-	cam.setIntrinsicParamsFromValues(535.4, 539.2, 320.1, 247.6);
-	expectUnrolled(cam);
-}
+TEST(RollingShutter, KeypointsAreMovedToTheMiddleRowsMoment) { expectUnrolled(tumCameraByName("fr3").intrinsics); }
 
-TEST(RollingShutter, RowTimesAreTheRecordedRowsThroughTheLensDistortion)
-{
-	mrpt::img::TCamera cam;
-	cam.ncols = 640;
-	cam.nrows = 480;
-	cam.setIntrinsicParamsFromValues(517.3, 516.5, 318.6, 255.3);  // TUM fr1, with its distortion
-	cam.dist[0] = 0.2624;
-	cam.dist[1] = -0.9531;
-	cam.dist[2] = -0.0054;
-	cam.dist[3] = 0.0026;
-	cam.dist[4] = 1.1633;
-	expectUnrolled(cam);
-}
+// TUM fr1's published calibration, with its distortion.
+TEST(RollingShutter, RowTimesAreTheRecordedRowsThroughTheLensDistortion) { expectUnrolled(tumCameraByName("fr1").intrinsics); }

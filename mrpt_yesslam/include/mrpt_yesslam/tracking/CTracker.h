@@ -122,8 +122,9 @@ class CTracker
 	/** The frame tracking saw last, for the next prediction; its pose is kept relative to the
 	 * reference keyframe at this moment. */
 	void setLastFrame(const std::shared_ptr<const TFrame>& f);
-	/** The camera's motion over the next `seconds` at the motion model's velocity: the pose of the
-	 * camera then in the camera's frame now; none without a velocity (the start, or long lost). */
+	/** The camera's motion over the next `seconds` at the mean velocity of the last tracked frames
+	 * ([Tracking] lostVelocityFrames of them): the pose of the camera then in the camera's frame
+	 * now; none without a velocity (the start, or lost). */
 	std::optional<mrpt::poses::CPose3D> motionOver(double seconds) const;
 	/** Relocalisation by place recognition (ORB-SLAM2's: BoW candidates of the keyframe database,
 	 * grouped by covisibility, then PnP RANSAC) instead of trying the newest keyframes. */
