@@ -77,9 +77,21 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 	for (std::size_t i = 0; i < X.size(); i++)
 		if (o.depthNoise > 0 && !hasDepth[i] && problem.HasParameterBlock(X[i].data()))
 			problem.SetParameterBlockConstant(X[i].data());
-	for (TKeyFrameId k : w.fixedKeyFrames)
+	std::map<TKeyFrameId, std::size_t> shared;
+	for (const auto& obsOfPoint : w.observations)
+		if (obsOfPoint.size() >= 2)
+			for (const auto& kv : obsOfPoint) shared[kv.first]++;
+	std::vector<TKeyFrameId> held = w.fixedKeyFrames;
+	for (TKeyFrameId k : w.keyFrames)
+		if (shared[k] < o.minSharedObservations && problem.HasParameterBlock(poseParams.at(k).data()))
+		{
+			held.push_back(k);
+			st.heldKeyFrames++;
+		}
+	for (TKeyFrameId k : held)
 	{
 		auto& pp = poseParams.at(k);
+		if (!problem.HasParameterBlock(pp.data())) continue;
 		problem.SetParameterBlockConstant(pp.data());
 		problem.SetParameterBlockConstant(pp.data() + 3);
 	}

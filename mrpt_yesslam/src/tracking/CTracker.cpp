@@ -30,7 +30,7 @@ COptionTable CTracker::TOptions::table()
 	t.flag("depthMoment", depthMoment, "where the depth image was taken at another moment than the colour image (TUM folders: depth.txt's stamps), keypoint depth is moved to the colour image's moment with the motion model");
 	t.real(
 		"rollingShutter", rollingShutter, -1, 0.1,
-		"the colour camera's rolling-shutter readout, seconds from the first row to the last: keypoints are moved to the middle row's moment with the motion model (0 = global shutter; -1 = auto: a yesslam-sim sequence's own (meta.json), else 0.028 as Kinect and Xtion)");
+		"the colour camera's rolling-shutter readout, seconds from the first row to the last: keypoints are moved to the middle row's moment with the motion model (0 = global shutter; -1 = auto: a yesslam-sim sequence's own (meta.json), else 0.028 as Kinect and Xtion; never more than the time since the previous frame)");
 	return t;
 }
 

@@ -227,6 +227,7 @@ class CYesSlamSystem
 	CRecentFrames recent_;	//!< what Algorithm 1 may still choose from
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
+	std::optional<double> lastFrameTime_;  //!< the previous frame's stamp (the frame period bounds a readout)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
 	std::optional<TKeyFrameId> lastKeyFrame_;
 	/** The loaded map's semantic OctoMap, kept as it was by a run without a dense map (saved again with it). */
