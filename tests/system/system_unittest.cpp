@@ -700,6 +700,38 @@ TEST(System, DepthTakenAtAnotherMomentIsMovedToTheColourImages)
 	EXPECT_LT(on, 0.3 * off) << "median keypoint depth error, m: " << on << " with depthMoment, " << off << " without";
 }
 
+namespace
+{
+// An exact (noise-free) simulated sequence with exact detections, made for the rolling-shutter tests.
+TSimOptions exactSequence(const std::string& preset, std::size_t frames, uint32_t seed, double readoutMs, const std::string& out)
+{
+	TSimOptions sim;
+	sim.preset = preset;
+	sim.frames = frames;
+	sim.seed = seed;
+	sim.noise = false;
+	sim.detNoise = "none";
+	sim.writeRawlog = false;
+	sim.readoutMs = readoutMs;
+	sim.outDir = out;
+	return sim;
+}
+
+// ATE of a sequential yesslam run on `input` with [Tracking] rollingShutter set (-1 = auto).
+double ateWithReadout(const std::string& input, const std::string& out, double rollingShutter)
+{
+	TSlamJobOptions o;
+	o.input = input;
+	o.outDir = out;
+	o.slam.detector.backend = "file";
+	o.slam.system.parallel = false;
+	o.slam.tracking.rollingShutter = rollingShutter;
+	const auto s = runSlamJob(o);
+	EXPECT_TRUE(s.evaluated) << s.evalProblem;
+	return s.eval.ate.stats.rmse;
+}
+}  // namespace
+
 TEST(System, ARollingShutterCameraIsTrackedAtEachImagesStamp)
 {
 	// Issue 27: Kinect and Xtion read their rows over ~28 ms, so a turning camera's image is sheared
@@ -707,34 +739,14 @@ TEST(System, ARollingShutterCameraIsTrackedAtEachImagesStamp)
 	// [Tracking] rollingShutter = -1 (auto) yesslam takes the readout a simulated sequence states
 	// (meta.json) and moves each keypoint to the middle row's moment. Exact sensor, fast camera.
 	TempDir d("system_rolling_shutter");
-	TSimOptions sim;
-	sim.preset = "walking_rpy";
-	sim.frames = 60;
-	sim.seed = 53;
-	sim.noise = false;
-	sim.detNoise = "none";
+	TSimOptions sim = exactSequence("walking_rpy", 60, 53, 28, d / "rolling");
 	sim.speed = 2;
-	sim.writeRawlog = false;
-	sim.readoutMs = 28;
-	sim.outDir = d / "rolling";
 	runSimulation(sim);
 	sim.readoutMs = 0;
 	sim.outDir = d / "global";
 	runSimulation(sim);
-	const auto run = [&](const std::string& input, double rollingShutter, const std::string& out)
-	{
-		TSlamJobOptions o;
-		o.input = d / input;
-		o.outDir = d / out;
-		o.slam.detector.backend = "file";
-		o.slam.system.parallel = false;
-		o.slam.tracking.rollingShutter = rollingShutter;
-		const auto s = runSlamJob(o);
-		EXPECT_TRUE(s.evaluated) << s.evalProblem;
-		return s.eval.ate.stats.rmse;
-	};
-	const double global = run("global", -1, "global_auto"), uncorrected = run("rolling", 0, "rolling_off"),
-				 corrected = run("rolling", -1, "rolling_auto");
+	const double global = ateWithReadout(d / "global", d / "global_auto", -1),
+				 uncorrected = ateWithReadout(d / "rolling", d / "rolling_off", 0), corrected = ateWithReadout(d / "rolling", d / "rolling_auto", -1);
 	const auto used = [&](const std::string& out) { return readTextFile((fs::path(d / out) / "config_used.ini").string()); };
 	EXPECT_NE(used("rolling_auto").find("rollingShutter = 0.028"), std::string::npos) << "the sequence's own readout";
 	EXPECT_NE(used("global_auto").find("rollingShutter = 0\n"), std::string::npos) << "a global-shutter sequence is not corrected";
@@ -749,29 +761,9 @@ TEST(System, ARollingShutterReadoutIsNeverLongerThanAFrame)
 	// and the correction diverged (a 100 Hz sequence: 24 mm to 1.1 m ATE); it is cut to the time
 	// since the previous frame. Exact sensor, the real fr3 path at its 100 Hz stamps, 10 ms readout.
 	TempDir d("system_readout_frame");
-	TSimOptions sim;
-	sim.preset = "walking_xyz";
-	sim.frames = 150;
-	sim.seed = 1;
-	sim.noise = false;
-	sim.detNoise = "none";
-	sim.writeRawlog = false;
-	sim.readoutMs = 10;
+	TSimOptions sim = exactSequence("walking_xyz", 150, 1, 10, d / "seq");
 	sim.trajectoryFile = sharedFile("data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt");
-	sim.outDir = d / "seq";
 	runSimulation(sim);
-	const auto run = [&](double rollingShutter, const std::string& out)
-	{
-		TSlamJobOptions o;
-		o.input = d / "seq";
-		o.outDir = d / out;
-		o.slam.detector.backend = "file";
-		o.slam.system.parallel = false;
-		o.slam.tracking.rollingShutter = rollingShutter;
-		const auto s = runSlamJob(o);
-		EXPECT_TRUE(s.evaluated) << s.evalProblem;
-		return s.eval.ate.stats.rmse;
-	};
-	const double stated = run(-1, "stated"), assumed = run(0.028, "assumed");
+	const double stated = ateWithReadout(d / "seq", d / "stated", -1), assumed = ateWithReadout(d / "seq", d / "assumed", 0.028);
 	EXPECT_LT(assumed, 1.5 * stated + 0.001) << "ATE, m: " << assumed << " with 28 ms assumed, " << stated << " with the stated 10 ms";
 }
