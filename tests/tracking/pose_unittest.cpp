@@ -5,10 +5,14 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <mrpt/poses/Lie/SE.h>
 #include <random>
 
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/RelativeMotion.h"
+#include "mrpt_yesslam/io/Trajectory.h"
 
 using namespace mrpt_yesslam;
 
@@ -185,4 +189,28 @@ TEST(PoseOptimizer, ClosedFormJacobianPredictsResidualsUnderALeftPerturbation)
 	reprojectionResidualJacobian(f, behind, r, J);
 	EXPECT_EQ(r[0], 1e3);
 	EXPECT_EQ(J.norm(), 0.0);
+}
+
+TEST(RelativeMotion, AScaledMotionTurnsOnItsGeodesicAndMovesItsShareOfTheWay)
+{
+	// 0.2 m mostly along x while turning 30 degrees about z (and a little about the other axes).
+	const double deg = M_PI / 180;
+	const mrpt::poses::CPose3D T(0.2, 0.05, -0.01, 30 * deg, 5 * deg, -2 * deg);
+	const auto near = [](const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
+	{ return (a.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen() - b.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen()).norm() < 1e-9; };
+	EXPECT_TRUE(near(scaleMotion(T, 1), T));
+	EXPECT_TRUE(near(scaleMotion(T, 0), mrpt::poses::CPose3D()));
+	// Half the rotation twice is the whole rotation; the translation is its share of the way.
+	const mrpt::poses::CPose3D half = scaleMotion(T, 0.5);
+	const mrpt::math::CMatrixDouble33 R2(half.getRotationMatrix().asEigen() * half.getRotationMatrix().asEigen());
+	EXPECT_LT((R2.asEigen() - T.getRotationMatrix().asEigen()).norm(), 1e-9);
+	EXPECT_NEAR(half.x(), 0.1, 1e-12);
+	EXPECT_NEAR(half.y(), 0.025, 1e-12);
+	EXPECT_NEAR(half.z(), -0.005, 1e-12);
+	EXPECT_GT(std::abs(half.yaw() - 30 * deg), 10 * deg);
+	// The rule interpolatePose follows from the identity, also beyond the motion and backwards.
+	for (const double s : {-1.0, 0.3, 1.5})
+		EXPECT_TRUE(near(scaleMotion(T, s), interpolatePose(mrpt::poses::CPose3D(), T, s))) << s;
+	// The twist form: scaling the log of the motion.
+	EXPECT_TRUE(near(scaledTwist(mrpt::poses::Lie::SE<3>::log(T), 0.3), scaleMotion(T, 0.3)));
 }

@@ -2,6 +2,8 @@
 
 #include <mrpt/poses/Lie/SE.h>
 
+#include "mrpt_yesslam/geometry/RelativeMotion.h"
+
 namespace mrpt_yesslam
 {
 void unrollShutter(TFeatures& f, const CPinholeCamera& K, const mrpt::poses::CPose3D& motionOverReadout)
@@ -17,9 +19,7 @@ void unrollShutter(TFeatures& f, const CPinholeCamera& K, const mrpt::poses::CPo
 		// The row as recorded (distorted) tells when it was read.
 		const double row = K.distort(kp.pt.x, kp.pt.y).y;
 		const double a = row / K.height() - 0.5;  // readouts after the middle row
-		auto v = twist;
-		for (int k = 0; k < 6; k++) v[k] *= a;
-		const mrpt::poses::CPose3D rowCamera = mrpt::poses::Lie::SE<3>::exp(v);	 // in the middle row's camera
+		const mrpt::poses::CPose3D rowCamera = scaledTwist(twist, a);  // in the middle row's camera
 		const bool hasDepth = f.depth[i] > 0;
 		const cv::Point3d X = K.backProject(kp.pt.x, kp.pt.y, hasDepth ? f.depth[i] : farDepth);
 		mrpt::math::TPoint3D Xm;

@@ -5,7 +5,6 @@
 #include <mrpt/img/CImage.h>
 #include <mrpt/math/CMatrixDynamic.h>
 #include <mrpt/opengl/COpenGLScene.h>
-#include <mrpt/poses/Lie/SE.h>
 
 #include <algorithm>
 #include <set>
@@ -26,6 +25,7 @@
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/util/TextParsing.h"
+#include "mrpt_yesslam/geometry/RelativeMotion.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include "mrpt_yesslam/sim/SimSensorModel.h"
@@ -400,9 +400,7 @@ TSimSummary runSimulation(
 	{
 		if (o.trajectoryFile.empty()) return poseAt(stamp + dt);
 		constexpr double h = 0.05;
-		auto v = mrpt::poses::Lie::SE<3>::log(poseAt(stamp + h) - poseAt(stamp - h));
-		for (int i = 0; i < 6; i++) v[i] *= dt / (2 * h);
-		return poseAt(stamp) + mrpt::poses::Lie::SE<3>::exp(v);
+		return poseAt(stamp) + scaleMotion(poseAt(stamp + h) - poseAt(stamp - h), dt / (2 * h));
 	};
 	const auto renderRolling = [&](double stamp, cv::Mat& bgr, cv::Mat& depth, cv::Mat& instance)
 	{

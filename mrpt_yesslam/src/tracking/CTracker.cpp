@@ -7,6 +7,8 @@
 #include <limits>
 #include <numeric>
 
+#include "mrpt_yesslam/geometry/RelativeMotion.h"
+
 namespace mrpt_yesslam
 {
 COptionTable CTracker::TOptions::table()
@@ -102,10 +104,8 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		// Guessed poses never feed the velocity.
 		if (velocity_ && ++lostRun_ <= opts_.lostCoastFrames && opts_.lostDamping > 0)
 		{
-			auto v = mrpt::poses::Lie::SE<3>::log(*velocity_);
-			if (lostRun_ == 1 && !recentMotion_.empty()) v = meanRecentMotion();
-			for (int k = 0; k < 6; k++) v[k] *= opts_.lostDamping;
-			velocity_ = mrpt::poses::Lie::SE<3>::exp(v);
+			const auto v = lostRun_ == 1 && !recentMotion_.empty() ? meanRecentMotion() : mrpt::poses::Lie::SE<3>::log(*velocity_);
+			velocity_ = scaledTwist(v, opts_.lostDamping);
 		}
 		else
 			velocity_.reset();
@@ -138,9 +138,8 @@ std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
 	// passes it on. With the rolling-shutter correction: Bonn slice 15.4 -> 14.6 mm (jitter 8.8 ->
 	// 7.1 mm a frame), walking_rpy and crowd sims with a rolling shutter 5.75 -> 5.72 and 10.2 ->
 	// 10.0 mm; the 9 fr1 frames 1.76 -> 2.37 mm (3.12 uncorrected), where the mean has few frames.
-	auto v = recentMotion_.empty() ? mrpt::poses::Lie::SE<3>::log(*velocity_) : meanRecentMotion();
-	for (int k = 0; k < 6; k++) v[k] *= seconds / velocityInterval_;
-	return mrpt::poses::Lie::SE<3>::exp(v);
+	const auto v = recentMotion_.empty() ? mrpt::poses::Lie::SE<3>::log(*velocity_) : meanRecentMotion();
+	return scaledTwist(v, seconds / velocityInterval_);
 }
 
 mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
@@ -451,9 +450,10 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	if (guess)
 		f.pose = *guess;
 	else if (lostRun_ == 0 && !recentMotion_.empty())
-		f.pose = lastPose + mrpt::poses::Lie::SE<3>::exp(meanRecentMotion());
+		f.pose = lastPose + scaledTwist(meanRecentMotion(), 1.0);
 	else
 		f.pose = predicted;
 	return r;
 }
-}  // namespace mrpt_yesslam
+}  // namespace mrpt_yesslam#include "mrpt_yesslam/geometry/RelativeMotion.h"
+
