@@ -20,13 +20,13 @@ int main(int argc, char** argv)
 		"yesslam-eval",
 		[&]() -> int
 		{
-			std::string gtPath, estPath, jsonPath, plotPath, unit = "s", gtFormat = "tum";
+			std::string gtPath, estPath, jsonPath, plotPath, errorsPath, unit = "s", gtFormat = "tum";
 			bool noAlign = false;
 			TEvalOptions o;
 			CommandLine cl(
 				"yesslam-eval",
 				"yesslam-eval --gt GT.txt [--gt-format tum|bonn] --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3 | --no-align] [--rpe-delta 1] "
-				"[--rpe-unit s|f] [--json OUT.json] [--plot OUT.png]",
+				"[--rpe-unit s|f] [--json OUT.json] [--errors OUT.csv] [--plot OUT.png]",
 				"Absolute trajectory error (ATE) and relative pose error (RPE) of a TUM-format trajectory, computed\n"
 				"as the TUM RGB-D benchmark's evaluate_ate.py and evaluate_rpe.py --fixed_delta compute them:\n"
 				"greedy one-to-one association within --max-diff, Horn/Umeyama rigid alignment, every RPE pair\n"
@@ -49,6 +49,7 @@ int main(int argc, char** argv)
 			cl.number("rpe-delta", "D", "spacing of RPE pairs, in --rpe-unit", &o.rpeDelta);
 			cl.text("rpe-unit", "s|f", "RPE spacing unit: s = seconds, f = frames", &unit);
 			cl.text("json", "FILE", "also write all figures and the alignment as JSON", &jsonPath);
+			cl.text("errors", "FILE", "also write the ATE residual of every matched pair as CSV (stamp,error,dx,dy,dz; metres, ground-truth frame): where along the run the error is", &errorsPath);
 			cl.text("plot", "FILE", "write a top-down picture (PNG, or JPEG for .jpg) of ground truth and aligned estimate, coloured by error", &plotPath);
 			if (!cl.parse(argc, argv)) return 0;
 			o.align = !noAlign;
@@ -69,6 +70,7 @@ int main(int argc, char** argv)
 			std::fputs(formatEvalKeyValues(r).c_str(), stdout);
 			if (!r.hasRpe) std::fprintf(stderr, "yesslam-eval: note: no RPE (%s)\n", r.rpeProblem.c_str());
 			if (!jsonPath.empty()) writeFileAtomically(jsonPath, formatEvalJson(r));
+			if (!errorsPath.empty()) writeFileAtomically(errorsPath, formatAteErrorsCsv(r.ate));
 			if (!plotPath.empty())
 				plotAteTopDown(r.ate, gt, plotPath, std::filesystem::path(estPath).filename().string() + " vs " + std::filesystem::path(gtPath).filename().string());
 			return 0;

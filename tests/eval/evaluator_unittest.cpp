@@ -244,3 +244,37 @@ TEST(Evaluator, WithoutAlignmentTheEstimateIsComparedAsItIs)
 	EXPECT_NEAR(r.ate.stats.rmse, 1.0, 1e-9);
 	EXPECT_NE(formatEvalKeyValues(r).find("alignment: none"), std::string::npos);
 }
+
+TEST(Evaluator, TheErrorsTableTellsWhereAlongTheRunTheErrorIs)
+{
+	// Exact but for frame 12, 3 cm off along y: compared as it is, the table has one row per pair in
+	// time order, zero everywhere but that frame's row, which holds the offset.
+	TTrajectory gt, est;
+	for (int i = 0; i < 20; i++)
+	{
+		TStampedPose g;
+		g.t = 100 + i / 30.0;
+		g.tx = 0.01 * i;
+		gt.push_back(g);
+		if (i == 12) g.ty += 0.03;
+		est.push_back(g);
+	}
+	TEvalOptions o;
+	o.align = false;
+	std::istringstream csv(formatAteErrorsCsv(evaluateTrajectories(gt, est, o, "gt", "est").ate));
+	std::string line;
+	std::getline(csv, line);
+	EXPECT_EQ(line, "stamp,error,dx,dy,dz");
+	int rows = 0;
+	while (std::getline(csv, line))
+	{
+		double t = 0, e = 0, dx = 0, dy = 0, dz = 0;
+		ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &t, &e, &dx, &dy, &dz), 5) << line;
+		EXPECT_NEAR(t, gt[static_cast<std::size_t>(rows)].t, 1e-6);
+		EXPECT_NEAR(e, rows == 12 ? 0.03 : 0.0, 1e-6) << line;
+		EXPECT_NEAR(dy, rows == 12 ? 0.03 : 0.0, 1e-6) << line;
+		EXPECT_NEAR(dx, 0.0, 1e-6);
+		rows++;
+	}
+	EXPECT_EQ(rows, 20);
+}

@@ -49,7 +49,8 @@ TEST(Tools, EvalPrintsTheContractKeys)
 	TempDir d("eval");
 	const auto r = runTool(
 		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
-						 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--json", d / "r.json", "--plot", d / "r.png"});
+						 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--json", d / "r.json", "--plot", d / "r.png",
+						 "--errors", d / "r.csv"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	for (const char* k : {"ate_pairs", "ate_rmse", "ate_mean", "ate_median", "ate_std", "ate_min", "ate_max", "rpe_pairs",
 						  "rpe_trans_rmse", "rpe_rot_rmse_deg"})
@@ -59,6 +60,14 @@ TEST(Tools, EvalPrintsTheContractKeys)
 	EXPECT_EQ(value(r.out, "rpe_pairs"), "1998");
 	EXPECT_TRUE(fs::file_size(d / "r.json") > 100);
 	EXPECT_TRUE(fs::file_size(d / "r.png") > 1000);
+	// The errors table: a header and one row per matched pair.
+	std::ifstream errs(d / "r.csv");
+	std::string line;
+	std::getline(errs, line);
+	EXPECT_EQ(line, "stamp,error,dx,dy,dz");
+	int rows = 0;
+	while (std::getline(errs, line)) rows++;
+	EXPECT_EQ(rows, 2223);
 
 	// RPE in frames: pairs i, i+30; those whose partner would be the last pose are dropped.
 	const auto f = runTool(

@@ -101,6 +101,19 @@ std::string formatEvalKeyValues(const TEvalReport& r)
 	return out;
 }
 
+std::string formatAteErrorsCsv(const TAteResult& ate)
+{
+	std::string out = "stamp,error,dx,dy,dz\n";
+	char line[160];
+	for (std::size_t i = 0; i < ate.errors.size(); i++)
+	{
+		const Eigen::Vector3d d = ate.estAligned[i] - ate.gt[i];
+		std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.6f\n", ate.stamps[i], ate.errors[i], d.x(), d.y(), d.z());
+		out += line;
+	}
+	return out;
+}
+
 std::string formatEvalJson(const TEvalReport& r)
 {
 	std::string out = "{\n";

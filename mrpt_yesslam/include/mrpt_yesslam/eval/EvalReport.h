@@ -32,6 +32,11 @@ TEvalReport evaluateTrajectories(
  * step_gt_median, jitter_median, jitter_rmse */
 std::string formatEvalKeyValues(const TEvalReport& r);
 
+/** The ATE residual of every matched pair as CSV (header "stamp,error,dx,dy,dz": ground-truth
+ * stamp, residual norm and aligned estimate minus ground truth, metres, in the ground truth's
+ * frame), in time order: where along a run the error is, which the summary figures do not say. */
+std::string formatAteErrorsCsv(const TAteResult& ate);
+
 /** The same keys as JSON, plus "alignment": {rotation, translation, scale, type}. */
 std::string formatEvalJson(const TEvalReport& r);
 }  // namespace mrpt_yesslam
