@@ -706,3 +706,36 @@ TEST(SparseMap, ManyCorrectionsKeepEveryKeyFramesRotationARotation)
 	// The keyframes stay where they were relative to each other.
 	EXPECT_NEAR((map.keyFramePose(1) - map.keyFramePose(0)).asVectorVal().head<3>().norm(), 0.1, 1e-6);
 }
+
+TEST(SparseMap, APointCarriesHowItHasBeenSeen)
+{
+	// Issue 27 (ORB-SLAM2's MapPoint::UpdateNormalAndDepth, for the tracker's view checks): a point
+	// made by keyframe 0 (from 2 m, at pyramid level 1) and then seen by three keyframes to its
+	// left; one of them is erased.
+	std::mt19937 rng(7);
+	const std::vector<mrpt::math::TPoint3D> world{{0, 0, 2}};
+	CSparseMap map;
+	map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), world, {-1}, rng, 1), 10.0);
+	for (std::size_t k = 1; k <= 3; k++)
+		map.addKeyFrame(observeWorld(k, mrpt::poses::CPose3D(-0.5 * static_cast<double>(k), 0, 0, 0, 0, 0), world, {0}, rng, 0), 10.0);
+	// The mean of the unit directions from the keyframes to it, and its distance and level in the
+	// keyframe that made it; as the observations are now, so without the erased keyframe.
+	const auto expectViews = [&](const std::vector<int>& keyFrames)
+	{
+		const TLocalMapPoints pts = map.pointsOfKeyFrames({0});
+		ASSERT_TRUE(pts.hasViews());
+		Eigen::Vector3d n(0, 0, 0);
+		for (int k : keyFrames) n += Eigen::Vector3d(0.5 * k, 0, 2).normalized();
+		n.normalize();
+		EXPECT_NEAR(pts.normals[0].x, n.x(), 1e-6);
+		EXPECT_NEAR(pts.normals[0].y, 0.0, 1e-6);
+		EXPECT_NEAR(pts.normals[0].z, n.z(), 1e-6);
+		EXPECT_NEAR(pts.refDistances[0], 2.0, 1e-5);
+		EXPECT_EQ(pts.refOctaves[0], 1);
+	};
+	expectViews({0, 1, 2, 3});
+	ASSERT_TRUE(map.eraseKeyFrame(3));
+	expectViews({0, 1, 2});
+	// Points from the map by id carry them too; the tracker's own frame points do not.
+	EXPECT_TRUE(map.pointsById({0}).hasViews());
+}

@@ -94,6 +94,58 @@ TEST(OrbMatcher, ProjectionSearchFindsTheKeypointAtTheProjection)
 	EXPECT_TRUE(m.searchByProjection(f, mrpt::poses::CPose3D(0.4, 0, 0, 0, 0, 0), pts, 8.0).empty());
 }
 
+TEST(OrbMatcher, ViewChecksSearchAPointOnlyWhereItsPyramidAndItsViewsReach)
+{
+	// Issue 27 (ORB-SLAM2's map-point normal and scale-invariance distances): four points 2 m ahead
+	// of a camera at the origin, each with a keypoint at its projection carrying its descriptor.
+	std::mt19937 rng(4);
+	const cv::Mat pointDesc = randomDescriptors(4, rng);
+	TLocalMapPoints pts;
+	const auto add = [&](TPointId id, mrpt::math::TPoint3D P, mrpt::math::TPoint3D n, float refDistance)
+	{
+		pts.ids.push_back(id);
+		pts.positions.push_back(P);
+		pts.normals.push_back(n * (1.0 / n.norm()));
+		pts.refDistances.push_back(refDistance);
+		pts.refOctaves.push_back(0);
+	};
+	add(0, {0, 0, 2}, {0, 0, 1}, 2.0f);	 // seen from here before: level 0
+	add(1, {0.4, 0, 2}, {-1, 0, 0.2}, 2.0f);  // only ever seen from its side, 80 degrees off
+	add(2, {-0.4, 0, 2}, {0, 0, 1}, 0.5f);	// seen from 0.5 m at level 0: past its pyramid's reach at 2 m
+	add(3, {0, 0.4, 2}, {0, 0, 1}, 4.0f);  // seen from 4 m at level 0: at 2 m it is at level 4
+	pts.descriptors = pointDesc;
+	cv::Mat desc;
+	for (int j = 0; j < 4; j++) desc.push_back(pointDesc.row(j).clone());
+	desc.push_back(flip(pointDesc.row(3), 10));	 // point 3 again, at the level its distance predicts
+	desc.push_back(randomDescriptors(1, rng));	// far off, at the coarsest level (the pyramid's reach)
+	TFrame f = frameWith({{320, 240}, {420, 240}, {220, 240}, {320, 340}, {322, 342}, {600, 50}}, desc);
+	f.features.keypoints[4].octave = 4;
+	f.features.keypoints[5].octave = 7;
+	const COrbMatcher m(100, 0.9);
+	const auto byPoint = [](std::vector<TMatch> v)
+	{
+		std::sort(v.begin(), v.end(), [](const TMatch& a, const TMatch& b) { return a.point < b.point; });
+		return v;
+	};
+	std::vector<std::size_t> inView;
+	// Without the checks every point is in view and takes the keypoint with its own descriptor.
+	auto found = byPoint(m.searchByProjection(f, mrpt::poses::CPose3D(), pts, 4.0, &inView, false, 1.2, false));
+	EXPECT_EQ(inView.size(), 4u);
+	ASSERT_EQ(found.size(), 4u);
+	for (std::size_t j = 0; j < 4; j++) EXPECT_EQ(found[j].keypoint, j);
+	// With them: the point seen only from its side and the one past its pyramid's reach are not in
+	// view; point 3 is searched at level 4 (and 3), where its keypoint of level 0 is not.
+	found = byPoint(m.searchByProjection(f, mrpt::poses::CPose3D(), pts, 4.0, &inView, false, 1.2, true));
+	EXPECT_EQ(inView, (std::vector<std::size_t>{0, 3}));
+	ASSERT_EQ(found.size(), 2u);
+	EXPECT_EQ(found[0].keypoint, 0u);
+	EXPECT_EQ(found[1].point, 3u);
+	EXPECT_EQ(found[1].keypoint, 4u);
+	// Points without views (made from a frame) are searched as before.
+	pts.normals.clear();
+	EXPECT_EQ(m.searchByProjection(f, mrpt::poses::CPose3D(), pts, 4.0, &inView, false, 1.2, true).size(), 4u);
+}
+
 TEST(OrbMatcher, BruteForceRatioTestRejectsAmbiguousMatches)
 {
 	std::mt19937 rng(3);

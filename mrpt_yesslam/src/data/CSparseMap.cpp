@@ -136,7 +136,7 @@ TLocalMapPoints CSparseMap::keyFramePoints(TKeyFrameId id, std::vector<std::size
 		if (kf.mapPoints[i] < 0) continue;
 		const auto pit = s_->points.find(kf.mapPoints[i]);
 		if (pit == s_->points.end() || pit->second.bad) continue;
-		appendPoint(out, pit->second);
+		s_->appendPoint(out, pit->second);
 		if (keypoints) keypoints->push_back(i);
 	}
 	return out;
@@ -158,7 +158,7 @@ TLocalMapPoints CSparseMap::pointsById(const std::vector<TPointId>& ids) const
 	ReadLock lk(mtx_);
 	TLocalMapPoints out;
 	for (TPointId id : ids)
-		if (const CMapPoint* p = s_->goodPoint(id)) appendPoint(out, *p);
+		if (const CMapPoint* p = s_->goodPoint(id)) s_->appendPoint(out, *p);
 	return out;
 }
 

@@ -15,11 +15,39 @@ namespace
 constexpr TKeyFrameId kForgetBadPointsAfter = 3;
 }  // namespace
 
-void appendPoint(TLocalMapPoints& out, const CMapPoint& p)
+void TSparseMapStore::appendPoint(TLocalMapPoints& out, const CMapPoint& p) const
 {
 	out.ids.push_back(p.id);
 	out.positions.push_back(p.position);
 	out.descriptors.push_back(p.descriptor);
+	// How it has been seen (ORB-SLAM2's MapPoint::UpdateNormalAndDepth), from its observations as
+	// they are now: kept in step with every keyframe added, erased, moved or corrected, at the cost
+	// of a few lookups per observation (tracking copies a few thousand points a frame).
+	mrpt::math::TPoint3D n(0, 0, 0);
+	float refDistance = 0;
+	int refOctave = 0;
+	bool haveRef = false;
+	for (const auto& [k, kp] : p.observations)
+	{
+		const auto it = keyFrames.find(k);
+		if (it == keyFrames.end() || it->second->bad) continue;
+		const CKeyFrame& kf = *it->second;
+		const mrpt::math::TPoint3D d(p.position.x - kf.pose.x(), p.position.y - kf.pose.y(), p.position.z - kf.pose.z());
+		const double len = d.norm();
+		if (!(len > 0)) continue;
+		n += d * (1.0 / len);
+		// The reference keyframe: the one that made the point while it observes it, else the first.
+		if (!haveRef || k == p.firstKeyFrame)
+		{
+			refDistance = static_cast<float>(len);
+			refOctave = kp < kf.size() ? kf.features->keypoints[kp].octave : 0;
+			haveRef = true;
+		}
+	}
+	const double nl = n.norm();
+	out.normals.push_back(nl > 0 ? n * (1.0 / nl) : n);
+	out.refDistances.push_back(refDistance);
+	out.refOctaves.push_back(refOctave);
 }
 
 TKeyFrameId TSparseMapStore::addKeyFrame(const TFrame& frame, double maxDepth, std::size_t* newPoints)

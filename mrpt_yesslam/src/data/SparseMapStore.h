@@ -58,6 +58,9 @@ struct TSparseMapStore
 	std::vector<TKeyFrameId> covisible(TKeyFrameId id, std::size_t max, int minWeight) const;
 	/** See CSparseMap::goodAncestor. */
 	TKeyFrameId goodAncestor(TKeyFrameId id) const;
+	/** Adds point `p` to what tracking gets: id, position, descriptor and how it has been seen
+	 * (TLocalMapPoints::normals, refDistances, refOctaves). */
+	void appendPoint(TLocalMapPoints& out, const CMapPoint& p) const;
 	/** See CSparseMap::pointsOfKeyFrames. */
 	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids) const;
 	/** See CSparseMap::replacePoint (the caller re-sorts the dirty keyframes). */
@@ -71,6 +74,4 @@ struct TSparseMapStore
 	void eraseOutliers(const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
 };
 
-/** Adds point `p` to what tracking gets (id, position, descriptor). */
-void appendPoint(TLocalMapPoints& out, const CMapPoint& p);
 }  // namespace mrpt_yesslam

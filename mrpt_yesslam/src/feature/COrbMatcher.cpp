@@ -64,7 +64,7 @@ struct TBestTwo
 
 std::vector<TMatch> COrbMatcher::searchByProjection(
 	const TFrame& frame, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius,
-	std::vector<std::size_t>* inView, bool skipMatched, double scaleFactor) const
+	std::vector<std::size_t>* inView, bool skipMatched, double scaleFactor, bool viewChecks) const
 {
 	std::vector<TMatch> found;
 	if (inView) inView->clear();
@@ -89,6 +89,8 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 	const CPinholeCamera K(frame.camera);
 	std::vector<double> levelScale(16, 1.0);
 	for (std::size_t l = 1; l < levelScale.size(); l++) levelScale[l] = levelScale[l - 1] * scaleFactor;
+	const bool views = viewChecks && points.hasViews();
+	const double logScale = std::log(scaleFactor);
 	for (std::size_t j = 0; j < points.ids.size(); j++)
 	{
 		double x, y, z;
@@ -96,11 +98,27 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 		Tcw.composePoint(P.x, P.y, P.z, x, y, z);
 		double u, v;
 		if (z < 0.05 || !K.project(x, y, z, u, v) || u < 0 || v < 0 || u >= W || v >= H) continue;
+		// ORB-SLAM2's Frame::isInFrustum and MapPoint::PredictScale: a keypoint seen at level l from
+		// distance d is found from d * scale^l (level 0) down to that over the pyramid's reach; a
+		// descriptor does not survive a view more than 60 degrees off the ones it was seen from.
+		int levelLo = 0, levelHi = maxOctave;
+		if (views)
+		{
+			const double dx = P.x - Twc.x(), dy = P.y - Twc.y(), dz = P.z - Twc.z();
+			const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+			const double maxD = points.refDistances[j] * levelScale[static_cast<std::size_t>(std::clamp(points.refOctaves[j], 0, 15))];
+			const double minD = maxD / levelScale[static_cast<std::size_t>(maxOctave)];
+			if (!(dist > 0) || dist < 0.8 * minD || dist > 1.2 * maxD) continue;
+			const auto& n = points.normals[j];
+			if ((dx * n.x + dy * n.y + dz * n.z) / dist < 0.5) continue;
+			levelHi = std::clamp(static_cast<int>(std::ceil(std::log(maxD / dist) / logScale)), 0, maxOctave);
+			levelLo = std::max(0, levelHi - 1);
+		}
 		if (inView) inView->push_back(j);
 		const unsigned char* d = points.descriptors.ptr<unsigned char>(static_cast<int>(j));
 		TBestTwo two;
-		// The cells to scan: as far as the coarsest level present in this frame reaches.
-		const double rMax = radius * levelScale[static_cast<std::size_t>(maxOctave)];
+		// The cells to scan: as far as the coarsest level searched reaches.
+		const double rMax = radius * levelScale[static_cast<std::size_t>(levelHi)];
 		const int x0 = std::max(0, static_cast<int>((u - rMax) / cell)), x1 = std::min(gw - 1, static_cast<int>((u + rMax) / cell));
 		const int y0 = std::max(0, static_cast<int>((v - rMax) / cell)), y1 = std::min(gh - 1, static_cast<int>((v + rMax) / cell));
 		for (int gy = y0; gy <= y1; gy++)
@@ -108,8 +126,10 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 				for (int i : grid[static_cast<std::size_t>(gy * gw + gx)])
 				{
 					const auto& kp = kps[static_cast<std::size_t>(i)];
-					// ORB-SLAM scales the window with the keypoint's pyramid level.
-					const double r = radius * levelScale[static_cast<std::size_t>(std::clamp(kp.octave, 0, 15))];
+					if (views && (kp.octave < levelLo || kp.octave > levelHi)) continue;
+					// ORB-SLAM scales the window with the keypoint's pyramid level (with the
+					// predicted level, with that one).
+					const double r = radius * levelScale[static_cast<std::size_t>(views ? levelHi : std::clamp(kp.octave, 0, 15))];
 					const double du = kp.pt.x - u, dv = kp.pt.y - v;
 					if (du * du + dv * dv > r * r) continue;
 					two.add(orbDistance(d, frame.features.descriptors.ptr<unsigned char>(i)), i);

@@ -40,10 +40,16 @@ class COrbMatcher
 	/** Projects `points` with the camera pose `Twc` into `frame` and matches each to the best static
 	 * keypoint within `radius` pixels (times the keypoint's scale). Keypoints already matched
 	 * (frame.mapPoints[i] >= 0, when `skipMatched`) are left out. Indices of points that fell inside
-	 * the image go to `inView`. Each keypoint is matched at most once (the closest descriptor wins). */
+	 * the image go to `inView`. Each keypoint is matched at most once (the closest descriptor wins).
+	 * With `viewChecks` and points that carry how they have been seen (TLocalMapPoints::hasViews),
+	 * as ORB-SLAM2's local-map search: a point farther or nearer than its pyramid can see it, or
+	 * seen more than 60 degrees off its mean viewing direction, is not in view; the others are
+	 * searched at the pyramid level their distance predicts (radius times that level's scale,
+	 * keypoints of that level or the one below). */
 	std::vector<TMatch> searchByProjection(
 		const TFrame& frame, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius,
-		std::vector<std::size_t>* inView = nullptr, bool skipMatched = false, double scaleFactor = 1.2) const;
+		std::vector<std::size_t>* inView = nullptr, bool skipMatched = false, double scaleFactor = 1.2,
+		bool viewChecks = false) const;
 
 	/** Brute force: the best point for each static keypoint of `frame`, with the ratio test and
 	 * one match per point. */

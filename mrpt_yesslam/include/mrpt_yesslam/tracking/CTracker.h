@@ -45,6 +45,10 @@ class CTracker
 		double maxDepth = 6.0;
 		double motionRadius = 15;  //!< pixel search radius around motion-model projections (ORB-SLAM2: 15)
 		double localRadius = 4;	 //!< pixel search radius for the local map
+		/** Local-map search as ORB-SLAM2's: a map point is in view only within its pyramid's
+		 * distance range and 60 degrees of its mean viewing direction, and is searched at the
+		 * pyramid level its distance predicts (COrbMatcher::searchByProjection). */
+		bool viewChecks = true;
 		int maxHamming = 100;  //!< ORB-SLAM2's TH_HIGH
 		double ratio = 0.9;	 //!< nearest/second-nearest ratio for projection search (ORB-SLAM2: 0.9)
 		std::size_t localKeyFrames = 40;  //!< most keyframes in the local map (ORB-SLAM2: 80)
@@ -158,11 +162,11 @@ class CTracker
 		const std::vector<TPointId>& found) const;
 	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
 	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
-	/** Local-map search and refinement from `guess`; on success fills the frame. */
 	/** Matches the local map around the keyframes that see `seeds` (the points the frame already
-	 * matched; none: around the reference keyframe) and refines from `guess`; on success the
-	 * keyframe sharing most points becomes the reference. */
-	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r);
+	 * matched; none: around the reference keyframe), searching `radius` pixels around each
+	 * projection from `guess`, and refines; on success fills the frame and the keyframe sharing
+	 * most points becomes the reference. */
+	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius);
 
 	TOptions opts_;
 	CSparseMap& map_;
