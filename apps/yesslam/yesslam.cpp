@@ -204,10 +204,20 @@ int main(int argc, char** argv)
 			else
 				std::printf("loops:           loop closing off\n");
 			if (o.slam.dense.enabled)
+			{
 				std::printf(
-					"dense map:       %zu points (%zu outliers removed), octree %zu occupied / %zu free leaves; .ply %.1f MB, .ot %.1f MB, .bt %.2f MB (%.1f s)\n",
-					s.dense.cloudPoints, s.dense.outliersRemoved, s.dense.occupiedLeaves, s.dense.freeLeaves, s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6,
-					s.dense.btBytes / 1e6, s.dense.buildMs / 1000);
+					"dense map:       %zu points (%zu outliers removed), octree %zu occupied / %zu free / %zu unknown leaves; .ply %.1f MB, .ot %.1f MB, "
+					".bt %.2f MB (%.1f s)\n",
+					s.dense.cloudPoints, s.dense.outliersRemoved, s.dense.occupiedLeaves, s.dense.freeLeaves, s.dense.unknownLeaves, s.dense.plyBytes / 1e6,
+					s.dense.otBytes / 1e6, s.dense.btBytes / 1e6, s.dense.buildMs / 1000);
+				// A map with nothing occupied is no map for a planner: say why instead of a quiet file.
+				if (s.dense.occupiedLeaves == 0 && s.skippedOutputs.empty())
+					std::fprintf(
+						stderr,
+						"yesslam: warning: the dense map has no occupied voxel: no surface was confirmed by enough keyframes ([DenseMapping] "
+						"occupancyThreshold %.2f; %zu keyframes in the map); map.bt and map.ot mark what was seen unknown, not free\n",
+						o.slam.dense.occupancyThreshold, st.keyFramesInMap);
+			}
 			if (s.mapFiles.loadedKeyFrames > 0 && o.slam.dense.enabled)
 				std::printf(
 					"                 %s\n", s.dense.priorMerged ? "the octree continues the loaded map's (what this run saw replaces it)"
@@ -233,6 +243,7 @@ int main(int argc, char** argv)
 			}
 			else if (!s.evalProblem.empty())
 				std::fprintf(stderr, "yesslam: warning: no evaluation against %s: %s\n", s.groundTruth.c_str(), s.evalProblem.c_str());
+			for (const auto& w : s.warnings) std::fprintf(stderr, "yesslam: warning: %s\n", w.c_str());
 			for (const auto& k : s.skippedOutputs) std::fprintf(stderr, "yesslam: not written (second Ctrl-C): %s\n", k.c_str());
 			if (!s.mapFiles.saveError.empty())
 			{

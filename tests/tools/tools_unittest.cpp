@@ -194,8 +194,12 @@ TEST(Tools, Tum2RawlogBadInput)
 	expectCleanFailure(
 		runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "x.rawlog", "--camera", "fr9"}),
 		{"fr9", "neither a known camera name"});
-	expectCleanFailure(
-		runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "nodir/x.rawlog"}), {"x.rawlog", "output folder does not exist"});
+	// A missing output folder is made (issue 43); one that cannot be made is named.
+	const auto made = runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "new/dir/x.rawlog"});
+	EXPECT_EQ(made.exitCode, 0) << made.err;
+	EXPECT_TRUE(fs::is_regular_file(d / "new/dir/x.rawlog"));
+	writeText(d / "afile", "x");
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "afile/x.rawlog"}), {"x.rawlog", "cannot create the output folder"});
 	fs::remove(d / "seq/depth/1000.037333.png");
 	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "y.rawlog"}), {"1000.037333.png", "not found"});
 	EXPECT_FALSE(fs::exists(d / "y.rawlog")) << "a failed conversion must not leave a partial rawlog";
@@ -409,7 +413,7 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 			std::vector<std::string> c;
 			std::stringstream ls(line);
 			for (std::string x; std::getline(ls, x, ',');) c.push_back(x);
-			ASSERT_EQ(c.size(), 17u) << line;
+			ASSERT_EQ(c.size(), 18u) << line;
 			EXPECT_EQ(c[16], "tracked");  // where its pose comes from
 			ASSERT_LT(n, traj.size());
 			EXPECT_EQ(std::stoul(c[0]), n);
@@ -719,4 +723,179 @@ TEST(Tools, BenchesMakeASimulatedSequenceAgainWhenTheSimulatorHasChanged)
 	ASSERT_EQ(make().exitCode, 0);
 	EXPECT_FALSE(fs::exists(d / "seq/marker")) << "another model: made again";
 	EXPECT_TRUE(fs::exists(d / "seq/meta.json"));
+}
+
+// Issue 43 item 2: a run whose map never starts is an error that says why, and a depth scale that
+// puts the scene out of an RGB-D camera's range is named (the real fr1/desk frames, TUM RGB-D,
+// CC BY 4.0).
+TEST(Tools, ARunWhoseMapNeverStartsFailsAndAnImplausibleDepthScaleIsNamed)
+{
+	TempDir d("tool_nomap");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	// Depth declared 500 units a metre for TUM's 5000: the scene seems 10x farther, beyond what
+	// tracking uses; no map starts.
+	writeText(d / "k500.txt", "517.3 516.5 318.6 255.3 640 480 500\n");
+	const auto far = runTool("yesslam", {"--input", desk, "--out", d / "far", "--detector", "none", "--quiet", "--camera", d / "k500.txt"});
+	EXPECT_EQ(far.exitCode, 1) << far.out;
+	EXPECT_NE(far.err.find("no map was made"), std::string::npos) << far.err;
+	EXPECT_NE(far.err.find("depth scale"), std::string::npos) << far.err;
+	EXPECT_EQ(std::count(far.err.begin(), far.err.end(), '\n'), 1) << far.err;
+	// 1000 for 5000: 5x farther, a map starts (the nearest desk is within reach), and the run says
+	// why it should not be trusted.
+	writeText(d / "k1000.txt", "517.3 516.5 318.6 255.3 640 480 1000\n");
+	const auto five = runTool("yesslam", {"--input", desk, "--out", d / "five", "--detector", "none", "--quiet", "--camera", d / "k1000.txt"});
+	EXPECT_EQ(five.exitCode, 0) << five.err;
+	EXPECT_NE(five.err.find("farther than RGB-D cameras measure well"), std::string::npos) << five.err;
+	// All-black frames without depth: the same, with their own reason.
+	fs::copy(desk, d / "black", fs::copy_options::recursive);
+	for (const auto& e : fs::directory_iterator(d / "black/depth"))
+		cv::imwrite(e.path().string(), cv::Mat::zeros(480, 640, CV_16U));
+	for (const auto& e : fs::directory_iterator(d / "black/rgb"))
+		cv::imwrite(e.path().string(), cv::Mat::zeros(480, 640, CV_8UC3));
+	const auto black = runTool("yesslam", {"--input", d / "black", "--out", d / "blackrun", "--detector", "none", "--quiet"});
+	EXPECT_EQ(black.exitCode, 1);
+	EXPECT_NE(black.err.find("no map was made"), std::string::npos) << black.err;
+	EXPECT_NE(black.err.find("no frame has any depth"), std::string::npos) << black.err;
+	// 5x too small (25000 for 5000): the map starts, a 5x smaller one, and the run says why it
+	// should not be trusted.
+	writeText(d / "k25000.txt", "517.3 516.5 318.6 255.3 640 480 25000\n");
+	const auto near = runTool("yesslam", {"--input", desk, "--out", d / "near", "--detector", "none", "--quiet", "--camera", d / "k25000.txt"});
+	EXPECT_EQ(near.exitCode, 0) << near.err;
+	EXPECT_NE(near.err.find("yesslam: warning: the median depth is 0.2"), std::string::npos) << near.err;
+	EXPECT_NE(near.err.find("nearer than RGB-D cameras measure"), std::string::npos) << near.err;
+	// The right scale: no such warning, and stats.json has the typical depth (fr1/desk: 0.74-2.41 m).
+	const auto right = runTool("yesslam", {"--input", desk, "--out", d / "right", "--detector", "none", "--quiet"});
+	ASSERT_EQ(right.exitCode, 0) << right.err;
+	EXPECT_EQ(right.err.find("median depth"), std::string::npos) << right.err;
+	const std::string stats = readText(d / "right/stats.json");
+	const auto p = stats.find("\"typical_depth_m\": ");
+	ASSERT_NE(p, std::string::npos) << stats;
+	const double typical = std::stod(stats.substr(p + 19));
+	EXPECT_GT(typical, 0.74);
+	EXPECT_LT(typical, 2.41);
+}
+
+// Issue 43 items 4, 6, 7, 8: a reused folder keeps no stale dense map, unpaired colour images are
+// counted and named, a skip of every frame is refused, a camera file without a size takes the
+// images' and an option that cannot apply is not recorded as applied.
+TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
+{
+	TempDir d("tool_issue43");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	const auto full = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet"});
+	ASSERT_EQ(full.exitCode, 0) << full.err;
+	for (const char* f : {"dense_cloud.ply", "map.ot", "map.bt"}) ASSERT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
+	const auto sparse = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--no-dense-map"});
+	ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
+	for (const char* f : {"dense_cloud.ply", "map.ot", "map.bt"}) EXPECT_FALSE(fs::exists(d / ("run/" + std::string(f)))) << f << " of the earlier run survived";
+
+	// Colour and depth 9-15 ms apart (associations.txt): with maxDiff 13.4 ms only some pair.
+	std::size_t unpaired = 0;
+	{
+		std::istringstream assoc(readText(desk + "/associations.txt"));
+		for (std::string l; std::getline(assoc, l);)
+		{
+			double a = 0, b = 0;
+			std::string fa;
+			if (l.empty() || l[0] == '#' || !(std::istringstream(l) >> a >> fa >> b)) continue;
+			unpaired += std::abs(b - a) >= 0.0134;
+		}
+	}
+	ASSERT_GT(unpaired, 0u);
+	ASSERT_LT(unpaired, 8u);
+	writeText(d / "tight.ini", "[Input]\nmaxDiff = 0.0134\n");
+	const auto tight = runTool("yesslam", {"--input", desk, "--out", d / "tight", "--detector", "none", "--quiet", "--config", d / "tight.ini"});
+	ASSERT_EQ(tight.exitCode, 0) << tight.err;
+	EXPECT_NE(tight.err.find("yesslam: warning: " + std::to_string(unpaired) + " colour images have no depth image"), std::string::npos) << tight.err;
+	EXPECT_NE(tight.err.find("maxDiff 0.0134 s"), std::string::npos) << tight.err;
+	EXPECT_NE(readText(d / "tight/stats.json").find("\"unpaired_frames\": " + std::to_string(unpaired) + ","), std::string::npos);
+
+	// --skip-frames 9 of 9 frames leaves none: refused like 10, before any output.
+	const auto skip = runTool("yesslam", {"--input", desk, "--out", d / "skip", "--skip-frames", "9", "--detector", "none"});
+	expectCleanFailure(skip, {"--skip-frames 9", "holds only 9 frames"});
+	EXPECT_FALSE(fs::exists(d / "skip"));
+
+	// A camera file of four numbers: the images' size, and an error about a size names the images.
+	writeText(d / "k4.txt", "517.3 516.5 318.6 255.3\n");
+	const auto four = runTool("yesslam", {"--input", desk, "--out", d / "four", "--detector", "none", "--quiet", "--camera", d / "k4.txt"});
+	EXPECT_EQ(four.exitCode, 0) << four.err;
+	writeText(d / "k4out.txt", "517.3 516.5 900 255.3\n");
+	const auto outside = runTool("yesslam", {"--input", desk, "--out", d / "outside", "--detector", "none", "--quiet", "--camera", d / "k4out.txt"});
+	expectCleanFailure(outside, {"k4out.txt", "principal point", "640x480 images"});
+
+	// --camera on a rawlog does nothing: said, and not recorded in config_used.ini.
+	const auto conv = runTool("tum2rawlog", {"--input", desk, "--out", d / "desk.rawlog"});
+	ASSERT_EQ(conv.exitCode, 0) << conv.err;
+	const auto raw = runTool("yesslam", {"--input", d / "desk.rawlog", "--out", d / "raw", "--detector", "none", "--quiet", "--camera", "fr2"});
+	ASSERT_EQ(raw.exitCode, 0) << raw.err;
+	EXPECT_NE(raw.err.find("--camera) 'fr2' is for TUM folders and was not used"), std::string::npos) << raw.err;
+	EXPECT_EQ(readText(d / "raw/config_used.ini").find("camera = fr2"), std::string::npos);
+
+	// --record of a TUM folder keeps its ground truth beside the recording, where a run finds it.
+	const auto rec = runTool("yesslam", {"--input", desk, "--out", d / "rec", "--detector", "none", "--quiet", "--no-dense-map", "--record", d / "rec.rawlog"});
+	ASSERT_EQ(rec.exitCode, 0) << rec.err;
+	EXPECT_EQ(readText(d / "rec_groundtruth.txt"), readText(desk + "/groundtruth.txt"));
+	const auto replay = runTool("yesslam", {"--input", d / "rec.rawlog", "--out", d / "replay", "--detector", "none", "--quiet", "--no-dense-map"});
+	ASSERT_EQ(replay.exitCode, 0) << replay.err;
+	EXPECT_TRUE(fs::exists(d / "replay/eval.json"));
+}
+
+// Issue 43 item 5: JSON to /dev/stdout follows the key: value lines, redirected to a file or a pipe.
+TEST(Tools, EvalJsonToStdoutKeepsTheLinesBeforeIt)
+{
+	const std::string gt = sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), est = sharedFile(kTraj + "evo_fr2_desk_ORB.txt");
+	const auto file = runTool("yesslam-eval", {"--gt", gt, "--est", est, "--json", "/dev/stdout"});
+	ASSERT_EQ(file.exitCode, 0) << file.err;
+	EXPECT_EQ(value(file.out, "ate_pairs"), "2223") << file.out;
+	EXPECT_NE(file.out.find("\"ate_rmse\":"), std::string::npos) << file.out;
+	EXPECT_LT(file.out.find("ate_rmse: "), file.out.find("\"ate_rmse\":")) << "the lines first, then the JSON";
+	const auto pipe = runCommand(
+		"sh", {"-c", std::string(YESSLAM_TOOLS_DIR) + "/yesslam-eval --gt '" + gt + "' --est '" + est + "' --json /dev/stdout | cat"});
+	ASSERT_EQ(pipe.exitCode, 0) << pipe.err;
+	EXPECT_EQ(value(pipe.out, "ate_pairs"), "2223") << pipe.out;
+	EXPECT_NE(pipe.out.find("\"ate_rmse\":"), std::string::npos) << pipe.out;
+}
+
+// Issue 43 item 3: frames.csv marks every keyframe (Algorithm 1 picks earlier frames too), and
+// trajectory.txt gives a keyframe's frame the keyframe's own final pose. The real Bonn crowd frames
+// (Bonn RGB-D Dynamic Dataset, CC BY-NC 4.0, test data only: ../shared/data/bonn_crowd_dev/SOURCE.md).
+TEST(Tools, EveryKeyFrameIsMarkedAndTheTrajectoryAgreesWithTheKeyFrames)
+{
+	TempDir d("tool_kf_agree");
+	const auto r = runTool(
+		"yesslam", {"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / "run", "--detector", "none", "--quiet", "--sequential", "--max-frames", "80"});
+	ASSERT_EQ(r.exitCode, 0) << r.err;
+	std::istringstream csv(readText(d / "run/frames.csv"));
+	std::string line;
+	std::getline(csv, line);
+	std::set<double> marked;
+	while (std::getline(csv, line))
+	{
+		std::vector<std::string> c;
+		std::stringstream ls(line);
+		for (std::string x; std::getline(ls, x, ',');) c.push_back(x);
+		ASSERT_EQ(c.size(), 18u) << line;
+		if (c[3] == "1") marked.insert(std::stod(c[1]));
+	}
+	const auto inserted = std::stoul(value(r.out, "keyframes").substr(0, value(r.out, "keyframes").find(' ')));
+	EXPECT_GE(inserted, 4u) << r.out;
+	EXPECT_EQ(marked.size(), inserted) << r.out;
+	const auto traj = mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt");
+	const auto kfs = mrpt_yesslam::readTumTrajectory(d / "run/keyframes.txt");
+	ASSERT_GE(kfs.size(), 3u);
+	std::size_t checked = 0;
+	for (const auto& k : kfs)
+	{
+		EXPECT_TRUE(marked.count(k.t) || std::any_of(marked.begin(), marked.end(), [&](double t) { return std::abs(t - k.t) < 1e-6; })) << k.t;
+		for (const auto& p : traj)
+			if (std::abs(p.t - k.t) < 1e-6)
+			{
+				EXPECT_NEAR(p.tx, k.tx, 1e-6) << k.t;
+				EXPECT_NEAR(p.ty, k.ty, 1e-6) << k.t;
+				EXPECT_NEAR(p.tz, k.tz, 1e-6) << k.t;
+				EXPECT_NEAR(std::abs(p.qx * k.qx + p.qy * k.qy + p.qz * k.qz + p.qw * k.qw), 1.0, 1e-6) << k.t;
+				checked++;
+			}
+	}
+	EXPECT_EQ(checked, kfs.size());
 }

@@ -41,6 +41,7 @@ COptionTable CDenseSemanticMapper::TOptions::table()
 	t.real("probHit", probHit, 0.5, 1, "OctoMap: occupancy probability of a ray's end");
 	t.real("probMiss", probMiss, 0, 0.5, "OctoMap: occupancy probability of the cells a ray passes");
 	t.real("occupancyThreshold", occupancyThreshold, 0.5, 0.999, "OctoMap: occupied above this probability (0.8: two keyframes' hits)");
+	t.real("clearMargin", clearMargin, 0, 1, "OctoMap: a ray marks space free only up to this far before the surface it measured, m (depth noise, thinning)");
 	t.integer("minObservations", minObservations, 1, 1000, "dense cloud: keyframes that must see a voxel");
 	t.count("queue", queue, 1, 1000, "parallel mode: keyframes waiting for the dense stage before tracking waits");
 	return t;
@@ -288,10 +289,9 @@ void CDenseSemanticMapper::setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud
 
 void CDenseSemanticMapper::setPrior(const CSemanticOcTree& tree)
 {
-	std::ostringstream out;
-	if (!tree.write(out)) throw std::runtime_error("OctoMap could not copy the loaded map's octree");
+	std::string bytes = tree.otBytes();
 	std::lock_guard<std::mutex> lk(mtx_);
-	prior_ = out.str();
+	prior_ = std::move(bytes);
 }
 
 std::size_t CDenseSemanticMapper::storedBytes() const
@@ -395,7 +395,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 			if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
 		}
 		// Ray casting from the camera: cells passed are observed free (a person's old place too).
-		m.octree->insertPointCloud(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), -1, true, true);
+		m.octree->insertScan(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), opts_.clearMargin, opts_.voxelSize);
 	}
 	m.octree->updateInnerOccupancy();
 	m.voxelsBeforeFilter = voxels.size();

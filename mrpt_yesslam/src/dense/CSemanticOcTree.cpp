@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
+#include <cstdio>
 #include <sstream>
 
 #include "mrpt_yesslam/util/Error.h"
@@ -51,6 +53,64 @@ CSemanticOcTree::CSemanticOcTree(double resolution) : octomap::OccupancyOcTreeBa
 	registration_.ensureLinking();
 }
 
+void CSemanticOcTree::updateNodeLogOdds(CSemanticOcTreeNode* node, const float& update) const
+{
+	// Positive log-odds only come from hits (a new voxel starts at 0 and misses lower it), so a
+	// voxel that is > 0 now, or is being hit, has seen a surface.
+	const bool seen = update > 0 || node->getLogOdds() > 0;
+	octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>::updateNodeLogOdds(node, update);
+	if (seen && node->getLogOdds() < kSeenLogOdds) node->setLogOdds(kSeenLogOdds);
+}
+
+void CSemanticOcTree::insertScan(const octomap::Pointcloud& scan, const octomap::point3d& origin, double clearMargin, double pointSpacing)
+{
+	// As OctoMap's discretised insertion: one ray per hit cell, to its centre.
+	octomap::KeySet hits, reached, passed;
+	std::vector<octomap::point3d> ends;
+	const float r = static_cast<float>(pointSpacing);
+	for (const auto& p : scan)
+	{
+		octomap::OcTreeKey k;
+		if (!coordToKeyChecked(p, k)) continue;
+		if (hits.insert(k).second) ends.push_back(keyToCoord(k));
+		if (r > 0)
+			for (int dx = -1; dx <= 1; dx++)
+				for (int dy = -1; dy <= 1; dy++)
+					for (int dz = -1; dz <= 1; dz++)
+						if ((dx || dy || dz) && coordToKeyChecked(p + octomap::point3d(dx * r, dy * r, dz * r), k)) reached.insert(k);
+	}
+	octomap::KeyRay ray;
+	for (const auto& e : ends)
+	{
+		const octomap::point3d d = e - origin;
+		const double len = d.norm();
+		if (!(len > clearMargin)) continue;
+		if (computeRayKeys(origin, origin + d * static_cast<float>((len - clearMargin) / len), ray)) passed.insert(ray.begin(), ray.end());
+	}
+	for (const auto& k : passed)
+		if (!hits.count(k) && !reached.count(k)) updateNode(k, false, true);
+	for (const auto& k : hits) updateNode(k, true, true);
+	for (const auto& k : reached)
+	{
+		if (hits.count(k)) continue;
+		// Onto the floor from wherever it is (a positive update: seen), unless it is above it.
+		const CSemanticOcTreeNode* n = search(k);
+		const float v = n ? n->getLogOdds() : 0.f;
+		if (v < kSeenLogOdds) updateNode(k, kSeenLogOdds - v, true);
+	}
+}
+
+std::string CSemanticOcTree::otBytes() const
+{
+	std::ostringstream out(std::ios::binary);
+	if (!write(out)) throw std::runtime_error("OctoMap could not write the semantic octree");
+	std::string s = out.str();
+	const auto eol = s.find('\n');
+	char line[96];
+	std::snprintf(line, sizeof(line), "# yesslam occupancy_threshold %.9g\n", getOccupancyThres());
+	return s.insert(eol == std::string::npos ? s.size() : eol + 1, line);
+}
+
 void CSemanticOcTree::updateInnerSemantics()
 {
 	if (root) updateInnerSemanticsRecurs(root, 0);
@@ -85,8 +145,9 @@ namespace
 // OctoMap's reader trusts the file: a flipped child bit makes it recurse and allocate without end.
 // So the node structure is walked here first: header fields, 12-byte records each followed by a
 // child-bit byte, no deeper than the tree's 16 levels, `size` nodes, ending with the file.
-void checkStructure(const std::string& path, std::istream& in)
+std::optional<double> checkStructure(const std::string& path, std::istream& in)
 {
+	std::optional<double> threshold;
 	std::string line, id;
 	std::size_t size = 0;
 	bool haveSize = false, haveRes = false;
@@ -95,6 +156,11 @@ void checkStructure(const std::string& path, std::istream& in)
 		throw InputError(path, "not an OctoMap .ot file (it does not start with '# Octomap OcTree file')");
 	while (std::getline(in, line) && line != "data")
 	{
+		if (line.rfind("# yesslam occupancy_threshold ", 0) == 0)
+		{
+			double t = 0;
+			if (std::istringstream(line.substr(30)) >> t && t > 0 && t < 1) threshold = t;
+		}
 		if (line.empty() || line[0] == '#') continue;
 		std::istringstream l(line);
 		std::string key;
@@ -144,6 +210,7 @@ void checkStructure(const std::string& path, std::istream& in)
 	if (nodes != size) throw InputError(path, "corrupt OctoMap file: " + std::to_string(nodes) + " nodes in the tree, " + std::to_string(size) + " in its header");
 	in.clear();
 	in.seekg(0);
+	return threshold;
 }
 }  // namespace
 
@@ -158,7 +225,7 @@ std::unique_ptr<CSemanticOcTree> CSemanticOcTree::readFile(const std::string& pa
 std::unique_ptr<CSemanticOcTree> CSemanticOcTree::read(std::istream& in, const std::string& path)
 {
 	const auto start = in.tellg();
-	checkStructure(path, in);
+	const std::optional<double> threshold = checkStructure(path, in);
 	in.clear();
 	in.seekg(start);
 	// OctoMap's AbstractOcTree::read, with the tree owned from the start: that one creates the tree
@@ -185,6 +252,7 @@ std::unique_ptr<CSemanticOcTree> CSemanticOcTree::read(std::istream& in, const s
 	if (line.compare(0, fileHeader.size(), fileHeader) != 0 || !readHeader(in, id, size, res) || !(res > 0))
 		throw InputError(path, "corrupt OctoMap file (OctoMap could not read its header)");
 	auto tree = std::make_unique<CSemanticOcTree>(res);
+	if (threshold) tree->setOccupancyThres(*threshold);
 	if (size > 0) tree->readData(in);
 	if (!in) throw InputError(path, "corrupt OctoMap file (OctoMap could not read it)");
 	return tree;

@@ -3,6 +3,8 @@
 #include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/CText.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -99,25 +101,109 @@ TDenseCloud readDenseCloudPly(const std::string& path)
 
 void writeSemanticOcTree(const std::string& path, const CSemanticOcTree& tree)
 {
-	writeFileAtomically(
-		path,
-		[&](const std::string& tmp)
-		{
-			if (!tree.write(tmp)) throw InputError(path, "OctoMap could not write the tree");
-		});
+	writeFileAtomically(path, tree.otBytes());
 }
+
+namespace
+{
+// One subtree in OctoMap's binary (.bt) encoding: per node two bytes of 2-bit child codes (01
+// occupied leaf, 10 free leaf, 11 inner node, 00 unknown: no node), then the inner children's
+// subtrees in order, depth first. The encoding of `node` as a child: its code, and for an inner
+// node its bytes and node count.
+struct TBtSubtree
+{
+	unsigned code = 0;	//!< 0 unknown, 1 occupied, 2 free, 3 inner
+	std::string bytes;
+	std::size_t nodes = 0;	//!< nodes below it that OctoMap's reader creates
+};
+
+constexpr unsigned kBtUnknown = 0, kBtOccupied = 1, kBtFree = 2, kBtInner = 3;
+
+unsigned btLeafCode(const CSemanticOcTree& tree, const CSemanticOcTreeNode& n)
+{
+	switch (tree.stateOf(n))
+	{
+		case EVoxelState::Occupied: return kBtOccupied;
+		case EVoxelState::Free: return kBtFree;
+		default: return kBtUnknown;
+	}
+}
+
+// The children of `node` (a leaf node stands for eight children like itself: the root of a tree
+// pruned to one leaf).
+TBtSubtree btChildren(const CSemanticOcTree& tree, const CSemanticOcTreeNode& node)
+{
+	std::array<TBtSubtree, 8> child;
+	for (unsigned i = 0; i < 8; i++)
+	{
+		if (!tree.nodeHasChildren(&node))
+			child[i].code = btLeafCode(tree, node);
+		else if (tree.nodeChildExists(&node, i))
+		{
+			const CSemanticOcTreeNode& c = *tree.getNodeChild(&node, i);
+			if (tree.nodeHasChildren(&c))
+				child[i] = btChildren(tree, c);
+			else
+				child[i].code = btLeafCode(tree, c);
+		}
+	}
+	TBtSubtree out;
+	// Eight occupied or eight free children are one leaf; all unknown is no node.
+	const bool same = std::all_of(child.begin(), child.end(), [&](const TBtSubtree& c) { return c.code == child[0].code && c.code != kBtInner; });
+	if (same)
+	{
+		out.code = child[0].code;
+		return out;
+	}
+	std::uint8_t bits[2] = {0, 0};
+	for (unsigned i = 0; i < 8; i++)
+	{
+		// OctoMap's bit order: child i's code in bits 2i (low) and 2i+1 (high) of its byte, with
+		// code 01 = bit 2i+1 only (occupied), 10 = bit 2i only (free).
+		const unsigned c = child[i].code, j = (i % 4) * 2;
+		if (c == kBtOccupied) bits[i / 4] |= 1u << (j + 1);
+		if (c == kBtFree) bits[i / 4] |= 1u << j;
+		if (c == kBtInner) bits[i / 4] |= 3u << j;
+		out.nodes += c != kBtUnknown;
+	}
+	out.code = kBtInner;
+	out.bytes.assign(reinterpret_cast<const char*>(bits), 2);
+	for (const auto& c : child)
+		if (c.code == kBtInner) out.bytes += c.bytes, out.nodes += c.nodes;
+	return out;
+}
+}  // namespace
 
 void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 {
-	// The .bt format is the same for every occupancy tree (2 bits per child: occupied leaf, free
-	// leaf, inner node), but OctoMap's readers refuse a tree type they do not know: the header names
-	// OctoMap's own OcTree, so that octovis and octomap_server read it. Written from the tree as it
-	// is: OctoMap's copy constructor slices derived nodes (their children are copied as base
-	// nodes), so there is no maximum-likelihood copy to prune; the tree was pruned after building.
+	// The .bt format is the same for every occupancy tree, but OctoMap's readers refuse a tree type
+	// they do not know: the header names OctoMap's own OcTree, so that octovis and octomap_server
+	// read it. Written here rather than by OctoMap's writeBinaryData, which can only say occupied
+	// or free: a voxel whose evidence does not settle it (a surface seen from one keyframe, or
+	// seen and later passed by rays) would be free to a planner (issue 43). Such voxels are left
+	// out of the file: unknown, as what was never seen.
+	std::string data;
+	std::size_t size = 0;
+	if (tree.getRoot())
+	{
+		TBtSubtree root = btChildren(tree, *tree.getRoot());
+		if (root.code != kBtUnknown)
+		{
+			if (root.code != kBtInner)
+			{
+				// Uniformly occupied or free: the root with eight such leaves.
+				const std::uint8_t b = root.code == kBtOccupied ? 0xAA : 0x55;
+				root.bytes.assign({static_cast<char>(b), static_cast<char>(b)});
+				root.nodes = 8;
+			}
+			data = std::move(root.bytes);
+			size = root.nodes + 1;
+		}
+	}
 	std::ostringstream s(std::ios::binary);
-	s << "# Octomap OcTree binary file\n# occupancy of a yesslam semantic map (labels: map.ot)\n";
-	s << "id OcTree\nsize " << tree.size() << "\nres " << tree.getResolution() << "\ndata\n";
-	tree.writeBinaryData(s);
+	s << "# Octomap OcTree binary file\n# occupancy of a yesslam semantic map (labels: map.ot); unknown: surfaces seen but not confirmed\n";
+	s << "id OcTree\nsize " << size << "\nres " << tree.getResolution() << "\ndata\n";
+	s << data;
 	writeFileAtomically(path, s.str());
 }
 

@@ -1,5 +1,6 @@
 #include "mrpt_yesslam/detection/CAsyncDetector.h"
 
+#include <chrono>
 #include <stdexcept>
 
 namespace mrpt_yesslam
@@ -12,13 +13,22 @@ CAsyncDetector::CAsyncDetector(std::unique_ptr<CObjectDetector> detector) : det_
 void CAsyncDetector::submit(const cv::Mat& bgr, double timestamp)
 {
 	if (pending_.valid()) throw std::logic_error("CAsyncDetector::submit: the previous frame was not collected with get()");
-	pending_ = worker_.submit([this, bgr, timestamp] { return det_->detect(bgr, timestamp); });
+	pending_ = worker_.submit(
+		[this, bgr, timestamp]
+		{
+			const auto t0 = std::chrono::steady_clock::now();
+			auto d = det_->detect(bgr, timestamp);
+			lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+			return d;
+		});
 }
 
-std::vector<TDetection> CAsyncDetector::get()
+std::vector<TDetection> CAsyncDetector::get(double* detectMs)
 {
 	if (!pending_.valid()) throw std::logic_error("CAsyncDetector::get: no frame was submitted");
 	auto pending = std::move(pending_);
-	return pending.get();
+	auto d = pending.get();
+	if (detectMs) *detectMs = lastMs_;
+	return d;
 }
 }  // namespace mrpt_yesslam

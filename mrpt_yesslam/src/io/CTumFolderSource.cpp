@@ -144,12 +144,25 @@ mrpt::obs::CObservation3DRangeScan::Ptr CTumFolderSource::next()
 		throw InputError(
 			fr.depthPath, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
 							  " but its colour image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows));
+	if (!camera_.sizeGiven)
+	{
+		// A camera file without a size: the images give it (the first one; the rest must agree).
+		camera_.intrinsics.ncols = static_cast<std::uint32_t>(bgr.cols);
+		camera_.intrinsics.nrows = static_cast<std::uint32_t>(bgr.rows);
+		camera_.sizeGiven = true;
+		sizeFromImage_ = true;
+		const double cx = camera_.intrinsics.cx(), cy = camera_.intrinsics.cy();
+		if (!(cx > 0 && cy > 0 && cx < bgr.cols && cy < bgr.rows))
+			throw InputError(
+				camera_.name, "principal point (" + std::to_string(cx) + ", " + std::to_string(cy) + ") lies outside the " +
+								  std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) + " images of " + folder_);
+	}
 	if (static_cast<unsigned>(bgr.cols) != camera_.intrinsics.ncols ||
 		static_cast<unsigned>(bgr.rows) != camera_.intrinsics.nrows)
 		throw InputError(
-			fr.rgbPath, "image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) + " but camera '" +
-							camera_.name + "' is " + std::to_string(camera_.intrinsics.ncols) + "x" +
-							std::to_string(camera_.intrinsics.nrows));
+			fr.rgbPath, "image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
+							(sizeFromImage_ ? " but the first image was " : " but camera '" + camera_.name + "' is ") +
+							std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows));
 	return makeRgbdObservation(fr.tRgb, bgr, depth, camera_);
 }
 }  // namespace mrpt_yesslam

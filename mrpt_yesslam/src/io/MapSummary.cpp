@@ -105,7 +105,8 @@ std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double reso
 			const auto p = worldFromMap.composePoint(q);
 			cloud.push_back(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
 		}
-		tree->insertPointCloud(cloud, octomap::point3d(static_cast<float>(pose.x()), static_cast<float>(pose.y()), static_cast<float>(pose.z())));
+		// As the dense map's octree: rays clear space up to a voxel before each point.
+		tree->insertScan(cloud, octomap::point3d(static_cast<float>(pose.x()), static_cast<float>(pose.y()), static_cast<float>(pose.z())), resolution);
 	}
 	tree->updateInnerOccupancy();
 	return tree;

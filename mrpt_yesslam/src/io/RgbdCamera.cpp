@@ -124,7 +124,9 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 		if (r[6] <= 0) throw InputError(path, "depth_scale must be positive (TUM: 5000, OpenNI: 1000)");
 		ds = r[6];
 	}
-	return makeCamera(path, r[0], r[1], r[2], r[3], dist, w, h, ds);
+	TRgbdCamera c = makeCamera(path, r[0], r[1], r[2], r[3], dist, w, h, ds);
+	c.sizeGiven = r.size() >= 6;
+	return c;
 }
 
 TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)

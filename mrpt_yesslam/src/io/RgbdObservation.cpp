@@ -3,7 +3,10 @@
 #include <mrpt/core/Clock.h>
 #include <mrpt/img/CImage.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <vector>
 
 #include "mrpt_yesslam/util/Error.h"
 
@@ -53,6 +56,38 @@ void validateRgbdObservation(const mrpt::obs::CObservation3DRangeScan& obs, cons
 	const auto& K = obs.cameraParamsIntensity;
 	if (!(K.fx() > 0) || !(K.fy() > 0) || !std::isfinite(K.cx()) || !std::isfinite(K.cy()))
 		throw InputError(where, "camera intrinsics are not valid (fx, fy must be positive)");
+}
+
+double medianDepth(const mrpt::obs::CObservation3DRangeScan& obs, int step)
+{
+	step = std::max(step, 1);
+	std::vector<std::uint16_t> raw;
+	raw.reserve(static_cast<std::size_t>(obs.rangeImage.rows() / step + 1) * static_cast<std::size_t>(obs.rangeImage.cols() / step + 1));
+	for (int r = 0; r < obs.rangeImage.rows(); r += step)
+		for (int c = 0; c < obs.rangeImage.cols(); c += step)
+			if (obs.rangeImage(r, c) > 0) raw.push_back(obs.rangeImage(r, c));
+	if (raw.empty()) return 0;
+	auto mid = raw.begin() + static_cast<std::ptrdiff_t>(raw.size() / 2);
+	std::nth_element(raw.begin(), mid, raw.end());
+	return *mid * static_cast<double>(obs.rangeUnits);
+}
+
+std::string implausibleDepthReason(double d)
+{
+	// Structured-light and time-of-flight RGB-D cameras (Kinect, Xtion, RealSense, Azure Kinect)
+	// measure from about 0.3-0.5 m to 5-10 m, noisy beyond 4-5 m; indoors their median depth is 1-4 m. A depth scale
+	// off by 5x (1000 for TUM's 5000, or the reverse) moves the median out of that range.
+	char b[300];
+	if (d <= 0) return "no frame has any depth (all depth pixels are 0)";
+	if (d < 0.35)
+		std::snprintf(
+			b, sizeof(b), "the median depth is %.2f m, nearer than RGB-D cameras measure (about 0.4-4.5 m): is the depth scale right (TUM: 5000, OpenNI: 1000 units a metre)?", d);
+	else if (d > 4.5)
+		std::snprintf(
+			b, sizeof(b), "the median depth is %.1f m, farther than RGB-D cameras measure well (about 0.4-4.5 m): is the depth scale right (TUM: 5000, OpenNI: 1000 units a metre)?", d);
+	else
+		return {};
+	return b;
 }
 
 cv::Mat depthInMetres(const mrpt::obs::CObservation3DRangeScan& obs)

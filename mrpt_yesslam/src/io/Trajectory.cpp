@@ -130,11 +130,13 @@ std::string formatTumTrajectory(const TTrajectory& traj, const std::string& head
 		for (const auto& l : splitLines(header)) out += "# " + l + "\n";
 	}
 	char buf[256];
+	// A value that prints as zero is written as 0, never "-0.000000000" (issue 43).
+	const auto z = [](double v) { return std::abs(v) < 5e-10 ? 0.0 : v; };
 	for (const auto& p : traj)
 	{
 		std::snprintf(
-			buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.t, p.tx, p.ty, p.tz, p.qx, p.qy, p.qz,
-			p.qw);
+			buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.t, z(p.tx), z(p.ty), z(p.tz), z(p.qx), z(p.qy), z(p.qz),
+			z(p.qw));
 		out += buf;
 	}
 	return out;

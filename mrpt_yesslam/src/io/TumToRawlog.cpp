@@ -28,7 +28,9 @@ TTumToRawlogSummary convertTumToRawlog(
 	const fs::path out(opts.output);
 	std::error_code ec;
 	const fs::path outDir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
-	if (!fs::is_directory(outDir, ec)) throw InputError(opts.output, "output folder does not exist");
+	// Made when missing, as yesslam --out does (issue 43).
+	if (!fs::is_directory(outDir, ec)) fs::create_directories(outDir, ec);
+	if (!fs::is_directory(outDir)) throw InputError(opts.output, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	if (opts.externalImages)
 	{
 		// The folder name MRPT's CRawlog::detectImagesDirectory looks for first.

@@ -56,14 +56,17 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 	};
 	if (async_)
 	{
-		// Detection on the worker while ORB runs here; "detect" is the wait that was left.
+		// Detection on the worker while ORB runs here: "detect" is the detector's own time (on its
+		// thread), "detect_wait" what this frame still waited for it after ORB.
 		async_->submit(bgr, timestamp);
 		t0 = Clock::now();
 		f->features = extractor_.extract(bgr, depth);
 		ms["orb"] = msSince(t0);
 		t0 = Clock::now();
-		f->detections = async_->get();
-		ms["detect"] = msSince(t0);
+		double detectMs = 0;
+		f->detections = async_->get(&detectMs);
+		ms["detect_wait"] = msSince(t0);
+		ms["detect"] = detectMs;
 		computeMask();
 		COrbExtractor::flagDynamic(f->features, mask);
 	}
@@ -71,6 +74,7 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 	{
 		if (detector_) f->detections = detector_->detect(bgr, timestamp);
 		ms["detect"] = msSince(t0);
+		ms["detect_wait"] = ms["detect"];  // in this thread: the frame waits all of it
 		computeMask();
 		t0 = Clock::now();
 		f->features = extractor_.extract(bgr, depth, mask);

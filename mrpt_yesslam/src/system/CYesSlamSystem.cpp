@@ -42,7 +42,7 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	// section, and a section we do not read (a misspelt [Trackng] leaves its keys at their defaults).
 	std::vector<std::string> warnings;
 	const auto cfg = loadConfigFile(path, &warnings);  // parsed once for all sections
-	for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+	for (const auto& w : warnings) printWarning(w);
 	warnings.clear();
 	std::vector<std::string> known;
 	const auto load = [&](const char* section, mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
@@ -68,7 +68,7 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	for (const auto& sec : sections)
 		if (!sec.empty() && std::none_of(known.begin(), known.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(sec); }))
 			warnings.push_back(path + ": unknown section [" + sec + "] ignored (known: " + list + ")");
-	for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+	for (const auto& w : warnings) printWarning(w);
 }
 
 std::string TYesSlamOptions::dump() const
@@ -571,7 +571,27 @@ TFrameReport CYesSlamSystem::processFrame(
 		if (const auto kf = recent_.tracked(decision->frameId, map_))
 		{
 			insertKeyFrame(kf, decision->forced);
-			rep.keyFrame = kf->id == frame->id;
+			// The frame a keyframe is made from hangs from that keyframe from now on (ORB-SLAM2 gives
+			// a keyframe's frame the keyframe's optimised pose): trajectory.txt and keyframes.txt
+			// agree at the keyframes' stamps, and frames.csv marks Algorithm 1's earlier picks too
+			// (issue 43). Its pose does not jump: the keyframe was placed where the frame is now.
+			const CTracker::TAnchor own{*lastKeyFrame_, mrpt::poses::CPose3D()};
+			if (kf->id == frame->id)
+			{
+				rep.keyFrame = true;
+				rec.anchor = own;
+			}
+			else
+			{
+				std::lock_guard<std::mutex> lk(recordsMtx_);
+				for (std::size_t i = frameLog_.size(); i-- > 0;)
+					if (frameLog_[i].frame == kf->id)
+					{
+						frameLog_[i].keyFrame = true;
+						records_[i].anchor = own;
+						break;
+					}
+			}
 		}
 	}
 	ms["keyframe"] = msSince(t0);
@@ -593,6 +613,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	row.mapPoints = map_.numPoints();
 	const auto stage = [&ms](const char* k) { const auto it = ms.find(k); return it == ms.end() ? 0.f : static_cast<float>(it->second); };
 	row.detectMs = stage("detect");
+	row.detectWaitMs = stage("detect_wait");
 	row.maskMs = stage("mask");
 	row.orbMs = stage("orb");
 	row.trackMs = stage("track");
@@ -692,6 +713,8 @@ void CYesSlamSystem::loadMap(const std::string& path)
 		std::lock_guard<std::mutex> lk(worldFrameMtx_);
 		worldFrame_ = info.worldFrame;
 	}
+	// What the run uses (options() and config_used.ini say so), whatever [System] worldFrame asked.
+	opts_.system.worldFrame = info.worldFrame.kind == TWorldFrame::EKind::ZUp ? "zup" : "optical";
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
 	if (loopDetector_)
 	{

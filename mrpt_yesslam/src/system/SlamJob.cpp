@@ -170,9 +170,10 @@ void writeOutputs(
 		std::snprintf(
 			buf, sizeof(buf),
 			"  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"delivered_frames\": %zu, \"dropped_frames\": %zu, \"waiting_frames\": %zu, "
-			"\"unpaired_frames\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu",
-			in.live ? "true" : "false", in.stats.captured, in.stats.delivered, in.stats.dropped, in.stats.waiting, in.stats.unpaired, in.stats.captureFps,
-			in.disconnected ? "true" : "false", in.recorded);
+			"\"unpaired_frames\": %zu, \"skipped_entries\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu, "
+			"\"typical_depth_m\": %.3f",
+			in.live ? "true" : "false", in.stats.captured, in.stats.delivered, in.stats.dropped, in.stats.waiting, in.stats.unpaired, in.skippedEntries,
+			in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded, sum.typicalDepth);
 		head += buf;
 		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
 		return head + body.substr(body.find('\n') + 1);
@@ -224,7 +225,12 @@ void writeOutputs(
 		sum.dense.buildMs = dm.buildMs;
 		sum.dense.priorMerged = dm.priorMerged;
 		for (auto it = dm.octree->begin_leafs(), end = dm.octree->end_leafs(); it != end; ++it)
-			(dm.octree->isNodeOccupied(*it) ? sum.dense.occupiedLeaves : sum.dense.freeLeaves)++;
+			switch (dm.octree->stateOf(*it))
+			{
+				case EVoxelState::Occupied: sum.dense.occupiedLeaves++; break;
+				case EVoxelState::Free: sum.dense.freeLeaves++; break;
+				case EVoxelState::Unknown: sum.dense.unknownLeaves++; break;
+			}
 		std::error_code ec;
 		sum.dense.plyBytes = fs::file_size(d / "dense_cloud.ply", ec);
 		sum.dense.otBytes = fs::file_size(d / "map.ot", ec);
@@ -323,6 +329,14 @@ TSlamJobSummary runSlamJob(
 	// cameras have; config_used.ini then records the value the run used.
 	if (opts.tracking.rollingShutter < 0)
 		opts.tracking.rollingShutter = (isOpenNI2Input(o.input) ? std::nullopt : statedReadout(o.input)).value_or(kConsumerRgbdReadout);
+	// An option that cannot apply is not recorded as applied (config_used.ini is what the run used).
+	if (!opts.input.camera.empty() && !fs::is_directory(o.input))
+	{
+		sum.warnings.push_back(
+			"[Input] camera (--camera) '" + opts.input.camera + "' is for TUM folders and was not used: the frames of " + o.input +
+			" carry their own camera");
+		opts.input.camera.clear();
+	}
 	// The system (detector model, options) and the map first: a run that cannot start leaves no
 	// output folder.
 	CYesSlamSystem sys(opts);
@@ -359,24 +373,34 @@ TSlamJobSummary runSlamJob(
 			in.live = nullptr;
 			sum.input.recorded = recorder->finish();
 			recorder.reset();
+			// The input's ground truth goes with the recording, where findGroundTruthFor looks for it
+			// ("<name>_groundtruth.txt"), so the recording evaluates as its input did (issue 43).
+			const std::string gtIn = isOpenNI2Input(o.input) ? std::string() : findGroundTruthFor(o.input);
+			const fs::path rec(o.record);
+			if (sum.input.recorded > 0 && !gtIn.empty() && fs::is_regular_file(rec))
+				writeFileAtomically((rec.parent_path() / (rec.stem().string() + "_groundtruth.txt")).string(), readTextFile(gtIn));
 		}
 	};
-	// Skipped before any output: a skip past the end of the input is an error, not an empty run.
+	// Skipped before any output: a skip past the end of the input is an error, not an empty run;
+	// so is a skip that leaves no frame (the first one is read here to know).
 	std::size_t skipped = 0;
 	while (skipped < o.skipFrames && src->next()) skipped++;
-	if (skipped < o.skipFrames)
+	mrpt::obs::CObservation3DRangeScan::Ptr first;
+	if (skipped == o.skipFrames && o.skipFrames > 0 && !(first = src->next())) skipped = o.skipFrames + 1;
+	if (skipped != o.skipFrames)
 	{
 		closeInput();
+		const std::size_t held = std::min(skipped, o.skipFrames);
 		throw InputError(
-			o.input, "--skip-frames " + std::to_string(o.skipFrames) + " skips every frame: the input holds only " + std::to_string(skipped));
+			o.input, "--skip-frames " + std::to_string(o.skipFrames) + " skips every frame: the input holds only " + std::to_string(held) +
+						 (held == 1 ? " frame" : " frames"));
 	}
 	std::error_code ec;
 	fs::create_directories(o.outDir, ec);
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
-	// An evaluation left by an earlier run in this folder must not pass for this run's.
-	fs::remove(fs::path(o.outDir) / "eval.json", ec);
-	fs::remove(fs::path(o.outDir) / "eval_online.json", ec);
-	fs::remove(fs::path(o.outDir) / "ate.png", ec);
+	// An evaluation or a dense map left by an earlier run in this folder must not pass for this
+	// run's (a --no-dense-map or localisation-only run writes none; one that writes them replaces them).
+	for (const char* f : {"eval.json", "eval_online.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt"}) fs::remove(fs::path(o.outDir) / f, ec);
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
@@ -384,6 +408,7 @@ TSlamJobSummary runSlamJob(
 	sum.detector = sys.detector()->description();
 	const auto t0 = std::chrono::steady_clock::now();
 	std::size_t done = 0;
+	std::vector<double> depthMedians;  // each frame's median depth: is the depth scale plausible?
 	try
 	{
 		while (!(o.maxFrames && done >= o.maxFrames))
@@ -393,8 +418,9 @@ TSlamJobSummary runSlamJob(
 				sum.interrupted = true;
 				break;
 			}
-			auto obs = src->next();
+			auto obs = first ? std::move(first) : src->next();
 			if (!obs) break;
+			depthMedians.push_back(medianDepth(*obs));
 			if (record) record(obs);
 			const TFrameReport r = sys.processFrame(*obs, src->depthTime(observationTime(*obs)));
 			done++;
@@ -445,8 +471,25 @@ TSlamJobSummary runSlamJob(
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
 		throw;
 	}
+	const std::size_t skippedEntries = src->skipped();
 	closeInput();
 	sys.waitForMapping();
+	sum.input.skippedEntries = skippedEntries;
+	if (!sum.input.live && fs::is_directory(o.input)) sum.input.stats.unpaired = skippedEntries;
+	if (skippedEntries > 0 && !sum.input.live)
+		sum.warnings.push_back(
+			fs::is_directory(o.input) ? std::to_string(skippedEntries) + " colour image" + (skippedEntries == 1 ? " has" : "s have") +
+											" no depth image within [Input] maxDiff " + formatNumber(opts.input.maxDiff) + " s in " + o.input +
+											" and " + (skippedEntries == 1 ? "was" : "were") + " not processed"
+									  : std::to_string(skippedEntries) + " entries of " + o.input + " are not RGB-D frames and were not processed");
+	if (!depthMedians.empty())
+	{
+		auto mid = depthMedians.begin() + static_cast<std::ptrdiff_t>(depthMedians.size() / 2);
+		std::nth_element(depthMedians.begin(), mid, depthMedians.end());
+		sum.typicalDepth = *mid;
+		const std::string why = implausibleDepthReason(sum.typicalDepth);
+		if (!why.empty()) sum.warnings.push_back(why);
+	}
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
@@ -457,6 +500,19 @@ TSlamJobSummary runSlamJob(
 		throw InputError(
 			o.loadMap, "never localised in the map: none of the " + std::to_string(sum.stats.frames) + " frames of " + o.input +
 						   " was recognised (is it the place the map was made in?); the outputs hold no pose");
+	// A run that never started its map has nothing to give (issue 43): an error with the likely
+	// reason, not an exit 0 over empty outputs.
+	if (o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.keyFrames == 0 && !sum.interrupted)
+	{
+		std::string why = implausibleDepthReason(sum.typicalDepth);
+		if (why.empty() && sum.typicalDepth > opts.tracking.maxDepth)
+			why = "the median depth is " + formatNumber(sum.typicalDepth) + " m, beyond [Tracking] maxDepth " + formatNumber(opts.tracking.maxDepth) +
+				  " m: is the depth scale right?";
+		if (why.empty()) why = "too few features with depth to start a map (blank, dark or textureless frames?)";
+		throw InputError(
+			o.input, "no map was made: none of the " + std::to_string(sum.stats.frames) + " frames could start one; " + why +
+						 "; the outputs hold no pose");
+	}
 	if (!gt.empty() && sum.stats.frames > 0)
 	{
 		try

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -16,6 +17,44 @@ namespace mrpt_yesslam
 {
 std::string temporaryPathFor(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
 
+namespace
+{
+// N for /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N and /proc/<our pid>/fd/N; else -1.
+int descriptorNamed(const std::string& path)
+{
+	const std::string p = std::filesystem::path(path).lexically_normal().string();
+	if (p == "/dev/stdout") return 1;
+	if (p == "/dev/stderr") return 2;
+	for (const std::string& prefix : {std::string("/dev/fd/"), std::string("/proc/self/fd/"), "/proc/" + std::to_string(::getpid()) + "/fd/"})
+		if (p.size() > prefix.size() && p.compare(0, prefix.size(), prefix) == 0 &&
+			p.find_first_not_of("0123456789", prefix.size()) == std::string::npos && p.size() - prefix.size() < 9)
+			return std::stoi(p.substr(prefix.size()));
+	return -1;
+}
+
+// Appends the file at `from` to descriptor `fd`, after what stdio has buffered for it.
+void copyToDescriptor(const std::string& from, int fd, const std::string& path)
+{
+	std::ifstream in(from, std::ios::binary);
+	if (!in) throw InputError(path, "cannot read back what was written for it");
+	std::fflush(stdout);
+	std::fflush(stderr);
+	char buf[65536];
+	while (in.read(buf, sizeof(buf)) || in.gcount() > 0)
+	{
+		const char* p = buf;
+		std::size_t left = static_cast<std::size_t>(in.gcount());
+		while (left > 0)
+		{
+			const ssize_t n = ::write(fd, p, left);
+			if (n < 0 && errno == EINTR) continue;
+			if (n <= 0) throw InputError(path, std::string("write failed (") + std::strerror(errno) + ")");
+			p += n, left -= static_cast<std::size_t>(n);
+		}
+	}
+}
+}  // namespace
+
 TOutputTarget outputTarget(const std::string& path)
 {
 	namespace fs = std::filesystem;
@@ -25,6 +64,15 @@ TOutputTarget outputTarget(const std::string& path)
 	// Follow links (also chains, and relative ones) to the file they name, existing or not.
 	for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(t.path, ec)); hops++)
 	{
+		// One of our own descriptors: /proc/self/fd/N links to "pipe:[...]" or to the file the
+		// shell redirected to; either way only the descriptor itself writes after what is there.
+		const int fd = descriptorNamed(t.path);
+		if (fd >= 0)
+		{
+			t.fd = fd;
+			t.direct = true;
+			return t;
+		}
 		const fs::path target = fs::read_symlink(t.path, ec);
 		if (ec) break;
 		t.path = (target.is_absolute() ? target : fs::path(t.path).parent_path() / target).lexically_normal().string();
@@ -38,6 +86,25 @@ TOutputTarget outputTarget(const std::string& path)
 void writeFileAtomically(const std::string& path, const std::function<void(const std::string&)>& writer)
 {
 	const TOutputTarget target = outputTarget(path);
+	if (target.fd >= 0)
+	{
+		// Made in a temporary file (the writers take a path), then appended to the descriptor.
+		static std::atomic<unsigned> serial{0};
+		const std::string tmp =
+			(std::filesystem::temp_directory_path() / ("yesslam_out." + std::to_string(::getpid()) + "." + std::to_string(serial++))).string();
+		try
+		{
+			writer(tmp);
+			copyToDescriptor(tmp, target.fd, path);
+		}
+		catch (...)
+		{
+			std::remove(tmp.c_str());
+			throw;
+		}
+		std::remove(tmp.c_str());
+		return;
+	}
 	if (target.direct)
 	{
 		writer(target.path);  // a device or pipe: nothing to replace, nothing half-written to hide

@@ -245,6 +245,7 @@ int runTool(const std::string& program, const std::function<int()>& body)
 		if (p != std::string::npos) s = s.substr(0, p);
 		return s;
 	};
+	setProgramName(program);
 	try
 	{
 		return body();

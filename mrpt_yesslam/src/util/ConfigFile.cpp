@@ -1,6 +1,7 @@
 #include "mrpt_yesslam/util/ConfigFile.h"
 
 #include <algorithm>
+#include <map>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -120,6 +121,8 @@ std::vector<std::string> iniStructureWarnings(const std::string& text, const std
 {
 	std::vector<std::string> w;
 	bool inSection = false;
+	std::string section;
+	std::map<std::string, std::size_t> seen;  // "section\nkey" (lower case) -> line
 	const auto lines = splitLines(stripInlineIniComments(text));
 	for (std::size_t i = 0; i < lines.size(); i++)
 	{
@@ -129,10 +132,19 @@ std::vector<std::string> iniStructureWarnings(const std::string& text, const std
 		if (l[0] == '[')
 		{
 			if (l.back() != ']') w.push_back(where + "section line '" + l + "' has no closing ']': its keys are ignored");
+			section = lowerAscii(l.back() == ']' ? l.substr(1, l.size() - 2) : l.substr(1));
 			inSection = true;
 		}
 		else if (!inSection)
 			w.push_back(where + "'" + l + "' comes before any [Section]: ignored");
+		else if (const auto eq = l.find('='); eq != std::string::npos)
+		{
+			// MRPT takes the last of two values silently: a key set twice is usually an edit gone wrong.
+			const std::string key = trimConfigValue(l.substr(0, eq));
+			const auto [it, fresh] = seen.emplace(section + "\n" + lowerAscii(key), i + 1);
+			if (!fresh)
+				w.push_back(where + "'" + key + "' is set again (first on line " + std::to_string(it->second) + "): the last value is used");
+		}
 	}
 	return w;
 }
@@ -223,7 +235,7 @@ void loadOptions(
 	const mrpt::config::CConfigFileBase& cfg, const std::string& path, const std::string& section,
 	mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
 {
-	for (const auto& w : validateConfigSection(cfg, path, section, keys)) std::fprintf(stderr, "warning: %s\n", w.c_str());
+	for (const auto& w : validateConfigSection(cfg, path, section, keys)) printWarning(w);
 	try
 	{
 		opts.loadFromConfigFile(cfg, section);

@@ -1,5 +1,6 @@
 #include "mrpt_yesslam/util/Error.h"
 
+#include <cstdio>
 #include <sstream>
 
 namespace mrpt_yesslam
@@ -23,5 +24,22 @@ std::string exceptionSummary(const std::string& what)
 		if (first.empty()) first = line;
 	}
 	return first.empty() ? std::string("unknown error") : first;
+}
+namespace
+{
+std::string& programName()
+{
+	static std::string name = "mrpt_yesslam";
+	return name;
+}
+}  // namespace
+
+void setProgramName(const std::string& name) { programName() = name; }
+
+void printWarning(const std::string& message)
+{
+	std::string m = message;
+	for (std::size_t p = 0; (p = m.find('\n', p)) != std::string::npos;) m.replace(p, 1, "; ");
+	std::fprintf(stderr, "%s: warning: %s\n", programName().c_str(), m.c_str());
 }
 }  // namespace mrpt_yesslam

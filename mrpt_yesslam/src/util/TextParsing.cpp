@@ -1,5 +1,7 @@
 #include "mrpt_yesslam/util/TextParsing.h"
 
+#include <cstdio>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -94,5 +96,11 @@ std::string jsonEscape(const std::string& s)
 			o += c;
 	}
 	return o;
+}
+std::string formatNumber(double v, int digits)
+{
+	char b[64];
+	std::snprintf(b, sizeof(b), "%.*g", digits, v);
+	return b;
 }
 }  // namespace mrpt_yesslam

@@ -116,6 +116,10 @@ class CDenseSemanticMapper
 		 * is somewhere else at the next keyframe, never becomes an obstacle even where the mask
 		 * leaked and no later ray passes to clear it (beyond the paper). */
 		double occupancyThreshold = 0.8;
+		/** A ray marks space free only up to this far (m) before the surface point it ends at
+		 * (CSemanticOcTree::insertScan): depth noise and the cloud's voxelSize thinning put a
+		 * surface within about a voxel of where the kept point says. */
+		double clearMargin = 0.05;
 		/** Dense cloud: a voxel must hold points of this many keyframes (the same reason). */
 		int minObservations = 2;
 		std::size_t queue = 4;	//!< parallel: keyframes waiting for the dense stage before tracking waits

@@ -51,16 +51,42 @@ class CSemanticOcTreeNode : public octomap::OcTreeNode
 	float labelProb = 0;  //!< its probability after fusion (0 = never labelled)
 };
 
-/** The octree (see the file comment). */
+/** What a voxel's evidence says, as every export tells it (.bt, the summaries, yesslam-map). */
+enum class EVoxelState : std::uint8_t
+{
+	Free,  //!< rays passed through it and no surface was ever measured there
+	Unknown,  //!< a surface was measured there, but too few keyframes confirm it (or later rays contradict it)
+	Occupied  //!< at or above the occupancy threshold
+};
+
+/** The octree (see the file comment).
+ *
+ * Issue 43: a voxel where any scan ended (a measured surface) is never free afterwards. OctoMap's
+ * log-odds alone cannot say so: one hit (+0.85 at probHit 0.7) below the 0.8 threshold was written
+ * to .bt as free, as was a wall voxel that later rays grazed (each miss -0.41). So a voxel's
+ * log-odds never goes to or below 0 once it has been hit (it stays at kSeenLogOdds at least): the
+ * sign of the stored value tells whether a surface was ever seen there, in memory, in .ot files
+ * and in saved maps, with no change to their format. Values <= 0 are voxels only rays passed. */
 class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 {
    public:
+	/** The least log-odds of a voxel that has been hit (probability 0.51): unknown, not free. */
+	static constexpr float kSeenLogOdds = 0.04f;
+
 	explicit CSemanticOcTree(double resolution);
 	CSemanticOcTree(const CSemanticOcTree&) = delete;  //!< see CSemanticOcTreeNode's copy constructor
 	CSemanticOcTree& operator=(const CSemanticOcTree&) = delete;
 	/** OctoMap's factory needs it (reading .ot files). */
 	CSemanticOcTree* create() const override { return new CSemanticOcTree(resolution); }
 	std::string getTreeType() const override { return "YesSlamSemanticOcTree"; }
+
+	/** Free, unknown or occupied (see EVoxelState): occupied at the occupancy threshold, free only
+	 * where no surface was ever measured. */
+	EVoxelState stateOf(const CSemanticOcTreeNode& n) const
+	{
+		if (isNodeOccupied(n)) return EVoxelState::Occupied;
+		return n.getLogOdds() > 0 ? EVoxelState::Unknown : EVoxelState::Free;
+	}
 
 	/** Gives every inner node the colour and label of its occupied children (mean colour; the
 	 * label with the largest summed probability, and that sum over the occupied children as its
@@ -70,12 +96,30 @@ class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 	 * updateInnerOccupancy does for its colours). */
 	void updateInnerSemantics();
 
+	/** Inserts one scan taken from `origin`: the cells of its points are hit once each (OctoMap's
+	 * discretised insertPointCloud), and the cells its rays pass are missed - but only up to
+	 * `clearMargin` metres before each point. Each point stands for the surface within
+	 * `pointSpacing` of it (a thinned cloud keeps one point of each cell): the cells that reach
+	 * are not missed and become at least unknown (kSeenLogOdds), never free. Space within the depth
+	 * noise and the thinning of a measured surface is no evidence of free space: cleared right up
+	 * to the kept points, voxels holding the surface seen by the other pixels were free (issue 43). */
+	void insertScan(const octomap::Pointcloud& scan, const octomap::point3d& origin, double clearMargin, double pointSpacing = 0);
+
+	/** The tree as .ot bytes: OctoMap's format, with the occupancy threshold in a header comment
+	 * ("# yesslam occupancy_threshold P") that read() takes back (OctoMap's readers skip it). */
+	std::string otBytes() const;
+
 	/** Reads a .ot file written by write(); throws InputError naming `path` when it is missing,
 	 * corrupt, truncated or holds another tree type. */
 	static std::unique_ptr<CSemanticOcTree> readFile(const std::string& path);
 	/** The same from a stream holding exactly one .ot (saved maps embed one); `name` is used in
 	 * error messages. */
 	static std::unique_ptr<CSemanticOcTree> read(std::istream& in, const std::string& name);
+
+   protected:
+	/** OctoMap's update (add, clamp), except that a voxel ever hit keeps at least kSeenLogOdds:
+	 * every update path of the tree (scans, rays, single nodes) goes through it. */
+	void updateNodeLogOdds(CSemanticOcTreeNode* node, const float& update) const override;
 
    private:
 	/** updateInnerSemantics below `node` (at `depth`). */

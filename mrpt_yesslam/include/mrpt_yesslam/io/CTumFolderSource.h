@@ -53,6 +53,7 @@ class CTumFolderSource : public CInputSource
    private:
 	std::string folder_;
 	TRgbdCamera camera_;
+	bool sizeFromImage_ = false;  //!< the camera file gave no size: the first image's is used
 	std::vector<TTumFrame> frames_;
 	std::size_t next_ = 0, skipped_ = 0;
 };

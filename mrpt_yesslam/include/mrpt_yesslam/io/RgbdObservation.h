@@ -24,6 +24,14 @@ void validateRgbdObservation(const mrpt::obs::CObservation3DRangeScan& obs, cons
 /** The depth image in metres (CV_32FC1, 0 where there is no depth). */
 cv::Mat depthInMetres(const mrpt::obs::CObservation3DRangeScan& obs);
 
+/** The median of a frame's valid depth in metres, from every `step`-th pixel of every `step`-th
+ * row (0 when none is valid): a cheap check that the depth scale is right. */
+double medianDepth(const mrpt::obs::CObservation3DRangeScan& obs, int step = 8);
+
+/** Whether a run's typical depth (the median of its frames' medianDepth) is one an RGB-D camera
+ * measures; empty when it is, else why not, naming the likely cause (a wrong depth scale). */
+std::string implausibleDepthReason(double typicalDepthMetres);
+
 /** The timestamp of a frame in seconds (Unix epoch, as in TUM files). */
 double observationTime(const mrpt::obs::CObservation& obs);
 }  // namespace mrpt_yesslam

@@ -65,6 +65,10 @@ struct TSlamJobSummary
 {
 	TSlamStats stats;
 	bool interrupted = false;
+	/** What the user should know about the run that is no error (the app prints each as a warning). */
+	std::vector<std::string> warnings;
+	/** The median over the frames of each frame's median depth, m (0: no depth at all). */
+	double typicalDepth = 0;
 	/** Outputs a second Ctrl-C skipped while saving (empty when all were written). */
 	std::vector<std::string> skippedOutputs;
 	std::string groundTruth;  //!< the file evaluated against, empty if none
@@ -79,7 +83,9 @@ struct TSlamJobSummary
 	/** The dense map written (all zero with dense mapping off). */
 	struct TDense
 	{
-		std::size_t cloudPoints = 0, outliersRemoved = 0, occupiedLeaves = 0, freeLeaves = 0;
+		std::size_t cloudPoints = 0, outliersRemoved = 0;
+		/** Octree leaves by EVoxelState (the states map.bt gives; unknown ones are left out of it). */
+		std::size_t occupiedLeaves = 0, freeLeaves = 0, unknownLeaves = 0;
 		std::uintmax_t plyBytes = 0, otBytes = 0, btBytes = 0;
 		double buildMs = 0;	 //!< fusion, filtering and octree at the end of the run
 		/** With --load-map: the octree started from the loaded map's (same resolution); else false. */
@@ -100,6 +106,9 @@ struct TSlamJobSummary
 		TLiveStats stats;  //!< captured and dropped frames (live only)
 		bool disconnected = false;	//!< the camera stopped delivering before the run was ended
 		std::size_t recorded = 0;  //!< frames written to TSlamJobOptions::record
+		/** Entries of recorded input that could not become frames (a TUM folder's colour images
+		 * without a depth image within [Input] maxDiff; a rawlog's other observations). */
+		std::size_t skippedEntries = 0;
 	} input;
 };
 

@@ -32,7 +32,9 @@ struct TFrameLogRow
 	bool tracked = false, keyFrame = false, relocalised = false;
 	std::size_t features = 0, staticFeatures = 0, detections = 0, inliers = 0;
 	std::size_t keyFramesInMap = 0, mapPoints = 0;
-	float detectMs = 0, maskMs = 0, orbMs = 0, trackMs = 0, keyFrameMs = 0;
+	/** detectMs: the detector's own time (on its thread when it runs beside ORB extraction);
+	 * detectWaitMs: what the frame waited for it (all of it when detection runs in line). */
+	float detectMs = 0, maskMs = 0, orbMs = 0, trackMs = 0, keyFrameMs = 0, detectWaitMs = 0;
 	EPoseSource pose = EPoseSource::None;  //!< what trajectory.txt holds for it
 };
 

@@ -40,6 +40,10 @@ struct TOutputTarget
 {
 	std::string path;
 	bool direct = false;
+	/** A descriptor of this process the path names (/dev/stdout, /dev/stderr, /dev/fd/N,
+	 * /proc/self/fd/N), else -1: written at the descriptor's position (after what the program
+	 * printed there), never reopened, truncated or replaced, whatever it is connected to. */
+	int fd = -1;
 };
 /** See TOutputTarget. */
 TOutputTarget outputTarget(const std::string& path);

@@ -18,4 +18,10 @@ class InputError : public std::runtime_error
 /** One line that says what went wrong in a third-party exception message: MRPT's multi-line
  * messages ("==== MRPT exception ====", "Message: ...", a call stack) give their Message line. */
 std::string exceptionSummary(const std::string& what);
+
+/** Prints "PROGRAM: warning: MESSAGE" on stderr, one line (newlines in the message become "; "):
+ * PROGRAM is the tool runTool runs ("mrpt_yesslam" in programs that do not use it). */
+void printWarning(const std::string& message);
+/** The name printWarning uses (runTool sets it). */
+void setProgramName(const std::string& name);
 }  // namespace mrpt_yesslam

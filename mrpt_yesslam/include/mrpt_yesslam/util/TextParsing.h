@@ -23,4 +23,7 @@ std::string jsonEscape(const std::string& s);
 
 /** Splits text into lines (handles \n and \r\n). */
 std::vector<std::string> splitLines(const std::string& text);
+
+/** A number for messages: %g with `digits` significant digits ("0.005", "4", "6.12"). */
+std::string formatNumber(double v, int digits = 3);
 }  // namespace mrpt_yesslam
