@@ -330,11 +330,12 @@ TEST(System, SequenceWithoutAnyDepth)
 	o.outDir = d / "run";
 	o.slam.detector.backend = "none";
 	o.slam.system.parallel = false;
-	const auto s = runSlamJob(o);
-	EXPECT_EQ(s.stats.frames, 12u);
-	EXPECT_EQ(s.stats.trackedFrames, 0u);
-	EXPECT_EQ(s.stats.keyFrames, 0u);
-	EXPECT_TRUE(fs::exists(d / "run/stats.json"));
+	// No map can start: an error that says why (issue 43; it was an exit 0 over empty outputs),
+	// after the outputs that say what happened (stats.json: 12 frames, none tracked).
+	expectInputError([&] { runSlamJob(o); }, {"no map was made", "none of the 12 frames", "no frame has any depth"});
+	const std::string stats = readText(d / "run/stats.json");
+	EXPECT_NE(stats.find("\"frames\": 12,"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"tracked_frames\": 0,"), std::string::npos) << stats;
 	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
 }
 

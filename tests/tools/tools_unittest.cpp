@@ -414,7 +414,7 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 			std::stringstream ls(line);
 			for (std::string x; std::getline(ls, x, ',');) c.push_back(x);
 			ASSERT_EQ(c.size(), 18u) << line;
-			EXPECT_EQ(c[16], "tracked");  // where its pose comes from
+			EXPECT_EQ(c[17], "tracked");  // where its pose comes from
 			ASSERT_LT(n, traj.size());
 			EXPECT_EQ(std::stoul(c[0]), n);
 			EXPECT_NEAR(std::stod(c[1]), traj[n].t, 1e-6);
@@ -427,7 +427,7 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 			EXPECT_GT(std::stoul(c[10]), 100u);	 // map points
 			if (n > 0)
 			{
-				EXPECT_GT(std::stod(c[14]), 0.0);  // track_ms
+				EXPECT_GT(std::stod(c[15]), 0.0);  // track_ms
 			}
 			n++;
 		}
@@ -828,7 +828,7 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 	ASSERT_EQ(conv.exitCode, 0) << conv.err;
 	const auto raw = runTool("yesslam", {"--input", d / "desk.rawlog", "--out", d / "raw", "--detector", "none", "--quiet", "--camera", "fr2"});
 	ASSERT_EQ(raw.exitCode, 0) << raw.err;
-	EXPECT_NE(raw.err.find("--camera) 'fr2' is for TUM folders and was not used"), std::string::npos) << raw.err;
+	EXPECT_NE(raw.err.find("--camera) 'fr2' is for TUM folders and OpenNI2 input and was not used"), std::string::npos) << raw.err;
 	EXPECT_EQ(readText(d / "raw/config_used.ini").find("camera = fr2"), std::string::npos);
 
 	// --record of a TUM folder keeps its ground truth beside the recording, where a run finds it.

@@ -155,15 +155,15 @@ std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows)
 {
 	std::string out =
 		"frame,timestamp,tracked,keyframe,relocalised,features,static_features,detections,inliers,keyframes_in_map,"
-		"map_points,detect_ms,mask_ms,orb_ms,track_ms,keyframe_ms,pose,detect_wait_ms\n";
+		"map_points,detect_ms,detect_wait_ms,mask_ms,orb_ms,track_ms,keyframe_ms,pose\n";
 	out.reserve(out.size() + rows.size() * 96);
 	char buf[320];
 	for (const auto& r : rows)
 	{
 		std::snprintf(
-			buf, sizeof(buf), "%zu,%.6f,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%.3f\n", r.frame, r.timestamp,
+			buf, sizeof(buf), "%zu,%.6f,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s\n", r.frame, r.timestamp,
 			r.tracked ? 1 : 0, r.keyFrame ? 1 : 0, r.relocalised ? 1 : 0, r.features, r.staticFeatures, r.detections, r.inliers,
-			r.keyFramesInMap, r.mapPoints, r.detectMs, r.maskMs, r.orbMs, r.trackMs, r.keyFrameMs, poseSourceName(r.pose), r.detectWaitMs);
+			r.keyFramesInMap, r.mapPoints, r.detectMs, r.detectWaitMs, r.maskMs, r.orbMs, r.trackMs, r.keyFrameMs, poseSourceName(r.pose));
 		out += buf;
 	}
 	return out;

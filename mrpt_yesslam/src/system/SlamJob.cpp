@@ -330,11 +330,11 @@ TSlamJobSummary runSlamJob(
 	if (opts.tracking.rollingShutter < 0)
 		opts.tracking.rollingShutter = (isOpenNI2Input(o.input) ? std::nullopt : statedReadout(o.input)).value_or(kConsumerRgbdReadout);
 	// An option that cannot apply is not recorded as applied (config_used.ini is what the run used).
-	if (!opts.input.camera.empty() && !fs::is_directory(o.input))
+	if (!opts.input.camera.empty() && !fs::is_directory(o.input) && !isOpenNI2Input(o.input))
 	{
 		sum.warnings.push_back(
-			"[Input] camera (--camera) '" + opts.input.camera + "' is for TUM folders and was not used: the frames of " + o.input +
-			" carry their own camera");
+			"[Input] camera (--camera) '" + opts.input.camera + "' is for TUM folders and OpenNI2 input and was not used: the frames of " +
+			o.input + " carry their own camera");
 		opts.input.camera.clear();
 	}
 	// The system (detector model, options) and the map first: a run that cannot start leaves no
