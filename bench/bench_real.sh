@@ -8,17 +8,19 @@
 # Prints ATE RMSE, RPE RMSE (translation m/s, rotation deg/s), the per-frame steps of estimate and
 # ground truth and the jitter (median length of their difference), lost frames, fps, and the ATE
 # of the online poses (trajectory_online.txt: what a robot had while it moved).
+# Also the frames more than 5 cm off after the alignment (yesslam-eval --errors; median over runs).
 # Usage: bench/bench_real.sh [RUNS]   (outputs in bench_out/real/)
+#        BIN=/other/build/rawlog_tools OUT_TAG=old bench/bench_real.sh 3   (another build, side by side)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BIN="$ROOT/build/rawlog_tools"
+BIN="${BIN:-$ROOT/build/rawlog_tools}"
 RUNS="${1:-3}"
 SHARED="$ROOT/../shared/data"
 [ -x "$BIN/yesslam" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }
 for d in bonn_crowd_dev tum_fr1_desk_9frames; do
   [ -d "$SHARED/$d" ] || { echo "bench: $SHARED/$d is missing" >&2; exit 1; }
 done
-OUT="$ROOT/bench_out/real"; mkdir -p "$OUT/runs"
+OUT="$ROOT/bench_out/real${OUT_TAG:+_$OUT_TAG}"; mkdir -p "$OUT/runs"
 # The Bonn intrinsics with the distortion the dataset publishes (a comment in its calibration.txt).
 BONN_CAM="$OUT/bonn_camera.txt"
 "$ROOT/bench/bonn_camera.sh" "$SHARED/bonn_crowd_dev" "$BONN_CAM"
@@ -29,8 +31,8 @@ lost() { awk '$1=="frames:" {f=$2} $1=="tracked:" {t=$2} END {print f-t}' "$1"; 
 
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo
-echo "| sequence | frames | ATE RMSE | RPE trans | RPE rot | step est / gt | jitter | lost | fps | online ATE | Sim(3) scale, ATE |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| sequence | frames | ATE RMSE | RPE trans | RPE rot | step est / gt | jitter | lost | fps | online ATE | Sim(3) scale, ATE | > 5 cm off |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 row() {
   local name="$1"; shift
   for i in $(seq "$RUNS"); do
@@ -45,11 +47,14 @@ row() {
   local gt; gt=$(awk '$1=="ground" && $2=="truth:" {print $3}' "$OUT/runs/$name-1.log")
   local fmt=tum; case " $* " in *" --gt-format bonn "*) fmt=bonn ;; esac
   sim3() { for i in $(seq "$RUNS"); do "$BIN/yesslam-eval" --gt "$gt" --gt-format "$fmt" --est "$OUT/runs/$name-$i/trajectory.txt" --sim3 2>/dev/null | field "$1" /dev/stdin; done | median; }
+  # Frames more than 5 cm from the truth after the SE(3) alignment.
+  far() { for i in $(seq "$RUNS"); do "$BIN/yesslam-eval" --gt "$gt" --gt-format "$fmt" --est "$OUT/runs/$name-$i/trajectory.txt" --errors "$OUT/runs/$name-$i/errors.csv" >/dev/null 2>&1
+          awk -F, 'NR > 1 && $2 > 0.05 {n++} END {print n + 0}' "$OUT/runs/$name-$i/errors.csv"; done | median; }
   awk -v n="$name" -v f="$frames" -v a="$(m ate_rmse)" -v t="$(m rpe_trans_rmse)" -v r="$(m rpe_rot_rmse_deg)" \
       -v se="$(m step_est_median)" -v sg="$(m step_gt_median)" -v j="$(m jitter_median)" -v l="$l" -v fps="$(m fps)" \
-      -v o="$(m online_ate_rmse)" -v sc="$(sim3 scale)" -v sa="$(sim3 ate_rmse)" \
-      'BEGIN {printf "| %s | %s | %.1f mm | %.1f mm/s | %.2f deg/s | %.1f / %.1f mm | %.1f mm | %s | %.1f | %.1f mm | %.3f, %.1f mm |\n",
-              n, f, 1000*a, 1000*t, r, 1000*se, 1000*sg, 1000*j, l, fps, 1000*o, sc, 1000*sa}'
+      -v o="$(m online_ate_rmse)" -v sc="$(sim3 scale)" -v sa="$(sim3 ate_rmse)" -v fo="$(far)" \
+      'BEGIN {printf "| %s | %s | %.1f mm | %.1f mm/s | %.2f deg/s | %.1f / %.1f mm | %.1f mm | %s | %.1f | %.1f mm | %.3f, %.1f mm | %s |\n",
+              n, f, 1000*a, 1000*t, r, 1000*se, 1000*sg, 1000*j, l, fps, 1000*o, sc, 1000*sa, fo}'
 }
 B="$SHARED/bonn_crowd_dev"
 row "bonn_crowd_dev" --input "$B" --gt-format bonn --camera "$BONN_CAM"

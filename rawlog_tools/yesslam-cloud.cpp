@@ -58,7 +58,10 @@ int main(int argc, char** argv)
 			const TTrajectory poses = readTumTrajectory(posesPath);
 			if (poses.empty()) throw InputError(posesPath, "contains no poses");
 			auto src = openInputSource(input, in);
-			ProgressBar bar("yesslam-cloud", src->sizeHint(), !quiet);
+			// The frames this run reads: the input's, at most --max-frames.
+			std::size_t total = src->sizeHint();
+			if (o.maxFrames && (total == 0 || total > o.maxFrames)) total = o.maxFrames;
+			ProgressBar bar("yesslam-cloud", total, !quiet);
 			TSceneExportSummary sum;
 			auto scene = buildPosedCloudScene(*src, poses, o, sum, [&](std::size_t n) { bar.update(n); });
 			bar.finish();

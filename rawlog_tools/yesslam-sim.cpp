@@ -113,7 +113,8 @@ int main(int argc, char** argv)
 			if (verbose)
 				for (const auto& [stage, sec] : s.stageSeconds)
 					std::printf("  %-24s %7.1f ms/frame\n", stage.c_str(), s.frames ? 1000 * sec / s.frames : 0.0);
-			std::printf("output:             %s (TUM folder; sequence.rawlog, scene.3Dscene, meta.json)\n", o.outDir.c_str());
+			std::printf(
+				"output:             %s (TUM folder; %sscene.3Dscene, meta.json)\n", o.outDir.c_str(), o.writeRawlog ? "sequence.rawlog, " : "");
 			if (s.interrupted)
 			{
 				std::fprintf(stderr, "yesslam-sim: interrupted; %s holds the first %zu frames\n", o.outDir.c_str(), s.frames);

@@ -191,8 +191,8 @@ int main(int argc, char** argv)
 							o.slam.system.localizeOnly ? ", localisation only" : "");
 			std::printf("frames:          %zu\n", st.frames);
 			std::printf(
-				"tracked:         %zu (%.1f%%), relocalisations %zu\n", st.trackedFrames,
-				st.frames ? 100.0 * static_cast<double>(st.trackedFrames) / static_cast<double>(st.frames) : 0.0, st.relocalisations);
+				"tracked:         %zu (%.1f%%), relocalisations %zu, weak poses refused %zu\n", st.trackedFrames,
+				st.frames ? 100.0 * static_cast<double>(st.trackedFrames) / static_cast<double>(st.frames) : 0.0, st.relocalisations, st.refusedPoses);
 			std::printf("fps:             %.2f (%.1f s)\n", s.seconds > 0 ? static_cast<double>(st.frames) / s.seconds : 0.0, s.seconds);
 			std::printf(
 				"keyframes:       %zu inserted (%zu forced), %zu culled as redundant, %zu in the map; map points %zu\n", st.keyFrames,

@@ -340,3 +340,58 @@ TEST(Tracker, AVelocityMeasuredAcrossALoopCorrectionHoldsNoneOfIt)
 	// And tracking goes on in the corrected map.
 	for (std::size_t i = 7; i < 9; i++) EXPECT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
 }
+
+// Issue 39 item 1: no pose without evidence. After 8 real fr1/desk frames, the ninth shows what the
+// first did, through a small window (the rest covered, as by a person filling the view): its few
+// inliers place the camera where it was 0.27 s before, about 10 cm behind where it can be 33 ms
+// after the eighth. That weak solution is refused: the frame is not tracked and coasts on the
+// measured motion, and the run says so. A strong solution as far away is taken (relocalisation).
+TEST(Tracker, AWeakSolutionFarFromTheMotionModelIsNotTracked)
+{
+	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
+	const auto frames = deskFrames();
+	ASSERT_EQ(frames.size(), 9u);
+	cv::Mat bgr = frames[0]->intensityImage.asCvMatRef().clone(), depth = depthInMetres(*frames[0]);
+	const cv::Rect window(250, 170, 150, 120);
+	cv::Mat keepMask = cv::Mat::zeros(bgr.size(), CV_8U);
+	keepMask(window).setTo(255);
+	bgr.setTo(cv::Scalar::all(0), ~keepMask);
+	depth.setTo(0, ~keepMask);
+	const double t8 = observationTime(*frames[8]);
+	const auto run = [&](std::size_t weakInliers, const cv::Mat& img, const cv::Mat& d)
+	{
+		TYesSlamOptions o = realOptions();
+		o.tracking.weakInliers = weakInliers;
+		CYesSlamSystem sys(o);
+		for (std::size_t i = 0; i < 8; i++) EXPECT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
+		const TFrameReport r = sys.processFrame(img, d, t8, frames[8]->cameraParamsIntensity);
+		const TStampedPose p = sys.onlineTrajectory().back();
+		std::size_t g = 0;
+		for (std::size_t k = 0; k < gt.size(); k++)
+			if (std::abs(gt[k].t - t8) < std::abs(gt[g].t - t8)) g = k;
+		// Against the truth in the map's frame (the first frame defines it).
+		std::size_t g0 = 0;
+		const double t0 = observationTime(*frames[0]);
+		for (std::size_t k = 0; k < gt.size(); k++)
+			if (std::abs(gt[k].t - t0) < std::abs(gt[g0].t - t0)) g0 = k;
+		const mrpt::poses::CPose3D truth = gt[g].asPose() - gt[g0].asPose();
+		const double off = (p.asPose() - truth).norm();
+		return std::make_tuple(r, off, sys.stats());
+	};
+	const auto [without, offWithout, statsWithout] = run(0, bgr, depth);
+	EXPECT_TRUE(without.tracked) << "the window alone is enough to track (" << without.inliers << " inliers)";
+	EXPECT_LT(without.inliers, TYesSlamOptions().tracking.weakInliers) << "the test needs a weak solution";
+	EXPECT_GT(offWithout, 0.06) << "it places the camera where frame 0 was";
+	const auto [with, offWith, statsWith] = run(TYesSlamOptions().tracking.weakInliers, bgr, depth);
+	EXPECT_FALSE(with.tracked);
+	EXPECT_TRUE(with.poseRefused);
+	EXPECT_EQ(statsWith.refusedPoses, 1u);
+	EXPECT_LT(offWith, 0.02) << "coasted on the measured motion";
+	// The whole first frame: a strong solution, taken however far it is (the camera was carried
+	// back, or relocalisation found it).
+	const auto [strong, offStrong, statsStrong] =
+		run(TYesSlamOptions().tracking.weakInliers, frames[0]->intensityImage.asCvMatRef().clone(), depthInMetres(*frames[0]));
+	EXPECT_TRUE(strong.tracked);
+	EXPECT_FALSE(strong.poseRefused);
+	EXPECT_GT(offStrong, 0.06);
+}

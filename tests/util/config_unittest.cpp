@@ -270,3 +270,23 @@ TEST(Config, IgnoredLinesAndUnknownSectionsWarn)
 	EXPECT_NE(err.find("Tracking"), std::string::npos) << err;	 // the known ones are listed
 	EXPECT_EQ(o.orb.numFeatures, 900);
 }
+
+// Issue 43 item 9: a key set twice warns (MRPT takes the last silently), a broken section line
+// warns once (not again as a garbled "unknown section"), and warnings carry the tool's name.
+TEST(Config, AKeySetTwiceAndABrokenSectionWarnOnceWithTheToolsName)
+{
+	const auto w = iniStructureWarnings("[ORB]\nnumFeatures = 900\n[Tracking]\nmaxDepth = 5\n[orb]\nNumFeatures = 1000\n", "c.ini");
+	ASSERT_EQ(w.size(), 1u);
+	EXPECT_NE(w[0].find("c.ini:6: 'NumFeatures' is set again (first on line 2): the last value is used"), std::string::npos) << w[0];
+	TempDir d("cfg_twice");
+	writeText(d / "c.ini", "[Tracking\nmaxDepth = 5\n[ORB]\nnumFeatures = 900\n");
+	TYesSlamOptions o;
+	setProgramName("sometool");
+	testing::internal::CaptureStderr();
+	o.loadFromFile(d / "c.ini");
+	const std::string err = testing::internal::GetCapturedStderr();
+	setProgramName("mrpt_yesslam");
+	EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+	EXPECT_EQ(err.rfind("sometool: warning: ", 0), 0u) << err;
+	EXPECT_NE(err.find("closing ']'"), std::string::npos) << err;
+}

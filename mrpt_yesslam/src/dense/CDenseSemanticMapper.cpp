@@ -40,7 +40,7 @@ COptionTable CDenseSemanticMapper::TOptions::table()
 	t.real("octomapResolution", octomapResolution, 0.005, 10, "OctoMap voxel size, m (--octomap-resolution)");
 	t.real("probHit", probHit, 0.5, 1, "OctoMap: occupancy probability of a ray's end");
 	t.real("probMiss", probMiss, 0, 0.5, "OctoMap: occupancy probability of the cells a ray passes");
-	t.real("occupancyThreshold", occupancyThreshold, 0.5, 0.999, "OctoMap: occupied above this probability (0.8: two keyframes' hits)");
+	t.real("occupancyThreshold", occupancyThreshold, 0.55, 0.999, "OctoMap: occupied above this probability (0.8: two keyframes' hits; above 0.51, what a seen but unconfirmed surface keeps)");
 	t.real("clearMargin", clearMargin, 0, 1, "OctoMap: a ray marks space free only up to this far before the surface it measured, m (depth noise, thinning)");
 	t.integer("minObservations", minObservations, 1, 1000, "dense cloud: keyframes that must see a voxel");
 	t.count("queue", queue, 1, 1000, "parallel mode: keyframes waiting for the dense stage before tracking waits");

@@ -328,7 +328,13 @@ TOniConversion convertToOni(
 		if (r.frames == 0) r.tFirst = t;
 		r.tLast = t;
 		r.frames++;
-		if (progress) progress(r.frames, src->sizeHint());
+		if (progress)
+		{
+			// The total this conversion will write: at most --max-frames (0 = unknown).
+			std::size_t total = src->sizeHint();
+			if (maxFrames && (total == 0 || total > maxFrames)) total = maxFrames;
+			progress(r.frames, total);
+		}
 	}
 	r.bytes = w.finish();
 	r.clippedPixels = w.clippedPixels();

@@ -233,6 +233,13 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 	if (!o.camera.empty())
 	{
 		camera_ = fs::exists(o.camera) ? readCameraFile(o.camera) : tumCameraByName(o.camera);
+		if (!camera_.sizeGiven)
+		{
+			// A camera file without a size: the stream's (as a TUM folder's first image gives it).
+			camera_.intrinsics.ncols = static_cast<uint32_t>(cm.getResolutionX());
+			camera_.intrinsics.nrows = static_cast<uint32_t>(cm.getResolutionY());
+			camera_.sizeGiven = true;
+		}
 		if (camera_.intrinsics.ncols != static_cast<uint32_t>(cm.getResolutionX()) || camera_.intrinsics.nrows != static_cast<uint32_t>(cm.getResolutionY()))
 			throw InputError(o.camera, "the camera is " + std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows) + ", the stream " + modeText(cm));
 	}

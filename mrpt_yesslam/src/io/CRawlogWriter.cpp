@@ -15,8 +15,11 @@ CRawlogWriter::CRawlogWriter(const std::string& path, int compressionLevel) : pa
 	// A link is followed; a device or pipe is written through and never renamed over (AtomicFile.h).
 	const TOutputTarget target = outputTarget(path);
 	target_ = target.path;
-	direct_ = target.direct;
-	tmp_ = direct_ ? target_ : temporaryPathFor(target_);
+	fd_ = target.fd;
+	// A descriptor (/dev/stdout): made in a temporary file and appended to it when committed, never
+	// reopened by name (that would truncate a redirected file and write over what was printed).
+	direct_ = target.direct && fd_ < 0;
+	tmp_ = fd_ >= 0 ? makeTemporaryFile() : direct_ ? target_ : temporaryPathFor(target_);
 	out_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
 	std::string err;
 	if (!out_->open(tmp_, compressionLevel, err))
@@ -52,6 +55,21 @@ std::uintmax_t CRawlogWriter::commit()
 	std::error_code ec;
 	committed_ = true;
 	if (direct_) return 0;
+	if (fd_ >= 0)
+	{
+		const auto size = std::filesystem::file_size(tmp_, ec);
+		try
+		{
+			appendFileToDescriptor(tmp_, fd_, path_);
+		}
+		catch (...)
+		{
+			std::remove(tmp_.c_str());
+			throw;
+		}
+		std::remove(tmp_.c_str());
+		return ec ? 0 : size;
+	}
 	std::filesystem::rename(tmp_, target_, ec);
 	if (ec)
 	{

@@ -95,6 +95,9 @@ TDenseCloud mapPointCloud(const CSparseMap& map, const mrpt::poses::CPose3D& wor
 std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution, const mrpt::poses::CPose3D& worldFromMap)
 {
 	auto tree = std::make_unique<CSemanticOcTree>(resolution);
+	// One hit (0.7) is occupied: the map's points are already the confirmed ones. A point that later
+	// rays contradict falls to the seen floor (0.51): unknown, not occupied as at OctoMap's 0.5.
+	tree->setOccupancyThres(0.6);
 	for (const TKeyFrameId id : map.keyFrameIds())
 	{
 		const TLocalMapPoints pts = map.keyFramePoints(id);

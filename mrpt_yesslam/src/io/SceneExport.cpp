@@ -35,8 +35,8 @@ mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(
 	mrpt::math::TPoint3D prev;
 	while (auto obs = src.next())
 	{
-		if (progress) progress(index + 1);
 		if (o.maxFrames && sum.framesUsed >= o.maxFrames) break;
+		if (progress) progress(index + 1);
 		if (index++ % std::max<std::size_t>(1, o.frameStep) != 0) continue;
 		const double t = observationTime(*obs);
 		const auto it = std::lower_bound(stamps.begin(), stamps.end(), t);

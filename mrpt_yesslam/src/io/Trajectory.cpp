@@ -130,8 +130,7 @@ std::string formatTumTrajectory(const TTrajectory& traj, const std::string& head
 		for (const auto& l : splitLines(header)) out += "# " + l + "\n";
 	}
 	char buf[256];
-	// A value that prints as zero is written as 0, never "-0.000000000" (issue 43).
-	const auto z = [](double v) { return std::abs(v) < 5e-10 ? 0.0 : v; };
+	const auto z = withoutNegativeZero;  // issue 43: no "-0.000000000"
 	for (const auto& p : traj)
 	{
 		std::snprintf(

@@ -1,4 +1,5 @@
 #include "mrpt_yesslam/io/WorldFrame.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/math/CQuaternion.h>
@@ -56,8 +57,8 @@ std::string TWorldFrame::describe() const
 	worldFromMap.getAsQuaternion(q);
 	char buf[200];
 	std::snprintf(
-		buf, sizeof(buf), "\nT_world_map: %.9f %.9f %.9f %.9f %.9f %.9f %.9f", worldFromMap.x(), worldFromMap.y(), worldFromMap.z(), q.x(), q.y(),
-		q.z(), q.r());
+		buf, sizeof(buf), "\nT_world_map: %.9f %.9f %.9f %.9f %.9f %.9f %.9f", withoutNegativeZero(worldFromMap.x()), withoutNegativeZero(worldFromMap.y()),
+		withoutNegativeZero(worldFromMap.z()), withoutNegativeZero(q.x()), withoutNegativeZero(q.y()), withoutNegativeZero(q.z()), withoutNegativeZero(q.r()));
 	return s + buf + " (map = the first keyframe's camera, optical axes)";
 }
 

@@ -301,6 +301,7 @@ TSimSummary runSimulation(
 	if (ec || !fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create output folder");
 	for (const char* sub : {"rgb", "depth", "labels/class", "labels/instance", "sequence_Images"})
 	{
+		if (!o.writeRawlog && std::string(sub) == "sequence_Images") continue;	// the rawlog's images: no rawlog, no folder
 		fs::create_directories(fs::path(o.outDir) / sub, ec);
 		if (ec) throw InputError((fs::path(o.outDir) / sub).string(), "cannot create folder (" + ec.message() + ")");
 	}

@@ -94,6 +94,7 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	o << "  \"tracking_rate\": " << buf << ",\n";
 	o << "  \"lost_frames\": " << s.lostFrames << ",\n";
 	o << "  \"relocalisations\": " << s.relocalisations << ",\n";
+	o << "  \"refused_poses\": " << s.refusedPoses << ",\n";
 	o << "  \"keyframes\": " << s.keyFrames << ",\n";
 	o << "  \"forced_keyframes\": " << s.forcedKeyFrames << ",\n";
 	o << "  \"culled_keyframes\": " << s.culledKeyFrames << ",\n";

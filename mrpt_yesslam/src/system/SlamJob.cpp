@@ -375,10 +375,26 @@ TSlamJobSummary runSlamJob(
 			recorder.reset();
 			// The input's ground truth goes with the recording, where findGroundTruthFor looks for it
 			// ("<name>_groundtruth.txt"), so the recording evaluates as its input did (issue 43).
+			// A failure here costs the copy (a warning), never the run's outputs.
 			const std::string gtIn = isOpenNI2Input(o.input) ? std::string() : findGroundTruthFor(o.input);
+			const TOutputTarget target = outputTarget(o.record);
 			const fs::path rec(o.record);
-			if (sum.input.recorded > 0 && !gtIn.empty() && fs::is_regular_file(rec))
-				writeFileAtomically((rec.parent_path() / (rec.stem().string() + "_groundtruth.txt")).string(), readTextFile(gtIn));
+			const fs::path gtOut = rec.parent_path() / (rec.stem().string() + "_groundtruth.txt");
+			std::error_code gec;
+			if (sum.input.recorded > 0 && !target.direct && fs::is_regular_file(target.path, gec))
+			{
+				try
+				{
+					if (!gtIn.empty())
+						writeFileAtomically(gtOut.string(), readTextFile(gtIn));
+					else if (fs::exists(gtOut, gec))
+						sum.warnings.push_back(gtOut.string() + " is from an earlier recording: the input of this one had no ground truth");
+				}
+				catch (const std::exception& e)
+				{
+					sum.warnings.push_back("the ground truth was not copied beside the recording: " + exceptionSummary(e.what()));
+				}
+			}
 		}
 	};
 	// Skipped before any output: a skip past the end of the input is an error, not an empty run;
@@ -386,7 +402,19 @@ TSlamJobSummary runSlamJob(
 	std::size_t skipped = 0;
 	while (skipped < o.skipFrames && src->next()) skipped++;
 	mrpt::obs::CObservation3DRangeScan::Ptr first;
-	if (skipped == o.skipFrames && o.skipFrames > 0 && !(first = src->next())) skipped = o.skipFrames + 1;
+	if (skipped == o.skipFrames && o.skipFrames > 0)
+	{
+		try
+		{
+			first = src->next();
+		}
+		catch (...)
+		{
+			closeInput();  // commits the recording of what was read
+			throw;
+		}
+		if (!first) skipped = o.skipFrames + 1;
+	}
 	if (skipped != o.skipFrames)
 	{
 		closeInput();
@@ -420,7 +448,7 @@ TSlamJobSummary runSlamJob(
 			}
 			auto obs = first ? std::move(first) : src->next();
 			if (!obs) break;
-			depthMedians.push_back(medianDepth(*obs));
+			if (const double md = medianDepth(*obs); md > 0) depthMedians.push_back(md);  // frames without depth say nothing of its scale
 			if (record) record(obs);
 			const TFrameReport r = sys.processFrame(*obs, src->depthTime(observationTime(*obs)));
 			done++;
@@ -482,7 +510,9 @@ TSlamJobSummary runSlamJob(
 											" no depth image within [Input] maxDiff " + formatNumber(opts.input.maxDiff) + " s in " + o.input +
 											" and " + (skippedEntries == 1 ? "was" : "were") + " not processed"
 									  : std::to_string(skippedEntries) + " entries of " + o.input + " are not RGB-D frames and were not processed");
-	if (!depthMedians.empty())
+	if (depthMedians.empty() && done > 0)
+		sum.typicalDepth = 0;  // no frame had any depth: implausibleDepthReason says so
+	else if (!depthMedians.empty())
 	{
 		auto mid = depthMedians.begin() + static_cast<std::ptrdiff_t>(depthMedians.size() / 2);
 		std::nth_element(depthMedians.begin(), mid, depthMedians.end());
@@ -502,7 +532,7 @@ TSlamJobSummary runSlamJob(
 						   " was recognised (is it the place the map was made in?); the outputs hold no pose");
 	// A run that never started its map has nothing to give (issue 43): an error with the likely
 	// reason, not an exit 0 over empty outputs.
-	if (o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.keyFrames == 0 && !sum.interrupted)
+	if (o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.keyFrames == 0 && !sum.interrupted && !sum.input.disconnected)
 	{
 		std::string why = implausibleDepthReason(sum.typicalDepth);
 		if (why.empty() && sum.typicalDepth > opts.tracking.maxDepth)

@@ -2,6 +2,7 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/poses/Lie/SE.h>
+#include <mrpt/poses/Lie/SO.h>
 
 #include <algorithm>
 #include <limits>
@@ -24,6 +25,9 @@ COptionTable CTracker::TOptions::table()
 	t.count("localKeyFrames", localKeyFrames, 1, 10000, "most keyframes in the local map (ORB-SLAM2: 80)");
 	t.count("localNeighbours", localNeighbours, 0, 1000, "best covisible keyframes added around each keyframe that sees the frame's matches");
 	t.count("minTrackedInliers", minTrackedInliers, 3, 100000, "fewer inliers against the local map: tracking failed for this frame");
+	t.count("weakInliers", weakInliers, 0, 100000, "a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the frame coasts (0 = off)");
+	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction");
+	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction");
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
 	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
@@ -224,6 +228,9 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 	r.localMatches = m.size();
 	const TPoseEstimate e = refineWith(f, m, local, guess);
 	if (!e.ok || e.numInliers < opts_.minTrackedInliers) return false;
+	// Before anything is learnt from the frame (see-through counts, movers): a refused pose would
+	// erase good points.
+	if (!plausible(e.cameraInWorld, e.numInliers, r)) return false;
 	f.pose = e.cameraInWorld;
 	f.mapPoints.assign(f.size(), -1);
 	std::vector<TPointId> visible, found;
@@ -364,8 +371,19 @@ CTracker::TResult CTracker::track(TFrame& f)
 {
 	const mrpt::poses::CPose3D lastPose = lastFramePose();
 	const TResult r = trackFrom(f, lastPose);
+	refusedRun_ = f.tracked || !r.implausible ? 0 : refusedRun_ + 1;
 	anchor(f, lastPose);
 	return r;
+}
+
+bool CTracker::plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r) const
+{
+	if (!prior_ || opts_.weakInliers == 0 || inliers >= opts_.weakInliers) return true;
+	const mrpt::poses::CPose3D d = pose - *prior_;
+	const double angleDeg = mrpt::poses::Lie::SO<3>::log(d.getRotationMatrix()).norm() * 180.0 / M_PI;
+	if (d.norm() <= opts_.priorDeparture * priorScale_ && angleDeg <= opts_.priorDepartureDeg * priorScale_) return true;
+	r.implausible = true;
+	return false;
 }
 
 CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& lastPose)
@@ -376,6 +394,20 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	f.mapPoints.assign(f.size(), -1);
 	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
 	f.pose = predicted;
+	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak
+	// solution must agree with; after lost frames it is a guess and constrains nothing.
+	// After a refused frame the coasted prediction still stands for a few frames, with wider
+	// tolerance each: otherwise the next frame would take the same weak solution unchecked (a
+	// person moving with the camera is there for several frames).
+	prior_.reset();
+	priorScale_ = 1;
+	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked)
+		prior_ = predicted;
+	else if (velocity_ && refusedRun_ > 0 && refusedRun_ <= 3)
+	{
+		prior_ = predicted;
+		priorScale_ = 1.0 + static_cast<double>(refusedRun_);
+	}
 	if (!refKf_)
 	{
 		// A loaded map (map reuse): the first frames are placed in it by relocalisation.
@@ -434,7 +466,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// 3. The local map did not confirm it (the view has left the mapped part faster than keyframes
 	// came): keep the last-frame pose when it had enough support; the new keyframe that the system
 	// then inserts restores the map around it.
-	if (guess && e.numInliers >= opts_.minTrackedInliers)
+	if (guess && e.numInliers >= opts_.minTrackedInliers && plausible(*guess, e.numInliers, r))
 	{
 		f.pose = *guess;
 		f.tracked = true;
@@ -451,8 +483,10 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 		r.ok = true;
 		return r;
 	}
-	// Lost: the first lost frame already coasts on the mean motion (see meanRecentMotion).
-	if (guess)
+	// Lost: the first lost frame already coasts on the mean motion (see meanRecentMotion); a
+	// refused solution is no pose to keep.
+	TResult scratch;
+	if (guess && plausible(*guess, e.numInliers, scratch))
 		f.pose = *guess;
 	else if (lostRun_ == 0 && !recentMotion_.empty())
 		f.pose = lastPose + scaledTwist(meanRecentMotion(), 1.0);

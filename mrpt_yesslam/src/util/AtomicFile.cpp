@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -32,8 +31,9 @@ int descriptorNamed(const std::string& path)
 	return -1;
 }
 
-// Appends the file at `from` to descriptor `fd`, after what stdio has buffered for it.
-void copyToDescriptor(const std::string& from, int fd, const std::string& path)
+}  // namespace
+
+void appendFileToDescriptor(const std::string& from, int fd, const std::string& path)
 {
 	std::ifstream in(from, std::ios::binary);
 	if (!in) throw InputError(path, "cannot read back what was written for it");
@@ -53,7 +53,15 @@ void copyToDescriptor(const std::string& from, int fd, const std::string& path)
 		}
 	}
 }
-}  // namespace
+
+std::string makeTemporaryFile()
+{
+	std::string name = (std::filesystem::temp_directory_path() / "yesslam_out.XXXXXX").string();
+	const int fd = ::mkstemp(name.data());
+	if (fd < 0) throw InputError(name, std::string("cannot create a temporary file (") + std::strerror(errno) + ")");
+	::close(fd);
+	return name;
+}
 
 TOutputTarget outputTarget(const std::string& path)
 {
@@ -61,6 +69,12 @@ TOutputTarget outputTarget(const std::string& path)
 	TOutputTarget t;
 	t.path = path;
 	std::error_code ec;
+	if (const int fd = descriptorNamed(path); fd >= 0)
+	{
+		t.fd = fd;
+		t.direct = true;
+		return t;
+	}
 	// Follow links (also chains, and relative ones) to the file they name, existing or not.
 	for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(t.path, ec)); hops++)
 	{
@@ -89,13 +103,11 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
 	if (target.fd >= 0)
 	{
 		// Made in a temporary file (the writers take a path), then appended to the descriptor.
-		static std::atomic<unsigned> serial{0};
-		const std::string tmp =
-			(std::filesystem::temp_directory_path() / ("yesslam_out." + std::to_string(::getpid()) + "." + std::to_string(serial++))).string();
+		const std::string tmp = makeTemporaryFile();
 		try
 		{
 			writer(tmp);
-			copyToDescriptor(tmp, target.fd, path);
+			appendFileToDescriptor(tmp, target.fd, path);
 		}
 		catch (...)
 		{

@@ -49,6 +49,10 @@ struct TYesSlamOptions
 	struct TSystem : public TTableOptions<TSystem>
 	{
 		bool parallel = true;  //!< local mapping in its own thread (false: sequential, deterministic)
+		/** The pose trajectory.txt gives a frame a keyframe was made from: "tracked" (hung from the
+		 * keyframe it was tracked against, as every frame) or "keyframe" (hung from its own
+		 * keyframe: its final pose, as keyframes.txt has it). */
+		std::string keyFrameFramePose = "tracked";
 		/** Dynamic-object handling as a whole (false: the baseline, every feature is used as
 		 * ORB-SLAM2 would; see TYesSlamOptions::effective for what that switches off). */
 		bool dynamicFilter = true;
@@ -94,6 +98,7 @@ struct TFrameReport
 {
 	std::size_t frameId = 0;
 	bool tracked = false, initialised = false, keyFrame = false, relocalised = false;
+	bool poseRefused = false;  //!< a weak solution far from the motion model was not taken ([Tracking] weakInliers)
 	std::size_t movingPointsErased = 0;	 //!< map points this frame found moving (erased)
 	std::size_t features = 0, staticFeatures = 0, detections = 0, dynamicDetections = 0, inliers = 0;
 };

@@ -53,6 +53,9 @@ struct TLoopRecord
 struct TSlamStats
 {
 	std::size_t frames = 0, trackedFrames = 0, lostFrames = 0, relocalisations = 0;
+	/** Frames whose solution rested on few inliers and left the motion model's course: not tracked
+	 * ([Tracking] weakInliers); counted in lostFrames too. */
+	std::size_t refusedPoses = 0;
 	std::size_t keyFrames = 0, forcedKeyFrames = 0, mapPoints = 0;
 	std::size_t culledKeyFrames = 0;  //!< erased as redundant by local mapping
 	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames

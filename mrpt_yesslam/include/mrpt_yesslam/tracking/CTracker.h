@@ -54,6 +54,14 @@ class CTracker
 		std::size_t localKeyFrames = 40;  //!< most keyframes in the local map (ORB-SLAM2: 80)
 		std::size_t localNeighbours = 10;  //!< best covisible keyframes added around each keyframe that sees the frame's matches
 		std::size_t minTrackedInliers = 20;	 //!< fewer inliers after the local map: tracking failed
+		/** No pose without evidence (issue 39): a solution on fewer inliers than this must agree
+		 * with the motion model's prediction (made from tracked frames) within priorDeparture and
+		 * priorDepartureDeg, or the frame is not tracked (it coasts). A hand-held camera does not
+		 * move 20 cm off its course in 33 ms; a few inliers on a person who moves with the camera
+		 * (or on a mis-masked one) can make a pose that does. 0 = off. */
+		std::size_t weakInliers = 80;
+		double priorDeparture = 0.05;  //!< m: the farthest a weak solution may lie from the prediction
+		double priorDepartureDeg = 5;  //!< degrees: the most it may turn away from the prediction
 		/** Relocalisation tries at most this many keyframes: the best place-recognition candidates
 		 * (with a vocabulary), else the newest keyframes (0 = all). */
 		std::size_t relocKeyFrames = 60;
@@ -89,6 +97,8 @@ class CTracker
 		bool relocalised = false;
 		bool recoveredByPnP = false;  //!< the motion model failed, PnP on the last frame's points worked
 		std::size_t motionMatches = 0, localMatches = 0, inliers = 0;
+		/** A weak solution far from the motion model's prediction was refused (weakInliers). */
+		bool implausible = false;
 		/** Map points erased as moving: in a group the geometric check found moving, or seen through. */
 		std::size_t movingPointsErased = 0;
 	};
@@ -156,6 +166,13 @@ class CTracker
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
+	/** Whether a solution on `inliers` may be taken (see TOptions::weakInliers); notes a refusal in `r`. */
+	bool plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r) const;
+	/** The prediction of the frame being tracked when it was made from tracked frames (weak
+	 * solutions must agree with it); none when the last frame was lost or there is no velocity. */
+	std::optional<mrpt::poses::CPose3D> prior_;
+	double priorScale_ = 1;	 //!< the departures allowed, times this (wider for each refused frame in a row)
+	std::size_t refusedRun_ = 0;  //!< frames in a row whose weak solution was refused
 	/** Local map points in view but not found whose place `f` sees through (farther keypoints
 	 * measured all around where the point should be in front). */
 	std::vector<TPointId> seenThrough(const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView,

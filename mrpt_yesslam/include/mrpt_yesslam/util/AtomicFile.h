@@ -47,4 +47,9 @@ struct TOutputTarget
 };
 /** See TOutputTarget. */
 TOutputTarget outputTarget(const std::string& path);
+/** Appends the file `from` to descriptor `fd` after flushing stdio's buffers (what the program
+ * printed there comes first); `path` names the output in errors. */
+void appendFileToDescriptor(const std::string& from, int fd, const std::string& path);
+/** A new, empty temporary file of this process (mkstemp in the temporary folder); its path. */
+std::string makeTemporaryFile();
 }  // namespace mrpt_yesslam

@@ -24,6 +24,9 @@ std::string jsonEscape(const std::string& s);
 /** Splits text into lines (handles \n and \r\n). */
 std::vector<std::string> splitLines(const std::string& text);
 
+/** `v`, or 0 where it would print as a zero with 9 decimals: no "-0.000000000" in files. */
+inline double withoutNegativeZero(double v) { return v < 5e-10 && v > -5e-10 ? 0.0 : v; }
+
 /** A number for messages: %g with `digits` significant digits ("0.005", "4", "6.12"). */
 std::string formatNumber(double v, int digits = 3);
 }  // namespace mrpt_yesslam
