@@ -186,3 +186,45 @@ TEST(Render, AMapsDefaultPictureShowsItsCloudAndPathFilledAndTheLegendOverTheOct
 		EXPECT_GT(count(corner, [&](const cv::Vec3b& p) { return p[0] < 80 && p[1] < 80 && p[2] < 80; }), 30u) << "the legend's text";
 	}
 }
+
+// Issue 43 item 9: a map's OctoMap voxels render in their colour from every side: walls seen from
+// behind the light as well as floors, not nearly black (MRPT's 0.2 ambient light gave them a fifth
+// of their colour).
+TEST(Render, OctoMapWallsShowTheirColourFromEverySide)
+{
+	TempDir d("render_walls");
+	CSemanticOcTree tree(0.1);
+	// An L of walls (x-z and y-z planes) on a floor, all labelled "chair" (label 57).
+	for (double a = 0.05; a < 3; a += 0.1)
+		for (double b = 0.05; b < 2; b += 0.1)
+			for (const auto& p : {octomap::point3d(float(a), 0.05f, float(b)), octomap::point3d(0.05f, float(a), float(b)), octomap::point3d(float(a), float(b), 0.05f)})
+				for (int k = 0; k < 4; k++) tree.updateNode(p, true)->label = 57;
+	CSparseMap emptyMap;
+	auto scene = buildMapScene(emptyMap, {});
+	scene->insert(semanticOcTreeObject(tree, {}));
+	ASSERT_TRUE(scene->saveToFile(d / "walls.3Dscene"));
+	const cv::Vec3b label = labelColour(57);
+	const double labelBrightness = (label[0] + label[1] + label[2]) / 3.0;
+	for (const double azimuth : {45.0, 225.0})	// the inside of the L, then its outside
+	{
+		TRenderOptions o;
+		o.width = 400;
+		o.height = 300;
+		o.azimuthDeg = azimuth;
+		renderSceneFileToPng(d / "walls.3Dscene", d / "walls.png", o);
+		const cv::Mat img = cv::imread(d / "walls.png", cv::IMREAD_COLOR);
+		ASSERT_FALSE(img.empty());
+		std::vector<double> voxel;
+		for (int y = 40; y < img.rows; y++)  // below the legend
+			for (int x = 0; x < img.cols; x++)
+			{
+				const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+				if (p[0] > 245 && p[1] > 245 && p[2] > 245) continue;  // background
+				voxel.push_back((p[0] + p[1] + p[2]) / 3.0);
+			}
+		ASSERT_GT(voxel.size(), img.total() / 10) << azimuth;
+		std::sort(voxel.begin(), voxel.end());
+		const double dark = voxel[voxel.size() / 10];	 // the darkest tenth: the faces turned from the light
+		EXPECT_GT(dark, 0.45 * labelBrightness) << "azimuth " << azimuth << ": median " << voxel[voxel.size() / 2] << ", label " << labelBrightness;
+	}
+}

@@ -26,6 +26,11 @@ double percentile(std::vector<double> v, double q)
 mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& traj, const mrpt::poses::CPose3D& worldFromMap)
 {
 	auto scene = mrpt::opengl::COpenGLScene::Create();
+	// More ambient light than MRPT's 0.2: the OctoMap's voxel faces turned from the light (walls
+	// seen from behind the light) were nearly black (issue 43); now at least half their colour.
+	auto& light = scene->getViewport()->lightParameters();
+	light.ambient = mrpt::img::TColorf(0.55f, 0.55f, 0.55f, 1.0f);
+	light.diffuse = mrpt::img::TColorf(0.6f, 0.6f, 0.6f, 1.0f);
 	// Named, so that yesslam-render --hide can leave parts out.
 	auto cloud = mrpt::opengl::CPointCloudColoured::Create();
 	cloud->setName("map_points");
