@@ -228,6 +228,32 @@ TEST(SparseMap, AKeyFrameWithALoopEdgeIsNeverCulled)
 	expectGraphMatchesObservations(map);
 }
 
+TEST(SparseMap, AKeyFrameTheLoopStageHoldsIsNotCulledUntilReleased)
+{
+	// Issue 40 b: the loop's current keyframe could be culled between detection and correction
+	// (local mapping goes on with the next keyframes meanwhile); correct() then moved nothing and the
+	// loop still counted as closed. Pinned (as the system pins each keyframe queued for the loop
+	// stage, and the matched one once found), kf1 and kf2 stay; released, they go as before.
+	std::mt19937 rng(4);
+	CSparseMap map;
+	sixViewsOfOneWall(map, rng);
+	ASSERT_TRUE(map.pinKeyFrame(1));
+	ASSERT_TRUE(map.pinKeyFrame(2));
+	ASSERT_TRUE(map.pinKeyFrame(2));  // two stages
+	const auto held = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+	EXPECT_EQ(std::count(held.begin(), held.end(), TKeyFrameId(1)), 0);
+	EXPECT_EQ(std::count(held.begin(), held.end(), TKeyFrameId(2)), 0);
+	EXPECT_FALSE(held.empty()) << "the others still go";
+	map.unpinKeyFrame(1);
+	map.unpinKeyFrame(2);
+	const auto later = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+	EXPECT_EQ(std::count(later.begin(), later.end(), TKeyFrameId(2)), 0) << "still held by one stage";
+	map.unpinKeyFrame(2);
+	for (const auto id : held) EXPECT_FALSE(map.pinKeyFrame(id)) << "a culled keyframe cannot be pinned";
+	EXPECT_FALSE(map.pinKeyFrame(99));
+	expectGraphMatchesObservations(map);
+}
+
 TEST(SparseMap, RecentPointsListHoldsOnlyYoungPoints)
 {
 	std::mt19937 rng(5);

@@ -63,6 +63,22 @@ bool CSparseMap::isBad(TKeyFrameId id) const
 	return s_->keyFrames.at(id)->bad;
 }
 
+bool CSparseMap::pinKeyFrame(TKeyFrameId id)
+{
+	WriteLock lk(mtx_);
+	const auto it = s_->keyFrames.find(id);
+	if (it == s_->keyFrames.end() || it->second->bad) return false;
+	it->second->pinned++;
+	return true;
+}
+
+void CSparseMap::unpinKeyFrame(TKeyFrameId id)
+{
+	WriteLock lk(mtx_);
+	const auto it = s_->keyFrames.find(id);
+	if (it != s_->keyFrames.end() && it->second->pinned > 0) it->second->pinned--;
+}
+
 TKeyFrameId CSparseMap::goodAncestor(TKeyFrameId id) const
 {
 	ReadLock lk(mtx_);

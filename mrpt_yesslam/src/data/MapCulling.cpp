@@ -76,8 +76,9 @@ std::vector<TKeyFrameId> cullRedundantKeyFrames(
 		if (it == s.keyFrames.end()) continue;
 		CKeyFrame& kf = *it->second;
 		// A keyframe that closes a loop stays (ORB-SLAM2's SetNotErase): erased, its loop edge would
-		// leave the essential graph, and a later pose graph would lose the loop without a word.
-		if (kf.bad || !kf.parent || id == currentKf || !kf.loopEdges.empty()) continue;
+		// leave the essential graph, and a later pose graph would lose the loop without a word; so
+		// does one the loop stage is working on (pinned from its queueing to its correction).
+		if (kf.bad || !kf.parent || id == currentKf || !kf.loopEdges.empty() || kf.pinned > 0) continue;
 		std::size_t numPoints = 0, redundant = 0;
 		for (std::size_t i = 0; i < kf.mapPoints.size(); i++)
 		{

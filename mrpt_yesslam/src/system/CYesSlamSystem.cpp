@@ -309,6 +309,13 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	}
 	if (loopDetector_)
 	{
+		// Pinned from here to its correction, so that culling on the next keyframes (this stage,
+		// while the loop stage works) cannot erase it under the loop (issue 40 b); closeLoops unpins.
+		if (!map_.pinKeyFrame(kf))
+		{
+			if (keyFrameCallback_) keyFrameCallback_(kf);
+			return;  // culled already: no loop to close from it
+		}
 		if (loopStage_)
 		{
 			// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local
@@ -324,9 +331,27 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 
 void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 {
+	// `kf` was pinned when it was queued (mapKeyFrame); the matched keyframe is pinned once known.
+	std::vector<TKeyFrameId> pinned{kf};
+	struct TUnpin
+	{
+		CSparseMap& map;
+		std::vector<TKeyFrameId>& ids;
+		~TUnpin()
+		{
+			for (const auto id : ids) map.unpinKeyFrame(id);
+		}
+	} unpin{map_, pinned};
 	auto t0 = Clock::now();
-	const std::optional<TLoop> loop = loopDetector_->detect(kf);
+	std::optional<TLoop> loop = loopDetector_->detect(kf);
 	const double loopMs = msSince(t0);
+	if (loop)
+	{
+		if (map_.pinKeyFrame(loop->matched))
+			pinned.push_back(loop->matched);
+		else
+			loop.reset();  // culled during detection (it was not in the current one's local window)
+	}
 	std::optional<double> correctMs;
 	TLoopCorrection correction;
 	if (loop)
@@ -335,6 +360,9 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 		t0 = Clock::now();
 		correction = loopCloser_->correct(*loop);
 		correctMs = msSince(t0);
+		// A correction that moved nothing (a keyframe of the pair gone) closed no loop: not counted,
+		// no global BA, no callback.
+		if (correction.groupKeyFrames == 0) loop.reset();
 	}
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);

@@ -48,6 +48,9 @@ struct CKeyFrame
 	std::set<TKeyFrameId> children;
 	/** Keyframes it closed a loop with (kept in the essential graph of later corrections). */
 	std::set<TKeyFrameId> loopEdges;
+	/** Stages using it now (loop closing between detection and correction): culling leaves it
+	 * (ORB-SLAM2's SetNotErase / SetErase). Not saved with the map. */
+	int pinned = 0;
 	/** Once bad: its pose relative to its parent (T_parent_this), so frames tracked from it still resolve. */
 	mrpt::poses::CPose3D poseInParent;
 

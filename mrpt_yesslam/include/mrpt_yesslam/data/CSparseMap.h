@@ -107,6 +107,11 @@ class CSparseMap
 	bool hasKeyFrame(TKeyFrameId id) const;
 	/** Whether keyframe `id` was erased (throws std::out_of_range for unknown ids). */
 	bool isBad(TKeyFrameId id) const;
+	/** Keeps keyframe `id` from culling until as many unpinKeyFrame calls (a stage working on it,
+	 * as the loop stage from detection to correction); false when it is unknown or already bad. */
+	bool pinKeyFrame(TKeyFrameId id);
+	/** Undoes one pinKeyFrame. */
+	void unpinKeyFrame(TKeyFrameId id);
 	/** The nearest keyframe up the spanning tree from `id` (itself included) that is not bad. */
 	TKeyFrameId goodAncestor(TKeyFrameId id) const;
 	/** Number of map points that are not bad. */
