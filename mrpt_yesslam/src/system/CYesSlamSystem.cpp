@@ -333,14 +333,11 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 {
 	// `kf` was pinned when it was queued (mapKeyFrame); the matched keyframe is pinned once known.
 	std::vector<TKeyFrameId> pinned{kf};
-	struct TUnpin
+	struct TUnpin  // however closeLoops ends
 	{
 		CSparseMap& map;
-		std::vector<TKeyFrameId>& ids;
-		~TUnpin()
-		{
-			for (const auto id : ids) map.unpinKeyFrame(id);
-		}
+		const std::vector<TKeyFrameId>& ids;
+		~TUnpin() { for (const auto id : ids) map.unpinKeyFrame(id); }
 	} unpin{map_, pinned};
 	auto t0 = Clock::now();
 	std::optional<TLoop> loop = loopDetector_->detect(kf);
@@ -606,13 +603,10 @@ TFrameReport CYesSlamSystem::processFrame(
 		if (const auto kf = recent_.tracked(decision->frameId, map_))
 		{
 			insertKeyFrame(kf, decision->forced);
-			// frames.csv marks the frame a keyframe is made from, Algorithm 1's earlier picks too
-			// (issue 43). With [System] keyFrameFramePose = keyframe that frame also hangs from its
-			// keyframe (ORB-SLAM2 gives a keyframe's frame its optimised pose: trajectory.txt then
-			// agrees with keyframes.txt at the keyframes' stamps). Not the default: measured on the
-			// real Bonn slice (sequential, same build) ATE 14.6 -> 15.0 mm and jitter 6.5 -> 7.3 mm;
-			// hanging the frames tracked since the pick from it as well, 15.2 mm: after local BA the
-			// keyframe stands out of the neighbours hung from the keyframe they were tracked against.
+			// frames.csv marks the frame a keyframe is made from, Algorithm 1's earlier picks too (issue
+			// 43); [System] keyFrameFramePose = keyframe also hangs it from its keyframe (ORB-SLAM2's;
+			// not the default: after local BA it stood out of its neighbours, real Bonn slice 14.5 ->
+			// 14.9 mm, jitter 6.6 -> 7.2; README).
 			const bool own = opts_.system.keyFrameFramePose == "keyframe";
 			const CTracker::TAnchor onKf{*lastKeyFrame_, mrpt::poses::CPose3D()};
 			if (kf->id == frame->id)
