@@ -8,6 +8,7 @@
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ProgressBar.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
 
@@ -187,7 +188,7 @@ int main(int argc, char** argv)
 					s.input.disconnected ? "; the camera stopped delivering frames" : "");
 			if (!o.record.empty()) std::printf("recorded:        %zu frames to %s\n", s.input.recorded, o.record.c_str());
 			if (!o.loadMap.empty())
-				std::printf("map loaded:      %s (%zu keyframes, %zu points)%s\n", o.loadMap.c_str(), s.mapFiles.loadedKeyFrames, s.mapFiles.loadedPoints,
+				std::printf("map loaded:      %s (%s, %zu points)%s\n", o.loadMap.c_str(), countOf(s.mapFiles.loadedKeyFrames, "keyframe").c_str(), s.mapFiles.loadedPoints,
 							o.slam.system.localizeOnly ? ", localisation only" : "");
 			std::printf("frames:          %zu\n", st.frames);
 			std::printf(
@@ -226,7 +227,7 @@ int main(int argc, char** argv)
 				"outputs:         %s/{trajectory.txt,trajectory_online.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
 				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
 			if (!o.saveMap.empty() && s.mapFiles.saveError.empty() && s.mapFiles.savedBytes > 0)
-				std::printf("map saved:       %s (%zu keyframes, %zu points, %.1f MB)\n", o.saveMap.c_str(), st.keyFramesInMap, st.mapPoints, s.mapFiles.savedBytes / 1e6);
+				std::printf("map saved:       %s (%s, %zu points, %.1f MB)\n", o.saveMap.c_str(), countOf(st.keyFramesInMap, "keyframe").c_str(), st.mapPoints, s.mapFiles.savedBytes / 1e6);
 			if (s.evaluated)
 			{
 				std::printf("ground truth:    %s\n", s.groundTruth.c_str());

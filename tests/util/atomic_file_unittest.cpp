@@ -3,7 +3,9 @@
 // gets the bytes, the FIFO stays a FIFO), a directory is refused with one line; a regular file is
 // still replaced atomically, leaving no temporary file behind.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -96,4 +98,31 @@ TEST(AtomicFile, ADirectoryIsRefusedWithOneLine)
 		EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
 	}
 	EXPECT_TRUE(fs::is_directory(d / "sub"));
+}
+
+// Issue 43 item 5: an output named by one of our descriptors (/dev/stdout redirected to a file,
+// /proc/self/fd/N) is written at the descriptor, after what was written there: not reopened,
+// truncated or replaced. The same for a rawlog recorded there.
+TEST(AtomicFile, ADescriptorOfOursIsWrittenAfterWhatItHolds)
+{
+	TempDir d("atomic_fd");
+	const std::string file = d / "out.txt";
+	const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+	ASSERT_GE(fd, 0);
+	ASSERT_EQ(::write(fd, "lines\n", 6), 6);
+	const std::string name = "/proc/self/fd/" + std::to_string(fd);
+	EXPECT_EQ(outputTarget(name).fd, fd);
+	EXPECT_EQ(outputTarget("/dev/stdout").fd, 1);
+	EXPECT_EQ(outputTarget("/dev/fd/2").fd, 2);
+	writeFileAtomically(name, std::string("{\"json\": 1}\n"));
+	{
+		CRawlogWriter w(name);
+		EXPECT_GT(w.commit(), 0u);  // an empty rawlog still has its gzip header
+	}
+	::close(fd);
+	const std::string text = readText(file);
+	EXPECT_EQ(text.rfind("lines\n{\"json\": 1}\n", 0), 0u) << text.substr(0, 40);
+	EXPECT_GT(text.size(), 20u) << "the rawlog follows";
+	EXPECT_TRUE(fs::is_regular_file(file));
+	for (const auto& e : fs::directory_iterator(d.path())) EXPECT_EQ(e.path().filename(), "out.txt") << "no temporary file left";
 }

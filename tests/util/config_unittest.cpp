@@ -11,6 +11,7 @@
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
@@ -289,4 +290,16 @@ TEST(Config, AKeySetTwiceAndABrokenSectionWarnOnceWithTheToolsName)
 	EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 	EXPECT_EQ(err.rfind("sometool: warning: ", 0), 0u) << err;
 	EXPECT_NE(err.find("closing ']'"), std::string::npos) << err;
+}
+
+// Issue 43 item 9: "1 keyframe", never "1 keyframes"; no "-0.000000000" in files.
+TEST(TextParsing, CountsReadRightAndZeroHasNoSign)
+{
+	EXPECT_EQ(countOf(1, "keyframe"), "1 keyframe");
+	EXPECT_EQ(countOf(0, "keyframe"), "0 keyframes");
+	EXPECT_EQ(countOf(12, "keyframe"), "12 keyframes");
+	char b[32];
+	std::snprintf(b, sizeof(b), "%.9f", withoutNegativeZero(-1e-12));
+	EXPECT_STREQ(b, "0.000000000");
+	EXPECT_EQ(withoutNegativeZero(-0.001), -0.001);
 }

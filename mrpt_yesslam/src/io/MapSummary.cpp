@@ -1,4 +1,5 @@
 #include "mrpt_yesslam/io/MapSummary.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -72,7 +73,7 @@ std::string formatMapSummary(const TMapSummary& s)
 	out += "labels:      ";
 	if (s.classes.empty()) out += " none";
 	for (std::size_t i = 0; i < s.classes.size(); i++)
-		out += (i ? ", " : " ") + s.classes[i].first + " (" + std::to_string(s.classes[i].second) + " keyframes)";
+		out += (i ? ", " : " ") + s.classes[i].first + " (" + countOf(s.classes[i].second, "keyframe") + ")";
 	out += "\n";
 	return out;
 }
