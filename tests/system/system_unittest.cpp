@@ -351,6 +351,57 @@ TEST(System, FrameBufferShorterThanTheIntervalIsRefused)
 	EXPECT_NO_THROW(CYesSlamSystem sys(o));
 }
 
+// Issue 40 d: after a failure on the mapping stage, the error reached the caller while later
+// keyframes were still being mapped, so the outputs written then came from a map still changing.
+// Every keyframe's consumer takes its time and the second one fails: the keyframes after it are
+// queued or mapped while it fails; when the error reaches the caller, no stage is still working.
+TEST(System, AFailedStageSettlesEveryStageBeforeTheErrorReachesTheCaller)
+{
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = walkingSequence() + "/detections.txt";
+	o.system.parallel = true;
+	CYesSlamSystem sys(o);
+	std::atomic<int> entered{0}, left{0};
+	sys.setKeyFrameCallback(
+		[&](TKeyFrameId k)
+		{
+			entered++;
+			struct TLeave
+			{
+				std::atomic<int>& n;
+				~TLeave() { n++; }
+			} leave{left};
+			std::this_thread::sleep_for(std::chrono::milliseconds(300));
+			if (k == 1) throw std::runtime_error("disk full");
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t errors = 0;
+	while (auto obs = src->next())
+	{
+		try
+		{
+			sys.processFrame(*obs);
+		}
+		catch (const std::runtime_error&)
+		{
+			errors++;
+			EXPECT_EQ(entered.load(), left.load()) << "a stage still ran when the error came";
+		}
+	}
+	try
+	{
+		sys.waitForMapping();
+	}
+	catch (const std::runtime_error&)
+	{
+		errors++;
+	}
+	EXPECT_EQ(entered.load(), left.load()) << "a stage still ran when the error came";
+	EXPECT_GE(errors, 1u);
+	EXPECT_GE(entered.load(), 4);
+}
+
 TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
 {
 	TYesSlamOptions o;

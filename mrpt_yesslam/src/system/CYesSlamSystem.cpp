@@ -15,6 +15,7 @@
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
+#include "mrpt_yesslam/util/StageTasks.h"
 #include "mrpt_yesslam/io/MapFile.h"
 
 namespace mrpt_yesslam
@@ -378,30 +379,6 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 	if (loopCallback_) loopCallback_(*loop);
 }
 
-namespace
-{
-// Collects the finished tasks of one stage in order (all of them with `wait`); the first failure
-// is rethrown as "<stage> failed: ...".
-void collectTasks(std::deque<std::future<void>>& tasks, bool wait, const char* stage)
-{
-	while (!tasks.empty())
-	{
-		auto& f = tasks.front();
-		if (!wait && f.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-		std::future<void> done = std::move(f);
-		tasks.pop_front();
-		try
-		{
-			done.get();
-		}
-		catch (const std::exception& e)
-		{
-			throw std::runtime_error(std::string(stage) + " failed: " + e.what());
-		}
-	}
-}
-}  // namespace
-
 void CYesSlamSystem::collectMapping(bool wait)
 {
 	collectTasks(denseTasks_, wait, "dense mapping");
@@ -424,8 +401,22 @@ void CYesSlamSystem::collectMapping(bool wait)
 	}
 }
 
+void CYesSlamSystem::settle() noexcept
+{
+	// Mapping tasks queue loop tasks, which queue global BAs: until every queue stays empty.
+	for (bool any = true; any;)
+		any = waitForTasks(denseTasks_) | waitForTasks(mappingTasks_) | waitForTasks(loopTasks_, &loopTasksMtx_) | waitForTasks(gbaTasks_, &gbaMtx_);
+}
+
 void CYesSlamSystem::waitForMapping()
 {
+	// The first failure is rethrown only once every stage has settled: the caller then writes its
+	// outputs from a map no stage is still changing (issue 40 d).
+	struct TSettle
+	{
+		CYesSlamSystem& s;
+		~TSettle() { s.settle(); }
+	} settleOnExit{*this};
 	collectMapping(true);
 	// Then the global BA the last keyframes may have asked for.
 	for (;;)
@@ -500,7 +491,15 @@ void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool
 TFrameReport CYesSlamSystem::processFrame(
 	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera, std::optional<double> depthTime)
 {
-	collectMapping(false);	// a failure of the mapping stage ends the run here, with its message
+	try
+	{
+		collectMapping(false);	// a failure of the mapping stage ends the run here, with its message
+	}
+	catch (...)
+	{
+		settle();  // after the stages stopped changing the map (issue 40 d)
+		throw;
+	}
 	TFrameReport rep;
 	std::map<std::string, double> ms;
 	const std::shared_ptr<TFrame> f = builder_.build(bgr, depth, timestamp, camera, nextFrameId_++, &ms);

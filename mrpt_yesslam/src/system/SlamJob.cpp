@@ -489,13 +489,7 @@ TSlamJobSummary runSlamJob(
 		{
 			// Already failing: the first error is the one reported.
 		}
-		try
-		{
-			sys.waitForMapping();
-		}
-		catch (const std::exception&)
-		{
-		}
+		sys.settle();  // every stage done before the outputs (its failures are not this error)
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
 		throw;
 	}

@@ -124,8 +124,11 @@ class CYesSlamSystem
 		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera,
 		std::optional<double> depthTime = std::nullopt);
 	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
-	 * local mapping failed (once per failure). */
+	 * local mapping failed (once per failure). Every stage has settled when it returns or throws. */
 	void waitForMapping();
+	/** Waits until no stage (dense, mapping, loop, global BA) has work queued or running, ignoring
+	 * their failures (already reported, or to be dropped): after an error, before the outputs. */
+	void settle() noexcept;
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
 	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }
