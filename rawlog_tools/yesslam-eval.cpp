@@ -20,12 +20,12 @@ int main(int argc, char** argv)
 		"yesslam-eval",
 		[&]() -> int
 		{
-			std::string gtPath, estPath, jsonPath, plotPath, errorsPath, unit = "s", gtFormat = "tum";
+			std::string gtPath, estPath, jsonPath, plotPath, errorsPath, unit = "s", gtFormat = "auto";
 			bool noAlign = false;
 			TEvalOptions o;
 			CommandLine cl(
 				"yesslam-eval",
-				"yesslam-eval --gt GT.txt [--gt-format tum|bonn] --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3 | --no-align] [--rpe-delta 1] "
+				"yesslam-eval --gt GT.txt [--gt-format auto|tum|bonn] --est EST.txt [--max-diff 0.02] [--offset 0] [--sim3 | --no-align] [--rpe-delta 1] "
 				"[--rpe-unit s|f] [--json OUT.json] [--errors OUT.csv] [--plot OUT.png]",
 				"Absolute trajectory error (ATE) and relative pose error (RPE) of a TUM-format trajectory, computed\n"
 				"as the TUM RGB-D benchmark's evaluate_ate.py and evaluate_rpe.py --fixed_delta compute them:\n"
@@ -36,8 +36,8 @@ int main(int argc, char** argv)
 				 "yesslam-eval --gt rgbd_bonn_crowd/groundtruth.txt --gt-format bonn --est trajectory.txt"});
 			cl.text("gt", "FILE", "ground-truth trajectory (TUM format)", &gtPath, true);
 			cl.text(
-				"gt-format", "tum|bonn",
-				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform (without it RPE compares marker and camera motion)",
+				"gt-format", "auto|tum|bonn",
+				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform; auto (default) = bonn when the file's folder or name says bonn (the dataset's rgbd_bonn_* folders), else tum (without it RPE compares marker and camera motion)",
 				&gtFormat);
 			cl.text("est", "FILE", "estimated trajectory (TUM format)", &estPath, true);
 			cl.number("max-diff", "SECONDS", "largest stamp difference for an associated pair", &o.maxDiff);
@@ -61,7 +61,9 @@ int main(int argc, char** argv)
 			if (o.rpeDeltaInFrames && o.rpeDelta != std::floor(o.rpeDelta))
 				throw InputError("", "--rpe-delta counts frames with --rpe-unit f: a whole number, got " + std::to_string(o.rpeDelta));
 
-			const EGroundTruthFormat format = parseGroundTruthFormat(gtFormat);
+			const EGroundTruthFormat format = resolveGroundTruthFormat(gtPath, parseGroundTruthFormat(gtFormat));
+			if (format == EGroundTruthFormat::Bonn)
+				std::fprintf(stderr, "yesslam-eval: note: %s: %s\n", gtPath.c_str(), describeGroundTruthFormat(format).c_str());
 			const TTrajectory gt = readGroundTruth(gtPath, format);
 			const TTrajectory est = readTumTrajectory(estPath);
 			if (gt.empty()) throw InputError(gtPath, "contains no poses");

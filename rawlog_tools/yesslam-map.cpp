@@ -88,7 +88,8 @@ int main(int argc, char** argv)
 			}
 			if (!ply.empty())
 			{
-				writeDenseCloudPly(ply, mapPointCloud(m, info.worldFrame.worldFromMap), names, "sparse map points, without labels (label 0; the dense semantic map is yesslam's dense_cloud.ply)");
+				writeDenseCloudPly(ply, mapPointCloud(m, info.worldFrame.worldFromMap), names, "sparse map points, without labels (label 0; the dense semantic map is yesslam's dense_cloud.ply)",
+					info.worldFrame.describe());
 				std::printf("ply:          %s\n", ply.c_str());
 			}
 			if (!bt.empty())

@@ -8,6 +8,8 @@ BUILD="${1:-$ROOT/build}"
 shift || true
 LAUNCHER=()
 command -v ccache >/dev/null && LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+# ccache caches files compiled with the precompiled header only with these (its manual's PCH section).
+export CCACHE_SLOPPINESS="pch_defines,time_macros,include_file_mtime,include_file_ctime"
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "${LAUNCHER[@]}" "$@" >/dev/null
 TARGETS=()
 for t in ${YESSLAM_TARGETS:-}; do TARGETS+=(--target "$t"); done

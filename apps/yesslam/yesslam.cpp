@@ -2,6 +2,7 @@
 // OpenNI2 camera.
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/system/SlamJob.h"
@@ -19,14 +20,14 @@ int main(int argc, char** argv)
 		[&]() -> int
 		{
 			TSlamJobOptions o;
-			std::string config, detector = "auto", policy, camera, worldFrame, gtFormat = "tum";
+			std::string config, detector = "auto", policy, camera, worldFrame, gtFormat = "auto";
 			bool noDynamic = false, noLoop = false, noDense = false, sequential = false, quiet = false, listDevices = false,
 				 localizeOnly = false;
 			double octomapRes = 0.05, width = 640, height = 480, fps = 30, speed = 1;
 			CommandLine cl(
 				"yesslam",
 				"yesslam --input PATH [--config CFG.ini] --out OUTDIR [--detector auto|yolo|file|hog|none] "
-				"[--no-dynamic-filter] [--max-frames N] [--gt GT.txt [--gt-format tum|bonn]]",
+				"[--no-dynamic-filter] [--max-frames N] [--gt GT.txt [--gt-format auto|tum|bonn]]",
 				"RGB-D SLAM for scenes with moving people (the YES-SLAM method): detects people, cuts them out of\n"
 				"the depth image with an edge-enhanced flood fill, tracks ORB features of the static scene only,\n"
 				"selects keyframes semantically, refines a local map with bundle adjustment (Ceres) and closes loops\n"
@@ -96,8 +97,8 @@ int main(int argc, char** argv)
 			cl.count("skip-frames", "N", "recorded input: start N frames in (the ones before are read and dropped)", &o.skipFrames);
 			cl.text("gt", "FILE", "ground-truth trajectory (TUM format) to evaluate against", &o.groundTruth);
 			cl.text(
-				"gt-format", "tum|bonn",
-				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform",
+				"gt-format", "auto|tum|bonn",
+				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform; auto (default) = bonn when the file's folder or name says bonn (the dataset's rgbd_bonn_* folders), else tum",
 				&gtFormat);
 			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &camera);
 			cl.text(
@@ -165,9 +166,15 @@ int main(int argc, char** argv)
 				o.slam.dense.enabled = false;  // no keyframes to build it from
 			}
 
+			// What a second Ctrl-C does depends on the phase: each phase's line made once, before
+			// the handler may print it.
+			static std::map<ESlamJobPhase, std::string> secondNote;
+			for (auto p : {ESlamJobPhase::Frames, ESlamJobPhase::FinalMapping, ESlamJobPhase::Saving})
+				secondNote[p] = std::string("\nyesslam: ") + secondInterruptNote(p) + "\n";
 			installInterruptHandler(
 				"\nyesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet written)\n",
-				"\nyesslam: second Ctrl-C: the file being written is finished, the rest skipped (Ctrl-C once more kills at once)\n");
+				secondNote[ESlamJobPhase::Frames].c_str());
+			o.onPhase = [](ESlamJobPhase p) { setAbortMessage(secondNote.at(p).c_str()); };
 			ProgressBar bar("yesslam", 0, !quiet);
 			const TSlamJobSummary s = runSlamJob(
 				o,
@@ -230,7 +237,7 @@ int main(int argc, char** argv)
 				std::printf("map saved:       %s (%s, %zu points, %.1f MB)\n", o.saveMap.c_str(), countOf(st.keyFramesInMap, "keyframe").c_str(), st.mapPoints, s.mapFiles.savedBytes / 1e6);
 			if (s.evaluated)
 			{
-				std::printf("ground truth:    %s\n", s.groundTruth.c_str());
+				std::printf("ground truth:    %s (%s)\n", s.groundTruth.c_str(), describeGroundTruthFormat(s.groundTruthFormat).c_str());
 				std::fputs(formatEvalKeyValues(s.eval).c_str(), stdout);
 				if (!s.eval.hasRpe) std::fprintf(stderr, "yesslam: note: no RPE (%s)\n", s.eval.rpeProblem.c_str());
 				// What a robot had while it moved (trajectory_online.txt), beside the file smoothed after the run.

@@ -635,6 +635,21 @@ TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
 	refused("parent without child", mapBody(map, [](auto& k, auto&) { k[0].children.clear(); }), "does not list it as a child");
 	// A keyframe naming a point that does not observe it back.
 	refused("one-way observation", mapBody(map, [](auto&, auto& p) { p[5].observations.erase(1); }), "not observed back");
+	// Issue 40 (g): covisibility weights the observations do not back are recounted, not trusted:
+	// a weight of 500 on 30 shared points, a connection to the first keyframe dropped.
+	{
+		CSparseMap m;
+		std::istringstream in(mapBody(map, [](auto& k, auto&) {
+			k[1].connections[0] = 500;
+			k[0].connections.clear();
+			k[0].orderedConnections.clear();
+		}), std::ios::binary);
+		m.deserialize(in);
+		EXPECT_EQ(m.keyFrame(1).weight(0), 30);
+		EXPECT_EQ(m.keyFrame(0).weight(1), 30);
+		EXPECT_EQ(m.covisible(0, 5), (std::vector<TKeyFrameId>{1}));
+		expectGraphMatchesObservations(m);
+	}
 	// Id counters that would overflow.
 	refused("point counter", mapBody(map, [](auto&, auto&) {}, 0, std::int64_t(1) << 62), "id counter out of range");
 

@@ -31,8 +31,9 @@ TEST(GroundTruthFormat, BonnMarkerPosesBecomeTheCameraPosesARealRunMeasures)
 	o.slam.system.parallel = false;
 	o.slam.dense.enabled = false;
 	o.slam.loop.detection.enabled = false;
-	o.groundTruthFormat = EGroundTruthFormat::Bonn;
+	// Issue 42 item 4: the folder is recognised as Bonn's without --gt-format (the default, auto).
 	const TSlamJobSummary s = runSlamJob(o);
+	EXPECT_EQ(s.groundTruthFormat, EGroundTruthFormat::Bonn);
 	ASSERT_TRUE(s.evaluated) << s.evalProblem;
 	ASSERT_TRUE(s.eval.hasRpe) << s.eval.rpeProblem;
 
@@ -60,4 +61,11 @@ TEST(GroundTruthFormat, AnUnknownFormatIsAOneLineError)
 	EXPECT_EQ(parseGroundTruthFormat("BONN"), EGroundTruthFormat::Bonn);
 	EXPECT_EQ(parseGroundTruthFormat("tum"), EGroundTruthFormat::Tum);
 	expectInputError([] { parseGroundTruthFormat("kitti"); }, {"--gt-format", "'kitti'", "tum", "bonn"});
+	// auto: the dataset's folders (rgbd_bonn_<sequence>) and files named for it are Bonn's, others TUM's;
+	// a format given is kept.
+	EXPECT_EQ(parseGroundTruthFormat("Auto"), EGroundTruthFormat::Auto);
+	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_bonn_crowd/groundtruth.txt", EGroundTruthFormat::Auto), EGroundTruthFormat::Bonn);
+	EXPECT_EQ(resolveGroundTruthFormat("rec/rgbd_bonn_crowd2_groundtruth.txt", EGroundTruthFormat::Auto), EGroundTruthFormat::Bonn);
+	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_dataset_freiburg3_walking_xyz/groundtruth.txt", EGroundTruthFormat::Auto), EGroundTruthFormat::Tum);
+	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_bonn_crowd/groundtruth.txt", EGroundTruthFormat::Tum), EGroundTruthFormat::Tum);
 }

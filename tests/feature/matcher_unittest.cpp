@@ -141,6 +141,19 @@ TEST(OrbMatcher, ViewChecksSearchAPointOnlyWhereItsPyramidAndItsViewsReach)
 	EXPECT_EQ(found[0].keypoint, 0u);
 	EXPECT_EQ(found[1].point, 3u);
 	EXPECT_EQ(found[1].keypoint, 4u);
+	// Issue 40 (f): the pyramid's reach is the extractor's levels, not the frame's coarsest
+	// keypoint. Without the keypoints of levels 4 and 7 the frame still searched 8 levels: point 3,
+	// at level 4 from here, is in view (its keypoint of level 0 is not its match).
+	TFrame fine = f;
+	fine.features.keypoints[4].octave = 0;
+	fine.features.keypoints[5].octave = 0;
+	fine.features.levels = 8;
+	EXPECT_TRUE(m.searchByProjection(fine, mrpt::poses::CPose3D(), pts, 4.0, &inView, false, 1.2, true).size() == 1u);
+	EXPECT_EQ(inView, (std::vector<std::size_t>{0, 3}));
+	// Features of unknown origin: the highest keypoint level stands for the pyramid.
+	fine.features.levels = 0;
+	m.searchByProjection(fine, mrpt::poses::CPose3D(), pts, 4.0, &inView, false, 1.2, true);
+	EXPECT_EQ(inView, (std::vector<std::size_t>{0}));
 	// Points without views (made from a frame) are searched as before.
 	pts.normals.clear();
 	EXPECT_EQ(m.searchByProjection(f, mrpt::poses::CPose3D(), pts, 4.0, &inView, false, 1.2, true).size(), 4u);

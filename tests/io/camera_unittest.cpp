@@ -71,6 +71,31 @@ TEST(Camera, BadCameraFilesAndSpecs)
 	expectInputError([&] { resolveTumCamera("", plain.path()); }, {"cannot tell the camera"});
 }
 
+TEST(Camera, TheReadoutIsKnownForTheCamerasThatHaveOneAndNotAssumedForOthers)
+{
+	// Issue 42 item 4: a 28 ms readout was assumed for every camera. Now it is known for the TUM
+	// presets and calibration files in freiburg or Bonn folders (Kinect v1, Xtion), given by a camera
+	// file's line of one number, and unknown (-1) otherwise. Bonn RGB-D Dynamic Dataset's calibration
+	// (research data, test use only: ../shared/data/bonn_crowd_dev/SOURCE.md); TUM RGB-D (CC BY 4.0).
+	EXPECT_DOUBLE_EQ(tumCameraByName("fr2").readout, 0.028);
+	EXPECT_DOUBLE_EQ(readCameraFile(sharedFile("data/bonn_crowd_dev/calibration.txt")).readout, -1.0);
+	EXPECT_DOUBLE_EQ(resolveTumCamera("", sharedFile("data/bonn_crowd_dev")).readout, 0.028);
+	EXPECT_DOUBLE_EQ(resolveTumCamera("", sharedFile("data/tum_fr1_desk_9frames")).readout, 0.028);
+	TempDir d("readout_cam");
+	writeText(d / "calibration.txt", "535.4 539.2 320.1 247.6\n");
+	EXPECT_DOUBLE_EQ(resolveTumCamera("", d.path()).readout, -1.0) << "a camera nobody named";
+	writeText(d / "rs.txt", "535.4 539.2 320.1 247.6 640 480 5000\n0.1 0.2 0.3 0.4 0.5\n0.0165\n");
+	const auto c = readCameraFile(d / "rs.txt");
+	EXPECT_DOUBLE_EQ(c.readout, 0.0165);
+	EXPECT_DOUBLE_EQ(c.intrinsics.dist[4], 0.5);
+	writeText(d / "gs.txt", "535.4 539.2 320.1 247.6\n0\n");
+	EXPECT_DOUBLE_EQ(readCameraFile(d / "gs.txt").readout, 0.0) << "a global shutter, without distortion";
+	writeText(d / "slow.txt", "535.4 539.2 320.1 247.6\n0.5\n");
+	expectInputError([&] { readCameraFile(d / "slow.txt"); }, {"slow.txt", "readout", "0 to 0.1"});
+	writeText(d / "three.txt", "535.4 539.2 320.1 247.6\n0.1 0.2 0.3 0.4 0.5\n1 2\n");
+	expectInputError([&] { readCameraFile(d / "three.txt"); }, {"three.txt", "line 3", "has 2"});
+}
+
 TEST(Camera, ASimulatedSequenceStatesItsRollingShutterAndARecordingDoesNot)
 {
 	// [Tracking] rollingShutter = -1 (auto): a yesslam-sim sequence's readout from its meta.json

@@ -17,6 +17,7 @@
 #include "mrpt_yesslam/feature/COrbExtractor.h"
 #include "mrpt_yesslam/place/CBowDatabase.h"
 #include "mrpt_yesslam/place/CVocabulary.h"
+#include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/PoseGraph.h"
 #include "mrpt_yesslam/system/SlamJob.h"
 
@@ -199,6 +200,41 @@ TEST(LoopClosing, NoLoopIsAcceptedWithoutARevisitWhilePeopleWalkPastLookAlikeWal
 	EXPECT_GT(s.stats.loops.queries, 20u);
 	EXPECT_EQ(s.stats.loops.accepted, 0u);
 	EXPECT_EQ(s.stats.loopCorrections, 0u);
+}
+
+// Issue 40 (c): the loop edge is measured from the matched keyframe's pose when the correction is
+// applied, not when the loop was detected. Between the two (the loop stage queues), a local or global
+// BA moved the matched keyframe 3 cm: the current keyframe must land at its pose now times the
+// verified relative pose, not where detection's pose put it.
+TEST(LoopClosing, TheLoopEdgeIsMeasuredFromTheMatchedKeyFramesPoseWhenItIsApplied)
+{
+	std::mt19937 rng(11);
+	std::vector<mrpt::math::TPoint3D> placeA, placeB;
+	for (int i = 0; i < 40; i++)
+	{
+		placeA.emplace_back(-1.0 + 0.05 * i, -0.4 + 0.02 * (i % 9), 2.5 + 0.01 * (i % 5));
+		placeB.emplace_back(-1.0 + 0.05 * i, -0.4 + 0.02 * (i % 9), 3.0 + 0.01 * (i % 5));
+	}
+	CSparseMap map;
+	const TKeyFrameId matched = map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), placeA, std::vector<TPointId>(40, -1), rng), 10.0);
+	// The current keyframe sees other points (no covisibility: a loop, not a neighbour), drifted.
+	const TKeyFrameId current =
+		map.addKeyFrame(observeWorld(1, mrpt::poses::CPose3D(0.15, 0.02, 0, 0.05, 0, 0), placeB, std::vector<TPointId>(40, -1), rng), 10.0);
+	ASSERT_EQ(map.keyFrame(current).weight(matched), 0);
+	TLoop loop;
+	loop.current = current;
+	loop.matched = matched;
+	loop.relative = mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0);  // verified: T_matched_current
+	loop.correctedPose = map.keyFramePose(matched) + loop.relative;	 // at detection
+	// A BA moves the matched keyframe before the correction is applied.
+	const mrpt::poses::CPose3D movedTo(0, 0.03, 0, 0.02, 0, 0);
+	map.correctKeyFrames({{matched, movedTo}});
+	CLoopCloser closer(CLoopCloser::TOptions(), map);
+	const TLoopCorrection c = closer.correct(loop);
+	EXPECT_GT(c.groupKeyFrames, 0u);
+	const mrpt::poses::CPose3D rel = (-map.keyFramePose(matched)) + map.keyFramePose(current);
+	EXPECT_LT((rel.asVectorVal() - loop.relative.asVectorVal()).norm(), 1e-4) << rel;
+	EXPECT_LT((map.keyFramePose(matched).asVectorVal() - movedTo.asVectorVal()).norm(), 1e-9) << "the matched place stays fixed";
 }
 
 TEST(LoopClosing, ACorrectionWhileTrackingContinuesLosesNothing)

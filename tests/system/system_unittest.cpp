@@ -698,6 +698,61 @@ TEST(System, ALoopCorrectionDuringAFramesOwnKeyFrameCarriesOverToTheNextPredicti
 	EXPECT_LT(computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse, 0.02);
 }
 
+// Issue 40 (a), item 3: a correction from another thread (the loop stage, a global BA, an outside
+// pose graph) that comes while a frame is being tracked waits until the frame is tracked and its
+// keyframe inserted (the map-update lock's protocol). Before, it landed inside track(): the frame
+// was matched against points already moved with a prediction from before, anchored to the moved
+// keyframe with a stale relative pose, and the next frame could not see that a correction came.
+// The test-only hook runs inside tracking, where such a correction would land, and gives it the
+// time it needs.
+TEST(System, ACorrectionFromAnotherThreadWaitsUntilTheFrameBeingTrackedIsDone)
+{
+	const TTrajectory gt = readTumTrajectory(walkingSequence() + "/groundtruth.txt");
+	TYesSlamOptions o = walkingSystemOptions();
+	o.dense.enabled = false;
+	CYesSlamSystem sys(o);
+	const mrpt::poses::CPose3D T(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0));
+	std::thread corrector;
+	std::atomic<bool> landed{false};
+	bool fired = false, landedInside = false;
+	std::size_t calls = 0;
+	sys.setTrackingHook(
+		[&]
+		{
+			if (fired || ++calls < 20) return;
+			fired = true;
+			std::map<TKeyFrameId, mrpt::poses::CPose3D> corrected;
+			for (const auto& k : sys.map().keyFramePoses())
+				if (!k.bad) corrected[k.id] = T + k.pose;
+			corrector = std::thread(
+				[&sys, &landed, corrected]
+				{
+					sys.correctMap(corrected);
+					landed = true;
+				});
+			for (int i = 0; i < 100 && !landed; i++) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+			landedInside = landed;
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t after = 0;
+	while (auto obs = src->next())
+	{
+		const bool before = fired;
+		const TFrameReport r = sys.processFrame(*obs);
+		if (corrector.joinable()) corrector.join();
+		if (!before && !fired) continue;
+		EXPECT_TRUE(r.tracked) << "frame " << r.frameId;
+		EXPECT_FALSE(r.relocalised) << "frame " << r.frameId << " had to be found again";
+		after++;
+	}
+	ASSERT_TRUE(fired);
+	EXPECT_TRUE(landed);
+	EXPECT_FALSE(landedInside) << "the correction landed inside the frame's tracking";
+	ASSERT_GT(after, 20u);
+	// Every pose follows its keyframe through the correction: the trajectory is one rigid piece.
+	EXPECT_LT(computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse, 0.02);
+}
+
 TEST(System, DepthTakenAtAnotherMomentIsMovedToTheColourImages)
 {
 	// Issue 27: where a TUM folder's depth image was taken at another moment than its colour image

@@ -17,6 +17,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/system/SlamJob.h"
 
 #include <cmath>
 
@@ -238,6 +239,33 @@ TEST(Interrupt, ASecondCtrlCWhileSavingKeepsWhatIsWrittenAndSaysWhatIsNot)
 	}
 	for (const auto& e : fs::directory_iterator(out))
 		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
+}
+
+// Issue 42 item 4: a second Ctrl-C during the final mapping said "the file being written is
+// finished" when no file was being written. The run tells its phases; in each, the line a second
+// Ctrl-C prints says what it does then. Real frames: ../shared/data/tum_fr1_desk_9frames (TUM RGB-D,
+// CC BY 4.0, see its SOURCE.md).
+TEST(Interrupt, ASecondCtrlCSaysWhatItDoesInThePhaseItComesIn)
+{
+	TempDir d("phases");
+	mrpt_yesslam::TSlamJobOptions o;
+	o.input = sharedFile("data/tum_fr1_desk_9frames");
+	o.outDir = d / "run";
+	o.slam.detector.backend = "none";
+	o.slam.input.camera = "fr1";
+	std::vector<std::pair<mrpt_yesslam::ESlamJobPhase, bool>> seen;  // phase, trajectory.txt there yet
+	o.onPhase = [&](mrpt_yesslam::ESlamJobPhase p) { seen.emplace_back(p, fs::exists(d / "run/trajectory.txt")); };
+	mrpt_yesslam::runSlamJob(o);
+	using P = mrpt_yesslam::ESlamJobPhase;
+	ASSERT_EQ(seen.size(), 3u);
+	EXPECT_EQ(seen[0], std::make_pair(P::Frames, false));
+	EXPECT_EQ(seen[1], std::make_pair(P::FinalMapping, false));
+	EXPECT_EQ(seen[2], std::make_pair(P::Saving, false));
+	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
+	const std::string mapping = mrpt_yesslam::secondInterruptNote(P::FinalMapping), saving = mrpt_yesslam::secondInterruptNote(P::Saving);
+	EXPECT_EQ(mapping.find("file being written"), std::string::npos) << mapping;
+	EXPECT_NE(mapping.find("final mapping runs to its end"), std::string::npos) << mapping;
+	EXPECT_NE(saving.find("the file being written is finished"), std::string::npos) << saving;
 }
 
 TEST(Interrupt, SigtermEndsTheRunCleanlyWithExitCode143)

@@ -343,6 +343,13 @@ TEST(Tools, OutputsAreZUpLevelledByTheFloorAndOpticalKeepsTheFirstCamerasFrame)
 	const std::string head = readText(d / "run/trajectory.txt");
 	EXPECT_NE(head.find("# world frame: zup (x forward, y left, z up), levelled by the floor plane: floor at z = 0"), std::string::npos) << head.substr(0, 400);
 	EXPECT_NE(head.find("# T_world_map: "), std::string::npos);
+	// Issue 42 item 4: the dense cloud's header names the frame its points are in (it said
+	// "world = first keyframe" over z-up points).
+	const std::string ply = readText(d / "run/dense_cloud.ply");
+	const std::string plyHead = ply.substr(0, ply.find("end_header"));
+	EXPECT_NE(plyHead.find("comment world frame: zup (x forward, y left, z up), levelled by the floor plane"), std::string::npos) << plyHead;
+	EXPECT_NE(plyHead.find("comment T_world_map: "), std::string::npos) << plyHead;
+	EXPECT_EQ(plyHead.find("world = first keyframe"), std::string::npos) << plyHead;
 	const auto est = mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt");
 	const auto gt = mrpt_yesslam::readTumTrajectory(seq + "/groundtruth.txt");
 	std::map<long long, mrpt::poses::CPose3D> truth;
@@ -803,12 +810,16 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 	}
 	ASSERT_GT(unpaired, 0u);
 	ASSERT_LT(unpaired, 8u);
-	writeText(d / "tight.ini", "[Input]\nmaxDiff = 0.0134\n");
+	writeText(d / "tight.ini", "[Input]\nmaxDiff = 0.0134\n[Tracking]\ndepthMoment = true\n");
 	const auto tight = runTool("yesslam", {"--input", desk, "--out", d / "tight", "--detector", "none", "--quiet", "--config", d / "tight.ini"});
 	ASSERT_EQ(tight.exitCode, 0) << tight.err;
 	EXPECT_NE(tight.err.find("yesslam: warning: " + std::to_string(unpaired) + " colour images have no depth image"), std::string::npos) << tight.err;
 	EXPECT_NE(tight.err.find("maxDiff 0.0134 s"), std::string::npos) << tight.err;
 	EXPECT_NE(readText(d / "tight/stats.json").find("\"unpaired_frames\": " + std::to_string(unpaired) + ","), std::string::npos);
+	// Issue 42 item 4: a TUM folder stamps its depth images (depthMoment applies: no word of it),
+	// and its Kinect v1 (a freiburg name beside calibration.txt) has the known 28 ms readout.
+	EXPECT_EQ(tight.err.find("depthMoment"), std::string::npos) << tight.err;
+	EXPECT_NE(readText(d / "tight/config_used.ini").find("rollingShutter = 0.028\n"), std::string::npos);
 
 	// --skip-frames 9 of 9 frames leaves none: refused like 10, before any output.
 	const auto skip = runTool("yesslam", {"--input", desk, "--out", d / "skip", "--skip-frames", "9", "--detector", "none"});
@@ -819,6 +830,13 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 	writeText(d / "k4.txt", "517.3 516.5 318.6 255.3\n");
 	const auto four = runTool("yesslam", {"--input", desk, "--out", d / "four", "--detector", "none", "--quiet", "--camera", d / "k4.txt"});
 	EXPECT_EQ(four.exitCode, 0) << four.err;
+	// A camera file that gives no readout: the camera's shutter is not known, so not corrected;
+	// one that gives it (a line of one number, seconds) is corrected by that.
+	EXPECT_NE(readText(d / "four/config_used.ini").find("rollingShutter = 0\n"), std::string::npos);
+	writeText(d / "k5.txt", "517.3 516.5 318.6 255.3 640 480\n0.2624 -0.9531 -0.0054 0.0026 1.1633\n0.02\n");
+	const auto five = runTool("yesslam", {"--input", desk, "--out", d / "five", "--detector", "none", "--quiet", "--no-dense-map", "--camera", d / "k5.txt"});
+	EXPECT_EQ(five.exitCode, 0) << five.err;
+	EXPECT_NE(readText(d / "five/config_used.ini").find("rollingShutter = 0.02\n"), std::string::npos);
 	writeText(d / "k4out.txt", "517.3 516.5 900 255.3\n");
 	const auto outside = runTool("yesslam", {"--input", desk, "--out", d / "outside", "--detector", "none", "--quiet", "--camera", d / "k4out.txt"});
 	expectCleanFailure(outside, {"k4out.txt", "principal point", "640x480 images"});
@@ -826,8 +844,14 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 	// --camera on a rawlog does nothing: said, and not recorded in config_used.ini.
 	const auto conv = runTool("tum2rawlog", {"--input", desk, "--out", d / "desk.rawlog"});
 	ASSERT_EQ(conv.exitCode, 0) << conv.err;
-	const auto raw = runTool("yesslam", {"--input", d / "desk.rawlog", "--out", d / "raw", "--detector", "none", "--quiet", "--camera", "fr2"});
+	writeText(d / "moment.ini", "[Tracking]\ndepthMoment = true\n");
+	const auto raw = runTool(
+		"yesslam", {"--input", d / "desk.rawlog", "--out", d / "raw", "--detector", "none", "--quiet", "--camera", "fr2", "--config", d / "moment.ini"});
 	ASSERT_EQ(raw.exitCode, 0) << raw.err;
+	// A rawlog has no depth-image stamps of its own (depthMoment cannot apply: said) and no known
+	// readout (the rolling-shutter correction is off, not 28 ms for any camera).
+	EXPECT_NE(raw.err.find("[Tracking] depthMoment does nothing for " + (d / "desk.rawlog")), std::string::npos) << raw.err;
+	EXPECT_NE(readText(d / "raw/config_used.ini").find("rollingShutter = 0\n"), std::string::npos);
 	EXPECT_NE(raw.err.find("--camera) 'fr2' is for TUM folders and OpenNI2 input and was not used"), std::string::npos) << raw.err;
 	EXPECT_EQ(readText(d / "raw/config_used.ini").find("camera = fr2"), std::string::npos);
 
@@ -901,6 +925,10 @@ TEST(Tools, EveryKeyFrameIsMarkedAndTheTrajectoryCanAgreeWithTheKeyFrames)
 			}
 	}
 	EXPECT_EQ(checked, kfs.size());
+	// Issue 42 item 4: a Bonn folder's marker ground truth is recognised without --gt-format, and
+	// the run says how it took it (as TUM camera poses its RPE read about 11 deg/s).
+	EXPECT_NE(value(r.out, "ground truth").find("Bonn RGB-D Dynamic marker poses"), std::string::npos) << r.out;
+	EXPECT_LT(std::stod(value(r.out, "rpe_rot_rmse_deg")), 3.0) << r.out;
 }
 
 // Issue 43 item 9: yesslam-sim --no-rawlog leaves no rawlog folder and does not announce one;

@@ -211,6 +211,42 @@ TEST(Tracker, ALostFrameCoastsOnTheMeanOfTheLastMotionsNotOnALastJerk)
 	EXPECT_NEAR(coastedX(1), 0.08 + 0.04, 1e-6);  // the last step alone (the old behaviour)
 }
 
+// Issue 40 (e): the velocity that undoes the rolling shutter is the motion over the time the last
+// frames span. Live input drops frames: a camera at a steady 0.3 m/s whose frame 3 never came took
+// a 2 cm step over 67 ms, which is no faster; averaging the steps and dividing by the last interval
+// alone made it 0.4 m/s. And after a loss the velocity is measured anew: motions from before it
+// (here the other way) are not averaged with those after.
+TEST(Tracker, TheShutterVelocityIsTheMotionOverTheTimeAndStartsAnewAfterALoss)
+{
+	CSparseMap map;
+	CTracker::TOptions to;
+	to.lostVelocityFrames = 3;
+	CTracker tracker(to, map, 1.2, CGeometricDynamicCheck::TOptions());
+	std::size_t id = 0;
+	const auto frameAt = [&](double t, double x, bool tracked)
+	{
+		auto f = std::make_shared<TFrame>();
+		f->id = id++;
+		f->timestamp = t;
+		f->tracked = tracked;
+		f->pose = mrpt::poses::CPose3D(x, 0, 0, 0, 0, 0);
+		tracker.setLastFrame(f);
+	};
+	const double dt = 1.0 / 30, speed = 0.3, readout = 0.028;
+	for (int k : {0, 1, 2, 4, 5}) frameAt(k * dt, speed * k * dt, true);  // frame 3 dropped
+	auto m = tracker.motionOver(readout);
+	ASSERT_TRUE(m.has_value());
+	EXPECT_NEAR(m->x(), speed * readout, 1e-9);
+	// Lost (a person fills the view), then found again moving the other way.
+	frameAt(6 * dt, speed * 6 * dt, false);
+	EXPECT_FALSE(tracker.motionOver(readout).has_value());
+	frameAt(7 * dt, 0.2, true);
+	frameAt(8 * dt, 0.2 - speed * dt, true);
+	m = tracker.motionOver(readout);
+	ASSERT_TRUE(m.has_value());
+	EXPECT_NEAR(m->x(), -speed * readout, 1e-9);
+}
+
 namespace
 {
 // A textured board (a "person") painted into real fr1_desk frames: a plane parallel to the first

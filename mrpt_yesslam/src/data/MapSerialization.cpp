@@ -124,6 +124,9 @@ std::unique_ptr<TSparseMapStore> deserialize(std::istream& in)
 	s->nextKeyFrame = nextKf;
 	s->nextPoint = nextPt;
 	s->generation = gen;
+	// Tracking's local map, local BA's window, culling and the essential graph all read the
+	// weights: they are recounted from the observations just validated, never taken on trust.
+	s->rebuildConnections();
 	return s;
 }
 

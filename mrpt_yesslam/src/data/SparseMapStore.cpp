@@ -176,6 +176,27 @@ void TSparseMapStore::reorderDirty()
 	dirty.clear();
 }
 
+void TSparseMapStore::rebuildConnections()
+{
+	for (auto& [id, kf] : keyFrames)
+	{
+		kf->connections.clear();
+		dirty.push_back(id);
+	}
+	for (const auto& [pid, p] : points)
+	{
+		if (p.bad) continue;
+		for (const auto& [a, ia] : p.observations)
+			for (const auto& [b, ib] : p.observations)
+			{
+				if (a == b) continue;
+				const auto ka = keyFrames.find(a), kb = keyFrames.find(b);
+				if (ka != keyFrames.end() && kb != keyFrames.end() && !ka->second->bad && !kb->second->bad) ka->second->connections[b]++;
+			}
+	}
+	reorderDirty();
+}
+
 void TSparseMapStore::markBad(CMapPoint& p)
 {
 	p.bad = true;

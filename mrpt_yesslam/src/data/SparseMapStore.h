@@ -44,6 +44,9 @@ struct TSparseMapStore
 	void eraseObservation(CMapPoint& p, TKeyFrameId kf);
 	/** Re-sorts the ordered connections of the keyframes whose weights changed. */
 	void reorderDirty();
+	/** Recounts every covisibility weight from the good points' observations (a loaded map's
+	 * stored weights are only what its writer claimed). */
+	void rebuildConnections();
 	/** Sets the bad flag, counts it and schedules the point to be forgotten. */
 	void markBad(CMapPoint& p);
 	/** Marks `p` bad and removes all its observations (culling, erasing). */

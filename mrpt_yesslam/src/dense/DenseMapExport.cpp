@@ -33,10 +33,14 @@ void put(std::string& s, const T& v)
 }
 }  // namespace
 
-void writeDenseCloudPly(const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names, const std::string& what)
+void writeDenseCloudPly(
+	const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names, const std::string& what, const std::string& frame)
 {
 	std::ostringstream h;
-	h << "ply\nformat binary_little_endian 1.0\ncomment mrpt_yesslam " << what << " (world = first keyframe)\n";
+	h << "ply\nformat binary_little_endian 1.0\ncomment mrpt_yesslam " << what << "\n";
+	std::istringstream lines(frame);
+	for (std::string line; std::getline(lines, line);)
+		if (!line.empty()) h << "comment " << line << "\n";
 	std::map<TSemLabel, std::size_t> present;
 	for (const auto l : c.label) present[l]++;
 	for (const auto& [l, n] : present) h << "comment label " << int(l) << " " << labelName(l, names) << "\n";

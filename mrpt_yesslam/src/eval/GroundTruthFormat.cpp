@@ -1,6 +1,7 @@
 #include "mrpt_yesslam/eval/GroundTruthFormat.h"
 
 #include <Eigen/Dense>
+#include <filesystem>
 
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -12,7 +13,22 @@ EGroundTruthFormat parseGroundTruthFormat(const std::string& name, const std::st
 	const std::string n = lowerAscii(name);
 	if (n == "tum") return EGroundTruthFormat::Tum;
 	if (n == "bonn") return EGroundTruthFormat::Bonn;
-	throw InputError("", option + " must be 'tum' (camera poses) or 'bonn' (Bonn RGB-D Dynamic marker poses), got '" + name + "'");
+	if (n == "auto") return EGroundTruthFormat::Auto;
+	throw InputError("", option + " must be 'tum' (camera poses), 'bonn' (Bonn RGB-D Dynamic marker poses) or 'auto', got '" + name + "'");
+}
+
+EGroundTruthFormat resolveGroundTruthFormat(const std::string& path, EGroundTruthFormat format)
+{
+	if (format != EGroundTruthFormat::Auto) return format;
+	const std::filesystem::path p = std::filesystem::absolute(path).lexically_normal();
+	const std::string names = lowerAscii(p.parent_path().filename().string() + "/" + p.filename().string());
+	return names.find("bonn") != std::string::npos ? EGroundTruthFormat::Bonn : EGroundTruthFormat::Tum;
+}
+
+std::string describeGroundTruthFormat(EGroundTruthFormat format)
+{
+	return format == EGroundTruthFormat::Bonn ? "Bonn RGB-D Dynamic marker poses, converted to the camera's (--gt-format tum takes them as they are)"
+											  : "camera poses (TUM)";
 }
 
 namespace
@@ -56,6 +72,6 @@ TTrajectory bonnMarkersToCamera(const TTrajectory& markers)
 TTrajectory readGroundTruth(const std::string& path, EGroundTruthFormat format)
 {
 	TTrajectory t = readTumTrajectory(path);
-	return format == EGroundTruthFormat::Bonn ? bonnMarkersToCamera(t) : t;
+	return resolveGroundTruthFormat(path, format) == EGroundTruthFormat::Bonn ? bonnMarkersToCamera(t) : t;
 }
 }  // namespace mrpt_yesslam

@@ -73,6 +73,7 @@ bool depthIsSmoothAround(const cv::Mat& depth, int x, int y, float z)
 TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, const cv::Mat& mask) const
 {
 	TFeatures out;
+	out.levels = opts_.numLevels;
 	if (image.empty()) return out;
 	cv::Mat grey;
 	if (image.channels() == 3)

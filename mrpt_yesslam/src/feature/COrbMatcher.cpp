@@ -85,6 +85,10 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 		const int gy = std::clamp(static_cast<int>(kps[i].pt.y) / cell, 0, gh - 1);
 		grid[static_cast<std::size_t>(gy * gw + gx)].push_back(static_cast<int>(i));
 	}
+	// The pyramid's reach is the extractor's, not the frame's highest keypoint: a frame whose
+	// coarse levels found nothing (blur, a close wall) still sees a near point at its coarse level,
+	// and calling it out of view would count it as missed (countTracking).
+	if (frame.features.levels > 0) maxOctave = std::clamp(frame.features.levels - 1, 0, 15);
 	const mrpt::poses::CPose3D Tcw = -Twc;
 	const CPinholeCamera K(frame.camera);
 	std::vector<double> levelScale(16, 1.0);

@@ -26,6 +26,17 @@ TRgbdCamera makeCamera(
 	return c;
 }
 
+// Kinect v1 and ASUS Xtion (PrimeSense designs) read both images with rolling-shutter CMOS
+// sensors; Kerl et al. (ICCV 2015) model them with 28 ms (feature/RollingShutter.h).
+constexpr double kPrimeSenseReadout = 0.028;
+
+// The TUM sequences' Kinect v1.
+TRgbdCamera withReadout(TRgbdCamera c)
+{
+	c.readout = kPrimeSenseReadout;
+	return c;
+}
+
 std::string lower(std::string s)
 {
 	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -41,17 +52,17 @@ TRgbdCamera tumCameraByName(const std::string& nameIn)
 	if (n == "fr1" || n == "freiburg1")
 	{
 		const double d[5] = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
-		return makeCamera("fr1", 517.3, 516.5, 318.6, 255.3, d);
+		return withReadout(makeCamera("fr1", 517.3, 516.5, 318.6, 255.3, d));
 	}
 	if (n == "fr2" || n == "freiburg2")
 	{
 		const double d[5] = {0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
-		return makeCamera("fr2", 520.9, 521.0, 325.1, 249.7, d);
+		return withReadout(makeCamera("fr2", 520.9, 521.0, 325.1, 249.7, d));
 	}
 	if (n == "fr3" || n == "freiburg3")
 	{
 		const double d[5] = {0, 0, 0, 0, 0};
-		return makeCamera("fr3", 535.4, 539.2, 320.1, 247.6, d);
+		return withReadout(makeCamera("fr3", 535.4, 539.2, 320.1, 247.6, d));
 	}
 	throw InputError("", "unknown camera name '" + nameIn + "' (known: fr1, fr2, fr3, or give a camera file)");
 }
@@ -103,11 +114,25 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 			path, "first line must be 'fx fy cx cy [width height [depth_scale]]', found " + std::to_string(r.size()) +
 					  " numbers");
 	double dist[5] = {0, 0, 0, 0, 0};
-	if (rows.size() >= 2)
+	double readout = -1;
+	bool distortionRead = false;
+	for (std::size_t k = 1; k < rows.size(); k++)
 	{
-		if (rows[1].size() != 5 && rows[1].size() != 4)
-			throw InputError(path, "second line must hold the distortion 'k1 k2 p1 p2 [k3]'");
-		for (std::size_t i = 0; i < rows[1].size(); i++) dist[i] = rows[1][i];
+		if (rows[k].size() == 1 && readout < 0)
+		{
+			if (!(rows[k][0] >= 0 && rows[k][0] <= 0.1))
+				throw InputError(path, "the readout line must give the rolling-shutter readout in seconds, 0 to 0.1 (Kinect v1 and Xtion: 0.028; 0 = global shutter)");
+			readout = rows[k][0];
+		}
+		else if ((rows[k].size() == 5 || rows[k].size() == 4) && !distortionRead && k == 1)
+		{
+			for (std::size_t i = 0; i < rows[k].size(); i++) dist[i] = rows[k][i];
+			distortionRead = true;
+		}
+		else
+			throw InputError(
+				path, "after 'fx fy cx cy [width height [depth_scale]]' come at most the distortion 'k1 k2 p1 p2 [k3]' and a readout line of one "
+					  "number (seconds); line " + std::to_string(k + 1) + " of the numbers has " + std::to_string(rows[k].size()));
 	}
 	if (r[0] <= 0 || r[1] <= 0) throw InputError(path, "focal lengths must be positive");
 	unsigned w = 640, h = 480;
@@ -126,6 +151,7 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 	}
 	TRgbdCamera c = makeCamera(path, r[0], r[1], r[2], r[3], dist, w, h, ds);
 	c.sizeGiven = r.size() >= 6;
+	c.readout = readout;
 	return c;
 }
 
@@ -148,7 +174,15 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 	}
 	const fs::path calib = fs::path(folder) / "calibration.txt";
 	std::error_code ec;
-	if (fs::is_regular_file(calib, ec)) return readCameraFile(calib.string());
+	if (fs::is_regular_file(calib, ec))
+	{
+		TRgbdCamera c = readCameraFile(calib.string());
+		// The TUM sequences' Kinect v1 (a freiburg name in the path) and the Bonn RGB-D Dynamic
+		// dataset's ASUS Xtion (its folders are rgbd_bonn_*).
+		const std::string name = lower(fs::absolute(fs::path(folder)).lexically_normal().filename().string());
+		if (c.readout < 0 && (name.find("bonn") != std::string::npos || !tumCameraNameFromPath(folder).empty())) c.readout = kPrimeSenseReadout;
+		return c;
+	}
 	const std::string n = tumCameraNameFromPath(folder);
 	if (n.empty())
 		throw InputError(

@@ -39,17 +39,20 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 	group.insert(group.begin(), loop.current);
 	const std::set<TKeyFrameId> groupSet(group.begin(), group.end());
 	const mrpt::poses::CPose3D Tcur = before.at(loop.current);
+	// From the matched keyframe's pose now (issue 40 c): detection's correctedPose was from its
+	// pose then, and a BA since would make the loop edge disagree with the place it closes on.
+	const mrpt::poses::CPose3D correctedPose = before.at(loop.matched) + loop.relative;
 	std::map<TKeyFrameId, mrpt::poses::CPose3D> corrected;
 	std::map<TKeyFrameId, std::set<TKeyFrameId>> linksBefore;
 	for (const auto g : group)
 	{
 		if (!before.count(g)) continue;
-		corrected[g] = loop.correctedPose + ((-Tcur) + before.at(g));
+		corrected[g] = correctedPose + ((-Tcur) + before.at(g));
 		for (const auto& [other, w] : map_.keyFrame(g).connections) linksBefore[g].insert(other);
 	}
 	c.groupKeyFrames = corrected.size();
 	c.correctionMetres = std::sqrt(
-		std::pow(loop.correctedPose.x() - Tcur.x(), 2) + std::pow(loop.correctedPose.y() - Tcur.y(), 2) + std::pow(loop.correctedPose.z() - Tcur.z(), 2));
+		std::pow(correctedPose.x() - Tcur.x(), 2) + std::pow(correctedPose.y() - Tcur.y(), 2) + std::pow(correctedPose.z() - Tcur.z(), 2));
 	map_.correctKeyFrames(corrected);
 
 	// 2. Loop fusion: the matched place's points into the corrected group.
@@ -98,7 +101,7 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 	return c;
 }
 
-TBundleStats CLoopCloser::globalBundleAdjust()
+TBundleStats CLoopCloser::globalBundleAdjust(std::shared_mutex* writeLock)
 {
 	const TBundleWindow w = map_.globalBundleWindow();
 	if (w.keyFrames.empty() || w.points.empty()) return {};
@@ -113,6 +116,8 @@ TBundleStats CLoopCloser::globalBundleAdjust()
 	so.cancelled = [this, &w] { return map_.generation() != w.generation; };
 	TBundleSolution sol = solveBundle(w, so);
 	if (sol.stats.cancelled) return sol.stats;
+	std::unique_lock<std::shared_mutex> lk;
+	if (writeLock) lk = std::unique_lock<std::shared_mutex>(*writeLock);
 	sol.stats.applied = map_.applyGlobalBundle(w, sol.poses, sol.positions, sol.outliers);
 	return sol.stats;
 }

@@ -120,6 +120,7 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric),
 	  inserter_(opts_.keyFrames),
 	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth),
+	  records_(opts_.tracking.lostInterpolate),
 	  recent_(opts_.system.frameBuffer)
 {
 	tracker_.setMapReadOnly(opts_.system.localizeOnly);
@@ -229,7 +230,7 @@ TWorldFrame CYesSlamSystem::worldFrame() const
 void CYesSlamSystem::runGlobalBundle()
 {
 	const auto t0 = Clock::now();
-	const TBundleStats st = loopCloser_->globalBundleAdjust();
+	const TBundleStats st = loopCloser_->globalBundleAdjust(&mapUpdateMtx_);  // write-back exclusive
 	const double ms = msSince(t0);
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	stats_.globalBundleRuns++;
@@ -297,7 +298,7 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	TMappingStats st;
 	{
 		// Waits while a loop correction is written (counted in the mapping time: that is the stall).
-		std::lock_guard<std::mutex> lk(mapUpdateMtx_);
+		std::shared_lock<std::shared_mutex> lk(mapUpdateMtx_);
 		st = mapper_.step(kf);
 	}
 	if (bowDatabase_)
@@ -354,7 +355,7 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 	TLoopCorrection correction;
 	if (loop)
 	{
-		std::lock_guard<std::mutex> lk(mapUpdateMtx_);
+		std::unique_lock<std::shared_mutex> lk(mapUpdateMtx_);
 		t0 = Clock::now();
 		correction = loopCloser_->correct(*loop);
 		correctMs = msSince(t0);
@@ -458,7 +459,7 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 	return motionToKeyFrame(f, map_.keyFrame(*ref));
 }
 
-void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
+TKeyFrameId CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
 {
 	const TKeyFrameId kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
 	tracker_.setReferenceKeyFrame(kf, f->id);  // the frame tracked last is anchored to it when it is that frame
@@ -470,6 +471,11 @@ void CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool
 		stats_.keyFrames++;
 		if (forced) stats_.forcedKeyFrames++;
 	}
+	return kf;
+}
+
+void CYesSlamSystem::dispatchKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
+{
 	if (dense_)
 	{
 		// The frame (with its images) travels to the dense stage; the cloud is kept in keyframe
@@ -533,6 +539,10 @@ TFrameReport CYesSlamSystem::processFrame(
 
 	std::optional<CKeyFrameInserter::TDecision> decision;
 	bool initialising = false;
+	// Shared over the frame's tracking and keyframe insertion (mapUpdateMtx_): no correction lands
+	// inside them; the keyframes it makes are mapped after the lock is released.
+	std::shared_lock<std::shared_mutex> frameLock(mapUpdateMtx_);
+	std::vector<std::pair<TKeyFrameId, std::shared_ptr<const TFrame>>> newKeyFrames;
 	if (map_.numKeyFrames() == 0 && !opts_.system.localizeOnly)
 	{
 		std::size_t usable = 0;
@@ -556,7 +566,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	ms["track"] = msSince(t0);
 	// The trajectory stores the pose relative to the reference keyframe as tracking saw it, before
 	// this frame's keyframe (if any) goes through local BA, as ORB-SLAM2 does.
-	TFrameRecord rec;
+	CFrameRecords::TRecord rec;
 	rec.t = f->timestamp;
 	rec.tracked = f->tracked;
 	everTracked_ = everTracked_ || f->tracked;
@@ -571,7 +581,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	recent_.push(frame, rec.anchor);
 	if (initialising)
 	{
-		insertKeyFrame(frame, false);
+		newKeyFrames.emplace_back(insertKeyFrame(frame, false), frame);
 		inserter_.addFrame(*frame, {frame->id, 0}, 0);	// the selector's first reference; no new keyframe
 		rep.keyFrame = true;
 		// The frame of the first keyframe hangs from it like every later frame from its reference:
@@ -601,7 +611,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		// it was tracked would otherwise leave this keyframe and its new points in the old frame.
 		if (const auto kf = recent_.tracked(decision->frameId, map_))
 		{
-			insertKeyFrame(kf, decision->forced);
+			newKeyFrames.emplace_back(insertKeyFrame(kf, decision->forced), kf);
 			// frames.csv marks the frame a keyframe is made from, Algorithm 1's earlier picks too (issue
 			// 43); [System] keyFrameFramePose = keyframe also hangs it from its keyframe (ORB-SLAM2's;
 			// not the default: after local BA it stood out of its neighbours, real Bonn slice 14.5 ->
@@ -614,20 +624,19 @@ TFrameReport CYesSlamSystem::processFrame(
 				if (own) rec.anchor = onKf;
 			}
 			else
-			{
-				std::lock_guard<std::mutex> lk(recordsMtx_);
-				for (std::size_t i = frameLog_.size(); i-- > 0;)
-					if (frameLog_[i].frame == kf->id)
-					{
-						frameLog_[i].keyFrame = true;
-						if (own) records_[i].anchor = onKf;
-						break;
-					}
-			}
+				records_.markKeyFrame(kf->id, own ? std::optional<CTracker::TAnchor>(onKf) : std::nullopt);
 		}
 	}
+	frameLock.unlock();
+	for (const auto& [kf, kfFrame] : newKeyFrames) dispatchKeyFrame(kf, kfFrame);
 	ms["keyframe"] = msSince(t0);
-	tracker_.setLastFrame(frame);
+	{
+		// After the sequential mode's local mapping, as before the protocol: the frame's anchor
+		// then keeps the tracked pose through that BA; a correction since tracking (a loop the
+		// inline mapping closed, or another thread's) shows as a new generation (setLastFrame).
+		std::shared_lock<std::shared_mutex> relock(mapUpdateMtx_);
+		tracker_.setLastFrame(frame);
+	}
 
 	rep.tracked = frame->tracked;
 	rep.inliers = frame->numInliers;
@@ -650,11 +659,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	row.orbMs = stage("orb");
 	row.trackMs = stage("track");
 	row.keyFrameMs = stage("keyframe");
-	{
-		std::lock_guard<std::mutex> lk(recordsMtx_);
-		records_.push_back(rec);
-		frameLog_.push_back(row);
-	}
+	records_.add(rec, row);
 
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
@@ -672,63 +677,19 @@ TFrameReport CYesSlamSystem::processFrame(
 	return rep;
 }
 
-std::vector<EPoseSource> CYesSlamSystem::poseSources(const std::vector<TFrameRecord>& records) const
-{
-	std::vector<EPoseSource> out(records.size(), EPoseSource::None);
-	std::optional<std::size_t> lastTracked;
-	for (std::size_t i = 0; i < records.size(); i++)
-	{
-		if (!records[i].hasPose) continue;
-		if (!records[i].tracked)
-		{
-			out[i] = EPoseSource::Coasted;
-			continue;
-		}
-		out[i] = EPoseSource::Tracked;
-		// The lost frames since the previous tracked one are filled in between the two (interpolateUntracked).
-		if (opts_.tracking.lostInterpolate && lastTracked)
-			for (std::size_t k = *lastTracked + 1; k < i; k++) out[k] = EPoseSource::Interpolated;
-		lastTracked = i;
-	}
-	return out;
-}
-
 TTrajectory CYesSlamSystem::trajectory() const
 {
-	std::vector<TFrameRecord> records;
-	{
-		std::lock_guard<std::mutex> lk(recordsMtx_);
-		records = records_;
-	}
 	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
 	for (const auto& k : map_.keyFramePoses()) poses[k.id] = k.pose;
-	TTrajectory out;
-	std::vector<bool> tracked;
-	out.reserve(records.size());
-	for (const auto& r : records)
-	{
-		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
-		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.
-		const auto it = r.anchor.refKf ? poses.find(*r.anchor.refKf) : poses.end();
-		out.push_back(TStampedPose::fromPose(r.t, it != poses.end() ? it->second + r.anchor.relative : r.anchor.relative));
-		tracked.push_back(r.tracked);
-	}
-	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
-	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
-	// written while lost, which drifts away wherever the camera did not keep its last velocity.
-	// poseSources() names them; onlineTrajectory() keeps what the robot had.
-	if (opts_.tracking.lostInterpolate) interpolateUntracked(out, tracked);
-	return out;
+	return records_.trajectory(poses);
 }
 
-TTrajectory CYesSlamSystem::onlineTrajectory() const
+TTrajectory CYesSlamSystem::onlineTrajectory() const { return records_.online(); }
+
+void CYesSlamSystem::correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses)
 {
-	std::lock_guard<std::mutex> lk(recordsMtx_);
-	TTrajectory out;
-	out.reserve(records_.size());
-	for (const auto& r : records_)
-		if (r.hasPose) out.push_back(TStampedPose::fromPose(r.t, r.online));
-	return out;
+	std::unique_lock<std::shared_mutex> lk(mapUpdateMtx_);
+	map_.applyCorrection(poses);
 }
 
 void CYesSlamSystem::loadMap(const std::string& path)
@@ -762,14 +723,7 @@ void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* oct
 	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get(), worldFrame());
 }
 
-std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const
-{
-	std::lock_guard<std::mutex> lk(recordsMtx_);
-	std::vector<TFrameLogRow> rows = frameLog_;
-	const auto src = poseSources(records_);
-	for (std::size_t i = 0; i < rows.size() && i < src.size(); i++) rows[i].pose = src[i];
-	return rows;
-}
+std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const { return records_.frameLog(); }
 
 TTrajectory CYesSlamSystem::keyFrameTrajectory() const
 {

@@ -12,12 +12,12 @@
 #include <unistd.h>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
-#include "mrpt_yesslam/feature/RollingShutter.h"
 #include "mrpt_yesslam/eval/TrajectoryPlot.h"
 #include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/CPacedSource.h"
 #include "mrpt_yesslam/io/CPrefetchingSource.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/system/SlamExport.h"
@@ -217,7 +217,7 @@ void writeOutputs(
 		dense = sys.buildDenseMap();
 		const TDenseMap& dm = *dense;
 		const auto& names = sys.detector()->classNames();
-		writeDenseCloudPly((d / "dense_cloud.ply").string(), dm.cloud, names);
+		writeDenseCloudPly((d / "dense_cloud.ply").string(), dm.cloud, names, "dense semantic map", world.describe());
 		writeSemanticOcTree((d / "map.ot").string(), *dm.octree);
 		writeOccupancyBt((d / "map.bt").string(), *dm.octree);
 		sum.dense.cloudPoints = dm.cloud.size();
@@ -282,6 +282,22 @@ void writeOutputs(
 }
 }  // namespace
 
+const char* secondInterruptNote(ESlamJobPhase phase)
+{
+	// The final mapping is not cut short (a half-done local BA leaves keyframes and points
+	// disagreeing); what a second Ctrl-C saves is the time of the slow outputs after it.
+	switch (phase)
+	{
+		case ESlamJobPhase::FinalMapping:
+			return "second Ctrl-C: the final mapping runs to its end, then only the trajectories, frames.csv, stats.json and the configuration "
+				   "are written (the dense map, the map file and the scene are skipped; Ctrl-C once more kills at once)";
+		case ESlamJobPhase::Saving:
+			return "second Ctrl-C: the file being written is finished, the rest skipped (Ctrl-C once more kills at once)";
+		case ESlamJobPhase::Frames: break;
+	}
+	return "second Ctrl-C: the outputs not yet begun will be skipped after the final mapping (Ctrl-C once more kills at once)";
+}
+
 TSlamJobSummary runSlamJob(
 	const TSlamJobOptions& o, const std::function<void(std::size_t, std::size_t, const std::string&)>& progress,
 	const std::function<bool()>& cancel, const std::function<bool()>& abortSaving)
@@ -291,7 +307,11 @@ TSlamJobSummary runSlamJob(
 	resolveDetector(opts.detector, inputFilePath(o.input));
 	sum.groundTruth = o.groundTruth.empty() && !inputFilePath(o.input).empty() ? findGroundTruthFor(inputFilePath(o.input)) : o.groundTruth;
 	TTrajectory gt;
-	if (!sum.groundTruth.empty()) gt = readGroundTruth(sum.groundTruth, o.groundTruthFormat);	// bad ground truth: fail before the long run
+	if (!sum.groundTruth.empty())
+	{
+		sum.groundTruthFormat = resolveGroundTruthFormat(sum.groundTruth, o.groundTruthFormat);
+		gt = readGroundTruth(sum.groundTruth, sum.groundTruthFormat);  // bad ground truth: fail before the long run
+	}
 	if (!o.saveMap.empty())
 	{
 		// Found out now, not after an hour of mapping.
@@ -325,10 +345,28 @@ TSlamJobSummary runSlamJob(
 		if (o.loadMap.empty()) throw InputError("", "localisation only needs a map to localise in (--load-map MAP.ysm)");
 		opts.dense.enabled = false;	 // no keyframes: nothing to build a dense map from
 	}
-	// The camera's rolling shutter: what the input says (a simulated sequence), else what RGB-D
-	// cameras have; config_used.ini then records the value the run used.
+	// The camera's rolling shutter: what the input says (a simulated sequence), else what its
+	// camera is known to have (TUM presets, Bonn folders, a camera file's readout line); a camera
+	// of unknown readout (rawlogs, OpenNI2 devices, other folders) is not corrected: a 28 ms
+	// correction on a global-shutter camera would shear every keypoint by the motion model.
+	// config_used.ini then records the value the run used.
 	if (opts.tracking.rollingShutter < 0)
-		opts.tracking.rollingShutter = (isOpenNI2Input(o.input) ? std::nullopt : statedReadout(o.input)).value_or(kConsumerRgbdReadout);
+	{
+		std::optional<double> readout = isOpenNI2Input(o.input) ? std::nullopt : statedReadout(o.input);
+		std::error_code ec;
+		if (!readout && !isOpenNI2Input(o.input) && fs::is_directory(o.input, ec))
+		{
+			try
+			{
+				if (const double r = resolveTumCamera(opts.input.camera, o.input).readout; r >= 0) readout = r;
+			}
+			catch (const InputError&)
+			{
+				// No camera to be found: opening the input says so, with the input's own error first.
+			}
+		}
+		opts.tracking.rollingShutter = readout.value_or(0.0);
+	}
 	// An option that cannot apply is not recorded as applied (config_used.ini is what the run used).
 	if (!opts.input.camera.empty() && !fs::is_directory(o.input) && !isOpenNI2Input(o.input))
 	{
@@ -437,6 +475,7 @@ TSlamJobSummary runSlamJob(
 	const auto t0 = std::chrono::steady_clock::now();
 	std::size_t done = 0;
 	std::vector<double> depthMedians;  // each frame's median depth: is the depth scale plausible?
+	if (o.onPhase) o.onPhase(ESlamJobPhase::Frames);
 	try
 	{
 		while (!(o.maxFrames && done >= o.maxFrames))
@@ -450,7 +489,14 @@ TSlamJobSummary runSlamJob(
 			if (!obs) break;
 			if (const double md = medianDepth(*obs); md > 0) depthMedians.push_back(md);  // frames without depth say nothing of its scale
 			if (record) record(obs);
-			const TFrameReport r = sys.processFrame(*obs, src->depthTime(observationTime(*obs)));
+			const std::optional<double> depthTime = src->depthTime(observationTime(*obs));
+			// Said, not silently ignored (issue 42): only inputs that stamp their depth images apart
+			// from the colour ones (TUM folders: depth.txt) give the option anything to move.
+			if (done == 0 && opts.tracking.depthMoment && !depthTime)
+				sum.warnings.push_back(
+					"[Tracking] depthMoment does nothing for " + o.input +
+					": it gives no depth-image stamps of its own (only TUM folders do, with depth.txt); the depth is taken as of the colour image's moment");
+			const TFrameReport r = sys.processFrame(*obs, depthTime);
 			done++;
 			if (progress)
 			{
@@ -495,6 +541,7 @@ TSlamJobSummary runSlamJob(
 	}
 	const std::size_t skippedEntries = src->skipped();
 	closeInput();
+	if (o.onPhase) o.onPhase(ESlamJobPhase::FinalMapping);
 	sys.waitForMapping();
 	sum.input.skippedEntries = skippedEntries;
 	if (!sum.input.live && fs::is_directory(o.input)) sum.input.stats.unpaired = skippedEntries;
@@ -517,6 +564,7 @@ TSlamJobSummary runSlamJob(
 	sum.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
+	if (o.onPhase) o.onPhase(ESlamJobPhase::Saving);
 	writeOutputs(sys, o.outDir, sum, stop, o.saveMap, abortSaving);
 	// A pass that was never placed in the loaded map has no pose to give: an error, not identity
 	// poses and an ATE over them (the outputs say so too: no pose, every frame "none").

@@ -37,7 +37,7 @@ COptionTable CTracker::TOptions::table()
 	t.flag("depthMoment", depthMoment, "where the depth image was taken at another moment than the colour image (TUM folders: depth.txt's stamps), keypoint depth is moved to the colour image's moment with the motion model");
 	t.real(
 		"rollingShutter", rollingShutter, -1, 0.1,
-		"the colour camera's rolling-shutter readout, seconds from the first row to the last: keypoints are moved to the middle row's moment with the motion model (0 = global shutter; -1 = auto: a yesslam-sim sequence's own (meta.json), else 0.028 as Kinect and Xtion; never more than the time since the previous frame)");
+		"the colour camera's rolling-shutter readout, seconds from the first row to the last: keypoints are moved to the middle row's moment with the motion model (0 = global shutter; -1 = auto: a yesslam-sim sequence's own (meta.json), else the camera's where known: 0.028 for the TUM presets and Bonn folders (Kinect v1, Xtion), a camera file's readout line; 0 where not known (rawlogs, OpenNI2 devices); never more than the time since the previous frame)");
 	return t;
 }
 
@@ -98,7 +98,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		velocityInterval_ = f->timestamp - last_->timestamp;
 		lostRun_ = 0;
-		recentMotion_.push_back(mrpt::poses::Lie::SE<3>::log(*velocity_));
+		recentMotion_.push_back({mrpt::poses::Lie::SE<3>::log(*velocity_), velocityInterval_});
 		while (recentMotion_.size() > opts_.lostVelocityFrames) recentMotion_.pop_front();
 	}
 	else if (!f->tracked)
@@ -114,6 +114,9 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		}
 		else
 			velocity_.reset();
+		// The motions before the loss are spent on this coast: after it, the velocity (and the
+		// rolling-shutter correction with it) is measured anew, never averaged with them.
+		recentMotion_.clear();
 	}
 	last_ = f;
 	if (fromTrack && map_.generation() != tracked_->generation)
@@ -143,8 +146,19 @@ std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
 	// passes it on. With the rolling-shutter correction: Bonn slice 15.4 -> 14.6 mm (jitter 8.8 ->
 	// 7.1 mm a frame), walking_rpy and crowd sims with a rolling shutter 5.75 -> 5.72 and 10.2 ->
 	// 10.0 mm; the 9 fr1 frames 1.76 -> 2.37 mm (3.12 uncorrected), where the mean has few frames.
-	const auto v = recentMotion_.empty() ? mrpt::poses::Lie::SE<3>::log(*velocity_) : meanRecentMotion();
-	return scaledTwist(v, seconds / velocityInterval_);
+	// The mean is the motion over the time the frames span (their sum over their summed intervals):
+	// live input drops frames, and a step over two intervals is not twice the speed.
+	if (recentMotion_.empty()) return scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), seconds / velocityInterval_);
+	mrpt::math::CVectorFixedDouble<6> sum;
+	sum.setZero();
+	double span = 0;
+	for (const auto& m : recentMotion_)
+	{
+		for (int k = 0; k < 6; k++) sum[k] += m.twist[k];
+		span += m.seconds;
+	}
+	if (!(span > 0)) return std::nullopt;
+	return scaledTwist(sum, seconds / span);
 }
 
 mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
@@ -154,10 +168,17 @@ mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
 	// sim.ini: the error grew from 5.4 to 7.8 mm over the last tracked frame of a camera standing
 	// still, and five frames coasting on that step ended 56 mm off), while a smooth camera path
 	// keeps its velocity in a short mean.
+	// Frames without time stamps (all intervals 0) average their steps.
 	mrpt::math::CVectorFixedDouble<6> v;
 	v.setZero();
+	double span = 0;
 	for (const auto& m : recentMotion_)
-		for (int k = 0; k < 6; k++) v[k] += m[k] / static_cast<double>(recentMotion_.size());
+	{
+		for (int k = 0; k < 6; k++) v[k] += m.twist[k];
+		span += m.seconds;
+	}
+	const double share = span > 0 && velocityInterval_ > 0 ? velocityInterval_ / span : 1.0 / static_cast<double>(recentMotion_.size());
+	for (int k = 0; k < 6; k++) v[k] *= share;
 	return v;
 }
 
@@ -370,6 +391,7 @@ bool CTracker::relocalise(TFrame& f, TResult& r)
 CTracker::TResult CTracker::track(TFrame& f)
 {
 	const mrpt::poses::CPose3D lastPose = lastFramePose();
+	if (hook_) hook_();  // test only: where a correction racing tracking would land
 	const TResult r = trackFrom(f, lastPose);
 	refusedRun_ = f.tracked || !r.implausible ? 0 : refusedRun_ + 1;
 	anchor(f, lastPose);

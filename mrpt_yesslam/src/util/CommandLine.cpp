@@ -185,7 +185,7 @@ namespace
 std::atomic<int> g_interrupts{0};
 std::atomic<int> g_firstSignal{0};
 const char* g_stopMessage = nullptr;
-const char* g_abortMessage = nullptr;
+std::atomic<const char*> g_abortMessage{nullptr};  // the handler may read it while a tool changes it
 void writeStderr(const char* m)
 {
 	if (!m) return;
@@ -201,8 +201,8 @@ extern "C" void onSignal(int sig)
 	const int before = g_interrupts.fetch_add(1);
 	if (before == 0)
 		writeStderr(g_stopMessage);
-	else if (before == 1 && g_abortMessage)  // a tool that can stop saving early said so
-		writeStderr(g_abortMessage);
+	else if (const char* abort = g_abortMessage.load(); before == 1 && abort)  // a tool that can stop saving early said so
+		writeStderr(abort);
 	else
 	{
 		std::signal(sig, SIG_DFL);
@@ -218,6 +218,8 @@ void installInterruptHandler(const char* stopMessage, const char* abortMessage)
 	std::signal(SIGINT, onSignal);
 	std::signal(SIGTERM, onSignal);
 }
+
+void setAbortMessage(const char* abortMessage) { g_abortMessage = abortMessage; }
 
 bool interruptRequested() { return g_interrupts.load() > 0; }
 

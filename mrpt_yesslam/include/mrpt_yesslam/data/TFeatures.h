@@ -17,6 +17,10 @@ struct TFeatures
 	/** In a dynamic detection's box but outside its mask (CGeometricDynamicCheck): used for pose only
 	 * when consistent with the rest, never a new map point. Empty = none. */
 	std::vector<bool> uncertain;
+	/** The pyramid levels the extractor searched ([ORB] numLevels), whether or not a keypoint came
+	 * from the coarsest: how far a map point's scale can be predicted. 0 = not known (features not
+	 * made by COrbExtractor): the highest keypoint level stands for it. */
+	int levels = 0;
 	/** Whether keypoint i is uncertain. */
 	bool isUncertain(std::size_t i) const { return i < uncertain.size() && uncertain[i]; }
 	/** Number of keypoints that are not dynamic (N_sp of the keyframe selection). */

@@ -12,9 +12,10 @@ namespace mrpt_yesslam
 {
 /** Writes the cloud as binary little-endian PLY (x y z float, red green blue uchar, label uchar,
  * label_prob float, observations uint), with one "comment label N name" line per label present;
- * atomically. `names[c]` names class c (label c + 1); `what` says in the header what the points are. */
+ * atomically. `names[c]` names class c (label c + 1); `what` says in the header what the points
+ * are, `frame` the frame they are in (TWorldFrame::describe(); one comment line per line). */
 void writeDenseCloudPly(
-	const std::string& path, const TDenseCloud& cloud, const std::vector<std::string>& names, const std::string& what = "dense semantic map");
+	const std::string& path, const TDenseCloud& cloud, const std::vector<std::string>& names, const std::string& what, const std::string& frame);
 
 /** Reads a PLY written by writeDenseCloudPly (tests, tools); throws InputError naming the file. */
 TDenseCloud readDenseCloudPly(const std::string& path);

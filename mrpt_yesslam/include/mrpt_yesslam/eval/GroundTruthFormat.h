@@ -10,15 +10,16 @@
 
 namespace mrpt_yesslam
 {
-/** What the poses of a ground-truth file are: "tum" (the camera's, used as they are) or "bonn"
- * (the Bonn dataset's marker poses, converted to the camera's). */
+/** What the poses of a ground-truth file are: "tum" (the camera's, used as they are), "bonn"
+ * (the Bonn dataset's marker poses, converted to the camera's) or "auto" (resolveGroundTruthFormat). */
 enum class EGroundTruthFormat
 {
 	Tum,
-	Bonn
+	Bonn,
+	Auto
 };
 
-/** Parses "tum" or "bonn" (case-insensitive); throws InputError naming `option` otherwise. */
+/** Parses "tum", "bonn" or "auto" (case-insensitive); throws InputError naming `option` otherwise. */
 EGroundTruthFormat parseGroundTruthFormat(const std::string& name, const std::string& option = "--gt-format");
 
 /** Bonn marker poses to camera poses: T_cam = T_ros * T_gt * T_ros * T_m (the dataset's own
@@ -26,6 +27,15 @@ EGroundTruthFormat parseGroundTruthFormat(const std::string& name, const std::st
  * rotation). Stamps are kept. */
 TTrajectory bonnMarkersToCamera(const TTrajectory& markers);
 
-/** Reads a ground-truth trajectory (readTumTrajectory) and converts it to camera poses. */
+/** The format of ground-truth file `path`: `format` itself unless Auto; Auto is Bonn when the
+ * file's folder or name says "bonn" (the dataset's folders are rgbd_bonn_<sequence>, as RTAB-Map
+ * recognises them), else Tum. */
+EGroundTruthFormat resolveGroundTruthFormat(const std::string& path, EGroundTruthFormat format);
+
+/** What a resolved format means, for the line a tool prints beside the file's name. */
+std::string describeGroundTruthFormat(EGroundTruthFormat format);
+
+/** Reads a ground-truth trajectory (readTumTrajectory) and converts it to camera poses (Auto:
+ * resolveGroundTruthFormat). */
 TTrajectory readGroundTruth(const std::string& path, EGroundTruthFormat format);
 }  // namespace mrpt_yesslam

@@ -15,6 +15,10 @@ struct TRgbdCamera
 	/** False for a camera file of four numbers: the size is the images' own (the first image's),
 	 * not an assumed 640x480 that an error would then name as if the file had said it. */
 	bool sizeGiven = true;
+	/** The colour camera's rolling-shutter readout, s from the first row to the last, where known
+	 * (the TUM presets and Bonn folders: Kinect v1 and Xtion, 0.028; a camera file's readout
+	 * line); -1 = not known, and the run does not correct for it unless [Tracking] rollingShutter says. */
+	double readout = -1;
 };
 
 /** The TUM calibration for "fr1"/"freiburg1", "fr2"/"freiburg2", "fr3"/"freiburg3" (TUM's
@@ -26,13 +30,15 @@ TRgbdCamera tumCameraByName(const std::string& name);
 std::string tumCameraNameFromPath(const std::string& folder);
 
 /** Reads a camera file: '#' comments, then "fx fy cx cy [width height [depth_scale]]" on one
- * line and optionally "k1 k2 p1 p2 k3" on the next (TUM's d0..d4). Throws InputError. */
+ * line, optionally "k1 k2 p1 p2 [k3]" on the next (TUM's d0..d4), and optionally a line of one
+ * number: the colour camera's rolling-shutter readout in seconds (0 = global shutter). Throws InputError. */
 TRgbdCamera readCameraFile(const std::string& path);
 
 /** Parses the text of a camera file; `nameForErrors` is used in messages and as the camera name. */
 TRgbdCamera parseCameraFile(const std::string& text, const std::string& nameForErrors);
 
 /** Resolves a --camera argument for a TUM folder: a TUM name, or a camera file; when empty, the
- * folder's calibration.txt if present, else the freiburg name in the folder path. */
+ * folder's calibration.txt if present (in a folder with a freiburg or Bonn name, with the Kinect v1
+ * and Xtion readout unless the file gives one), else the freiburg name in the folder path. */
 TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder);
 }  // namespace mrpt_yesslam

@@ -13,6 +13,7 @@
 //    in parallel mode); keyframes and points created meanwhile follow their ancestors, and a result
 //    computed before another correction is dropped.
 #include <memory>
+#include <shared_mutex>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
@@ -53,10 +54,15 @@ class CLoopCloser
 	/** `scaleFactor`: the ORB pyramid's; `depthNoise`: local mapping's (global BA's depth term). */
 	CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double depthNoise = 0.0025);
 
-	/** Corrects the map for a verified loop (steps 1-3 above). */
+	/** Corrects the map for a verified loop (steps 1-3 above). Where the current keyframe goes is
+	 * the matched keyframe's pose now times the verified relative pose (TLoop::relative), not the
+	 * pose detection computed: a local or global BA between the two moves the matched keyframe.
+	 * groupKeyFrames = 0: nothing was applied (a keyframe of the pair is gone). */
 	TLoopCorrection correct(const TLoop& loop);
-	/** Global BA of the whole map (step 4); `applied` says whether it was written back. */
-	TBundleStats globalBundleAdjust();
+	/** Global BA of the whole map (step 4); `applied` says whether it was written back. The solve
+	 * runs unlocked; the write-back holds `writeLock` (the system's map-update lock) when given, so
+	 * that it never lands between a loop correction's reading of the poses and its writing. */
+	TBundleStats globalBundleAdjust(std::shared_mutex* writeLock = nullptr);
 	const TOptions& options() const { return opts_; }
 
    private:

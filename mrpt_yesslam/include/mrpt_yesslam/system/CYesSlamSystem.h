@@ -16,6 +16,7 @@
 #include <optional>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <string>
 #include <thread>
 
@@ -35,6 +36,7 @@
 #include "mrpt_yesslam/keyframes/CRecentFrames.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/system/CFrameBuilder.h"
+#include "mrpt_yesslam/system/CFrameRecords.h"
 #include "mrpt_yesslam/system/TSlamStats.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
@@ -170,6 +172,13 @@ class CYesSlamSystem
 	/** The map for a stage that corrects it from outside the system (tests inject a loop
 	 * correction between frames with it); the system's own stages need no such access. */
 	CSparseMap& mutableMap() { return map_; }
+	/** Moves keyframes to `poses` (with their points and the frames hanging from them) as a loop
+	 * correction does, under the map-update lock: for a correction from outside the system (an
+	 * external pose graph, a global alignment) while frames are being processed on another thread. */
+	void correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses);
+	/** Test only: `hook` runs inside every frame's tracking, with the map-update lock held (the
+	 * interleaving tests put a correction there). */
+	void setTrackingHook(std::function<void()> hook) { tracker_.setHook(std::move(hook)); }
 	/** Starts from a saved map (call before the first frame): its keyframes' words go into the
 	 * place-recognition database and the first frames are placed in it by relocalisation, so the
 	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
@@ -186,7 +195,11 @@ class CYesSlamSystem
 	const TYesSlamOptions& options() const { return opts_; }
 
    private:
-	void insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced);
+	/** Adds frame `f` as a keyframe (under the frame's shared map-update lock); its dense cloud and
+	 * local mapping follow in dispatchKeyFrame, after the lock is released. */
+	TKeyFrameId insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced);
+	/** The dense stage and local mapping of a new keyframe: queued in parallel mode, run here otherwise. */
+	void dispatchKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f);
 	double motionToReference(const TFrame& f) const;
 	/** Local mapping of one keyframe (on the stage thread in parallel mode). */
 	/** Computes keyframe `kf`'s words and puts them in the place-recognition database (no-op
@@ -219,19 +232,7 @@ class CYesSlamSystem
 	std::function<void(const TLoop&)> loopCallback_;
 	std::function<void(const TFrame&)> frameCallback_;
 
-	struct TFrameRecord
-	{
-		double t = 0;
-		CTracker::TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
-		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
-		bool tracked = false;
-		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)
-	};
-	/** Where trajectory() takes each record's pose from. */
-	std::vector<EPoseSource> poseSources(const std::vector<TFrameRecord>& records) const;
-	std::vector<TFrameRecord> records_;	//!< guarded by recordsMtx_ (trajectory() may run on another thread)
-	std::vector<TFrameLogRow> frameLog_;  //!< guarded by recordsMtx_
-	mutable std::mutex recordsMtx_;
+	CFrameRecords records_;	 //!< every frame's pose record and frames.csv row (thread-safe)
 	CRecentFrames recent_;	//!< what Algorithm 1 may still choose from
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
@@ -257,10 +258,18 @@ class CYesSlamSystem
 	/** The cloud of one keyframe (on the dense stage in parallel mode). */
 	void denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f);
 
-	/** Held by a keyframe's local mapping and by a loop correction: local mapping stops while a
-	 * correction is computed and written (ORB-SLAM2's LoopClosing stops LocalMapping), so that no
-	 * local BA result lands between the correction's snapshot of the poses and its write-back. */
-	std::mutex mapUpdateMtx_;
+	/** The map-update lock (ORB-SLAM2's mMutexMapUpdate), the back end's one protocol:
+	 * - shared: a frame's tracking and keyframe insertion (processFrame, from reading the last
+	 *   frame's pose to the new keyframes' insertion; setLastFrame again), and a keyframe's local mapping;
+	 * - exclusive: a loop correction (from its reading of the poses to its write-back) and the
+	 *   global-BA write-back (its solve runs unlocked and is refused if a correction landed).
+	 * So a correction never lands inside a frame's tracking (the frame is tracked and anchored in
+	 * one state of the map; one landing before setLastFrame shows as a new generation there), nor
+	 * between a local BA's or another correction's reading and writing. Stage submissions and the
+	 * sequential mode's inline mapping run after processFrame releases it. Loop keyframes are
+	 * pinned against culling while a loop is pending (CSparseMap::pinKeyFrame). */
+	std::shared_mutex mapUpdateMtx_;
+
 
 	// Loop-closing stage (parallel mode): fed by the mapping stage, collected by the caller.
 	std::mutex loopTasksMtx_;

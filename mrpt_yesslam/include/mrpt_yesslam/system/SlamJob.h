@@ -12,6 +12,17 @@
 
 namespace mrpt_yesslam
 {
+/** What a run is doing: a tool says by it what a second Ctrl-C does now. */
+enum class ESlamJobPhase
+{
+	Frames,	 //!< reading and tracking frames
+	FinalMapping,  //!< input closed, the mapping, loop and global-BA stages finishing their work
+	Saving	//!< writing the outputs
+};
+
+/** What a second Ctrl-C does in `phase` (the line yesslam prints when it comes). */
+const char* secondInterruptNote(ESlamJobPhase phase);
+
 /** Inputs of a run. */
 struct TSlamJobOptions
 {
@@ -20,7 +31,7 @@ struct TSlamJobOptions
 	/** Ground truth; empty = the one found beside the input (findGroundTruthFor), if any. */
 	std::string groundTruth;
 	/** What the ground truth's poses are: the camera's (TUM) or the Bonn dataset's markers. */
-	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Tum;
+	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Auto;
 	std::size_t maxFrames = 0;	//!< 0 = all
 	/** Recorded input: frames read and dropped before the first one processed (start elsewhere in a
 	 * recording, e.g. to relocalise in a saved map from another place). */
@@ -52,6 +63,8 @@ struct TSlamJobOptions
 	std::string saveMap;
 	/** Optional: called after each frame (CYesSlamSystem::setFrameCallback). */
 	std::function<void(const TFrame&)> onFrame;
+	/** Optional: called when the run enters a phase (Frames first, then FinalMapping, then Saving). */
+	std::function<void(ESlamJobPhase)> onPhase;
 	/** Optional: called on the mapping stage after each keyframe's local mapping
 	 * (CYesSlamSystem::setKeyFrameCallback); what it throws is a mapping failure. */
 	std::function<void(TKeyFrameId)> onKeyFrame;
@@ -72,6 +85,7 @@ struct TSlamJobSummary
 	/** Outputs a second Ctrl-C skipped while saving (empty when all were written). */
 	std::vector<std::string> skippedOutputs;
 	std::string groundTruth;  //!< the file evaluated against, empty if none
+	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Tum;	 //!< what its poses were taken as
 	bool evaluated = false;
 	TEvalReport eval;  //!< of trajectory.txt (lost frames filled in after the fact)
 	/** Of trajectory_online.txt: the poses the run had while it went (what a robot had). */

@@ -16,6 +16,7 @@
 
 #include <memory>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -82,8 +83,8 @@ class CTracker
 		/** The colour camera's rolling-shutter readout, seconds from its first row to its last:
 		 * keypoints are moved to the middle row's moment with the motion model's velocity
 		 * (feature/RollingShutter.h); 0 = global shutter; -1 = auto, which yesslam resolves from
-		 * its input (SlamJob: a yesslam-sim sequence's own, else kConsumerRgbdReadout); a system
-		 * used directly takes -1 as 0. */
+		 * its input (SlamJob: a yesslam-sim sequence's own, else the camera's, TRgbdCamera::readout,
+		 * else 0); a system used directly takes -1 as 0. */
 		double rollingShutter = -1;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
@@ -140,6 +141,8 @@ class CTracker
 	 * ([Tracking] lostVelocityFrames of them): the pose of the camera then in the camera's frame
 	 * now; none without a velocity (the start, or lost). */
 	std::optional<mrpt::poses::CPose3D> motionOver(double seconds) const;
+	/** Test only: `hook` runs in track() after the last frame's pose was read, before matching. */
+	void setHook(std::function<void()> hook) { hook_ = std::move(hook); }
 	/** Relocalisation by place recognition (ORB-SLAM2's: BoW candidates of the keyframe database,
 	 * grouped by covisibility, then PnP RANSAC) instead of trying the newest keyframes. */
 	void setPlaceRecognition(std::shared_ptr<const CVocabulary> vocabulary, std::shared_ptr<const CBowDatabase> database)
@@ -161,7 +164,8 @@ class CTracker
 	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
 	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
 	TLocalMapPoints lastFramePoints(const mrpt::poses::CPose3D& lastPose) const;
-	/** Mean SE(3) log of the last tracked frames' motions (what a lost frame coasts on). */
+	/** The last tracked frames' mean motion over one frame (SE(3) log): what a lost frame coasts on.
+	 * The mean velocity over the time they span, taken over the last interval. */
 	mrpt::math::CVectorFixedDouble<6> meanRecentMotion() const;
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
@@ -206,8 +210,15 @@ class CTracker
 	std::optional<TTracked> tracked_;
 	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
 	double velocityInterval_ = 0;  //!< seconds between the two frames of velocity_
-	/** Motions (SE(3) logs) of the last tracked frames, oldest first (lostVelocityFrames of them). */
-	std::deque<mrpt::math::CVectorFixedDouble<6>> recentMotion_;
+	/** One tracked frame's motion from the frame before it: SE(3) log and the seconds it took. */
+	struct TMotion
+	{
+		mrpt::math::CVectorFixedDouble<6> twist;
+		double seconds = 0;
+	};
+	/** Motions of the last tracked frames, oldest first (lostVelocityFrames of them); emptied when
+	 * tracking is lost, so that motions from before a loss never mix with those after it. */
+	std::deque<TMotion> recentMotion_;
 	std::size_t lostRun_ = 0;  //!< consecutive lost frames so far
 	std::optional<TKeyFrameId> refKf_;
 	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
@@ -215,6 +226,7 @@ class CTracker
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<const CBowDatabase> database_;
 	bool readOnly_ = false;	 //!< see setMapReadOnly
+	std::function<void()> hook_;  //!< see setHook
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with

@@ -58,6 +58,8 @@ int runTool(const std::string& program, const std::function<int()>& body);
  * (abortRequested; the message printed), so that what is complete stays, and a third kills the
  * process the usual way; without one, the second kills it. */
 void installInterruptHandler(const char* stopMessage = nullptr, const char* abortMessage = nullptr);
+/** Replaces the message a second Ctrl-C prints (a tool whose phases it affects differently). */
+void setAbortMessage(const char* abortMessage);
 /** True once Ctrl-C (or SIGTERM) has been received. */
 bool interruptRequested();
 /** True once a second Ctrl-C (or SIGTERM) has been received: stop saving after the current file. */

@@ -1,0 +1,55 @@
+#pragma once
+// What the system keeps of every processed frame after the frame itself is gone: where its pose
+// hangs in the map (so the trajectory follows every later correction, as ORB-SLAM2 saves
+// trajectories relative to reference keyframes), the pose it had online, and its frames.csv row.
+// Thread-safe: the trajectory may be read while frames are processed.
+#include <map>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/system/TSlamStats.h"
+#include "mrpt_yesslam/tracking/CTracker.h"
+
+namespace mrpt_yesslam
+{
+/** Every processed frame's record and row, in processing order. */
+class CFrameRecords
+{
+   public:
+	/** One frame's pose as the trajectory needs it. */
+	struct TRecord
+	{
+		double t = 0;
+		CTracker::TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
+		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
+		bool tracked = false;
+		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)
+	};
+
+	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking] lostInterpolate). */
+	explicit CFrameRecords(bool lostInterpolate) : lostInterpolate_(lostInterpolate) {}
+
+	/** Appends one frame. */
+	void add(const TRecord& record, const TFrameLogRow& row);
+	/** Marks the row of frame `frame` (searched from the newest) as the one a keyframe was made
+	 * from; with `anchor`, its pose then hangs from that keyframe. */
+	void markKeyFrame(std::size_t frame, const std::optional<CTracker::TAnchor>& anchor);
+	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` (see CYesSlamSystem::trajectory). */
+	TTrajectory trajectory(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& keyFramePoses) const;
+	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
+	TTrajectory online() const;
+	/** The rows, with where trajectory() takes each pose from. */
+	std::vector<TFrameLogRow> frameLog() const;
+
+   private:
+	/** Where trajectory() takes each record's pose from. */
+	std::vector<EPoseSource> poseSources() const;
+
+	bool lostInterpolate_;
+	mutable std::mutex mtx_;
+	std::vector<TRecord> records_;	//!< guarded by mtx_
+	std::vector<TFrameLogRow> rows_;  //!< guarded by mtx_
+};
+}  // namespace mrpt_yesslam
