@@ -168,13 +168,14 @@ int main(int argc, char** argv)
 
 			// What a second Ctrl-C does depends on the phase: each phase's line made once, before
 			// the handler may print it.
-			static std::map<ESlamJobPhase, std::string> secondNote;
+			// Never destroyed: the signal handler may print one after main returns.
+			static auto* secondNote = new std::map<ESlamJobPhase, std::string>;
 			for (auto p : {ESlamJobPhase::Frames, ESlamJobPhase::FinalMapping, ESlamJobPhase::Saving})
-				secondNote[p] = std::string("\nyesslam: ") + secondInterruptNote(p) + "\n";
+				(*secondNote)[p] = std::string("\nyesslam: ") + secondInterruptNote(p) + "\n";
 			installInterruptHandler(
 				"\nyesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet written)\n",
-				secondNote[ESlamJobPhase::Frames].c_str());
-			o.onPhase = [](ESlamJobPhase p) { setAbortMessage(secondNote.at(p).c_str()); };
+				secondNote->at(ESlamJobPhase::Frames).c_str());
+			o.onPhase = [](ESlamJobPhase p) { setAbortMessage(secondNote->at(p).c_str()); };
 			ProgressBar bar("yesslam", 0, !quiet);
 			const TSlamJobSummary s = runSlamJob(
 				o,

@@ -179,7 +179,9 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 		TRgbdCamera c = readCameraFile(calib.string());
 		// The TUM sequences' Kinect v1 (a freiburg name in the path) and the Bonn RGB-D Dynamic
 		// dataset's ASUS Xtion (its folders are rgbd_bonn_*).
-		const std::string name = lower(fs::absolute(fs::path(folder)).lexically_normal().filename().string());
+		fs::path dirPath = fs::absolute(fs::path(folder)).lexically_normal();
+		if (dirPath.filename().empty()) dirPath = dirPath.parent_path();  // "x/rgbd_bonn_y/" and "."
+		const std::string name = lower(dirPath.filename().string());
 		if (c.readout < 0 && (name.find("bonn") != std::string::npos || !tumCameraNameFromPath(folder).empty())) c.readout = kPrimeSenseReadout;
 		return c;
 	}

@@ -1,5 +1,6 @@
 #include "mrpt_yesslam/loop/CLoopCloser.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <set>
@@ -36,6 +37,9 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 
 	// 1. The current keyframe's group, moved rigidly with it.
 	std::vector<TKeyFrameId> group = map_.covisible(loop.current, before.size(), 1);
+	// The matched keyframe is the fixed side of the loop, even when local mapping connected the two
+	// between detection and correction.
+	group.erase(std::remove(group.begin(), group.end(), loop.matched), group.end());
 	group.insert(group.begin(), loop.current);
 	const std::set<TKeyFrameId> groupSet(group.begin(), group.end());
 	const mrpt::poses::CPose3D Tcur = before.at(loop.current);

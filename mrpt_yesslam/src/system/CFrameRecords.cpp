@@ -42,13 +42,14 @@ std::vector<EPoseSource> CFrameRecords::poseSources() const
 	return out;
 }
 
-TTrajectory CFrameRecords::trajectory(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& keyFramePoses) const
+TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
 {
 	std::vector<TRecord> records;
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
 		records = records_;
 	}
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> keyFramePoses = poses();
 	TTrajectory out;
 	std::vector<bool> tracked;
 	out.reserve(records.size());

@@ -679,9 +679,13 @@ TFrameReport CYesSlamSystem::processFrame(
 
 TTrajectory CYesSlamSystem::trajectory() const
 {
-	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
-	for (const auto& k : map_.keyFramePoses()) poses[k.id] = k.pose;
-	return records_.trajectory(poses);
+	return records_.trajectory(
+		[this]
+		{
+			std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
+			for (const auto& k : map_.keyFramePoses()) poses[k.id] = k.pose;
+			return poses;
+		});
 }
 
 TTrajectory CYesSlamSystem::onlineTrajectory() const { return records_.online(); }

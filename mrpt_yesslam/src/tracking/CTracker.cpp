@@ -98,6 +98,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		velocityInterval_ = f->timestamp - last_->timestamp;
 		lostRun_ = 0;
+		if (velocityInterval_ < 0) recentMotion_.clear();  // time went back: the motions before are of another clock
 		recentMotion_.push_back({mrpt::poses::Lie::SE<3>::log(*velocity_), velocityInterval_});
 		while (recentMotion_.size() > opts_.lostVelocityFrames) recentMotion_.pop_front();
 	}
@@ -153,10 +154,11 @@ std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
 	sum.setZero();
 	double span = 0;
 	for (const auto& m : recentMotion_)
-	{
-		for (int k = 0; k < 6; k++) sum[k] += m.twist[k];
-		span += m.seconds;
-	}
+		if (m.seconds > 0)	// a motion without time (equal stamps) says nothing of the speed
+		{
+			for (int k = 0; k < 6; k++) sum[k] += m.twist[k];
+			span += m.seconds;
+		}
 	if (!(span > 0)) return std::nullopt;
 	return scaledTwist(sum, seconds / span);
 }
@@ -168,17 +170,12 @@ mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
 	// sim.ini: the error grew from 5.4 to 7.8 mm over the last tracked frame of a camera standing
 	// still, and five frames coasting on that step ended 56 mm off), while a smooth camera path
 	// keeps its velocity in a short mean.
-	// Frames without time stamps (all intervals 0) average their steps.
+	// Per frame (the next frame's interval is not known yet): a step over a dropped frame's double
+	// interval weighs as one, as it did before the motions carried their time.
 	mrpt::math::CVectorFixedDouble<6> v;
 	v.setZero();
-	double span = 0;
 	for (const auto& m : recentMotion_)
-	{
-		for (int k = 0; k < 6; k++) v[k] += m.twist[k];
-		span += m.seconds;
-	}
-	const double share = span > 0 && velocityInterval_ > 0 ? velocityInterval_ / span : 1.0 / static_cast<double>(recentMotion_.size());
-	for (int k = 0; k < 6; k++) v[k] *= share;
+		for (int k = 0; k < 6; k++) v[k] += m.twist[k] / static_cast<double>(recentMotion_.size());
 	return v;
 }
 

@@ -3,6 +3,7 @@
 // hangs in the map (so the trajectory follows every later correction, as ORB-SLAM2 saves
 // trajectories relative to reference keyframes), the pose it had online, and its frames.csv row.
 // Thread-safe: the trajectory may be read while frames are processed.
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -36,8 +37,10 @@ class CFrameRecords
 	/** Marks the row of frame `frame` (searched from the newest) as the one a keyframe was made
 	 * from; with `anchor`, its pose then hangs from that keyframe. */
 	void markKeyFrame(std::size_t frame, const std::optional<CTracker::TAnchor>& anchor);
-	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` (see CYesSlamSystem::trajectory). */
-	TTrajectory trajectory(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& keyFramePoses) const;
+	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` gives (see
+	 * CYesSlamSystem::trajectory): read after the records, so that every keyframe a record hangs
+	 * from is in them even while frames are being added. */
+	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
 	/** The rows, with where trajectory() takes each pose from. */

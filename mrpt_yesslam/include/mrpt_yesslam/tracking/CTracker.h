@@ -164,8 +164,7 @@ class CTracker
 	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
 	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
 	TLocalMapPoints lastFramePoints(const mrpt::poses::CPose3D& lastPose) const;
-	/** The last tracked frames' mean motion over one frame (SE(3) log): what a lost frame coasts on.
-	 * The mean velocity over the time they span, taken over the last interval. */
+	/** The last tracked frames' mean motion over one frame (SE(3) log): what a lost frame coasts on. */
 	mrpt::math::CVectorFixedDouble<6> meanRecentMotion() const;
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
