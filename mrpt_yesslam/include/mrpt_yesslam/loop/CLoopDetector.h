@@ -80,11 +80,22 @@ class CLoopDetector
 		 * just left, not a loop (stella_vslam excludes them by distance in the graph). */
 		double minLoopAge = 5;
 		std::size_t minKeyFrames = 10;	//!< no detection before the map has this many keyframes (ORB-SLAM2)
+		/** How a pair's keypoints are first matched: "all" (every static keypoint with depth
+		 * against every other) or "bow" (within the direct index's nodes, ORB-SLAM2's SearchByBoW). */
+		std::string matching = "all";
 		int maxHamming = 50;  //!< direct-index matching (ORB-SLAM2's TH_LOW)
 		double ratio = 0.75;  //!< nearest / second nearest (ORB-SLAM2's loop matching)
 		std::size_t minMatches = 20;  //!< direct-index matches needed to try RANSAC (ORB-SLAM2: 20)
 		std::size_t minInliers = 20;  //!< RANSAC inliers needed (ORB-SLAM2: 20)
 		std::size_t ransacIterations = 300;	 //!< ORB-SLAM2's Sim3 RANSAC
+		/** RANSAC inliers that let guided matching look for the rest (then minInliers must agree). */
+		std::size_t minSeedInliers = 12;
+		/** Guided matching's search radius, pixels at level 0 (ORB-SLAM2's SearchBySim3: 7.5; 0 = none). */
+		double guidedRadius = 7.5;
+		int guidedHamming = 100;  //!< guided matching's descriptor distance (ORB-SLAM2's TH_HIGH)
+		/** The relative pose's final solve: depth sigma = this x z^2 beside the reprojection
+		 * ([Tracking] depthNoise's model; 0 = keep the 3D-3D fit). */
+		double refineDepthNoise = 0.0025;
 		std::size_t minProjectionMatches = 40;	//!< matches of the group's points with the corrected pose (ORB-SLAM2: 40)
 		double projectionRadius = 10;  //!< pixels at level 0 for that search (ORB-SLAM2: 10)
 

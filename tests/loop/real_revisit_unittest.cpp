@@ -1,0 +1,85 @@
+// Geometric loop verification on real revisits: the real Bonn crowd slice (Bonn RGB-D Dynamic
+// Dataset, Palazzolo et al., IROS 2019; research data used for testing only, never copied: see
+// ../shared/data/bonn_crowd_dev/SOURCE.md).
+#include <gtest/gtest.h>
+#include <mrpt/poses/Lie/SO.h>
+
+#include <algorithm>
+#include <set>
+
+#include "TestUtils.h"
+#include "mrpt_yesslam/eval/GroundTruthFormat.h"
+#include "mrpt_yesslam/io/RgbdObservation.h"
+#include "mrpt_yesslam/system/CYesSlamSystem.h"
+
+using namespace mrpt_yesslam;
+using namespace yesslam_test;
+
+// Issue 40 item 1: frame 0 and frames 150-205 of the slice see the same place 3-12 cm and 4-14
+// degrees apart (ground truth), the later ones with people walking close. Keyframes made at those
+// frames (default detector and masks, as a run makes them) are verified as a loop pair. Before
+// (matching in the direct index, the relative pose from the 3D-3D fit) two of the seven were
+// accepted, 6 and 11 cm off the ground truth's relative pose. Now (every static keypoint with
+// depth matched, guided matching after the RANSAC seed, the pose refined on reprojection) the four
+// from frame 180 on are accepted 3.4-4.7 cm off (our own tracking's relative error over these
+// gaps: 2 cm median). Frames 150-170 keep 5-22 consistent correspondences among the 100-300 static
+// keypoints with depth the people leave, too few for ORB-SLAM2's thresholds (20 inliers, 40
+// projection matches); the issue's 2 cm is not reached (README, "Loops on real frames").
+TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
+{
+	const std::string dir = sharedFile("data/bonn_crowd_dev");
+	TYesSlamOptions o;
+	const TTrajectory gt = readGroundTruth(dir + "/groundtruth.txt", EGroundTruthFormat::Bonn);
+	const auto gtAt = [&](double t) -> std::optional<mrpt::poses::CPose3D>
+	{
+		const auto it = std::min_element(gt.begin(), gt.end(), [&](const TStampedPose& a, const TStampedPose& b) { return std::abs(a.t - t) < std::abs(b.t - t); });
+		if (it == gt.end() || std::abs(it->t - t) > 0.02) return std::nullopt;
+		return it->asPose();
+	};
+	CFrameBuilder builder(createObjectDetector(o.detector), o.masker, o.orb, true, false, o.geometric);
+	const auto vocabulary = std::make_shared<CVocabulary>(CVocabulary::load(CVocabulary::shippedPath()));
+	auto database = std::make_shared<CBowDatabase>(vocabulary->numWords());
+	CSparseMap map;
+	CLoopDetector detector(o.loop.detection, map, vocabulary, database, o.keyFrames.semantic, o.orb.scaleFactor, o.tracking.maxDepth);
+	auto src = openInputSource(dir, o.input);
+	const std::set<std::size_t> wanted{0, 150, 160, 170, 180, 190, 200, 205};
+	std::map<std::size_t, TKeyFrameId> kfOf;
+	std::map<std::size_t, mrpt::poses::CPose3D> truth;
+	std::size_t index = 0;
+	while (auto obs = src->next())
+	{
+		if (wanted.count(index))
+		{
+			cv::Mat bgr = obs->intensityImage.asCvMatRef();
+			auto f = builder.build(bgr, depthInMetres(*obs), observationTime(*obs), obs->cameraParamsIntensity, index);
+			const auto pose = gtAt(f->timestamp);
+			ASSERT_TRUE(pose.has_value()) << "frame " << index;
+			f->pose = *pose;
+			f->tracked = true;
+			truth[index] = *pose;
+			const TKeyFrameId kf = map.addKeyFrame(f, o.tracking.maxDepth);
+			map.setKeyFrameBow(kf, vocabulary->bowOf(*map.keyFrame(kf).features, o.loop.detection.directLevel));
+			kfOf[index] = kf;
+		}
+		if (++index > *wanted.rbegin()) break;
+	}
+	ASSERT_EQ(kfOf.size(), wanted.size());
+	std::size_t accepted = 0;
+	for (const std::size_t k : wanted)
+	{
+		if (k == 0) continue;
+		const auto loop = detector.verify(kfOf.at(k), kfOf.at(0));
+		const mrpt::poses::CPose3D trueRel = (-truth.at(0)) + truth.at(k);
+		if (!loop)
+		{
+			EXPECT_LT(k, 180u) << "frame " << k << " refused (true relative pose " << trueRel << ")";
+			continue;
+		}
+		accepted++;
+		const mrpt::poses::CPose3D err = (-trueRel) + loop->relative;
+		const double deg = mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log(err.getRotationMatrix()).norm());
+		EXPECT_LT(err.norm(), 0.05) << "frame " << k << ": " << loop->ransacInliers << " inliers, true " << trueRel << " found " << loop->relative;
+		EXPECT_LT(deg, 2.5) << "frame " << k;
+	}
+	EXPECT_GE(accepted, 4u);
+}
