@@ -105,7 +105,7 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 	return c;
 }
 
-TBundleStats CLoopCloser::globalBundleAdjust(std::shared_mutex* writeLock)
+TBundleStats CLoopCloser::globalBundleAdjust(CWriterFirstMutex* writeLock)
 {
 	const TBundleWindow w = map_.globalBundleWindow();
 	if (w.keyFrames.empty() || w.points.empty()) return {};
@@ -120,8 +120,8 @@ TBundleStats CLoopCloser::globalBundleAdjust(std::shared_mutex* writeLock)
 	so.cancelled = [this, &w] { return map_.generation() != w.generation; };
 	TBundleSolution sol = solveBundle(w, so);
 	if (sol.stats.cancelled) return sol.stats;
-	std::unique_lock<std::shared_mutex> lk;
-	if (writeLock) lk = std::unique_lock<std::shared_mutex>(*writeLock);
+	std::unique_lock<CWriterFirstMutex> lk;
+	if (writeLock) lk = std::unique_lock<CWriterFirstMutex>(*writeLock);
 	sol.stats.applied = map_.applyGlobalBundle(w, sol.poses, sol.positions, sol.outliers);
 	return sol.stats;
 }

@@ -298,7 +298,7 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	TMappingStats st;
 	{
 		// Waits while a loop correction is written (counted in the mapping time: that is the stall).
-		std::shared_lock<std::shared_mutex> lk(mapUpdateMtx_);
+		std::shared_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
 		st = mapper_.step(kf);
 	}
 	if (bowDatabase_)
@@ -355,7 +355,7 @@ void CYesSlamSystem::closeLoops(TKeyFrameId kf)
 	TLoopCorrection correction;
 	if (loop)
 	{
-		std::unique_lock<std::shared_mutex> lk(mapUpdateMtx_);
+		std::unique_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
 		t0 = Clock::now();
 		correction = loopCloser_->correct(*loop);
 		correctMs = msSince(t0);
@@ -541,7 +541,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	bool initialising = false;
 	// Shared over the frame's tracking and keyframe insertion (mapUpdateMtx_): no correction lands
 	// inside them; the keyframes it makes are mapped after the lock is released.
-	std::shared_lock<std::shared_mutex> frameLock(mapUpdateMtx_);
+	std::shared_lock<CWriterFirstMutex> frameLock(mapUpdateMtx_);
 	std::vector<std::pair<TKeyFrameId, std::shared_ptr<const TFrame>>> newKeyFrames;
 	if (map_.numKeyFrames() == 0 && !opts_.system.localizeOnly)
 	{
@@ -634,7 +634,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		// After the sequential mode's local mapping, as before the protocol: the frame's anchor
 		// then keeps the tracked pose through that BA; a correction since tracking (a loop the
 		// inline mapping closed, or another thread's) shows as a new generation (setLastFrame).
-		std::shared_lock<std::shared_mutex> relock(mapUpdateMtx_);
+		std::shared_lock<CWriterFirstMutex> relock(mapUpdateMtx_);
 		tracker_.setLastFrame(frame);
 	}
 
@@ -692,7 +692,7 @@ TTrajectory CYesSlamSystem::onlineTrajectory() const { return records_.online();
 
 void CYesSlamSystem::correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses)
 {
-	std::unique_lock<std::shared_mutex> lk(mapUpdateMtx_);
+	std::unique_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
 	map_.applyCorrection(poses);
 }
 

@@ -13,11 +13,11 @@
 //    in parallel mode); keyframes and points created meanwhile follow their ancestors, and a result
 //    computed before another correction is dropped.
 #include <memory>
-#include <shared_mutex>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
 #include "mrpt_yesslam/mapping/BundleAdjustment.h"
+#include "mrpt_yesslam/util/CWriterFirstMutex.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
@@ -62,7 +62,7 @@ class CLoopCloser
 	/** Global BA of the whole map (step 4); `applied` says whether it was written back. The solve
 	 * runs unlocked; the write-back holds `writeLock` (the system's map-update lock) when given, so
 	 * that it never lands between a loop correction's reading of the poses and its writing. */
-	TBundleStats globalBundleAdjust(std::shared_mutex* writeLock = nullptr);
+	TBundleStats globalBundleAdjust(CWriterFirstMutex* writeLock = nullptr);
 	const TOptions& options() const { return opts_; }
 
    private:

@@ -40,6 +40,7 @@
 #include "mrpt_yesslam/system/TSlamStats.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
+#include "mrpt_yesslam/util/CWriterFirstMutex.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
@@ -267,8 +268,10 @@ class CYesSlamSystem
 	 * one state of the map; one landing before setLastFrame shows as a new generation there), nor
 	 * between a local BA's or another correction's reading and writing. Stage submissions and the
 	 * sequential mode's inline mapping run after processFrame releases it. Loop keyframes are
-	 * pinned against culling while a loop is pending (CSparseMap::pinKeyFrame). */
-	std::shared_mutex mapUpdateMtx_;
+	 * pinned against culling while a loop is pending (CSparseMap::pinKeyFrame). A waiting writer
+	 * goes before new readers (CWriterFirstMutex): tracking and local mapping overlap most of the
+	 * time, and a reader-preferring lock could hold a correction back indefinitely. */
+	CWriterFirstMutex mapUpdateMtx_;
 
 
 	// Loop-closing stage (parallel mode): fed by the mapping stage, collected by the caller.
