@@ -59,10 +59,19 @@ TEST(WriterFirstMutex, AWriterGetsInWhileReadersKeepOverlapping)
 
 TEST(WriterFirstMutex, ReadersShareAndAWriterExcludes)
 {
+	// Two threads read at once; a writer waits for both. (One thread never takes it shared twice:
+	// a writer waiting in between would deadlock it, as any writer-preferring lock.)
 	CWriterFirstMutex m;
 	std::shared_lock<CWriterFirstMutex> a(m);
-	std::shared_lock<CWriterFirstMutex> b(m);  // the turnstile is free: a second reader joins
-	std::atomic<bool> wrote{false};
+	std::atomic<bool> secondIn{false}, release{false}, wrote{false};
+	std::thread second(
+		[&]
+		{
+			std::shared_lock<CWriterFirstMutex> b(m);
+			secondIn = true;
+			while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+		});
+	while (!secondIn) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 	std::thread writer(
 		[&]
 		{
@@ -72,7 +81,10 @@ TEST(WriterFirstMutex, ReadersShareAndAWriterExcludes)
 	std::this_thread::sleep_for(std::chrono::milliseconds(50));
 	EXPECT_FALSE(wrote) << "a writer ran beside readers";
 	a.unlock();
-	b.unlock();
+	std::this_thread::sleep_for(std::chrono::milliseconds(20));
+	EXPECT_FALSE(wrote) << "a writer ran beside a reader";
+	release = true;
+	second.join();
 	writer.join();
 	EXPECT_TRUE(wrote);
 }

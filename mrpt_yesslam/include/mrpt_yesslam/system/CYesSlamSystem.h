@@ -202,10 +202,10 @@ class CYesSlamSystem
 	/** The dense stage and local mapping of a new keyframe: queued in parallel mode, run here otherwise. */
 	void dispatchKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f);
 	double motionToReference(const TFrame& f) const;
-	/** Local mapping of one keyframe (on the stage thread in parallel mode). */
 	/** Computes keyframe `kf`'s words and puts them in the place-recognition database (no-op
 	 * without a vocabulary or for a bad keyframe). */
 	void addWords(TKeyFrameId kf);
+	/** Local mapping of one keyframe (on the stage thread in parallel mode). */
 	void mapKeyFrame(TKeyFrameId kf);
 	/** Loop detection for keyframe `kf`, and correction of an accepted loop (on the loop-closing
 	 * stage in parallel mode, as ORB-SLAM2's LoopClosing thread). */

@@ -1,6 +1,6 @@
 #pragma once
 // The figures of a SLAM run (what stats.json reports), apart from the system that counts them so
-// that exporters (io/SlamExport) need not include the system.
+// that exporters (system/SlamExport) need not include the system.
 #include <cstddef>
 #include <map>
 #include <algorithm>

@@ -9,7 +9,9 @@
 
 namespace mrpt_yesslam
 {
-/** std::shared_mutex with writer preference; usable with std::unique_lock and std::shared_lock. */
+/** std::shared_mutex with writer preference; usable with std::unique_lock and std::shared_lock. A
+ * thread must not take it shared while it holds it: a writer waiting in between would deadlock
+ * it (as with any writer-preferring lock). */
 class CWriterFirstMutex
 {
    public:
