@@ -9,7 +9,7 @@
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/eval/SemanticMapScoring.h"
 #include "mrpt_yesslam/io/Trajectory.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 
 using namespace mrpt_yesslam;
 

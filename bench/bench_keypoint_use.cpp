@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 

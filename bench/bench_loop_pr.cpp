@@ -19,7 +19,7 @@
 
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 

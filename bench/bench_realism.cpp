@@ -1,11 +1,11 @@
-// Sensor statistics of RGB-D sequences (eval/CSensorStatistics), to hold the simulator against real
+// Sensor statistics of RGB-D sequences (sim/CSensorStatistics), to hold the simulator against real
 // frames: depth noise against distance, valid depth, flying pixels, texture, sharpness.
 // usage: bench_realism [--step K] [--max-frames N] [--camera C] FOLDER   (a TUM folder or rawlog)
 // Prints "key: value" lines; bench/bench_realism.sh puts sequences side by side.
 #include <cstdio>
 #include <string>
 
-#include "mrpt_yesslam/eval/CSensorStatistics.h"
+#include "mrpt_yesslam/sim/CSensorStatistics.h"
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 

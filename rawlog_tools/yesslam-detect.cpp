@@ -2,7 +2,7 @@
 // image, a TUM folder or a rawlog, so detections can be computed once, reused and checked.
 #include <cstdio>
 
-#include "mrpt_yesslam/detection/DetectionJob.h"
+#include "mrpt_yesslam/jobs/DetectionJob.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"

@@ -6,8 +6,8 @@
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
-#include "mrpt_yesslam/io/MapFile.h"
-#include "mrpt_yesslam/io/MapSummary.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
+#include "mrpt_yesslam/mapio/MapSummary.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/CommandLine.h"

@@ -61,7 +61,14 @@ elif [ "$mode" = sanitize ]; then
   # their sequences under ASan) and three more whole-sequence comparisons (keyframe policies, the
   # mover check on a static scene, the undetected walker: 180 s) run the SLAM code every other
   # system test runs; the shutter and depth-moment code itself is in feature/'s unit tests, which stay.
-  FILTER=(-E "LoopClosing\\.(ARevisit|NoLoopIsAccepted)|Relocalisation\\.AKidnapped|DenseMap\\.(PeopleLeave|NoSurface)|MapReuse\\.ASecondPass|Tools\\.EveryKeyFrame|System\\.(ARollingShutter|DepthTakenAtAnotherMoment|KeyFramePoliciesBothWork|AStaticSequenceIsNotMadeWorse|AnUndetectedWalker)")
+  # Three of the threaded tests the TSan suite runs (parallel against sequential mapping, parallel
+  # accuracy, the correction from another thread: 72 s under ASan) go through the SLAM code other
+  # tests run here; the parallel stages' lifetimes, failure reporting and the loop stage racing
+  # tracking stay under ASan (System.ParallelMappingMapsEveryKeyFrame..., LoopClosing.ACorrectionWhileTracking...). So do the determinism check (two identical sequential runs) and the two
+  # simulator-preset statistics (whole generated sequences measured; the simulator's code is in the
+  # other simulator tests, which stay). The install tests (cmake --install, the example built against it, cpack) check
+  # the packaging of the normal build, not memory.
+  FILTER=(-E "LoopClosing\\.(ARevisit|NoLoopIsAccepted)|Relocalisation\\.AKidnapped|DenseMap\\.(PeopleLeave|NoSurface)|MapReuse\\.ASecondPass|Tools\\.EveryKeyFrame|Simulator\\.(TheCrowdPresetLooksLike|WalkingPresetIsAsDynamic)|System\\.(SequentialModeIsDeterministic|ARollingShutter|DepthTakenAtAnotherMoment|KeyFramePoliciesBothWork|AStaticSequenceIsNotMadeWorse|AnUndetectedWalker|ParallelMappingIsAsAccurate|SequentialAndParallel|ACorrectionFromAnotherThread)|Install\\.")
 else
   BUILD="$ROOT/build"
   ./scripts/build.sh "$BUILD" -DYESSLAM_BUILD_TESTS=ON

@@ -5,7 +5,7 @@
 #include <map>
 
 #include "mrpt_yesslam/io/COpenNI2Source.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ProgressBar.h"
@@ -113,7 +113,7 @@ int main(int argc, char** argv)
 				const auto devices = listOpenNI2Devices();
 				if (devices.empty())
 				{
-					std::fprintf(stderr, "yesslam: no OpenNI2 device found (plugged in? see lsusb; may this user open it? see README, Live input)\n");
+					std::fprintf(stderr, "yesslam: no OpenNI2 device found (plugged in? see lsusb; may this user open it? see docs/tools.md, Live input)\n");
 					return 1;
 				}
 				for (const auto& d : devices)

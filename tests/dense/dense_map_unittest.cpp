@@ -20,7 +20,7 @@
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/system/CYesSlamSystem.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 #include "mrpt_yesslam/util/Error.h"
 
 using namespace mrpt_yesslam;
@@ -334,7 +334,7 @@ TEST(DenseMap, PeopleLeaveNoOccupiedVoxelWhereTheyWalkedAndObjectsKeepTheirClass
 	so.seed = 5;
 	so.frames = 300;
 	// Exact detections: with the simulator's YOLO-like misses a person missed for longer than the
-	// masker holds its box leaves a few voxels (22 of 23,000 swept on this sequence; README).
+	// masker holds its box leaves a few voxels (22 of 23,000 swept on this sequence; docs/benchmarks.md).
 	so.detNoise = "none";
 	const std::string seq = cachedSequence("dense_walking_xyz_300_exact", so);
 	TempDir d("dense_run");

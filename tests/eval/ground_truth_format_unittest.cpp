@@ -9,7 +9,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/eval/EvalReport.h"
 #include "mrpt_yesslam/eval/GroundTruthFormat.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;

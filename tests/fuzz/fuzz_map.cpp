@@ -13,7 +13,7 @@
 #include <string>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
-#include "mrpt_yesslam/io/MapFile.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/BinaryIO.h"
 #include "mrpt_yesslam/util/Error.h"

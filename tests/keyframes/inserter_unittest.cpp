@@ -165,7 +165,7 @@ TEST(RecentFrames, AChosenFrameComesAtItsPoseInTheMapAsItIsNow)
 		f->id = id;
 		f->tracked = id != 2;
 		f->pose = mrpt::poses::CPose3D(0.01 * static_cast<double>(id), 0, 0, 0, 0, 0);
-		CTracker::TAnchor a;
+		TAnchor a;
 		a.refKf = kf;
 		a.relative = f->pose;  // keyframe 0 is at the origin
 		recent.push(f, a);

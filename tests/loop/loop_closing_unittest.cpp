@@ -19,7 +19,7 @@
 #include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/PoseGraph.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;

@@ -24,7 +24,7 @@ using namespace yesslam_test;
 // from frame 180 on are accepted 3.4-4.7 cm off (our own tracking's relative error over these
 // gaps: 2 cm median). Frames 150-170 keep 5-22 consistent correspondences among the 100-300 static
 // keypoints with depth the people leave, too few for ORB-SLAM2's thresholds (20 inliers, 40
-// projection matches); the 2 cm is not reached (README, "Loops on real frames").
+// projection matches); the 2 cm is not reached (docs/benchmarks.md, "Loops on real frames").
 TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
 {
 	const std::string dir = sharedFile("data/bonn_crowd_dev");

@@ -22,7 +22,7 @@
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/Trajectory.h"
-#include "mrpt_yesslam/eval/CSensorStatistics.h"
+#include "mrpt_yesslam/sim/CSensorStatistics.h"
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
 #include <mrpt/poses/Lie/SO.h>

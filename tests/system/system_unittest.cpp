@@ -21,7 +21,7 @@
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;

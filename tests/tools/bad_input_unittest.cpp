@@ -1,4 +1,4 @@
-// The bad-input corpus (tests/bad_inputs/, README there): one test per case, each checking that the
+// The bad-input corpus (tests/bad_inputs/): one test per case, each checking that the
 // tool exits non-zero (or warns, for unknown config keys) with one line naming the file and the
 // problem, and never crashes.
 #include <gtest/gtest.h>

@@ -17,7 +17,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 
 #include <cmath>
 

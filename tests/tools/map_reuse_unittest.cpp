@@ -17,7 +17,7 @@
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/dense/CSemanticOcTree.h"
 #include "mrpt_yesslam/dense/DenseMapExport.h"
-#include "mrpt_yesslam/io/MapFile.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/util/BinaryIO.h"

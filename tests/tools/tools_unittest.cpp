@@ -176,7 +176,7 @@ TEST(Tools, RawlogsOpenInMrptsRawlogEdit)
 		EXPECT_GT(fs::file_size(file + ".pc.rawlog"), fs::file_size(file)) << "no point clouds were added";
 	}
 	// Issue 18 item 7: MRPT resolves external images against the working directory, so
-	// rawlog-edit must run from the rawlog's folder to reach them (what README.md says): from there
+	// rawlog-edit must run from the rawlog's folder to reach them (what docs/tools.md says): from there
 	// --de-externalize embeds the images; from elsewhere it silently writes a rawlog without them.
 	const auto here = runCommand("sh", {"-c", "cd '" + d.path() + "' && rawlog-edit -i ext.rawlog --de-externalize -o here.rawlog"});
 	ASSERT_EQ(here.exitCode, 0) << here.out << here.err;

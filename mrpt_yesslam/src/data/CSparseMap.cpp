@@ -258,12 +258,6 @@ std::uint64_t CSparseMap::generation() const
 	return s_->generation;
 }
 
-std::uint64_t CSparseMap::beginCorrection()
-{
-	WriteLock lk(mtx_);
-	return ++s_->generation;
-}
-
 bool CSparseMap::addLoopEdge(TKeyFrameId a, TKeyFrameId b)
 {
 	WriteLock lk(mtx_);

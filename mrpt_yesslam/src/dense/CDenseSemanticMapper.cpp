@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "mrpt_yesslam/util/Stopwatch.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -480,7 +481,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	}
 	m.octree->updateInnerSemantics();
 	m.octree->prune();
-	m.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+	m.buildMs = msSince(t0);
 	return m;
 }
 }  // namespace mrpt_yesslam

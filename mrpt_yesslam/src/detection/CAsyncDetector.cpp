@@ -3,6 +3,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "mrpt_yesslam/util/Stopwatch.h"
+
 namespace mrpt_yesslam
 {
 CAsyncDetector::CAsyncDetector(std::unique_ptr<CObjectDetector> detector) : det_(std::move(detector))
@@ -18,7 +20,7 @@ void CAsyncDetector::submit(const cv::Mat& bgr, double timestamp)
 		{
 			const auto t0 = std::chrono::steady_clock::now();
 			auto d = det_->detect(bgr, timestamp);
-			lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+			lastMs_ = msSince(t0);
 			return d;
 		});
 }

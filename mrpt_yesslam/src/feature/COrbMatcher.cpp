@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstring>
-#include <limits>
 
 namespace mrpt_yesslam
 {
@@ -39,27 +38,6 @@ std::vector<TMatch> uniqueBy(const std::vector<TMatch>& m, std::size_t n, std::s
 	return out;
 }
 
-// The two smallest distances seen and the index of the smallest, for Lowe's ratio test.
-struct TBestTwo
-{
-	int best = std::numeric_limits<int>::max(), second = std::numeric_limits<int>::max(), index = -1;
-	void add(int dist, int idx)
-	{
-		if (dist < best)
-		{
-			second = best;
-			best = dist;
-			index = idx;
-		}
-		else if (dist < second)
-			second = dist;
-	}
-	/** A match within `maxDist` and clearly better than the runner-up (if any). */
-	bool accepted(int maxDist, double ratio) const
-	{
-		return index >= 0 && best <= maxDist && (second == std::numeric_limits<int>::max() || best <= ratio * second);
-	}
-};
 }  // namespace
 
 std::vector<TMatch> COrbMatcher::searchByProjection(

@@ -7,7 +7,9 @@
 #include <iterator>
 #include <regex>
 
+#include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/TextParsing.h"
@@ -62,5 +64,21 @@ std::optional<double> statedReadout(const std::string& inputPath)
 	double ms = 0;
 	if (!parseFiniteDouble(m[1].str(), ms) || ms < 0) throw InputError(meta.string(), "readout_ms is not a duration: '" + m[1].str() + "'");
 	return ms * 1e-3;
+}
+
+std::optional<double> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts)
+{
+	if (isOpenNI2Input(inputPath)) return std::nullopt;
+	if (const auto stated = statedReadout(inputPath)) return stated;
+	std::error_code ec;
+	if (!fs::is_directory(inputPath, ec)) return std::nullopt;
+	try
+	{
+		if (const double r = resolveTumCamera(opts.camera, inputPath).readout; r >= 0) return r;
+	}
+	catch (const InputError&)
+	{
+	}
+	return std::nullopt;
 }
 }  // namespace mrpt_yesslam

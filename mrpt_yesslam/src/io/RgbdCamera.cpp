@@ -67,6 +67,17 @@ TRgbdCamera tumCameraByName(const std::string& nameIn)
 	throw InputError("", "unknown camera name '" + nameIn + "' (known: fr1, fr2, fr3, or give a camera file)");
 }
 
+bool isBonnDatasetPath(const std::string& path)
+{
+	namespace fs = std::filesystem;
+	fs::path p = fs::absolute(fs::path(path)).lexically_normal();
+	if (p.filename().empty()) p = p.parent_path();	// "x/rgbd_bonn_y/" and "."
+	std::error_code ec;
+	// A folder by its own name; a file (groundtruth.txt) by its folder's name and its own.
+	const std::string names = fs::is_directory(p, ec) ? p.filename().string() : p.parent_path().filename().string() + "/" + p.filename().string();
+	return lower(names).find("bonn") != std::string::npos;
+}
+
 std::string tumCameraNameFromPath(const std::string& folder)
 {
 	namespace fs = std::filesystem;
@@ -179,10 +190,7 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 		TRgbdCamera c = readCameraFile(calib.string());
 		// The TUM sequences' Kinect v1 (a freiburg name in the path) and the Bonn RGB-D Dynamic
 		// dataset's ASUS Xtion (its folders are rgbd_bonn_*).
-		fs::path dirPath = fs::absolute(fs::path(folder)).lexically_normal();
-		if (dirPath.filename().empty()) dirPath = dirPath.parent_path();  // "x/rgbd_bonn_y/" and "."
-		const std::string name = lower(dirPath.filename().string());
-		if (c.readout < 0 && (name.find("bonn") != std::string::npos || !tumCameraNameFromPath(folder).empty())) c.readout = kPrimeSenseReadout;
+		if (c.readout < 0 && (isBonnDatasetPath(folder) || !tumCameraNameFromPath(folder).empty())) c.readout = kPrimeSenseReadout;
 		return c;
 	}
 	const std::string n = tumCameraNameFromPath(folder);

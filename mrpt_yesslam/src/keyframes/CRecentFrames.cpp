@@ -7,7 +7,7 @@
 
 namespace mrpt_yesslam
 {
-void CRecentFrames::push(std::shared_ptr<const TFrame> frame, const CTracker::TAnchor& anchor)
+void CRecentFrames::push(std::shared_ptr<const TFrame> frame, const TAnchor& anchor)
 {
 	frames_.push_back({std::move(frame), anchor});
 	while (frames_.size() > capacity_) frames_.pop_front();

@@ -5,7 +5,8 @@
 #include <cmath>
 #include <set>
 
-#include "mrpt_yesslam/mapping/CLocalMapper.h"
+#include "mrpt_yesslam/util/Stopwatch.h"
+#include "mrpt_yesslam/mapping/PointFusion.h"
 #include "mrpt_yesslam/loop/PoseGraph.h"
 
 namespace mrpt_yesslam
@@ -100,7 +101,7 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 	c.graphEdges = edges.size();
 	const auto t0 = std::chrono::steady_clock::now();
 	const auto optimised = optimisePoseGraph(now, edges, {loop.matched}, opts_.poseGraphIterations);
-	c.poseGraphMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+	c.poseGraphMs = msSince(t0);
 	map_.applyCorrection(optimised);
 	return c;
 }

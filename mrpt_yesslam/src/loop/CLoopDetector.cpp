@@ -66,6 +66,16 @@ std::vector<TDetection> staticDetections(const CKeyFrame& k)
 		if (!d.dynamic) out.push_back(d);
 	return out;
 }
+
+// b keypoint -> (distance, a keypoint): one keypoint of b answers one of a, the nearest.
+using TNearestForB = std::map<std::size_t, std::pair<int, std::size_t>>;
+
+// Keeps a's keypoint `i` as the match of b's keypoint `two.index` unless a nearer one has it.
+void keep(TNearestForB& bestForB, const TBestTwo& two, std::size_t i)
+{
+	const auto [it, fresh] = bestForB.try_emplace(static_cast<std::size_t>(two.index), two.best, i);
+	if (!fresh && two.best < it->second.first) it->second = {two.best, i};
+}
 }  // namespace
 
 double CLoopDetector::semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b) const
@@ -182,6 +192,8 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	const CKeyFrame a = map_.keyFrame(id), b = map_.keyFrame(candidate);
 	if (a.bad || b.bad || !a.bow || !b.bow || !a.features || !b.features) return std::nullopt;
 	const TFeatures &fa = *a.features, &fb = *b.features;
+	const auto distance = [&](std::size_t i, std::size_t j)
+	{ return orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)), fb.descriptors.ptr<unsigned char>(static_cast<int>(j))); };
 	// 1. Keypoints with depth matched: every usable pair ([LoopClosing] matching = all), or within
 	// the nodes of the direct index (bow, ORB-SLAM2's SearchByBoW). The direct index is ORB-SLAM2's
 	// shortcut for 1000-2000 monocular keypoints; an RGB-D keyframe with people in view keeps 100-300
@@ -189,24 +201,14 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	// pairs the same test finds among them all (frames 150-180 against frame 0).
 	std::vector<std::pair<std::size_t, std::size_t>> matches;
 	{
-		std::map<std::size_t, std::pair<int, std::size_t>> bestForB;  // b keypoint -> (distance, a keypoint)
+		TNearestForB bestForB;
 		const auto matchOne = [&](std::size_t i, const auto& candidatesOfB)
 		{
 			if (!fa.usable(i, maxDepth_)) return;
-			int best = 256, second = 256;
-			std::size_t bestJ = 0;
+			TBestTwo two;
 			for (const auto j : candidatesOfB)
-			{
-				if (!fb.usable(j, maxDepth_)) continue;
-				const int d = orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)), fb.descriptors.ptr<unsigned char>(static_cast<int>(j)));
-				if (d < best)
-					second = best, best = d, bestJ = j;
-				else if (d < second)
-					second = d;
-			}
-			if (best > opts_.maxHamming || best >= opts_.ratio * second) return;
-			const auto [it, fresh] = bestForB.try_emplace(bestJ, best, i);
-			if (!fresh && best < it->second.first) it->second = {best, i};
+				if (fb.usable(j, maxDepth_)) two.add(distance(i, j), static_cast<int>(j));
+			if (two.acceptedStrictly(opts_.maxHamming, opts_.ratio)) keep(bestForB, two, i);
 		};
 		if (opts_.matching == "all")
 		{
@@ -311,7 +313,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 				const int gx = std::clamp(static_cast<int>(fb.keypoints[j].pt.x) / cell, 0, gw - 1), gy = std::clamp(static_cast<int>(fb.keypoints[j].pt.y) / cell, 0, gh - 1);
 				grid[static_cast<std::size_t>(gy * gw + gx)].push_back(j);
 			}
-		std::map<std::size_t, std::pair<int, std::size_t>> bestForB;
+		TNearestForB bestForB;
 		for (std::size_t i = 0; i < fa.keypoints.size(); i++)
 		{
 			if (!fa.usable(i, maxDepth_)) continue;
@@ -320,23 +322,16 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 			double u, v;
 			if (!Kb.project(q.x(), q.y(), q.z(), u, v)) continue;
 			const double r = opts_.guidedRadius * sigmaOf(fa.keypoints[i]);
-			int best = 256, second = 256;
-			std::size_t bestJ = 0;
+			TBestTwo two;
 			for (int gy = std::max(0, static_cast<int>((v - r) / cell)); gy <= std::min(gh - 1, static_cast<int>((v + r) / cell)); gy++)
 				for (int gx = std::max(0, static_cast<int>((u - r) / cell)); gx <= std::min(gw - 1, static_cast<int>((u + r) / cell)); gx++)
 					for (const auto j : grid[static_cast<std::size_t>(gy * gw + gx)])
 					{
 						const auto& kb = fb.keypoints[j];
 						if ((kb.pt.x - u) * (kb.pt.x - u) + (kb.pt.y - v) * (kb.pt.y - v) > r * r) continue;
-						const int d = orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)), fb.descriptors.ptr<unsigned char>(static_cast<int>(j)));
-						if (d < best)
-							second = best, best = d, bestJ = j;
-						else if (d < second)
-							second = d;
+						two.add(distance(i, j), static_cast<int>(j));
 					}
-			if (best > opts_.guidedHamming || best >= 0.9 * second) continue;
-			const auto [it, fresh] = bestForB.try_emplace(bestJ, best, i);
-			if (!fresh && best < it->second.first) it->second = {best, i};
+			if (two.acceptedStrictly(opts_.guidedHamming, 0.9)) keep(bestForB, two, i);
 		}
 		matches.clear();
 		for (const auto& [j, di] : bestForB) matches.emplace_back(di.second, j);

@@ -7,9 +7,9 @@
 #include <array>
 #include <cmath>
 
-#include "mrpt_yesslam/feature/COrbMatcher.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/mapping/BundleCosts.h"
+#include "mrpt_yesslam/mapping/PointFusion.h"
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 namespace mrpt_yesslam
@@ -24,7 +24,7 @@ COptionTable CLocalMapper::TOptions::table()
 	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 x scaleFactor^octave (m), as the pixel's sigma grows with the keypoint's level; 0 = reprojection only");
 	t.real("cullFoundRatio", cullFoundRatio, 0, 1, "young points found in fewer than this share of the frames that should see them are culled");
 	t.count("cullMinObservations", cullMinObservations, 0, 1000, "young points seen by fewer keyframes are culled");
-	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000, "neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, README)");
+	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000, "neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, docs/benchmarks.md)");
 	t.real("fuseRadius", fuseRadius, 0.5, 100, "fusion search radius, pixels at level 0 (x scale^octave)");
 	t.integer("fuseMaxHamming", fuseMaxHamming, 0, 256, "fusion: largest descriptor distance (ORB-SLAM2's TH_LOW)");
 	t.flag("keyFrameCulling", keyFrameCulling, "erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)");
@@ -47,34 +47,6 @@ TMappingStats CLocalMapper::step(TKeyFrameId kf)
 	if (opts_.keyFrameCulling)
 		st.erasedKeyFrames = map_.cullRedundantKeyFrames(kf, opts_.redundantRatio, opts_.redundantObservers, maxDepth_);
 	return st;
-}
-
-std::vector<TFuseCandidate> fuseCandidates(
-	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& pts, double radius, int maxHamming,
-	double scaleFactor, double depthNoise)
-{
-	std::vector<TFuseCandidate> cands;
-	if (pts.ids.empty() || !into.features) return cands;
-	TFrame f;  // the keyframe's measurements as the matcher takes them
-	f.id = into.frameId;
-	f.camera = into.camera;
-	f.features = *into.features;
-	f.mapPoints = into.mapPoints;
-	const COrbMatcher matcher(maxHamming, 1.0);
-	const mrpt::poses::CPose3D Tcw = -Twc;
-	for (const TMatch& m : matcher.searchByProjection(f, Twc, pts, radius, nullptr, false, scaleFactor))
-	{
-		const float d = f.features.depth[m.keypoint];
-		if (d > 0)
-		{
-			const auto& P = pts.positions[m.point];
-			double x, y, z;
-			Tcw.composePoint(P.x, P.y, P.z, x, y, z);
-			if (std::abs(d - z) > 0.02 + 3 * depthNoise * z * z) continue;
-		}
-		cands.push_back({pts.ids[m.point], into.id, m.keypoint});
-	}
-	return cands;
 }
 
 std::size_t CLocalMapper::fuseWithNeighbours(TKeyFrameId kfId)

@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <chrono>
 
+#include "mrpt_yesslam/util/Stopwatch.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 
 namespace mrpt_yesslam
 {
 namespace
 {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 }  // namespace
 
 CFrameBuilder::CFrameBuilder(
@@ -39,11 +38,11 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 	f->camera.ncols = static_cast<uint32_t>(bgr.cols);
 	f->camera.nrows = static_cast<uint32_t>(bgr.rows);
 
-	auto t0 = Clock::now();
+	auto t0 = SteadyClock::now();
 	cv::Mat mask;
 	auto computeMask = [&]
 	{
-		const auto tm = Clock::now();
+		const auto tm = SteadyClock::now();
 		if (dynamicFilter_)
 		{
 			// Also without a dynamic detection in this frame: the masker holds objects the detector
@@ -59,10 +58,10 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		// Detection on the worker while ORB runs here: "detect" is the detector's own time (on its
 		// thread), "detect_wait" what this frame still waited for it after ORB.
 		async_->submit(bgr, timestamp);
-		t0 = Clock::now();
+		t0 = SteadyClock::now();
 		f->features = extractor_.extract(bgr, depth);
 		ms["orb"] = msSince(t0);
-		t0 = Clock::now();
+		t0 = SteadyClock::now();
 		double detectMs = 0;
 		f->detections = async_->get(&detectMs);
 		ms["detect_wait"] = msSince(t0);
@@ -76,11 +75,11 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		ms["detect"] = msSince(t0);
 		ms["detect_wait"] = ms["detect"];  // in this thread: the frame waits all of it
 		computeMask();
-		t0 = Clock::now();
+		t0 = SteadyClock::now();
 		f->features = extractor_.extract(bgr, depth, mask);
 		ms["orb"] = msSince(t0);
 	}
-	t0 = Clock::now();
+	t0 = SteadyClock::now();
 	if (dynamicFilter_) check_.classify(f->features, f->detections, bgr.size());  // at the raw keypoints, as the mask
 	// Colours (and, in the extractor, depth and mask) are looked up at the raw keypoint, in the
 	// image as it is; only then are keypoints undistorted: tracking works in undistorted pixels.

@@ -9,7 +9,7 @@ void CFrameRecords::add(const TRecord& record, const TFrameLogRow& row)
 	rows_.push_back(row);
 }
 
-void CFrameRecords::markKeyFrame(std::size_t frame, const std::optional<CTracker::TAnchor>& anchor)
+void CFrameRecords::markKeyFrame(std::size_t frame, const std::optional<TAnchor>& anchor)
 {
 	std::lock_guard<std::mutex> lk(mtx_);
 	for (std::size_t i = rows_.size(); i-- > 0;)

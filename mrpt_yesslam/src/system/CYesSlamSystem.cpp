@@ -10,13 +10,14 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "mrpt_yesslam/util/Stopwatch.h"
 #include "mrpt_yesslam/feature/DepthMoment.h"
 #include "mrpt_yesslam/feature/RollingShutter.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/StageTasks.h"
-#include "mrpt_yesslam/io/MapFile.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
 
 namespace mrpt_yesslam
 {
@@ -105,13 +106,6 @@ TYesSlamOptions TYesSlamOptions::effective() const
 	return o;
 }
 
-namespace
-{
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-}  // namespace
-
 CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	: opts_(opts.effective()),
 	  builder_(
@@ -148,9 +142,11 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 		tracker_.setPlaceRecognition(vocabulary_, bowDatabase_);
 		if (opts_.loop.detection.enabled)
 		{
-			loopDetector_ = std::make_unique<CLoopDetector>(
-				opts_.loop.detection, map_, vocabulary_, bowDatabase_, opts_.keyFrames.semantic, opts_.orb.scaleFactor, opts_.tracking.maxDepth);
-			loopCloser_ = std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.mapping.depthNoise);
+			loopClosing_ = std::make_unique<CLoopClosing>(
+				std::make_unique<CLoopDetector>(
+					opts_.loop.detection, map_, vocabulary_, bowDatabase_, opts_.keyFrames.semantic, opts_.orb.scaleFactor, opts_.tracking.maxDepth),
+				std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.mapping.depthNoise), opts_.loop.globalBundleAdjustment,
+				map_, mapUpdateMtx_, opts_.system.parallel);
 		}
 	}
 	if (opts_.dense.enabled)
@@ -162,31 +158,24 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	if (opts_.system.parallel)
 	{
 		if (dense_) denseStage_ = std::make_unique<CWorkerPool>(1, opts_.dense.queue);
-		gbaStage_ = std::make_unique<CWorkerPool>(1);
-		if (loopDetector_) loopStage_ = std::make_unique<CWorkerPool>(1);
 		mappingStage_ = std::make_unique<CWorkerPool>(1, opts_.system.mappingQueue);
 	}
 }
 
-std::vector<TLoop> CYesSlamSystem::loops() const
-{
-	std::lock_guard<std::mutex> sl(statsMtx_);
-	return loops_;
-}
+std::vector<TLoop> CYesSlamSystem::loops() const { return loopClosing_ ? loopClosing_->loops() : std::vector<TLoop>(); }
 
 CYesSlamSystem::~CYesSlamSystem()
 {
 	// Let the queued keyframes finish (their futures would otherwise break), ignoring failures: a
 	// destructor must not throw, and a failure has been or will not be reported.
 	if (mappingStage_) mappingStage_->waitIdle();
-	if (loopStage_) loopStage_->waitIdle();
-	if (gbaStage_) gbaStage_->waitIdle();
+	loopClosing_.reset();	// waits for the loop stage and the global BA it asked for
 	if (denseStage_) denseStage_->waitIdle();
 }
 
 void CYesSlamSystem::denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
 {
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	dense_->addKeyFrame(kf, *f);
 	const double ms = msSince(t0);
 	std::lock_guard<std::mutex> sl(statsMtx_);
@@ -227,58 +216,6 @@ TWorldFrame CYesSlamSystem::worldFrame() const
 	return f;
 }
 
-void CYesSlamSystem::runGlobalBundle()
-{
-	const auto t0 = Clock::now();
-	const TBundleStats st = loopCloser_->globalBundleAdjust(&mapUpdateMtx_);  // write-back exclusive
-	const double ms = msSince(t0);
-	std::lock_guard<std::mutex> sl(statsMtx_);
-	stats_.globalBundleRuns++;
-	if (st.applied) stats_.globalBundleApplied++;
-	if (st.cancelled) stats_.globalBundleCancelled++;
-	stats_.stageMs["global_ba"].push_back(ms);
-}
-
-void CYesSlamSystem::requestGlobalBundle()
-{
-	if (!loopCloser_ || !opts_.loop.globalBundleAdjustment) return;
-	if (!gbaStage_)
-	{
-		runGlobalBundle();
-		return;
-	}
-	std::lock_guard<std::mutex> lk(gbaMtx_);
-	gbaPending_ = true;
-	if (gbaRunning_) return;
-	gbaRunning_ = true;
-	gbaTasks_.push_back(gbaStage_->submit(
-		[this]
-		{
-			for (;;)
-			{
-				{
-					std::lock_guard<std::mutex> l(gbaMtx_);
-					if (!gbaPending_)
-					{
-						gbaRunning_ = false;
-						return;
-					}
-					gbaPending_ = false;
-				}
-				try
-				{
-					runGlobalBundle();
-				}
-				catch (...)
-				{
-					std::lock_guard<std::mutex> l(gbaMtx_);
-					gbaRunning_ = gbaPending_ = false;
-					throw;
-				}
-			}
-		}));
-}
-
 void CYesSlamSystem::addWords(TKeyFrameId kf)
 {
 	if (!vocabulary_) return;
@@ -290,7 +227,7 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
-	const auto t0 = Clock::now();
+	const auto t0 = SteadyClock::now();
 	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
 	// detection find it; culled keyframes leave the database with the map. The words and the
 	// database (its own lock) are nothing a loop correction writes: outside the map-update lock.
@@ -309,104 +246,23 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 		stats_.stageMs["mapping"].push_back(ms);
 		stats_.culledKeyFrames += st.erasedKeyFrames.size();
 	}
-	if (loopDetector_)
-	{
-		// Pinned from here to its correction, so that culling on the next keyframes (this stage,
-		// while the loop stage works) cannot erase it under the loop (issue 40 b); closeLoops unpins.
-		if (!map_.pinKeyFrame(kf))
-		{
-			if (keyFrameCallback_) keyFrameCallback_(kf);
-			return;  // culled already: no loop to close from it
-		}
-		if (loopStage_)
-		{
-			// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local
-			// mapping goes on with the next keyframes meanwhile instead of waiting for them.
-			std::lock_guard<std::mutex> lk(loopTasksMtx_);
-			loopTasks_.push_back(loopStage_->submit([this, kf] { closeLoops(kf); }));
-		}
-		else
-			closeLoops(kf);
-	}
+	// The loop stage pins the keyframe until its loop is done; one culled already has none to close.
+	if (loopClosing_) loopClosing_->submit(kf);
 	if (keyFrameCallback_) keyFrameCallback_(kf);
-}
-
-void CYesSlamSystem::closeLoops(TKeyFrameId kf)
-{
-	// `kf` was pinned when it was queued (mapKeyFrame); the matched keyframe is pinned once known.
-	std::vector<TKeyFrameId> pinned{kf};
-	struct TUnpin  // however closeLoops ends
-	{
-		CSparseMap& map;
-		const std::vector<TKeyFrameId>& ids;
-		~TUnpin() { for (const auto id : ids) map.unpinKeyFrame(id); }
-	} unpin{map_, pinned};
-	auto t0 = Clock::now();
-	std::optional<TLoop> loop = loopDetector_->detect(kf);
-	const double loopMs = msSince(t0);
-	if (loop)
-	{
-		if (map_.pinKeyFrame(loop->matched))
-			pinned.push_back(loop->matched);
-		else
-			loop.reset();  // culled during detection (it was not in the current one's local window)
-	}
-	std::optional<double> correctMs;
-	TLoopCorrection correction;
-	if (loop)
-	{
-		std::unique_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
-		t0 = Clock::now();
-		correction = loopCloser_->correct(*loop);
-		correctMs = msSince(t0);
-		// A correction that moved nothing (a keyframe of the pair gone) closed no loop: not counted,
-		// no global BA, no callback.
-		if (correction.groupKeyFrames == 0) loop.reset();
-	}
-	{
-		std::lock_guard<std::mutex> sl(statsMtx_);
-		stats_.stageMs["loop_detect"].push_back(loopMs);
-		stats_.loops = loopDetector_->stats();
-		if (loop)
-		{
-			loops_.push_back(*loop);
-			stats_.loopCorrections++;
-			stats_.stageMs["loop_correct"].push_back(*correctMs);
-			stats_.loopRecords.push_back({loop->current, loop->matched, loop->score, loop->ransacInliers, correction, *correctMs});
-		}
-	}
-	if (!loop) return;
-	requestGlobalBundle();
-	if (loopCallback_) loopCallback_(*loop);
 }
 
 void CYesSlamSystem::collectMapping(bool wait)
 {
 	collectTasks(denseTasks_, wait, "dense mapping");
 	collectTasks(mappingTasks_, wait, "local mapping");
-	// The loop-closing stage is fed by the mapping stage (another thread): its futures are taken
-	// out under the lock and waited for outside it.
-	for (;;)
-	{
-		std::deque<std::future<void>> ready;
-		{
-			std::lock_guard<std::mutex> lk(loopTasksMtx_);
-			while (!loopTasks_.empty() && (wait || loopTasks_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready))
-			{
-				ready.push_back(std::move(loopTasks_.front()));
-				loopTasks_.pop_front();
-			}
-		}
-		if (ready.empty()) return;
-		collectTasks(ready, true, "loop closing");
-	}
+	if (loopClosing_) loopClosing_->collect(wait);
 }
 
 void CYesSlamSystem::settle() noexcept
 {
 	// Mapping tasks queue loop tasks, which queue global BAs: until every queue stays empty.
 	for (bool any = true; any;)
-		any = waitForTasks(denseTasks_) | waitForTasks(mappingTasks_) | waitForTasks(loopTasks_, &loopTasksMtx_) | waitForTasks(gbaTasks_, &gbaMtx_);
+		any = waitForTasks(denseTasks_) | waitForTasks(mappingTasks_) | (loopClosing_ && loopClosing_->settle());
 }
 
 void CYesSlamSystem::waitForMapping()
@@ -420,24 +276,7 @@ void CYesSlamSystem::waitForMapping()
 	} settleOnExit{*this};
 	collectMapping(true);
 	// Then the global BA the last keyframes may have asked for.
-	for (;;)
-	{
-		std::future<void> f;
-		{
-			std::lock_guard<std::mutex> lk(gbaMtx_);
-			if (gbaTasks_.empty()) return;
-			f = std::move(gbaTasks_.front());
-			gbaTasks_.pop_front();
-		}
-		try
-		{
-			f.get();
-		}
-		catch (const std::exception& e)
-		{
-			throw std::runtime_error(std::string("global bundle adjustment failed: ") + e.what());
-		}
-	}
+	if (loopClosing_) loopClosing_->waitForGlobalBundle();
 }
 
 TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs, std::optional<double> depthTime)
@@ -511,7 +350,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	const std::shared_ptr<TFrame> f = builder_.build(bgr, depth, timestamp, camera, nextFrameId_++, &ms);
 	rep.frameId = f->id;
 
-	auto t0 = Clock::now();
+	auto t0 = SteadyClock::now();
 	// Under 0.1 ms apart the depth moves by micrometres: nothing to do.
 	if (opts_.tracking.depthMoment && depthTime && std::abs(*depthTime - timestamp) > 1e-4)
 		if (const auto motion = tracker_.motionOver(*depthTime - timestamp))
@@ -530,7 +369,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	}
 	lastFrameTime_ = timestamp;
 	ms["orb"] += msSince(t0);
-	t0 = Clock::now();
+	t0 = SteadyClock::now();
 	rep.features = f->size();
 	rep.staticFeatures = f->features.numStatic();
 	rep.detections = f->detections.size();
@@ -574,9 +413,9 @@ TFrameReport CYesSlamSystem::processFrame(
 	rec.online = f->pose;
 	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe);
 	// a frame tracking did not see (before the map exists) keeps its absolute pose.
-	rec.anchor = tracker_.anchorOf(f->id).value_or(CTracker::TAnchor{std::nullopt, f->pose});
+	rec.anchor = tracker_.anchorOf(f->id).value_or(TAnchor{std::nullopt, f->pose});
 
-	t0 = Clock::now();
+	t0 = SteadyClock::now();
 	std::shared_ptr<const TFrame> frame = f;
 	recent_.push(frame, rec.anchor);
 	if (initialising)
@@ -615,16 +454,16 @@ TFrameReport CYesSlamSystem::processFrame(
 			// frames.csv marks the frame a keyframe is made from, Algorithm 1's earlier picks too (issue
 			// 43); [System] keyFrameFramePose = keyframe also hangs it from its keyframe (ORB-SLAM2's;
 			// not the default: after local BA it stood out of its neighbours, real Bonn slice 14.5 ->
-			// 14.9 mm, jitter 6.6 -> 7.2; README).
+			// 14.9 mm, jitter 6.6 -> 7.2; docs/benchmarks.md).
 			const bool own = opts_.system.keyFrameFramePose == "keyframe";
-			const CTracker::TAnchor onKf{*lastKeyFrame_, mrpt::poses::CPose3D()};
+			const TAnchor onKf{*lastKeyFrame_, mrpt::poses::CPose3D()};
 			if (kf->id == frame->id)
 			{
 				rep.keyFrame = true;
 				if (own) rec.anchor = onKf;
 			}
 			else
-				records_.markKeyFrame(kf->id, own ? std::optional<CTracker::TAnchor>(onKf) : std::nullopt);
+				records_.markKeyFrame(kf->id, own ? std::optional<TAnchor>(onKf) : std::nullopt);
 		}
 	}
 	frameLock.unlock();
@@ -714,11 +553,7 @@ void CYesSlamSystem::loadMap(const std::string& path)
 	// What the run uses (options() and config_used.ini say so), whatever [System] worldFrame asked.
 	opts_.system.worldFrame = info.worldFrame.kind == TWorldFrame::EKind::ZUp ? "zup" : "optical";
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
-	if (loopDetector_)
-	{
-		const auto ids = map_.keyFrameIds();
-		loopDetector_->setSessionStart(ids.back() + 1);	 // the saved keyframes are all of an earlier session
-	}
+	if (loopClosing_) loopClosing_->setSessionStart(map_.keyFrameIds().back() + 1);  // the saved keyframes are all of an earlier session
 	for (TKeyFrameId id : map_.keyFrameIds()) addWords(id);
 }
 
@@ -739,8 +574,20 @@ TTrajectory CYesSlamSystem::keyFrameTrajectory() const
 
 TSlamStats CYesSlamSystem::stats() const
 {
+	// The loop stage's figures first, outside this lock (the stage takes its own).
+	TLoopStageStats l = loopClosing_ ? loopClosing_->stats() : TLoopStageStats();
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	TSlamStats s = stats_;
+	if (loopClosing_)
+	{
+		s.loops = l.loops;
+		s.loopCorrections = l.loopCorrections;
+		s.globalBundleRuns = l.globalBundleRuns;
+		s.globalBundleApplied = l.globalBundleApplied;
+		s.globalBundleCancelled = l.globalBundleCancelled;
+		s.loopRecords = std::move(l.loopRecords);
+		for (auto& [stage, ms] : l.stageMs) s.stageMs[stage] = std::move(ms);
+	}
 	s.mapPoints = map_.numPoints();
 	s.keyFramesInMap = map_.numKeyFrames();
 	if (dense_)

@@ -82,7 +82,7 @@ void CTracker::setReferenceKeyFrame(TKeyFrameId kf, std::optional<std::size_t> f
 	if (fromFrame && tracked_ && tracked_->frameId == *fromFrame) tracked_->anchor = {kf, mrpt::poses::CPose3D()};
 }
 
-std::optional<CTracker::TAnchor> CTracker::anchorOf(std::size_t frameId) const
+std::optional<TAnchor> CTracker::anchorOf(std::size_t frameId) const
 {
 	if (!tracked_ || tracked_->frameId != frameId) return std::nullopt;
 	return tracked_->anchor;

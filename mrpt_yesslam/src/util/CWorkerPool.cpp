@@ -39,7 +39,7 @@ void CWorkerPool::loop()
 		std::function<void()> job;
 		{
 			std::unique_lock<std::mutex> lk(mutex_);
-			work_.wait(lk, [&] { return stop_ || (!paused_ && !jobs_.empty()); });
+			work_.wait(lk, [&] { return stop_ || !jobs_.empty(); });
 			if (stop_) return;
 			job = std::move(jobs_.front());
 			jobs_.pop_front();
@@ -55,32 +55,10 @@ void CWorkerPool::loop()
 	}
 }
 
-void CWorkerPool::pause()
-{
-	std::unique_lock<std::mutex> lk(mutex_);
-	paused_ = true;
-	idle_.wait(lk, [&] { return running_ == 0; });
-}
-
-void CWorkerPool::resume()
-{
-	{
-		std::lock_guard<std::mutex> lk(mutex_);
-		paused_ = false;
-	}
-	work_.notify_all();
-}
-
-bool CWorkerPool::paused() const
-{
-	std::lock_guard<std::mutex> lk(mutex_);
-	return paused_;
-}
-
 void CWorkerPool::waitIdle()
 {
 	std::unique_lock<std::mutex> lk(mutex_);
-	idle_.wait(lk, [&] { return running_ == 0 && (paused_ || jobs_.empty()); });
+	idle_.wait(lk, [&] { return running_ == 0 && jobs_.empty(); });
 }
 
 std::size_t CWorkerPool::queued() const

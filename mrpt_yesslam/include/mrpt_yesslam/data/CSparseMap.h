@@ -192,8 +192,6 @@ class CSparseMap
 		const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
 	/** The correction generation: bumped by every map-wide correction (loop closing, global BA). */
 	std::uint64_t generation() const;
-	/** Starts a new correction generation (call when writing a map-wide correction); returns it. */
-	std::uint64_t beginCorrection();
 
 	/** Records a loop closed between keyframes `a` and `b` (both ways); false when either is unknown. */
 	bool addLoopEdge(TKeyFrameId a, TKeyFrameId b);

@@ -7,7 +7,7 @@
 // masker's depth flood fill, CDynamicObjectMasker::segmentAll), giving per-pixel labels;
 // the depth is back-projected (eq. 25) on a pixel grid, leaving out what tracking masked as
 // dynamic (held objects included) and, beyond the paper, the whole box of every dynamic detection
-// grown a little (a flood fill leaves 7-14 % of a person's pixels outside its mask, README masking
+// grown a little (a flood fill leaves 7-14 % of a person's pixels outside its mask, docs/benchmarks.md masking
 // table; any of them in the map is a ghost) and depth-edge "flying pixels"; the cloud is thinned
 // on a voxel grid and stored in the keyframe's own coordinates.
 //

@@ -3,7 +3,7 @@
 // class, a 4-neighbour flood fill on the depth image separates the object from the background
 // behind it, so that only the object's features are dropped (eq. 3), not the whole box.
 //
-// Where the paper is vague we chose, as documented in README.md:
+// Where the paper is vague we chose, as documented in docs/:
 // - We fill depth in metres, not an 8-bit image: tolerances are metres. The paper's d_lo = d_up = 5
 //   on an 8-bit depth image spanning ~0..6.5 m is about 0.13 m.
 // - "Edge enhancement" (eq. 4) is Laplacian sharpening, f - k * lap(f), which steepens every depth

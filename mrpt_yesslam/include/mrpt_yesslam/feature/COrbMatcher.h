@@ -9,6 +9,7 @@
 // force) pairs wrongly, while geometry rules them out here. Without a pose prediction
 // (initialisation, relocalisation) we use exact brute force with Lowe's ratio test: with a few
 // hundred descriptors per side it takes about a millisecond, so LSH's approximation buys nothing.
+#include <limits>
 #include <opencv2/core.hpp>
 #include <utility>
 #include <vector>
@@ -20,6 +21,36 @@ namespace mrpt_yesslam
 {
 /** Hamming distance between two 32-byte ORB descriptors. */
 int orbDistance(const unsigned char* a, const unsigned char* b);
+
+/** The two smallest distances seen and the index of the smallest: Lowe's ratio test, shared by
+ * every descriptor search (tracking, relocalisation, loop verification). */
+struct TBestTwo
+{
+	int best = std::numeric_limits<int>::max(), second = std::numeric_limits<int>::max(), index = -1;
+	/** Counts one candidate at distance `dist`. */
+	void add(int dist, int idx)
+	{
+		if (dist < best)
+		{
+			second = best;
+			best = dist;
+			index = idx;
+		}
+		else if (dist < second)
+			second = dist;
+	}
+	/** A match within `maxDist` and clearly better than the runner-up (if any). */
+	bool accepted(int maxDist, double ratio) const
+	{
+		return index >= 0 && best <= maxDist && (second == std::numeric_limits<int>::max() || best <= ratio * second);
+	}
+	/** The same with the runner-up strictly farther: a tie, two equally near twins included, is
+	 * refused (ORB-SLAM2's SearchByBoW; loop verification, where a wrong pair costs a false loop). */
+	bool acceptedStrictly(int maxDist, double ratio) const
+	{
+		return index >= 0 && best <= maxDist && (second == std::numeric_limits<int>::max() || best < ratio * second);
+	}
+};
 
 /** A keypoint-to-point match. */
 struct TMatch

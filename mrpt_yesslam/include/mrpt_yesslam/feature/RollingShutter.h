@@ -16,7 +16,7 @@ namespace mrpt_yesslam
 /** The readout assumed for a camera that does not state it (seconds): Kinect v1 and Xtion read
  * both images with rolling-shutter CMOS sensors; Kerl et al. (ICCV 2015) simulate them with 28 ms.
  * Measured here, not fitted: the real Bonn and fr1 frames gain most between 20 and 40 ms, and
- * reading the rows the other way (-28 ms) makes both worse (README, "Rolling shutter"). */
+ * reading the rows the other way (-28 ms) makes both worse (docs/benchmarks.md, "Rolling shutter"). */
 constexpr double kConsumerRgbdReadout = 0.028;
 
 /** Moves each keypoint (undistorted pixels, with its depth, 0 = none) of an image whose rows were

@@ -68,4 +68,10 @@ std::string findGroundTruthFor(const std::string& inputPath);
  * made before the simulator had a rolling shutter says nothing and was a global shutter (0).
  * None for anything else (recorded cameras say nothing about it). */
 std::optional<double> statedReadout(const std::string& inputPath);
+
+/** The rolling-shutter readout of an input's camera where it is known: what the input states
+ * (statedReadout), else a TUM folder's camera (TUM presets and Bonn folders 0.028 s, a camera
+ * file's readout line). None for rawlogs, OpenNI2 devices and cameras of unknown readout, and for
+ * a folder whose camera cannot be found (opening it says why). */
+std::optional<double> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts);
 }  // namespace mrpt_yesslam

@@ -29,6 +29,11 @@ TRgbdCamera tumCameraByName(const std::string& name);
 /** Finds "freiburg1/2/3" or "fr1/2/3" in a path's last folder names; empty if none. */
 std::string tumCameraNameFromPath(const std::string& folder);
 
+/** Whether a path belongs to the Bonn RGB-D Dynamic dataset: a folder's name, or a file's name or
+ * its folder's, says "bonn" (the dataset's folders are rgbd_bonn_<sequence>, as RTAB-Map recognises them). Decides
+ * both the Xtion's readout and the ground truth's marker poses. */
+bool isBonnDatasetPath(const std::string& path);
+
 /** Reads a camera file: '#' comments, then "fx fy cx cy [width height [depth_scale]]" on one
  * line, optionally "k1 k2 p1 p2 [k3]" on the next (TUM's d0..d4), and optionally a line of one
  * number: the colour camera's rolling-shutter readout in seconds (0 = global shutter). Throws InputError. */

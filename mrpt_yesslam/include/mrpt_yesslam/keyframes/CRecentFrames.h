@@ -9,7 +9,7 @@
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/data/TFrame.h"
-#include "mrpt_yesslam/tracking/CTracker.h"
+#include "mrpt_yesslam/data/TAnchor.h"
 
 namespace mrpt_yesslam
 {
@@ -20,7 +20,7 @@ class CRecentFrames
 	/** Keeps at most `capacity` frames (at least one). */
 	explicit CRecentFrames(std::size_t capacity) : capacity_(std::max<std::size_t>(1, capacity)) {}
 	/** Adds the newest frame and its anchor; the oldest goes when the buffer is full. */
-	void push(std::shared_ptr<const TFrame> frame, const CTracker::TAnchor& anchor);
+	void push(std::shared_ptr<const TFrame> frame, const TAnchor& anchor);
 	/** Frame `frameId` if it is still here and was tracked, at its pose in `map` as it is now (a
 	 * copy when that moved it); null otherwise. */
 	std::shared_ptr<const TFrame> tracked(std::size_t frameId, const CSparseMap& map) const;
@@ -29,7 +29,7 @@ class CRecentFrames
 	struct TEntry
 	{
 		std::shared_ptr<const TFrame> frame;
-		CTracker::TAnchor anchor;
+		TAnchor anchor;
 	};
 	std::size_t capacity_;
 	std::deque<TEntry> frames_;

@@ -5,7 +5,7 @@
 // vectors and box areas) is the candidate; it becomes the next reference and, with more than 20
 // tracking inliers, a keyframe. Frames with too few static features (N_sp <= 0.5 N_p) are skipped.
 //
-// Where the paper is vague we chose (and README.md says so):
+// Where the paper is vague we chose (and docs/ says so):
 // - eta (eq. 8) as written is at most 0.5 (identical boxes give A_u / 2A); by default we use
 //   2 A_u / (A_cur + A_ref) (the Dice coefficient) so that S_G spans [0,1] like J; `etaAsWritten`
 //   restores the formula. Boxes are paired by class, greedily by overlap.

@@ -12,6 +12,7 @@
 
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/mapping/BundleAdjustment.h"
+#include "mrpt_yesslam/mapping/PointFusion.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
@@ -25,15 +26,6 @@ struct TMappingStats
 	std::vector<TKeyFrameId> erasedKeyFrames;  //!< redundant keyframes culled
 	TBundleStats bundle;
 };
-
-/** ORB-SLAM2's Fuse search: `points` projected with `Twc` into keyframe `into`, each matched to the
- * closest keypoint within `radius` pixels (x scale^octave) and `maxHamming`, no ratio test; a
- * keypoint with depth must agree with the point's depth (3 sigma of the Kinect model, sigma_z =
- * depthNoise z^2, plus 2 cm), as ORB-SLAM2 checks the right-image coordinate. Shared by local
- * mapping's fusion with the neighbours and loop fusion. */
-std::vector<TFuseCandidate> fuseCandidates(
-	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius, int maxHamming,
-	double scaleFactor, double depthNoise);
 
 /** The local mapping stage. */
 class CLocalMapper
@@ -52,7 +44,7 @@ class CLocalMapper
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
 		/** Neighbours searched for duplicates (ORB-SLAM2, RGB-D: 10); 0 = no fusion. Off by default:
 		 * measured on unseen yesslam-sim sequences it halves the map points but raised the ATE by
-		 * 4-22 % (README), so it stays an option until the fused points' descriptors and positions
+		 * 4-22 % (docs/benchmarks.md), so it stays an option until the fused points' descriptors and positions
 		 * are refreshed as ORB-SLAM2 does. */
 		std::size_t fuseKeyFrames = 0;
 		double fuseRadius = 3;	//!< pixels at level 0 (x scale^octave), ORB-SLAM2's Fuse

@@ -23,7 +23,7 @@ class CFrameRecords
 	struct TRecord
 	{
 		double t = 0;
-		CTracker::TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
+		TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
 		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
 		bool tracked = false;
 		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)
@@ -36,7 +36,7 @@ class CFrameRecords
 	void add(const TRecord& record, const TFrameLogRow& row);
 	/** Marks the row of frame `frame` (searched from the newest) as the one a keyframe was made
 	 * from; with `anchor`, its pose then hangs from that keyframe. */
-	void markKeyFrame(std::size_t frame, const std::optional<CTracker::TAnchor>& anchor);
+	void markKeyFrame(std::size_t frame, const std::optional<TAnchor>& anchor);
 	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` gives (see
 	 * CYesSlamSystem::trajectory): read after the records, so that every keyframe a record hangs
 	 * from is in them even while frames are being added. */

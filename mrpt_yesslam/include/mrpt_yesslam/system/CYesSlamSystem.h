@@ -30,8 +30,7 @@
 #include "mrpt_yesslam/keyframes/CKeyFrameInserter.h"
 #include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/place/CBowDatabase.h"
-#include "mrpt_yesslam/loop/CLoopCloser.h"
-#include "mrpt_yesslam/loop/CLoopDetector.h"
+#include "mrpt_yesslam/loop/CLoopClosing.h"
 #include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/keyframes/CRecentFrames.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
@@ -138,7 +137,10 @@ class CYesSlamSystem
 	/** Called after each accepted loop has been corrected (on the loop-closing stage in parallel
 	 * mode, while local mapping goes on), with the loop; what it throws is reported as a
 	 * loop-closing failure. */
-	void setLoopCallback(std::function<void(const TLoop&)> cb) { loopCallback_ = std::move(cb); }
+	void setLoopCallback(std::function<void(const TLoop&)> cb)
+	{
+		if (loopClosing_) loopClosing_->setCallback(std::move(cb));
+	}
 	/** Called on the caller's thread at the end of each processFrame with the frame as tracking left
 	 * it (features with their dynamic and uncertain flags, the map point of each inlier, the pose):
 	 * for viewers and for benchmarks that score the frame against labels. */
@@ -207,15 +209,8 @@ class CYesSlamSystem
 	void addWords(TKeyFrameId kf);
 	/** Local mapping of one keyframe (on the stage thread in parallel mode). */
 	void mapKeyFrame(TKeyFrameId kf);
-	/** Loop detection for keyframe `kf`, and correction of an accepted loop (on the loop-closing
-	 * stage in parallel mode, as ORB-SLAM2's LoopClosing thread). */
-	void closeLoops(TKeyFrameId kf);
 	/** Collects finished mapping tasks (all queued ones with `wait`); rethrows the first failure. */
 	void collectMapping(bool wait);
-	/** Asks for a global BA: inline in sequential mode, else on the global-BA stage (one at a
-	 * time; a request while one runs makes it run once more afterwards). */
-	void requestGlobalBundle();
-	void runGlobalBundle();
 
 	TYesSlamOptions opts_;
 	CFrameBuilder builder_;
@@ -225,12 +220,8 @@ class CYesSlamSystem
 	CLocalMapper mapper_;
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<CBowDatabase> bowDatabase_;
-	std::unique_ptr<CLoopDetector> loopDetector_;  //!< used on the loop-closing stage only
-	std::unique_ptr<CLoopCloser> loopCloser_;	//!< corrections on the loop-closing stage, global BA on its own
 	std::unique_ptr<CDenseSemanticMapper> dense_;  //!< keyframe clouds on the dense stage
-	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
 	std::function<void(TKeyFrameId)> keyFrameCallback_;
-	std::function<void(const TLoop&)> loopCallback_;
 	std::function<void(const TFrame&)> frameCallback_;
 
 	CFrameRecords records_;	 //!< every frame's pose record and frames.csv row (thread-safe)
@@ -239,19 +230,13 @@ class CYesSlamSystem
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
 	std::optional<double> lastFrameTime_;  //!< the previous frame's stamp (the frame period bounds a readout)
 	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
-	std::optional<TKeyFrameId> lastKeyFrame_;
-	/** The loaded map's semantic OctoMap, kept as it was by a run without a dense map (saved again with it). */
+	std::optional<TKeyFrameId> lastKeyFrame_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
 	mutable std::mutex worldFrameMtx_;
 	mutable std::optional<TWorldFrame> worldFrame_;	 //!< worldFrame() once found, or the loaded map's
-	std::unique_ptr<CSemanticOcTree> loadedOctree_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
+	/** The loaded map's semantic OctoMap, kept as it was by a run without a dense map (saved again with it). */
+	std::unique_ptr<CSemanticOcTree> loadedOctree_;
 	TSlamStats stats_;
 	mutable std::mutex statsMtx_;
-
-	// Global BA stage (parallel mode): requested by the mapping stage, collected by the caller.
-	std::mutex gbaMtx_;
-	bool gbaPending_ = false, gbaRunning_ = false;
-	std::deque<std::future<void>> gbaTasks_;  //!< guarded by gbaMtx_
-	std::unique_ptr<CWorkerPool> gbaStage_;
 
 	// Dense stage (parallel mode): keyframe clouds, collected by the caller like mapping tasks.
 	std::deque<std::future<void>> denseTasks_;
@@ -274,10 +259,9 @@ class CYesSlamSystem
 	CWriterFirstMutex mapUpdateMtx_;
 
 
-	// Loop-closing stage (parallel mode): fed by the mapping stage, collected by the caller.
-	std::mutex loopTasksMtx_;
-	std::deque<std::future<void>> loopTasks_;  //!< guarded by loopTasksMtx_
-	std::unique_ptr<CWorkerPool> loopStage_;  //!< stopped after the mapping stage that feeds it
+	/** Loop detection, correction and global BA (their own stages in parallel mode), fed by local
+	 * mapping: after the lock it takes, destroyed after the mapping stage that feeds it. */
+	std::unique_ptr<CLoopClosing> loopClosing_;
 
 	// Local mapping stage (parallel mode): futures of queued keyframes, collected by the caller.
 	std::deque<std::future<void>> mappingTasks_;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mrpt_yesslam/loop/CLoopCloser.h"
+#include "mrpt_yesslam/loop/CLoopClosing.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
 
 namespace mrpt_yesslam
@@ -36,17 +36,6 @@ struct TFrameLogRow
 	 * detectWaitMs: what the frame waited for it (all of it when detection runs in line). */
 	float detectMs = 0, maskMs = 0, orbMs = 0, trackMs = 0, keyFrameMs = 0, detectWaitMs = 0;
 	EPoseSource pose = EPoseSource::None;  //!< what trajectory.txt holds for it
-};
-
-/** One loop closed during a run (stats.json's "loop_corrections"): the pair, how sure detection was,
- * and what its correction did to the map. */
-struct TLoopRecord
-{
-	TKeyFrameId current = 0, matched = 0;
-	double score = 0;  //!< S_Loop of the pair (eq. 23)
-	std::size_t ransacInliers = 0;
-	TLoopCorrection correction;	 //!< what the correction moved, fused and optimised
-	double correctMs = 0;  //!< the whole correction, pose graph included
 };
 
 /** Statistics of a run (stats.json). */

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/data/TAnchor.h"
 #include "mrpt_yesslam/dynamic/CGeometricDynamicCheck.h"
 #include "mrpt_yesslam/feature/COrbMatcher.h"
 #include "mrpt_yesslam/place/CBowDatabase.h"
@@ -117,17 +118,6 @@ class CTracker
 	 * (`fromFrame` is its id), that frame is anchored to it (relative pose identity), as ORB-SLAM2
 	 * records a new keyframe's frame relative to it. */
 	void setReferenceKeyFrame(TKeyFrameId kf, std::optional<std::size_t> fromFrame = std::nullopt);
-	/** Where a frame's pose hangs in the map: its reference keyframe and T_ref_frame. A pose used
-	 * later (a delayed keyframe, the next prediction, the trajectory) is re-derived from the
-	 * keyframe's pose at that time, so that a loop correction or a global BA landing in between
-	 * carries over instead of leaving the pose in the frame from before it (issue 28). */
-	struct TAnchor
-	{
-		std::optional<TKeyFrameId> refKf;  //!< none: `relative` is T_w_frame
-		mrpt::poses::CPose3D relative;
-		/** The pose in the map as it is now. */
-		mrpt::poses::CPose3D poseIn(const CSparseMap& map) const { return refKf ? map.keyFramePose(*refKf) + relative : relative; }
-	};
 	/** The anchor of the frame track() saw last, taken right after its pose was computed (the
 	 * keyframe's pose read then, not after a later mapping step moved it); none for another frame. */
 	std::optional<TAnchor> anchorOf(std::size_t frameId) const;

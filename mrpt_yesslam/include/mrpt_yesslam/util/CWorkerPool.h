@@ -44,14 +44,7 @@ class CWorkerPool
 		return future;
 	}
 
-	/** Stops starting tasks and returns once none is running (queued tasks wait); for a stage that
-	 * must hold still while another changes what it works on (ORB-SLAM2's RequestStop). */
-	void pause();
-	/** Lets the queued tasks start again. */
-	void resume();
-	/** Whether pause() is in effect. */
-	bool paused() const;
-	/** Returns once the queue is empty and no task is running (while paused: once none is running). */
+	/** Returns once the queue is empty and no task is running. */
 	void waitIdle();
 	/** Tasks waiting to start. */
 	std::size_t queued() const;
@@ -65,7 +58,7 @@ class CWorkerPool
 	std::deque<std::function<void()>> jobs_;
 	const std::size_t maxQueued_;
 	std::size_t running_ = 0;
-	bool stop_ = false, paused_ = false;
+	bool stop_ = false;
 	std::vector<std::thread> threads_;
 };
 }  // namespace mrpt_yesslam

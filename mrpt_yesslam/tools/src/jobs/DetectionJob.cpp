@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/detection/DetectionJob.h"
+#include "mrpt_yesslam/jobs/DetectionJob.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/io/MapSummary.h"
+#include "mrpt_yesslam/mapio/MapSummary.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 
 #include <algorithm>

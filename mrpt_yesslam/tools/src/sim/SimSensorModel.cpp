@@ -2,7 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "mrpt_yesslam/eval/CSensorStatistics.h"
+#include "mrpt_yesslam/sim/CSensorStatistics.h"
 
 namespace mrpt_yesslam
 {

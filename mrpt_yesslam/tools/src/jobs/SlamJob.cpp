@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/system/SlamJob.h"
+#include "mrpt_yesslam/jobs/SlamJob.h"
 
 #include <mrpt/opengl/CPointCloudColoured.h>
 
@@ -352,20 +352,7 @@ TSlamJobSummary runSlamJob(
 	// config_used.ini then records the value the run used.
 	if (opts.tracking.rollingShutter < 0)
 	{
-		std::optional<double> readout = isOpenNI2Input(o.input) ? std::nullopt : statedReadout(o.input);
-		std::error_code ec;
-		if (!readout && !isOpenNI2Input(o.input) && fs::is_directory(o.input, ec))
-		{
-			try
-			{
-				if (const double r = resolveTumCamera(opts.input.camera, o.input).readout; r >= 0) readout = r;
-			}
-			catch (const InputError&)
-			{
-				// No camera to be found: opening the input says so, with the input's own error first.
-			}
-		}
-		opts.tracking.rollingShutter = readout.value_or(0.0);
+		opts.tracking.rollingShutter = knownReadout(o.input, opts.input).value_or(0.0);
 	}
 	// An option that cannot apply is not recorded as applied (config_used.ini is what the run used).
 	if (!opts.input.camera.empty() && !fs::is_directory(o.input) && !isOpenNI2Input(o.input))

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <filesystem>
 
+#include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -20,9 +21,7 @@ EGroundTruthFormat parseGroundTruthFormat(const std::string& name, const std::st
 EGroundTruthFormat resolveGroundTruthFormat(const std::string& path, EGroundTruthFormat format)
 {
 	if (format != EGroundTruthFormat::Auto) return format;
-	const std::filesystem::path p = std::filesystem::absolute(path).lexically_normal();
-	const std::string names = lowerAscii(p.parent_path().filename().string() + "/" + p.filename().string());
-	return names.find("bonn") != std::string::npos ? EGroundTruthFormat::Bonn : EGroundTruthFormat::Tum;
+	return isBonnDatasetPath(path) ? EGroundTruthFormat::Bonn : EGroundTruthFormat::Tum;
 }
 
 std::string describeGroundTruthFormat(EGroundTruthFormat format)

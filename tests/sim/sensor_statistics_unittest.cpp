@@ -4,7 +4,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "mrpt_yesslam/eval/CSensorStatistics.h"
+#include "mrpt_yesslam/sim/CSensorStatistics.h"
 
 using namespace mrpt_yesslam;
 

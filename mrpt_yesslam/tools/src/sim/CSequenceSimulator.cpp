@@ -18,7 +18,7 @@
 #include <random>
 
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"
-#include "mrpt_yesslam/eval/CSensorStatistics.h"
+#include "mrpt_yesslam/sim/CSensorStatistics.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
 #include "mrpt_yesslam/io/CRawlogWriter.h"
 #include "mrpt_yesslam/io/RgbdCamera.h"

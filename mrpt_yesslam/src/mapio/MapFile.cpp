@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/io/MapFile.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/eval/CSensorStatistics.h"
+#include "mrpt_yesslam/sim/CSensorStatistics.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -1,0 +1,207 @@
+#include "mrpt_yesslam/loop/CLoopClosing.h"
+
+#include <shared_mutex>
+
+#include "mrpt_yesslam/util/StageTasks.h"
+#include "mrpt_yesslam/util/Stopwatch.h"
+
+namespace mrpt_yesslam
+{
+CLoopClosing::CLoopClosing(
+	std::unique_ptr<CLoopDetector> detector, std::unique_ptr<CLoopCloser> closer, bool globalBundle, CSparseMap& map,
+	CWriterFirstMutex& mapUpdate, bool parallel)
+	: detector_(std::move(detector)), closer_(std::move(closer)), globalBundle_(globalBundle), map_(map), mapUpdate_(mapUpdate)
+{
+	if (parallel)
+	{
+		gbaStage_ = std::make_unique<CWorkerPool>(1);
+		loopStage_ = std::make_unique<CWorkerPool>(1);
+	}
+}
+
+CLoopClosing::~CLoopClosing()
+{
+	// The loop stage first: its corrections queue global BAs.
+	if (loopStage_) loopStage_->waitIdle();
+	if (gbaStage_) gbaStage_->waitIdle();
+}
+
+bool CLoopClosing::submit(TKeyFrameId kf)
+{
+	// Pinned from here to its correction, so that culling on the next keyframes (local mapping,
+	// while this stage works) cannot erase it under the loop (issue 40 b); closeLoops unpins.
+	if (!map_.pinKeyFrame(kf)) return false;  // culled already
+	if (!loopStage_)
+	{
+		closeLoops(kf);
+		return true;
+	}
+	// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local mapping
+	// goes on with the next keyframes meanwhile instead of waiting for them.
+	std::lock_guard<std::mutex> lk(loopTasksMtx_);
+	loopTasks_.push_back(loopStage_->submit([this, kf] { closeLoops(kf); }));
+	return true;
+}
+
+void CLoopClosing::closeLoops(TKeyFrameId kf)
+{
+	// `kf` was pinned when it was submitted; the matched keyframe is pinned once known.
+	std::vector<TKeyFrameId> pinned{kf};
+	struct TUnpin  // however closeLoops ends
+	{
+		CSparseMap& map;
+		const std::vector<TKeyFrameId>& ids;
+		~TUnpin()
+		{
+			for (const auto id : ids) map.unpinKeyFrame(id);
+		}
+	} unpin{map_, pinned};
+	auto t0 = SteadyClock::now();
+	std::optional<TLoop> loop = detector_->detect(kf);
+	const double loopMs = msSince(t0);
+	if (loop)
+	{
+		if (map_.pinKeyFrame(loop->matched))
+			pinned.push_back(loop->matched);
+		else
+			loop.reset();  // culled during detection (it was not in the current one's local window)
+	}
+	std::optional<double> correctMs;
+	TLoopCorrection correction;
+	if (loop)
+	{
+		std::unique_lock<CWriterFirstMutex> lk(mapUpdate_);
+		t0 = SteadyClock::now();
+		correction = closer_->correct(*loop);
+		correctMs = msSince(t0);
+		// A correction that moved nothing (a keyframe of the pair gone) closed no loop: not counted,
+		// no global BA, no callback.
+		if (correction.groupKeyFrames == 0) loop.reset();
+	}
+	{
+		std::lock_guard<std::mutex> sl(statsMtx_);
+		stats_.stageMs["loop_detect"].push_back(loopMs);
+		stats_.loops = detector_->stats();
+		if (loop)
+		{
+			loops_.push_back(*loop);
+			stats_.loopCorrections++;
+			stats_.stageMs["loop_correct"].push_back(*correctMs);
+			stats_.loopRecords.push_back({loop->current, loop->matched, loop->score, loop->ransacInliers, correction, *correctMs});
+		}
+	}
+	if (!loop) return;
+	requestGlobalBundle();
+	if (callback_) callback_(*loop);
+}
+
+void CLoopClosing::runGlobalBundle()
+{
+	const auto t0 = SteadyClock::now();
+	const TBundleStats st = closer_->globalBundleAdjust(&mapUpdate_);	// write-back exclusive
+	const double ms = msSince(t0);
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	stats_.globalBundleRuns++;
+	if (st.applied) stats_.globalBundleApplied++;
+	if (st.cancelled) stats_.globalBundleCancelled++;
+	stats_.stageMs["global_ba"].push_back(ms);
+}
+
+void CLoopClosing::requestGlobalBundle()
+{
+	if (!globalBundle_) return;
+	if (!gbaStage_)
+	{
+		runGlobalBundle();
+		return;
+	}
+	std::lock_guard<std::mutex> lk(gbaMtx_);
+	gbaPending_ = true;
+	if (gbaRunning_) return;
+	gbaRunning_ = true;
+	gbaTasks_.push_back(gbaStage_->submit(
+		[this]
+		{
+			for (;;)
+			{
+				{
+					std::lock_guard<std::mutex> l(gbaMtx_);
+					if (!gbaPending_)
+					{
+						gbaRunning_ = false;
+						return;
+					}
+					gbaPending_ = false;
+				}
+				try
+				{
+					runGlobalBundle();
+				}
+				catch (...)
+				{
+					std::lock_guard<std::mutex> l(gbaMtx_);
+					gbaRunning_ = gbaPending_ = false;
+					throw;
+				}
+			}
+		}));
+}
+
+void CLoopClosing::collect(bool wait)
+{
+	// The stage is fed by the mapping stage (another thread): its futures are taken out under the
+	// lock and waited for outside it.
+	for (;;)
+	{
+		std::deque<std::future<void>> ready;
+		{
+			std::lock_guard<std::mutex> lk(loopTasksMtx_);
+			while (!loopTasks_.empty() && (wait || loopTasks_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready))
+			{
+				ready.push_back(std::move(loopTasks_.front()));
+				loopTasks_.pop_front();
+			}
+		}
+		if (ready.empty()) return;
+		collectTasks(ready, true, "loop closing");
+	}
+}
+
+void CLoopClosing::waitForGlobalBundle()
+{
+	for (;;)
+	{
+		std::future<void> f;
+		{
+			std::lock_guard<std::mutex> lk(gbaMtx_);
+			if (gbaTasks_.empty()) return;
+			f = std::move(gbaTasks_.front());
+			gbaTasks_.pop_front();
+		}
+		try
+		{
+			f.get();
+		}
+		catch (const std::exception& e)
+		{
+			throw std::runtime_error(std::string("global bundle adjustment failed: ") + e.what());
+		}
+	}
+}
+
+bool CLoopClosing::settle() noexcept { return waitForTasks(loopTasks_, &loopTasksMtx_) | waitForTasks(gbaTasks_, &gbaMtx_); }
+
+void CLoopClosing::setSessionStart(TKeyFrameId id) { detector_->setSessionStart(id); }
+
+TLoopStageStats CLoopClosing::stats() const
+{
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	return stats_;
+}
+
+std::vector<TLoop> CLoopClosing::loops() const
+{
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	return loops_;
+}
+}  // namespace mrpt_yesslam
