@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <opencv2/imgcodecs.hpp>
 #include <mutex>
 #include <set>
@@ -19,7 +20,10 @@
 #include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/PoseGraph.h"
+#include "mrpt_yesslam/util/CWriterFirstMutex.h"
+#include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/jobs/SlamJob.h"
+#include "mrpt_yesslam/system/CYesSlamSystem.h"
 
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
@@ -237,6 +241,35 @@ TEST(LoopClosing, TheLoopEdgeIsMeasuredFromTheMatchedKeyFramesPoseWhenItIsApplie
 	EXPECT_LT((map.keyFramePose(matched).asVectorVal() - movedTo.asVectorVal()).norm(), 1e-9) << "the matched place stays fixed";
 }
 
+TEST(LoopClosing, AGlobalBundleWriteBackWaitsForTheCorrectionBeingWrittenAndIsThenDropped)
+{
+	// Issue 40 item 3 (c): the global BA solves without the map-update lock and writes back under
+	// it, exclusive; a correction holds the lock from reading the poses to writing them. A write-back
+	// arriving while a correction is being written waits for it and is then refused: its solve was
+	// of the map before the correction. Without the lock in the write-back (tried) it landed in the
+	// middle of the correction (applied, and then overwritten by the correction's own write).
+	std::mt19937 rng(12);
+	std::vector<mrpt::math::TPoint3D> wall;
+	for (int i = 0; i < 60; i++) wall.emplace_back(-1.2 + 0.04 * i, -0.5 + 0.1 * (i % 11), 2.5 + 0.02 * (i % 7));
+	CSparseMap map;
+	map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), wall, std::vector<TPointId>(60, -1), rng), 10.0);
+	std::vector<TPointId> seen(60);
+	for (int i = 0; i < 60; i++) seen[static_cast<std::size_t>(i)] = i;
+	map.addKeyFrame(observeWorld(1, mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0), wall, seen, rng), 10.0);
+	map.addKeyFrame(observeWorld(2, mrpt::poses::CPose3D(0.2, 0.02, 0, 0.03, 0, 0), wall, seen, rng), 10.0);
+	CWriterFirstMutex mapUpdate;
+	CLoopCloser closer(CLoopCloser::TOptions(), map);
+	std::unique_lock<CWriterFirstMutex> correcting(mapUpdate);	// a correction is being written
+	auto gba = std::async(std::launch::async, [&] { return closer.globalBundleAdjust(&mapUpdate); });
+	EXPECT_EQ(gba.wait_for(std::chrono::milliseconds(500)), std::future_status::timeout) << "the write-back did not wait for the correction";
+	const mrpt::poses::CPose3D corrected(0.25, 0.05, 0, 0.05, 0, 0);
+	map.applyCorrection({{2, corrected}});
+	correcting.unlock();
+	const TBundleStats st = gba.get();
+	EXPECT_FALSE(st.applied) << "a global BA of the map before the correction was written over it";
+	EXPECT_LT((map.keyFramePose(2).asVectorVal() - corrected.asVectorVal()).norm(), 1e-9) << "the correction stands";
+}
+
 TEST(LoopClosing, ACorrectionWhileTrackingContinuesLosesNothing)
 {
 	// Parallel mode: detection and correction run on the loop-closing stage and global BA on its
@@ -284,6 +317,50 @@ TEST(LoopClosing, ACorrectionWhileTrackingContinuesLosesNothing)
 	EXPECT_EQ(readTumTrajectory(d / "keyframes.txt").size(), s.stats.keyFramesInMap);
 	// Measured: 4.0 mm (8.3 mm without loop closing).
 	EXPECT_LT(s.eval.ate.stats.rmse, 0.006);
+}
+
+TEST(LoopClosing, AKeyFrameCulledBetweenDetectionAndCorrectionCannotTakeTheLoop)
+{
+	// Issue 40 item 3: local mapping culls redundant keyframes while the loop stage works. A cull
+	// landing between a loop's detection and its correction (here, through the stage's test hook:
+	// everything redundant around both keyframes, with the loosest rule) must not take the loop's
+	// keyframes: they are pinned, the correction moves the current keyframe's group and the loop
+	// counts. Without the pins (tried) both keyframes went, the correction moved nothing, and no
+	// loop was counted (before issue 40 b it was counted with zeros).
+	const std::string seq = tour("office_tour", 2.5, 240);
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = (fs::path(seq) / "detections.txt").string();
+	o.system.parallel = false;
+	o.loop.detection.enabled = true;
+	o.dense.enabled = false;
+	CYesSlamSystem sys(o);
+	std::size_t hooked = 0, culledAround = 0;
+	std::vector<std::pair<bool, bool>> goodAfterCull;  // (current, matched) good after the cull
+	sys.setLoopHook(
+		[&](const TLoop& loop)
+		{
+			hooked++;
+			CSparseMap& map = sys.mutableMap();
+			// Culling looks at a keyframe's covisible keyframes: around each of the pair's neighbours.
+			for (const auto kf : {loop.current, loop.matched})
+				for (const auto n : map.covisible(kf, 1000, 1))
+					if (!map.keyFrame(n).bad) culledAround += map.cullRedundantKeyFrames(n, 0.0, 1, 10.0).size();
+			goodAfterCull.emplace_back(!map.keyFrame(loop.current).bad, !map.keyFrame(loop.matched).bad);
+		});
+	auto src = openInputSource(seq);
+	while (auto obs = src->next()) sys.processFrame(*obs);
+	sys.waitForMapping();
+	ASSERT_GE(hooked, 1u) << "no loop was detected";
+	EXPECT_GT(culledAround, 0u) << "the cull erased nothing: it proves nothing";
+	for (const auto& [current, matched] : goodAfterCull)
+	{
+		EXPECT_TRUE(current) << "the loop's current keyframe was culled under it";
+		EXPECT_TRUE(matched) << "the loop's matched keyframe was culled under it";
+	}
+	const TSlamStats st = sys.stats();
+	ASSERT_EQ(st.loopCorrections, hooked) << "every detected loop is corrected and counted";
+	for (const auto& r : st.loopRecords) EXPECT_GT(r.correction.groupKeyFrames, 0u);
 }
 
 TEST(Relocalisation, AKidnappedCameraIsFoundAgainByPlaceRecognition)

@@ -66,6 +66,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 		else
 			loop.reset();  // culled during detection (it was not in the current one's local window)
 	}
+	if (loop && hook_) hook_(*loop);
 	std::optional<double> correctMs;
 	TLoopCorrection correction;
 	if (loop)

@@ -72,6 +72,10 @@ class CLoopClosing
 	void setSessionStart(TKeyFrameId id);
 	/** Called after each corrected loop, on the stage's thread; what it throws is a loop-closing failure. */
 	void setCallback(std::function<void(const TLoop&)> cb) { callback_ = std::move(cb); }
+	/** Test only: `hook` runs between a loop's detection (its two keyframes pinned) and its
+	 * correction, on the stage's thread, without the map-update lock: where local mapping's culling
+	 * and a BA may land in a run. Set before the first keyframe. */
+	void setHook(std::function<void(const TLoop&)> hook) { hook_ = std::move(hook); }
 	/** What the stage did so far (a copy). */
 	TLoopStageStats stats() const;
 	/** The loops accepted so far, oldest first. */
@@ -89,6 +93,7 @@ class CLoopClosing
 	CSparseMap& map_;
 	CWriterFirstMutex& mapUpdate_;
 	std::function<void(const TLoop&)> callback_;
+	std::function<void(const TLoop&)> hook_;  //!< setHook
 	mutable std::mutex statsMtx_;
 	TLoopStageStats stats_;	 //!< guarded by statsMtx_
 	std::vector<TLoop> loops_;	//!< guarded by statsMtx_

@@ -182,6 +182,11 @@ class CYesSlamSystem
 	/** Test only: `hook` runs inside every frame's tracking, with the map-update lock held (the
 	 * interleaving tests put a correction there). */
 	void setTrackingHook(std::function<void()> hook) { tracker_.setHook(std::move(hook)); }
+	/** Test only: `hook` runs between each loop's detection and its correction (CLoopClosing::setHook). */
+	void setLoopHook(std::function<void(const TLoop&)> hook)
+	{
+		if (loopClosing_) loopClosing_->setHook(std::move(hook));
+	}
 	/** Starts from a saved map (call before the first frame): its keyframes' words go into the
 	 * place-recognition database and the first frames are placed in it by relocalisation, so the
 	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
