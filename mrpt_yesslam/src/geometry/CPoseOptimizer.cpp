@@ -1,10 +1,12 @@
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
-#include <ceres/ceres.h>
+#include <ceres/jet.h>
 #include <ceres/rotation.h>
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/math/CMatrixFixed.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 
@@ -51,21 +53,27 @@ bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T*
 }
 
 template bool TReprojectionResidual::operator()<double>(const double* const, const double* const, double*) const;
+// Automatic differentiation of the residual checks the analytic Jacobian the solve uses (tests).
+template bool TReprojectionResidual::operator()<ceres::Jet<double, 6>>(
+	const ceres::Jet<double, 6>* const, const ceres::Jet<double, 6>* const, ceres::Jet<double, 6>*) const;
 
-void reprojectionResidualJacobian(
-	const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J)
+namespace
 {
-	double x, y, z;
-	Tcw.composePoint(f.X.x(), f.X.y(), f.X.z(), x, y, z);
-	J.setZero();
+// Residual and (optionally) its Jacobian with respect to a left perturbation of the pose, at the
+// point already in the camera frame: shared by the geometric check's linearisation and the
+// pose solve below, so both see one model.
+void residualAt(const TReprojectionResidual& f, double x, double y, double z, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>* J)
+{
 	if (z <= 1e-6)
 	{
 		r << 1e3, 1e3, 0.0;	 // as the residual itself: constant behind the camera
+		if (J) J->setZero();
 		return;
 	}
 	const double iz = 1.0 / z;
 	r << (f.fx * x * iz + f.cx - f.uv.x()) * f.invSigma, (f.fy * y * iz + f.cy - f.uv.y()) * f.invSigma,
 		f.depth > 0 ? (z - f.depth) * f.invSigmaZ : 0.0;
+	if (!J) return;
 	// d r / d X_c
 	Eigen::Matrix3d dr;
 	dr << f.fx * iz * f.invSigma, 0, -f.fx * x * iz * iz * f.invSigma, 0, f.fy * iz * f.invSigma, -f.fy * y * iz * iz * f.invSigma, 0, 0,
@@ -73,8 +81,17 @@ void reprojectionResidualJacobian(
 	// d X_c / d (w, v) = [ -[X_c]x  I ]
 	Eigen::Matrix3d skew;
 	skew << 0, -z, y, z, 0, -x, -y, x, 0;
-	J.leftCols<3>() = -dr * skew;
-	J.rightCols<3>() = dr;
+	J->leftCols<3>() = -dr * skew;
+	J->rightCols<3>() = dr;
+}
+}  // namespace
+
+void reprojectionResidualJacobian(
+	const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J)
+{
+	double x, y, z;
+	Tcw.composePoint(f.X.x(), f.X.y(), f.X.z(), x, y, z);
+	residualAt(f, x, y, z, r, &J);
 }
 
 void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double t[3])
@@ -122,6 +139,84 @@ std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt
 }
 }  // namespace
 
+void CPoseOptimizer::solveRound(
+	const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit, const std::vector<bool>& use, Eigen::Matrix3d& R,
+	Eigen::Vector3d& t) const
+{
+	// Levenberg-Marquardt on the six pose parameters with the analytic Jacobian (left
+	// perturbation), Huber-weighted with the chi-square limit as its corner, as ORB-SLAM2's g2o pose
+	// optimisation. Formerly a Ceres problem with automatic differentiation built every round: the
+	// same cost and minimum, but problem construction and dual numbers for a 6-parameter problem
+	// cost more than the solve (issue 41: tracking's largest own share). The normal equations are
+	// 6x6, so one LDLT per step.
+	using Mat6 = Eigen::Matrix<double, 6, 6>;
+	using Vec6 = Eigen::Matrix<double, 6, 1>;
+	// Huber's rho on a squared residual s with corner b (Ceres' HuberLoss(sqrt(b))): s inside,
+	// 2 sqrt(b s) - b outside; its derivative is the weight of the normal equations.
+	const auto rho = [](double s, double b) { return s <= b ? s : 2.0 * std::sqrt(b * s) - b; };
+	const auto cost = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
+	{
+		double c = 0;
+		for (std::size_t i = 0; i < f.size(); i++)
+		{
+			if (!use[i]) continue;
+			const Eigen::Vector3d Xc = Rc * f[i].X + tc;
+			Eigen::Vector3d r;
+			residualAt(f[i], Xc.x(), Xc.y(), Xc.z(), r, nullptr);
+			c += rho(r.squaredNorm(), limit[i]);
+		}
+		return c;
+	};
+	double lambda = 1e-4;  // Ceres' initial trust region of 1e4, as the solve this replaces
+	int iterations = 0;
+	while (iterations < opts_.iterationsPerRound)
+	{
+		Mat6 H = Mat6::Zero();
+		Vec6 g = Vec6::Zero();
+		double c0 = 0;
+		for (std::size_t i = 0; i < f.size(); i++)
+		{
+			if (!use[i]) continue;
+			const Eigen::Vector3d Xc = R * f[i].X + t;
+			Eigen::Vector3d r;
+			Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J;
+			residualAt(f[i], Xc.x(), Xc.y(), Xc.z(), r, &J);
+			const double s = r.squaredNorm();
+			c0 += rho(s, limit[i]);
+			const double w = s <= limit[i] ? 1.0 : std::sqrt(limit[i] / s);
+			H.noalias() += w * J.transpose() * J;
+			g.noalias() += w * J.transpose() * r;
+		}
+		if (g.lpNorm<Eigen::Infinity>() < 1e-10) return;  // at the minimum
+		bool stepped = false;
+		while (!stepped && iterations < opts_.iterationsPerRound)
+		{
+			iterations++;
+			Mat6 A = H;
+			for (int k = 0; k < 6; k++) A(k, k) += lambda * std::max(H(k, k), 1e-6);
+			const Vec6 dx = A.ldlt().solve(-g);
+			if (!dx.allFinite()) return;
+			const Eigen::Vector3d w = dx.head<3>();
+			const double angle = w.norm();
+			const Eigen::Matrix3d dR = angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+			const Eigen::Matrix3d R1 = dR * R;
+			const Eigen::Vector3d t1 = dR * t + dx.tail<3>();
+			const double c1 = cost(R1, t1);
+			if (c1 < c0)
+			{
+				R = R1;
+				t = t1;
+				lambda = std::max(lambda / 10.0, 1e-12);
+				stepped = true;
+				// Ceres' function tolerance: a relative decrease this small is convergence.
+				if (c0 - c1 <= 1e-6 * c0 || dx.norm() <= 1e-8 * (1.0 + t.norm())) return;
+			}
+			else
+				lambda *= 10.0;
+		}
+	}
+}
+
 TPoseEstimate CPoseOptimizer::refine(
 	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial,
 	const std::vector<bool>* start) const
@@ -136,30 +231,39 @@ TPoseEstimate CPoseOptimizer::refine(
 	cameraPoseToParams(initial, rv, t);
 	// 3 degrees of freedom with depth: the 2-DoF threshold scaled as 7.815 / 5.991.
 	auto threshold = [&](const TPoseObservation& o) { return chi2Limit(o); };
+	std::vector<TReprojectionResidual> f;
+	f.reserve(obs.size());
+	for (const auto& o : obs) f.emplace_back(o, K.fx(), K.fy(), K.cx(), K.cy());
+	std::vector<double> limit(obs.size());
+	for (std::size_t i = 0; i < obs.size(); i++) limit[i] = threshold(obs[i]);
+	Eigen::Matrix3d R;
+	{
+		double Rm[9];
+		ceres::AngleAxisToRotationMatrix(rv, Rm);
+		R = Eigen::Map<const Eigen::Matrix3d>(Rm);	// column-major, as ceres writes it
+	}
+	Eigen::Vector3d tv(t[0], t[1], t[2]);
 	for (int round = 0; round < std::max(1, opts_.rounds); round++)
 	{
-		ceres::Problem problem;
-		std::size_t used = 0;
+		if (std::count(out.inlier.begin(), out.inlier.end(), true) < 4) break;
+		solveRound(f, limit, out.inlier, R, tv);
+		// Re-classify every observation, so that inliers wrongly rejected early can come back.
 		for (std::size_t i = 0; i < obs.size(); i++)
 		{
-			if (!out.inlier[i]) continue;
-			auto* cost = new ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3>(
-				new TReprojectionResidual(obs[i], K.fx(), K.fy(), K.cx(), K.cy()));
-			// Huber with the chi-square threshold as its corner, as ORB-SLAM2 (sqrt(5.991) pixels).
-			problem.AddResidualBlock(cost, new ceres::HuberLoss(std::sqrt(threshold(obs[i]))), rv, t);
-			used++;
+			const Eigen::Vector3d Xc = R * f[i].X + tv;
+			Eigen::Vector3d r;
+			residualAt(f[i], Xc.x(), Xc.y(), Xc.z(), r, nullptr);
+			out.inlier[i] = r.squaredNorm() <= limit[i];
 		}
-		if (used < 4) break;
-		ceres::Solver::Options so;
-		so.linear_solver_type = ceres::DENSE_QR;
-		so.max_num_iterations = opts_.iterationsPerRound;
-		so.num_threads = 1;
-		so.logging_type = ceres::SILENT;
-		ceres::Solver::Summary sum;
-		ceres::Solve(so, &problem, &sum);
-		// Re-classify every observation, so that inliers wrongly rejected early can come back.
-		const auto c = chi2All(obs, K, rv, t);
-		for (std::size_t i = 0; i < obs.size(); i++) out.inlier[i] = c[i] <= threshold(obs[i]);
+	}
+	{
+		double Rm[9];
+		Eigen::Map<Eigen::Matrix3d> Rmap(Rm);
+		Rmap = R;
+		ceres::RotationMatrixToAngleAxis(Rm, rv);
+		t[0] = tv.x();
+		t[1] = tv.y();
+		t[2] = tv.z();
 	}
 	const auto c = chi2All(obs, K, rv, t);
 	double se = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // Camera pose from static features only (paper eq. 7): PnP with RANSAC (OpenCV) to initialise or
-// recover, then Ceres minimising the robust (Huber) reprojection error, in rounds that re-classify
+// recover, then Levenberg-Marquardt minimising the robust (Huber) reprojection error, in rounds that re-classify
 // outliers by a chi-square test as ORB-SLAM2's pose optimisation does.
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/img/TCamera.h>
@@ -113,6 +113,12 @@ class CPoseOptimizer
 	const TOptions& options() const { return opts_; }
 
    private:
+	/** One round of refine(): Levenberg-Marquardt on world-to-camera `R`, `t` over the
+	 * observations `use` marks, Huber-weighted with each one's chi-square `limit`. */
+	void solveRound(
+		const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit, const std::vector<bool>& use, Eigen::Matrix3d& R,
+		Eigen::Vector3d& t) const;
+
 	TOptions opts_;
 };
 }  // namespace mrpt_yesslam
