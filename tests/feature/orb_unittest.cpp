@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
@@ -79,6 +80,48 @@ TEST(OrbExtractor, BudgetSpreadAndDepthOnARealFrame)
 	}
 	EXPECT_GT(withDepth, f.keypoints.size() / 2) << onEdges << " on depth edges";
 	EXPECT_GT(onEdges, 0u);
+}
+
+TEST(OrbExtractor, ItsCornersAndOrientationsAreThoseOfOpenCVsOrb)
+{
+	// The extractor detects on its own (issue 41: OpenCV's ORB oriented all four thousand
+	// candidates and built a bordered pyramid, twice with compute) but must find what OpenCV's ORB
+	// with the same settings finds: the same corners at the same levels, steered the same way, so
+	// the descriptors match those of the map and the vocabulary.
+	const std::string dir = sharedFile("data/tum_fr1_desk_9frames");
+	const cv::Mat img = cv::imread(dir + "/rgb/1305031453.359684.png", cv::IMREAD_COLOR);
+	ASSERT_FALSE(img.empty());
+	cv::Mat grey;
+	cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY);
+	const COrbExtractor::TOptions o;
+	const auto f = COrbExtractor(o).extract(img);
+	auto orb = cv::ORB::create(o.numFeatures * 4, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
+	std::vector<cv::KeyPoint> theirs;
+	cv::Mat theirDescriptors;
+	orb->detectAndCompute(grey, cv::noArray(), theirs, theirDescriptors);
+	std::size_t same = 0, steered = 0, close = 0;
+	for (std::size_t i = 0; i < f.keypoints.size(); i++)
+	{
+		const auto& k = f.keypoints[i];
+		// Undo the extractor's pixel-centre correction of the level's coordinates.
+		const float off = 0.5f * (static_cast<float>(std::pow(o.scaleFactor, k.octave)) - 1.f);
+		const cv::Point2f p(k.pt.x - off, k.pt.y - off);
+		for (std::size_t j = 0; j < theirs.size(); j++)
+		{
+			const auto& t = theirs[j];
+			if (t.octave != k.octave || cv::norm(t.pt - p) > 0.01) continue;
+			same++;
+			const float d = std::abs(t.angle - k.angle);
+			steered += std::min(d, 360.f - d) < 1.f;
+			close += cv::norm(f.descriptors.row(static_cast<int>(i)), theirDescriptors.row(static_cast<int>(j)), cv::NORM_HAMMING) <= 8;
+			break;
+		}
+	}
+	const auto n = f.keypoints.size();
+	ASSERT_GE(n, 900u);
+	EXPECT_GE(same, n * 97 / 100) << "keypoints OpenCV's ORB also finds";
+	EXPECT_GE(steered, same * 97 / 100) << "of those, oriented within a degree";
+	EXPECT_GE(close, same * 95 / 100) << "of those, descriptors within 8 bits";
 }
 
 TEST(OrbExtractor, KeypointDepthIsTheSurfacesAtTheKeypointNotAtItsNearestPixel)

@@ -45,6 +45,31 @@ COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 		per *= f;
 	}
 	perLevel_.push_back(std::max(0, o.numFeatures - sum));
+	// Candidates per level before the grid: OpenCV's ORB split of four times the budget (what
+	// orb_->detect kept when it detected, before our own detection replaced it).
+	const int candidates = o.numFeatures * 4;
+	per = candidates * (1 - f) / (1 - std::pow(f, o.numLevels));
+	sum = 0;
+	for (int l = 0; l < o.numLevels - 1; l++)
+	{
+		candidatesPerLevel_.push_back(static_cast<int>(std::round(per)));
+		sum += candidatesPerLevel_.back();
+		per *= f;
+	}
+	candidatesPerLevel_.push_back(std::max(0, candidates - sum));
+	// Row half-widths of the orientation patch's disc (radius 15: the 31-pixel patch), as ORB
+	// defines it: rounded from the circle up to 45 degrees, then the rows above mirrored from the
+	// columns below so that the disc is symmetric under a quarter turn (a plain rounded circle
+	// turned half the angles by a degree or more against OpenCV's, and the descriptors with them).
+	const int r = kHalfPatch;
+	discHalfWidth_.assign(static_cast<std::size_t>(r + 2), 0);
+	const int below = static_cast<int>(std::floor(r * std::sqrt(2.0) / 2 + 1)), above = static_cast<int>(std::ceil(r * std::sqrt(2.0) / 2));
+	for (int v = 0; v <= below; v++) discHalfWidth_[static_cast<std::size_t>(v)] = static_cast<int>(std::lround(std::sqrt(double(r * r - v * v))));
+	for (int v = r, u = 0; v >= above; v--, u++)
+	{
+		while (discHalfWidth_[static_cast<std::size_t>(u)] == discHalfWidth_[static_cast<std::size_t>(u + 1)]) u++;
+		discHalfWidth_[static_cast<std::size_t>(v)] = u;
+	}
 }
 
 namespace
@@ -70,6 +95,78 @@ bool depthIsSmoothAround(const cv::Mat& depth, int x, int y, float z)
 }
 }  // namespace
 
+std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::Mat& keepMask, std::vector<cv::Mat>& pyramid) const
+{
+	// What OpenCV's ORB detect did, without its two costs we do not need (issue 41: ORB was the
+	// frame thread's largest stage): the orientation of all four thousand candidates (only the
+	// kept thousand need one: extract() orients them) and a bordered pyramid. Same pyramid (each level
+	// resized from the one above, INTER_LINEAR_EXACT, sizes rounded as OpenCV's), same FAST
+	// (9/16 with non-maximum suppression, OpenCV's SIMD code), same 19-pixel level border and
+	// per-level candidate count by FAST score, so the keypoints are those it found.
+	constexpr int kBorder = 19;	 // OpenCV ORB's edgeThreshold: the descriptor's patch fits
+	std::vector<cv::KeyPoint> out;
+	pyramid.clear();
+	cv::Mat level = grey;
+	for (int l = 0; l < opts_.numLevels; l++)
+	{
+		const double scale = std::pow(opts_.scaleFactor, l);
+		if (l > 0)
+		{
+			const cv::Size sz(cvRound(grey.cols / scale), cvRound(grey.rows / scale));
+			if (sz.width <= 2 * kBorder || sz.height <= 2 * kBorder) break;
+			cv::Mat next;
+			cv::resize(level, next, sz, 0, 0, cv::INTER_LINEAR_EXACT);
+			level = next;
+		}
+		pyramid.push_back(level);
+		std::vector<cv::KeyPoint> kps;
+		cv::FAST(level, kps, opts_.fastThreshold, true, cv::FastFeatureDetector::TYPE_9_16);
+		cv::KeyPointsFilter::runByImageBorder(kps, level.size(), kBorder);
+		if (!keepMask.empty())
+			kps.erase(
+				std::remove_if(
+					kps.begin(), kps.end(),
+					[&](const cv::KeyPoint& k)
+					{
+						const int x = std::min(keepMask.cols - 1, cvRound(k.pt.x * scale)), y = std::min(keepMask.rows - 1, cvRound(k.pt.y * scale));
+						return keepMask.at<uchar>(y, x) == 0;
+					}),
+				kps.end());
+		cv::KeyPointsFilter::retainBest(kps, candidatesPerLevel_[static_cast<std::size_t>(l)]);
+		for (auto& k : kps)
+		{
+			k.octave = l;
+			k.size = static_cast<float>(31 * scale);
+			k.pt *= static_cast<float>(scale);
+		}
+		out.insert(out.end(), kps.begin(), kps.end());
+	}
+	return out;
+}
+
+float COrbExtractor::orientation(const cv::Mat& level, cv::Point2f pt) const
+{
+	// Rublee et al.'s intensity centroid over the disc of the descriptor's patch, in degrees
+	// (what ORB's descriptor is steered by).
+	const int cx = cvRound(pt.x), cy = cvRound(pt.y);
+	int m01 = 0, m10 = 0;  // at most 31 x 31 x 255 x 15: fits
+	for (int v = -kHalfPatch; v <= kHalfPatch; v++)
+	{
+		const int w = discHalfWidth_[static_cast<std::size_t>(std::abs(v))];
+		const uchar* row = level.ptr<uchar>(cy + v);
+		int sum = 0, wsum = 0;
+		for (int u = -w; u <= w; u++)
+		{
+			const int I = row[cx + u];
+			sum += I;
+			wsum += u * I;
+		}
+		m10 += wsum;
+		m01 += v * sum;
+	}
+	return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));
+}
+
 TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, const cv::Mat& mask) const
 {
 	TFeatures out;
@@ -82,8 +179,8 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 		grey = image;
 	cv::Mat detectMask;
 	if (opts_.excludeMasked && !mask.empty()) cv::bitwise_not(mask, detectMask);
-	std::vector<cv::KeyPoint> all;
-	orb_->detect(grey, all, detectMask);
+	std::vector<cv::Mat> pyramid;
+	const std::vector<cv::KeyPoint> all = detect(grey, detectMask, pyramid);
 
 	// Per level: bucket into cells, then take the strongest remaining corner of every cell in turn
 	// until the level's quota is met.
@@ -100,7 +197,12 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 		for (const auto& k : kps)
 			cells[static_cast<int>(k.pt.y / cell) * cols + static_cast<int>(k.pt.x / cell)].push_back(k);
 		for (auto& [id, v] : cells)
-			std::sort(v.begin(), v.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; });
+			// FAST scores are small integers: ties are common, and broken by position so that the
+			// choice never depends on the order the detector listed its corners in.
+			std::sort(
+				v.begin(), v.end(),
+				[](const cv::KeyPoint& a, const cv::KeyPoint& b)
+				{ return a.response != b.response ? a.response > b.response : a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x; });
 		const int quota = perLevel_[static_cast<std::size_t>(level)];
 		int taken = 0;
 		for (std::size_t round = 0; taken < quota; round++)
@@ -115,6 +217,12 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 				}
 			if (!any) break;
 		}
+	}
+	// Oriented only now: a quarter of the candidates is kept.
+	for (auto& k : kept)
+	{
+		const float inv = static_cast<float>(1.0 / std::pow(opts_.scaleFactor, k.octave));
+		k.angle = orientation(pyramid[static_cast<std::size_t>(k.octave)], k.pt * inv);
 	}
 	orb_->compute(grey, kept, out.descriptors);
 	// OpenCV's ORB reports a level-L corner at x_L * s (s = scaleFactor^L), but the pyramid is made

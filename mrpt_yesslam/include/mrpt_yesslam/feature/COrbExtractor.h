@@ -54,8 +54,18 @@ class COrbExtractor
 	const TOptions& options() const { return opts_; }
 
    private:
+	static constexpr int kHalfPatch = 15;	//!< half the 31-pixel ORB patch
+	/** Candidate corners of every level, OpenCV ORB's way (keypoints in level-0 pixels, octave and
+	 * size set, not yet oriented), outside `keepMask`'s zeros when it is given; `pyramid` gets the
+	 * level images. */
+	std::vector<cv::KeyPoint> detect(const cv::Mat& grey, const cv::Mat& keepMask, std::vector<cv::Mat>& pyramid) const;
+	/** A keypoint's orientation (degrees) at `pt` of its pyramid level's image. */
+	float orientation(const cv::Mat& level, cv::Point2f pt) const;
+
 	TOptions opts_;
-	cv::Ptr<cv::ORB> orb_;
+	cv::Ptr<cv::ORB> orb_;	//!< describes the keypoints detect() found
 	std::vector<int> perLevel_;	 //!< feature quota of each level
+	std::vector<int> candidatesPerLevel_;  //!< corners kept per level before the grid
+	std::vector<int> discHalfWidth_;  //!< orientation disc: half-width of row |v|
 };
 }  // namespace mrpt_yesslam
