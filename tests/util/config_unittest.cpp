@@ -100,6 +100,8 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 		defaults.dumpToTextStream(b);
 		EXPECT_EQ(a.str(), b.str());
 	};
+	TDepthNoise cam;
+	check("Camera", TDepthNoise::configKeys(), cam, TDepthNoise());
 	CInputSource::TOptions in;
 	check("Input", CInputSource::TOptions::configKeys(), in, CInputSource::TOptions());
 	CObjectDetector::TOptions det;
@@ -151,7 +153,7 @@ namespace
 /** Every options struct of a SLAM run, as its table, bound to `o`. */
 std::vector<COptionTable> allTables(TYesSlamOptions& o)
 {
-	return {o.input.table(),   o.detector.table(), o.masker.table(),  o.geometric.table(), o.orb.table(),
+	return {o.camera.table(),  o.input.table(),	o.detector.table(), o.masker.table(), o.geometric.table(), o.orb.table(),
 			o.tracking.table(), o.keyFrames.table(), o.mapping.table(), o.system.table()};
 }
 }  // namespace
@@ -189,6 +191,40 @@ TEST(Config, EveryKeyInAFileReachesItsOption)
 			checked++;
 		}
 	EXPECT_GT(checked, 80u);
+}
+
+TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
+{
+	// Issue 42: one depth-noise model for every stage, [Camera] depthNoise. The three keys it
+	// replaced would otherwise warn and be ignored, so that a configuration written for them
+	// (paper.ini's depthNoise = 0: no depth term) would quietly run with depth: an error names
+	// the file, the old key and the new one.
+	TempDir d("cfg-noise");
+	for (const std::string old : {"[Tracking]\ndepthNoise = 0\n", "[LocalMapping]\ndepthNoise = 0.003\n", "[LoopClosing]\nrefineDepthNoise = 0\n"})
+	{
+		SCOPED_TRACE(old);
+		writeText(d / "old.ini", old);
+		try
+		{
+			TYesSlamOptions o;
+			o.loadFromFile(d / "old.ini");
+			ADD_FAILURE() << "loaded";
+		}
+		catch (const InputError& e)
+		{
+			const std::string m = e.what();
+			EXPECT_NE(m.find("old.ini"), std::string::npos) << m;
+			EXPECT_NE(m.find("[Camera] depthNoise"), std::string::npos) << m;
+			EXPECT_NE(m.find(old.substr(0, old.find('\n'))), std::string::npos) << m;
+		}
+	}
+	writeText(d / "new.ini", "[Camera]\ndepthNoise = 0.004\n");
+	TYesSlamOptions o;
+	o.loadFromFile(d / "new.ini");
+	EXPECT_DOUBLE_EQ(o.camera.depthNoise, 0.004);
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.016);
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0, 1.44), 0.016 * 1.44);  // a level-2 keypoint in BA
+	EXPECT_FALSE(TDepthNoise::none().used());
 }
 
 TEST(Config, NegativeCountsAndOutOfRangeValuesAreErrors)

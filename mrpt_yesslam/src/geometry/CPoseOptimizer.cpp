@@ -16,7 +16,6 @@ COptionTable CPoseOptimizer::TOptions::table()
 {
 	COptionTable t("Tracking");
 	t.real("chi2Threshold", chi2Threshold, 0.1, 1000, "pose from static features (eq. 7): Huber reprojection error, outliers re-classified above this chi-square");
-	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only (eq. 7)");
 	t.integer("rounds", rounds, 1, 100, "optimise, re-classify outliers, repeat");
 	t.integer("iterationsPerRound", iterationsPerRound, 1, 1000, "Levenberg-Marquardt iterations per round");
 	t.integer("ransacIterations", ransacIterations, 1, 100000, "PnP RANSAC iterations (initialisation, relocalisation)");

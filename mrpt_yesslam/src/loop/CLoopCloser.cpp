@@ -23,7 +23,7 @@ COptionTable CLoopCloser::TOptions::table()
 	return t;
 }
 
-CLoopCloser::CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor, double depthNoise)
+CLoopCloser::CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor, const TDepthNoise& depthNoise)
 	: opts_(opts), map_(map), scaleFactor_(scaleFactor), depthNoise_(depthNoise)
 {
 }

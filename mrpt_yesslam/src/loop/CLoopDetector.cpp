@@ -36,7 +36,6 @@ COptionTable CLoopDetector::TOptions::table()
 	t.count("minSeedInliers", minSeedInliers, 3, 100000, "RANSAC inliers that let guided matching look for more (minInliers must then agree)");
 	t.real("guidedRadius", guidedRadius, 0, 100, "guided matching search radius after RANSAC, pixels at level 0 (ORB-SLAM2's SearchBySim3: 7.5; 0 = none)");
 	t.integer("guidedHamming", guidedHamming, 0, 256, "guided matching's largest descriptor distance (ORB-SLAM2's TH_HIGH)");
-	t.real("refineDepthNoise", refineDepthNoise, 0, 1, "the loop's relative pose is refined on reprojection with a depth term of sigma = this x z^2 (0 = keep the 3D-3D fit)");
 	t.count("minProjectionMatches", minProjectionMatches, 0, 100000, "map points of the loop's place matched with the corrected pose, needed to accept");
 	t.real("projectionRadius", projectionRadius, 0.5, 1000, "pixel radius (level 0) of that search");
 	return t;
@@ -45,14 +44,15 @@ COptionTable CLoopDetector::TOptions::table()
 CLoopDetector::CLoopDetector(
 	const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
 	std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic, double scaleFactor,
-	double maxDepth)
+	double maxDepth, const TDepthNoise& depthNoise)
 	: opts_(opts),
 	  map_(map),
 	  vocabulary_(std::move(vocabulary)),
 	  database_(std::move(database)),
 	  semantic_(semantic),
 	  scaleFactor_(scaleFactor),
-	  maxDepth_(maxDepth)
+	  maxDepth_(maxDepth),
+	  noise_(depthNoise)
 {
 	if (!vocabulary_ || !database_) throw std::invalid_argument("CLoopDetector needs a vocabulary and a database");
 }
@@ -365,7 +365,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	// keyframe, with their depth as a weak term (the pose solve of tracking): the 3D-3D fit above
 	// weighs every point's depth error, which grows with z^2 (real Bonn slice: the fit was 6-11 cm
 	// off the ground truth's relative pose, reprojection brings it to a few cm).
-	if (opts_.refineDepthNoise > 0)
+	if (noise_.used())
 	{
 		std::vector<TPoseObservation> obs;
 		for (const auto k : bestIn)
@@ -376,7 +376,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 			o.pixel = {kp.pt.x, kp.pt.y};
 			o.sigma = sigmaOf(kp);
 			o.depth = fa.depth[matches[k].first];
-			o.sigmaZ = opts_.refineDepthNoise * o.depth * o.depth;
+			o.sigmaZ = noise_.sigma(o.depth);
 			obs.push_back(o);
 		}
 		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.relative);

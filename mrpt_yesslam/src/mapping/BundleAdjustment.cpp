@@ -47,7 +47,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			const bool hasDepth = z > 0;
 			const double sigma = std::pow(o.scaleFactor, std::max(0, key.octave));
 			const CPinholeCamera K(w.cameras.at(k));
-			const bool useDepth = hasDepth && o.depthNoise > 0;
+			const bool useDepth = hasDepth && o.depthNoise.used();
 			// The depth of a keypoint found at a coarse pyramid level is uncertain with its position:
 			// it is read where the keypoint is, known to sigma pixels, and on a slanted surface or
 			// near an edge the depth changes within that. ORB-SLAM2's RGB-D edges weigh their
@@ -56,7 +56,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			// (real Xtion frames of bonn_crowd_dev: 26.2 -> 17.2 mm ATE, its people-free opening
 			// 14.6 -> 11.5 mm; the simulator's presets within +-3 %, fr1 3.1 / 3.2 mm). Tracking
 			// keeps the level-0 model: scaled there too, the dev slice got worse (21.3 mm).
-			const double sigmaZ = useDepth ? o.depthNoise * z * z * sigma : 0.0;
+			const double sigmaZ = useDepth ? o.depthNoise.sigma(z, sigma) : 0.0;
 			TRgbdReprojectionCost c(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(), K.fy(), K.cx(), K.cy());
 			all.push_back({i, k, c, useDepth});
 			auto* cost = new ceres::AutoDiffCostFunction<TRgbdReprojectionCost, 3, 3, 3, 3>(new TRgbdReprojectionCost(c));
@@ -75,7 +75,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 	for (const auto& o : all)
 		if (o.hasDepth) hasDepth[o.point] = 1;
 	for (std::size_t i = 0; i < X.size(); i++)
-		if (o.depthNoise > 0 && !hasDepth[i] && problem.HasParameterBlock(X[i].data()))
+		if (o.depthNoise.used() && !hasDepth[i] && problem.HasParameterBlock(X[i].data()))
 			problem.SetParameterBlockConstant(X[i].data());
 	std::map<TKeyFrameId, std::size_t> shared;
 	for (const auto& obsOfPoint : w.observations)

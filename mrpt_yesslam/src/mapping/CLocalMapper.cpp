@@ -21,7 +21,6 @@ COptionTable CLocalMapper::TOptions::table()
 	t.count("covisibleKeyFrames", covisibleKeyFrames, 0, 1000, "keyframes optimised besides the new one");
 	t.count("maxFixedKeyFrames", maxFixedKeyFrames, 0, 1000, "other keyframes seeing the points, held fixed");
 	t.integer("iterations", iterations, 1, 1000, "Ceres iterations");
-	t.real("depthNoise", depthNoise, 0, 1, "depth residual sigma_z = depthNoise x z^2 x scaleFactor^octave (m), as the pixel's sigma grows with the keypoint's level; 0 = reprojection only");
 	t.real("cullFoundRatio", cullFoundRatio, 0, 1, "young points found in fewer than this share of the frames that should see them are culled");
 	t.count("cullMinObservations", cullMinObservations, 0, 1000, "young points seen by fewer keyframes are culled");
 	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000, "neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, docs/benchmarks.md)");
@@ -33,8 +32,8 @@ COptionTable CLocalMapper::TOptions::table()
 	return t;
 }
 
-CLocalMapper::CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor, double maxDepth)
-	: opts_(opts), map_(map), scaleFactor_(scaleFactor), maxDepth_(maxDepth)
+CLocalMapper::CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor, double maxDepth, const TDepthNoise& depthNoise)
+	: opts_(opts), map_(map), scaleFactor_(scaleFactor), maxDepth_(maxDepth), noise_(depthNoise)
 {
 }
 
@@ -56,7 +55,7 @@ std::size_t CLocalMapper::fuseWithNeighbours(TKeyFrameId kfId)
 	std::vector<TFuseCandidate> cands;
 	auto search = [&](const TLocalMapPoints& pts, const CKeyFrame& into)
 	{
-		const auto c = fuseCandidates(into, into.pose, pts, opts_.fuseRadius, opts_.fuseMaxHamming, scaleFactor_, opts_.depthNoise);
+		const auto c = fuseCandidates(into, into.pose, pts, opts_.fuseRadius, opts_.fuseMaxHamming, scaleFactor_, noise_);
 		cands.insert(cands.end(), c.begin(), c.end());
 	};
 	const CKeyFrame cur = map_.keyFrame(kfId);
@@ -81,7 +80,7 @@ TBundleStats CLocalMapper::bundleAdjust(TKeyFrameId kf)
 	if (w.keyFrames.empty() || w.points.empty()) return {};
 	TBundleSolveOptions so;
 	so.scaleFactor = scaleFactor_;
-	so.depthNoise = opts_.depthNoise;
+	so.depthNoise = noise_;
 	so.iterations = opts_.iterations;
 	TBundleSolution sol = solveBundle(w, so);
 	sol.stats.applied = map_.applyBundle(w, sol.poses, sol.positions, sol.outliers);

@@ -8,7 +8,7 @@ namespace mrpt_yesslam
 {
 std::vector<TFuseCandidate> fuseCandidates(
 	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& pts, double radius, int maxHamming,
-	double scaleFactor, double depthNoise)
+	double scaleFactor, const TDepthNoise& depthNoise)
 {
 	std::vector<TFuseCandidate> cands;
 	if (pts.ids.empty() || !into.features) return cands;
@@ -27,7 +27,7 @@ std::vector<TFuseCandidate> fuseCandidates(
 			const auto& P = pts.positions[m.point];
 			double x, y, z;
 			Tcw.composePoint(P.x, P.y, P.z, x, y, z);
-			if (std::abs(d - z) > 0.02 + 3 * depthNoise * z * z) continue;
+			if (std::abs(d - z) > 0.02 + 3 * depthNoise.sigma(z)) continue;
 		}
 		cands.push_back({pts.ids[m.point], into.id, m.keypoint});
 	}

@@ -56,6 +56,12 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 		known.push_back(section);
 		loadOptions(*cfg, path, section, opts, keys);
 	};
+	// One depth-noise model since issue 42: its three former keys would be ignored with a warning,
+	// silently changing what a configuration (paper.ini's depthNoise = 0) measures.
+	for (const auto& [section, key] : {std::pair<const char*, const char*>{"Tracking", "depthNoise"}, {"LocalMapping", "depthNoise"}, {"LoopClosing", "refineDepthNoise"}})
+		if (cfg->sectionExists(section) && !cfg->read_string(section, key, "").empty())
+			throw InputError(path, std::string("[") + section + "] " + key + " is now [Camera] depthNoise: one depth-noise model for every stage");
+	load("Camera", camera, TDepthNoise::configKeys());
 	load("Input", input, CInputSource::TOptions::configKeys());
 	load("Detector", detector, CObjectDetector::TOptions::configKeys());
 	load("DynamicMask", masker, CDynamicObjectMasker::TOptions::configKeys());
@@ -83,7 +89,7 @@ std::string TYesSlamOptions::dump() const
 {
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
-			 &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &loop, &dense, &system})
+			 &camera, &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &loop, &dense, &system})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";
@@ -111,9 +117,9 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	  builder_(
 		  createObjectDetector(opts_.detector), opts_.masker, opts_.orb, opts_.system.dynamicFilter, opts_.system.asyncDetection,
 		  opts_.geometric),
-	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric),
+	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric, opts_.camera),
 	  inserter_(opts_.keyFrames),
-	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth),
+	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth, opts_.camera),
 	  records_(opts_.tracking.lostInterpolate),
 	  recent_(opts_.system.frameBuffer)
 {
@@ -144,8 +150,9 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 		{
 			loopClosing_ = std::make_unique<CLoopClosing>(
 				std::make_unique<CLoopDetector>(
-					opts_.loop.detection, map_, vocabulary_, bowDatabase_, opts_.keyFrames.semantic, opts_.orb.scaleFactor, opts_.tracking.maxDepth),
-				std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.mapping.depthNoise), opts_.loop.globalBundleAdjustment,
+					opts_.loop.detection, map_, vocabulary_, bowDatabase_, opts_.keyFrames.semantic, opts_.orb.scaleFactor, opts_.tracking.maxDepth,
+					opts_.camera),
+				std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.camera), opts_.loop.globalBundleAdjustment,
 				map_, mapUpdateMtx_, opts_.system.parallel);
 		}
 	}

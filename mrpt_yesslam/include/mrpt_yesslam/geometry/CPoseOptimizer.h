@@ -77,8 +77,6 @@ class CPoseOptimizer
 	struct TOptions : public TTableOptions<TOptions>
 	{
 		double chi2Threshold = 5.991;  //!< 2-DoF chi-square at 95% (ORB-SLAM2); 7.815 (3-DoF) with depth
-		/** Depth residual sigma_z = depthNoise x z^2 (m); 0 = reprojection only, as eq. 7. */
-		double depthNoise = 0.0025;
 		int rounds = 4;	 //!< optimise, re-classify, repeat
 		int iterationsPerRound = 10;
 		int ransacIterations = 200;

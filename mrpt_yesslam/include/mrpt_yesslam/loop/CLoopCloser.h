@@ -14,6 +14,7 @@
 //    computed before another correction is dropped.
 #include <memory>
 
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
 #include "mrpt_yesslam/mapping/BundleAdjustment.h"
@@ -51,8 +52,9 @@ class CLoopCloser
 		COptionTable table();
 	};
 
-	/** `scaleFactor`: the ORB pyramid's; `depthNoise`: local mapping's (global BA's depth term). */
-	CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double depthNoise = 0.0025);
+	/** `scaleFactor`: the ORB pyramid's; `depthNoise`: the sensor's ([Camera]: global BA's depth
+	 * term, loop fusion's gate). */
+	CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Corrects the map for a verified loop (steps 1-3 above). Where the current keyframe goes is
 	 * the matched keyframe's pose now times the verified relative pose (TLoop::relative), not the
@@ -68,6 +70,7 @@ class CLoopCloser
    private:
 	TOptions opts_;
 	CSparseMap& map_;
-	double scaleFactor_, depthNoise_;
+	double scaleFactor_;
+	TDepthNoise depthNoise_;
 };
 }  // namespace mrpt_yesslam

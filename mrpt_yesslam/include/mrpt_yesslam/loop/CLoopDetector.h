@@ -24,6 +24,7 @@
 #include <set>
 #include <vector>
 
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/keyframes/CSemanticKeyFrameSelector.h"
 #include "mrpt_yesslam/place/CBowDatabase.h"
@@ -93,9 +94,6 @@ class CLoopDetector
 		/** Guided matching's search radius, pixels at level 0 (ORB-SLAM2's SearchBySim3: 7.5; 0 = none). */
 		double guidedRadius = 7.5;
 		int guidedHamming = 100;  //!< guided matching's descriptor distance (ORB-SLAM2's TH_HIGH)
-		/** The relative pose's final solve: depth sigma = this x z^2 beside the reprojection
-		 * ([Tracking] depthNoise's model; 0 = keep the 3D-3D fit). */
-		double refineDepthNoise = 0.0025;
 		std::size_t minProjectionMatches = 40;	//!< matches of the group's points with the corrected pose (ORB-SLAM2: 40)
 		double projectionRadius = 10;  //!< pixels at level 0 for that search (ORB-SLAM2: 10)
 
@@ -104,11 +102,13 @@ class CLoopDetector
 	};
 
 	/** `semantic`: the [KeyFrames] options whose grid and gamma define S_G (eq. 9-10);
-	 * `scaleFactor`: the ORB pyramid's; `maxDepth`: tracking's. */
+	 * `scaleFactor`: the ORB pyramid's; `maxDepth`: tracking's; `depthNoise`: the sensor's
+	 * ([Camera]): the relative pose's final solve weighs depth with it beside the reprojection
+	 * (not used: the 3D-3D fit is kept). */
 	CLoopDetector(
 		const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
 		std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic,
-		double scaleFactor = 1.2, double maxDepth = 6.0);
+		double scaleFactor = 1.2, double maxDepth = 6.0, const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Looks for a loop closed by keyframe `kf` (its words in the database already). */
 	std::optional<TLoop> detect(TKeyFrameId kf);
@@ -143,6 +143,7 @@ class CLoopDetector
 	std::shared_ptr<const CBowDatabase> database_;
 	CSemanticKeyFrameSelector::TOptions semantic_;
 	double scaleFactor_, maxDepth_;
+	TDepthNoise noise_;	 //!< the sensor's depth noise ([Camera])
 	std::vector<TGroup> groups_;  //!< candidate groups of the previous keyframe
 	TKeyFrameId sessionStart_ = 0;  //!< see setSessionStart
 	TLoopDetectionStats stats_;

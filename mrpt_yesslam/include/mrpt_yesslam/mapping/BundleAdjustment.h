@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 
 namespace mrpt_yesslam
@@ -29,7 +30,8 @@ struct TBundleStats
 struct TBundleSolveOptions
 {
 	double scaleFactor = 1.2;  //!< ORB pyramid: pixel sigma = scale ^ octave
-	double depthNoise = 0.0025;	 //!< sigma_z = depthNoise z^2 scale^octave; 0 = reprojection only
+	/** The sensor's depth noise: an observation's sigma_z = depthNoise.sigma(z, scale^octave). */
+	TDepthNoise depthNoise;
 	int iterations = 10;
 	/** A keyframe with fewer observations of points that another keyframe of the window also
 	 * observes is held at its pose: its other points move with it, so nothing says where it is, and

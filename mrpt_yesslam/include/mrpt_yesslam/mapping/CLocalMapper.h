@@ -10,6 +10,7 @@
 // runs step() in the caller's thread or on its mapping stage thread ([System] parallel).
 #include <mrpt/config/CLoadableOptions.h>
 
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/mapping/BundleAdjustment.h"
 #include "mrpt_yesslam/mapping/PointFusion.h"
@@ -38,8 +39,6 @@ class CLocalMapper
 		std::size_t covisibleKeyFrames = 10;  //!< optimised besides the new keyframe
 		std::size_t maxFixedKeyFrames = 20;	 //!< other keyframes seeing the points, held fixed
 		int iterations = 10;
-		/** Depth noise sigma_z = depthNoise x z^2 x scaleFactor^octave (m) of the depth residual; 0 = reprojection only. */
-		double depthNoise = 0.0025;
 		double cullFoundRatio = 0.25;  //!< young points found in fewer than this share of views are culled
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
 		/** Neighbours searched for duplicates (ORB-SLAM2, RGB-D: 10); 0 = no fusion. Off by default:
@@ -58,8 +57,10 @@ class CLocalMapper
 	};
 
 	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor; sigma of an observation = scale ^ octave);
-	 * `maxDepth`: tracking's, the depth up to which points count as close for keyframe culling. */
-	CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double maxDepth = 4.0);
+	 * `maxDepth`: tracking's, the depth up to which points count as close for keyframe culling;
+	 * `depthNoise`: the sensor's ([Camera]), BA's depth term and fusion's depth gate. */
+	CLocalMapper(
+		const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double maxDepth = 4.0, const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Processes keyframe `kf` (already in the map): point culling, local BA, keyframe culling. */
 	TMappingStats step(TKeyFrameId kf);
@@ -73,5 +74,6 @@ class CLocalMapper
 	TOptions opts_;
 	CSparseMap& map_;
 	double scaleFactor_, maxDepth_;
+	TDepthNoise noise_;	 //!< the sensor's depth noise ([Camera])
 };
 }  // namespace mrpt_yesslam

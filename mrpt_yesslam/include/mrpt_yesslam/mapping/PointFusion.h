@@ -7,15 +7,16 @@
 #include <vector>
 
 #include "mrpt_yesslam/data/CSparseMap.h"
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 
 namespace mrpt_yesslam
 {
 /** ORB-SLAM2's Fuse search: `points` projected with `Twc` into keyframe `into`, each matched to the
  * closest keypoint within `radius` pixels (x scale^octave) and `maxHamming`, no ratio test; a
- * keypoint with depth must agree with the point's depth (3 sigma of the Kinect model, sigma_z =
- * depthNoise z^2, plus 2 cm), as ORB-SLAM2 checks the right-image coordinate. Shared by local
+ * keypoint with depth must agree with the point's depth (3 sigma of the sensor's depth noise at
+ * level 0, plus 2 cm), as ORB-SLAM2 checks the right-image coordinate. Shared by local
  * mapping's fusion with the neighbours and loop fusion. */
 std::vector<TFuseCandidate> fuseCandidates(
 	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius, int maxHamming,
-	double scaleFactor, double depthNoise);
+	double scaleFactor, const TDepthNoise& depthNoise);
 }  // namespace mrpt_yesslam

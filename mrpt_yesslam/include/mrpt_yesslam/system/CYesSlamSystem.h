@@ -20,6 +20,7 @@
 #include <string>
 #include <thread>
 
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
@@ -73,6 +74,7 @@ struct TYesSlamOptions
 		COptionTable table();
 	};
 
+	TDepthNoise camera;	 //!< section [Camera]: the depth sensor's noise, for every stage
 	CInputSource::TOptions input;
 	CObjectDetector::TOptions detector;
 	CDynamicObjectMasker::TOptions masker;

@@ -27,6 +27,7 @@
 #include "mrpt_yesslam/place/CBowDatabase.h"
 #include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
+#include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 
 namespace mrpt_yesslam
@@ -105,10 +106,12 @@ class CTracker
 		std::size_t movingPointsErased = 0;
 	};
 
-	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor): search windows and observation sigmas scale with it. */
+	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor): search windows and observation sigmas
+	 * scale with it; `depthNoise`: the sensor's ([Camera]), for the pose solve's depth term and the
+	 * see-through test. */
 	CTracker(
 		const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2,
-		const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions());
+		const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions(), const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Tracks `f` (features filled in): sets pose, tracked, mapPoints and numInliers. Never throws
 	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
@@ -184,6 +187,7 @@ class CTracker
 	CGeometricDynamicCheck check_;
 	COrbMatcher matcher_;
 	double scaleFactor_;
+	TDepthNoise noise_;	 //!< the sensor's depth noise ([Camera])
 	std::shared_ptr<const TFrame> last_;
 	TAnchor lastAnchor_;	//!< where the last frame hangs in the map (its reference keyframe, T_ref_last)
 	/** What track() left for setLastFrame and anchorOf: the frame's id, its anchor, and the last
@@ -218,8 +222,8 @@ class CTracker
 	std::function<void()> hook_;  //!< see setHook
 };
 
-/** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; with
- * depthNoise > 0 the keypoint's depth too, sigma_z = depthNoise z^2). */
+/** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; where
+ * `depthNoise` is used, the keypoint's depth too, with its level-0 sigma: see CTracker.cpp). */
 std::vector<TPoseObservation> makePoseObservations(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, double depthNoise = 0);
+	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, const TDepthNoise& depthNoise = TDepthNoise::none());
 }  // namespace mrpt_yesslam
