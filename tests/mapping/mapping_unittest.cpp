@@ -52,6 +52,40 @@ TEST(BundleCosts, RgbdReprojectionJacobiansMatchNumeric)
 	}
 }
 
+TEST(BundleCosts, TheHandWrittenJacobiansAreAutomaticDifferentiationsOwn)
+{
+	// Bundle adjustment solves with CRgbdReprojectionCostAnalytic (issue 41: dual numbers were half
+	// of every solve). Its residuals and Jacobians must be those automatic differentiation gives
+	// for TRgbdReprojectionCost, at large and tiny rotations (the right Jacobian's series), with and
+	// without depth, on any pyramid level.
+	struct Case
+	{
+		double rv[3], t[3], X[3], z, sigma;
+	};
+	const std::vector<Case> cases = {
+		{{0.1, -0.2, 0.05}, {0.2, -0.1, 0.3}, {0.4, 0.3, 2.5}, 2.4, 1.0},
+		{{1.2, 0.4, -0.9}, {-0.3, 0.2, 1.5}, {-0.8, 0.5, 1.1}, 0.0, 1.44},
+		{{1e-6, -2e-6, 5e-7}, {0.0, 0.0, 0.0}, {0.3, -0.2, 3.0}, 3.1, 2.0736},
+		{{0.0, 0.0, 0.0}, {0.1, 0.0, -0.2}, {-0.5, 0.4, 4.2}, 4.0, 1.2},
+		{{2.9, -0.1, 0.2}, {0.0, 0.1, 0.0}, {0.2, 0.1, -2.0}, 1.5, 1.0}};
+	for (const auto& k : cases)
+	{
+		SCOPED_TRACE(k.X[2]);
+		const TRgbdReprojectionCost c(310, 250, k.z, k.sigma, 0.0025 * k.z * k.z * k.sigma, 535.4, 539.2, 320.1, 247.6);
+		ceres::AutoDiffCostFunction<TRgbdReprojectionCost, 3, 3, 3, 3> automatic(new TRgbdReprojectionCost(c));
+		const CRgbdReprojectionCostAnalytic analytic(c);
+		const double* params[3] = {k.rv, k.t, k.X};
+		double ra[3], rb[3], ja[3][9], jb[3][9];
+		double* pa[3] = {ja[0], ja[1], ja[2]};
+		double* pb[3] = {jb[0], jb[1], jb[2]};
+		ASSERT_TRUE(automatic.Evaluate(params, ra, pa));
+		ASSERT_TRUE(analytic.Evaluate(params, rb, pb));
+		for (int i = 0; i < 3; i++) EXPECT_NEAR(ra[i], rb[i], 1e-9 * (1 + std::abs(ra[i])));
+		for (int b = 0; b < 3; b++)
+			for (int i = 0; i < 9; i++) EXPECT_NEAR(ja[b][i], jb[b][i], 1e-7 * (1 + std::abs(ja[b][i]))) << "block " << b << " entry " << i;
+	}
+}
+
 TEST(LocalMapper, BundleAdjustmentRecoversPerturbedKeyFramesAndPoints)
 {
 	std::mt19937 rng(7);

@@ -59,7 +59,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			const double sigmaZ = useDepth ? o.depthNoise.sigma(z, sigma) : 0.0;
 			TRgbdReprojectionCost c(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(), K.fy(), K.cx(), K.cy());
 			all.push_back({i, k, c, useDepth});
-			auto* cost = new ceres::AutoDiffCostFunction<TRgbdReprojectionCost, 3, 3, 3, 3>(new TRgbdReprojectionCost(c));
+			auto* cost = new CRgbdReprojectionCostAnalytic(c);
 			// Huber corner at the chi-square 95% threshold, as ORB-SLAM2 (3 DoF: 7.815, 2 DoF: 5.991).
 			auto* loss = new ceres::HuberLoss(std::sqrt(useDepth ? 7.815 : 5.991));
 			auto& pp = poseParams.at(k);
