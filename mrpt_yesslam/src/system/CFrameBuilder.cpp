@@ -24,6 +24,11 @@ CFrameBuilder::CFrameBuilder(
 		detector_ = std::move(detector);
 }
 
+void CFrameBuilder::detectAhead(const cv::Mat& bgr, double timestamp)
+{
+	if (async_ && !async_->submitted(timestamp)) async_->submit(bgr, timestamp);
+}
+
 const CObjectDetector* CFrameBuilder::detector() const { return async_ ? &async_->detector() : detector_.get(); }
 
 std::shared_ptr<TFrame> CFrameBuilder::build(
@@ -57,13 +62,13 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 	{
 		// Detection on the worker while ORB runs here: "detect" is the detector's own time (on its
 		// thread), "detect_wait" what this frame still waited for it after ORB.
-		async_->submit(bgr, timestamp);
+		if (!async_->submitted(timestamp)) async_->submit(bgr, timestamp);	// else detectAhead() did
 		t0 = SteadyClock::now();
 		f->features = extractor_.extract(bgr, depth);
 		ms["orb"] = msSince(t0);
 		t0 = SteadyClock::now();
 		double detectMs = 0;
-		f->detections = async_->get(&detectMs);
+		f->detections = async_->get(timestamp, &detectMs);
 		ms["detect_wait"] = msSince(t0);
 		ms["detect"] = detectMs;
 		computeMask();

@@ -293,6 +293,13 @@ TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeSc
 	return processFrame(bgr, depthInMetres(obs), observationTime(obs), obs.cameraParamsIntensity, depthTime);
 }
 
+void CYesSlamSystem::detectAhead(const mrpt::obs::CObservation3DRangeScan& next)
+{
+	cv::Mat bgr = next.intensityImage.asCvMatRef();
+	if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);  // as processFrame makes it
+	builder_.detectAhead(bgr, observationTime(next));
+}
+
 double CYesSlamSystem::motionToReference(const TFrame& f) const
 {
 	// Eq. 12-16 against the reference: tracking's (the keyframe sharing most points: D then says

@@ -127,6 +127,12 @@ class CYesSlamSystem
 	TFrameReport processFrame(
 		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera,
 		std::optional<double> depthTime = std::nullopt);
+	/** Recorded input: the frame that processFrame() gets after the current one, already read.
+	 * With [System] asyncDetection its detection starts now and overlaps the current frame's
+	 * tracking (else only that frame's ORB extraction). The observation must stay alive and
+	 * unchanged until it is processed; nothing else changes (the same detections, the same
+	 * results). Not for live input: reading a frame ahead would delay the current one. */
+	void detectAhead(const mrpt::obs::CObservation3DRangeScan& next);
 	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
 	 * local mapping failed (once per failure). Every stage has settled when it returns or throws. */
 	void waitForMapping();

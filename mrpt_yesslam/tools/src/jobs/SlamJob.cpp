@@ -6,10 +6,12 @@
 #include <optional>
 #include <cstdio>
 #include <deque>
+#include <exception>
 #include <mutex>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
+#include <utility>
 
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/eval/TrajectoryPlot.h"
@@ -426,7 +428,8 @@ TSlamJobSummary runSlamJob(
 	// so is a skip that leaves no frame (the first one is read here to know).
 	std::size_t skipped = 0;
 	while (skipped < o.skipFrames && src->next()) skipped++;
-	mrpt::obs::CObservation3DRangeScan::Ptr first;
+	mrpt::obs::CObservation3DRangeScan::Ptr first, ahead;  // ahead: the next frame, read while this one is processed
+	std::exception_ptr aheadError;	// reading it failed
 	if (skipped == o.skipFrames && o.skipFrames > 0)
 	{
 		try
@@ -472,8 +475,23 @@ TSlamJobSummary runSlamJob(
 				sum.interrupted = true;
 				break;
 			}
-			auto obs = first ? std::move(first) : src->next();
+			// A frame read ahead that could not be read fails here, where it would have been read.
+			if (aheadError) std::rethrow_exception(std::exchange(aheadError, nullptr));
+			auto obs = first ? std::move(first) : ahead ? std::move(ahead) : src->next();
 			if (!obs) break;
+			// Recorded input: the next frame is read now and its detection started, so that it
+			// overlaps this frame's tracking as well as its own ORB extraction (issue 41: the frame
+			// waited 10 ms a frame for the detector). Live input is not read ahead: that would hold
+			// this frame until the camera delivers the next.
+			if (!in.live && !(o.maxFrames && done + 1 >= o.maxFrames))
+				try
+				{
+					if ((ahead = src->next())) sys.detectAhead(*ahead);
+				}
+				catch (...)
+				{
+					aheadError = std::current_exception();	// after this frame, as without reading ahead
+				}
 			if (const double md = medianDepth(*obs); md > 0) depthMedians.push_back(md);  // frames without depth say nothing of its scale
 			if (record) record(obs);
 			const std::optional<double> depthTime = src->depthTime(observationTime(*obs));
