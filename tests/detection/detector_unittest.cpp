@@ -323,12 +323,14 @@ TEST(Detector, DetectionsFileBackend)
 	expectInputError([&] { det2->detect(img, 10.0); }, {"outside.txt", "line 1", "outside the 640x480 image"});
 }
 
-TEST(Detector, FramesDetectedAheadAreCollectedByTheirStampInAnyOrder)
+TEST(Detector, FramesDetectedAheadAreCollectedByTheirNumberInAnyOrder)
 {
 	// Recorded input reads the next frame while this one is processed and starts its detection
-	// (issue 41: the frame waited 10 ms for the detector). The first frame of a run is submitted
-	// after the second: collecting it must not drop the newer one (it did, and every frame was
-	// then detected twice, 30 % fewer fps); a frame detected ahead and skipped is dropped.
+	// (issue 41: the frame waited 10 ms for the detector). Frames are collected by their number:
+	// stamps repeat in some recordings (a rawlog without stamps gives every frame the same one),
+	// and keyed by stamp a frame got the next frame's detections. Collecting a frame must not drop
+	// a higher-numbered one submitted before it (the first version did: every frame was detected
+	// twice); a frame detected ahead and then skipped is dropped.
 	auto sync = createObjectDetector(yoloFastest());
 	CAsyncDetector async(createObjectDetector(yoloFastest()));
 	const cv::Mat a = cv::imread(sharedFile(kPeople[0].image), cv::IMREAD_COLOR);
@@ -342,20 +344,25 @@ TEST(Detector, FramesDetectedAheadAreCollectedByTheirStampInAnyOrder)
 			if (x[i].classId != y[i].classId || x[i].box != y[i].box) return false;
 		return true;
 	};
-	const auto da = sync->detect(a, 1.0), db = sync->detect(b, 2.0);
+	const auto da = sync->detect(a, 5.0), db = sync->detect(b, 5.0);
 	ASSERT_FALSE(same(da, db));	 // two different views: a mix-up would show
-	async.submit(b, 2.0);  // read ahead
-	async.submit(a, 1.0);  // the first frame, submitted when processed
-	EXPECT_TRUE(async.submitted(1.0) && async.submitted(2.0));
-	EXPECT_TRUE(same(async.get(1.0), da));
-	EXPECT_TRUE(async.submitted(2.0)) << "the newer frame was dropped with the older one's collection";
-	EXPECT_TRUE(same(async.get(2.0), db));
-	// A frame detected ahead and then skipped by the caller goes when a newer one is collected.
-	async.submit(a, 3.0);
-	async.submit(b, 4.0);
-	EXPECT_TRUE(same(async.get(4.0), db));
-	EXPECT_FALSE(async.submitted(3.0));
-	EXPECT_THROW(async.get(3.0), std::logic_error);
+	async.submit(b, 5.0, 2);  // read ahead, the same stamp as the frame before it
+	async.submit(a, 5.0, 1);  // the frame before, submitted when processed
+	EXPECT_TRUE(async.submitted(1, 5.0) && async.submitted(2, 5.0));
+	EXPECT_FALSE(async.submitted(2, 6.0)) << "a frame number with another stamp is another frame";
+	EXPECT_TRUE(same(async.get(1), da));
+	EXPECT_TRUE(async.submitted(2, 5.0)) << "the higher-numbered frame was dropped with the lower one's collection";
+	EXPECT_TRUE(same(async.get(2), db));
+	// A frame detected ahead and then skipped by the caller goes when a later one is collected.
+	async.submit(a, 5.0, 3);
+	async.submit(b, 5.0, 4);
+	EXPECT_TRUE(same(async.get(4), db));
+	EXPECT_FALSE(async.submitted(3, 5.0));
+	EXPECT_THROW(async.get(3), std::logic_error);
+	// Submitted again under its number (the caller's numbering slipped): the newer image counts.
+	async.submit(a, 7.0, 5);
+	async.submit(b, 8.0, 5);
+	EXPECT_TRUE(same(async.get(5), db));
 }
 
 TEST(Detector, AsyncGivesTheSameDetectionsAndPropagatesErrors)

@@ -138,7 +138,11 @@ std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::M
 					kps.begin(), kps.end(),
 					[&](const cv::KeyPoint& k)
 					{
-						const int x = std::min(keepMask.cols - 1, cvRound(k.pt.x * scale)), y = std::min(keepMask.rows - 1, cvRound(k.pt.y * scale));
+						// Where the corner is in the image (the pixel-centre correction extract()
+						// applies later), so that flagDynamic() would judge it the same way.
+						const double off = 0.5 * (scale - 1);
+						const int x = std::min(keepMask.cols - 1, cvRound(k.pt.x * scale + off)),
+								  y = std::min(keepMask.rows - 1, cvRound(k.pt.y * scale + off));
 						return keepMask.at<uchar>(y, x) == 0;
 					}),
 				kps.end());

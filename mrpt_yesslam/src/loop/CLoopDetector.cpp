@@ -365,7 +365,8 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	// keyframe, with their depth as a weak term (the pose solve of tracking): the 3D-3D fit above
 	// weighs every point's depth error, which grows with z^2 (real Bonn slice: the fit was 6-11 cm
 	// off the ground truth's relative pose, reprojection brings it to a few cm).
-	if (noise_.used())
+	// With the sensor's depth noise at 0 (paper.ini) on reprojection alone: the solve and its inlier
+	// gate still run, as they did when the loop had its own depth option.
 	{
 		std::vector<TPoseObservation> obs;
 		for (const auto k : bestIn)
@@ -376,7 +377,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 			o.pixel = {kp.pt.x, kp.pt.y};
 			o.sigma = sigmaOf(kp);
 			o.depth = fa.depth[matches[k].first];
-			o.sigmaZ = noise_.sigma(o.depth);
+			o.sigmaZ = noise_.used() ? noise_.sigma(o.depth) : 0.0;
 			obs.push_back(o);
 		}
 		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.relative);

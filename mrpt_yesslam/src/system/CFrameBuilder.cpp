@@ -24,9 +24,9 @@ CFrameBuilder::CFrameBuilder(
 		detector_ = std::move(detector);
 }
 
-void CFrameBuilder::detectAhead(const cv::Mat& bgr, double timestamp)
+void CFrameBuilder::detectAhead(const cv::Mat& bgr, double timestamp, std::size_t id)
 {
-	if (async_ && !async_->submitted(timestamp)) async_->submit(bgr, timestamp);
+	if (async_ && !async_->submitted(id, timestamp)) async_->submit(bgr, timestamp, id);
 }
 
 const CObjectDetector* CFrameBuilder::detector() const { return async_ ? &async_->detector() : detector_.get(); }
@@ -62,13 +62,13 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 	{
 		// Detection on the worker while ORB runs here: "detect" is the detector's own time (on its
 		// thread), "detect_wait" what this frame still waited for it after ORB.
-		if (!async_->submitted(timestamp)) async_->submit(bgr, timestamp);	// else detectAhead() did
+		if (!async_->submitted(id, timestamp)) async_->submit(bgr, timestamp, id);	// else detectAhead() did
 		t0 = SteadyClock::now();
 		f->features = extractor_.extract(bgr, depth);
 		ms["orb"] = msSince(t0);
 		t0 = SteadyClock::now();
 		double detectMs = 0;
-		f->detections = async_->get(timestamp, &detectMs);
+		f->detections = async_->get(id, &detectMs);
 		ms["detect_wait"] = msSince(t0);
 		ms["detect"] = detectMs;
 		computeMask();

@@ -293,11 +293,13 @@ TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeSc
 	return processFrame(bgr, depthInMetres(obs), observationTime(obs), obs.cameraParamsIntensity, depthTime);
 }
 
-void CYesSlamSystem::detectAhead(const mrpt::obs::CObservation3DRangeScan& next)
+void CYesSlamSystem::detectAhead(const mrpt::obs::CObservation3DRangeScan& frame, std::size_t ahead)
 {
-	cv::Mat bgr = next.intensityImage.asCvMatRef();
+	if (!builder_.detectsAhead()) return;
+	cv::Mat bgr = frame.intensityImage.asCvMatRef();
 	if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);  // as processFrame makes it
-	builder_.detectAhead(bgr, observationTime(next));
+	// Keyed by the frame's number, not its stamp: stamps repeat in some recordings.
+	builder_.detectAhead(bgr, observationTime(frame), nextFrameId_ + ahead);
 }
 
 double CYesSlamSystem::motionToReference(const TFrame& f) const

@@ -104,7 +104,7 @@ class CLoopDetector
 	/** `semantic`: the [KeyFrames] options whose grid and gamma define S_G (eq. 9-10);
 	 * `scaleFactor`: the ORB pyramid's; `maxDepth`: tracking's; `depthNoise`: the sensor's
 	 * ([Camera]): the relative pose's final solve weighs depth with it beside the reprojection
-	 * (not used: the 3D-3D fit is kept). */
+	 * (0: reprojection alone). */
 	CLoopDetector(
 		const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
 		std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic,

@@ -31,10 +31,12 @@ class CFrameBuilder
 		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera, std::size_t id,
 		std::map<std::string, double>* stageMs = nullptr);
 
-	/** Starts detecting the frame that build() will get next (recorded input, where it is already
-	 * read), so that its detection overlaps this frame's tracking too; the image must stay unchanged
+	/** Starts detecting frame `id` before build() gets it (recorded input, where it is already read),
+	 * so that its detection overlaps the tracking of the frame before; the image must stay unchanged
 	 * until then. Without an asynchronous detector, or for a frame already submitted, nothing. */
-	void detectAhead(const cv::Mat& bgr, double timestamp);
+	void detectAhead(const cv::Mat& bgr, double timestamp, std::size_t id);
+	/** Whether detectAhead() can do anything (an asynchronous detector). */
+	bool detectsAhead() const { return async_ != nullptr; }
 
 	/** Keep each frame's colour, depth and dynamic mask in TFrame::images (for dense mapping). */
 	void setKeepImages(bool keep) { keepImages_ = keep; }

@@ -127,12 +127,13 @@ class CYesSlamSystem
 	TFrameReport processFrame(
 		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera,
 		std::optional<double> depthTime = std::nullopt);
-	/** Recorded input: the frame that processFrame() gets after the current one, already read.
-	 * With [System] asyncDetection its detection starts now and overlaps the current frame's
-	 * tracking (else only that frame's ORB extraction). The observation must stay alive and
-	 * unchanged until it is processed; nothing else changes (the same detections, the same
-	 * results). Not for live input: reading a frame ahead would delay the current one. */
-	void detectAhead(const mrpt::obs::CObservation3DRangeScan& next);
+	/** Recorded input: starts the detection of the frame that the `ahead`-th processFrame() call
+	 * from now will get (0: the next call's frame; 1: the one after, already read), so that it
+	 * overlaps the tracking of the frames before it (with [System] asyncDetection; without, it does
+	 * nothing). The observation must stay alive and unchanged until it is processed; nothing else
+	 * changes (the same detections, the same results). Not for live input: reading a frame ahead
+	 * would delay the current one. */
+	void detectAhead(const mrpt::obs::CObservation3DRangeScan& frame, std::size_t ahead = 1);
 	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
 	 * local mapping failed (once per failure). Every stage has settled when it returns or throws. */
 	void waitForMapping();

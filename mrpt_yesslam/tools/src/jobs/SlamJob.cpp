@@ -486,7 +486,8 @@ TSlamJobSummary runSlamJob(
 			if (!in.live && !(o.maxFrames && done + 1 >= o.maxFrames))
 				try
 				{
-					if ((ahead = src->next())) sys.detectAhead(*ahead);
+					sys.detectAhead(*obs, 0);  // this frame first (already under way unless it is the first)
+					if ((ahead = src->next())) sys.detectAhead(*ahead, 1);
 				}
 				catch (...)
 				{
