@@ -228,13 +228,11 @@ TPoseEstimate CPoseOptimizer::refine(
 	if (obs.size() < 4) return out;
 	double rv[3], t[3];
 	cameraPoseToParams(initial, rv, t);
-	// 3 degrees of freedom with depth: the 2-DoF threshold scaled as 7.815 / 5.991.
-	auto threshold = [&](const TPoseObservation& o) { return chi2Limit(o); };
 	std::vector<TReprojectionResidual> f;
 	f.reserve(obs.size());
 	for (const auto& o : obs) f.emplace_back(o, K.fx(), K.fy(), K.cx(), K.cy());
 	std::vector<double> limit(obs.size());
-	for (std::size_t i = 0; i < obs.size(); i++) limit[i] = threshold(obs[i]);
+	for (std::size_t i = 0; i < obs.size(); i++) limit[i] = chi2Limit(obs[i]);  // 3 DoF with depth
 	Eigen::Matrix3d R;
 	{
 		double Rm[9];
@@ -255,6 +253,17 @@ TPoseEstimate CPoseOptimizer::refine(
 			out.inlier[i] = r.squaredNorm() <= limit[i];
 		}
 	}
+	// RMS in pixels over the inliers: the reprojection part only (whitened by 1/sigma, so scaled back).
+	double se = 0;
+	for (std::size_t i = 0; i < obs.size(); i++)
+		if (out.inlier[i])
+		{
+			out.numInliers++;
+			const Eigen::Vector3d Xc = R * f[i].X + tv;
+			Eigen::Vector3d r;
+			residualAt(f[i], Xc.x(), Xc.y(), Xc.z(), r, nullptr);
+			se += (r[0] * r[0] + r[1] * r[1]) * obs[i].sigma * obs[i].sigma;
+		}
 	{
 		double Rm[9];
 		Eigen::Map<Eigen::Matrix3d> Rmap(Rm);
@@ -264,20 +273,6 @@ TPoseEstimate CPoseOptimizer::refine(
 		t[1] = tv.y();
 		t[2] = tv.z();
 	}
-	const auto c = chi2All(obs, K, rv, t);
-	double se = 0;
-	for (std::size_t i = 0; i < obs.size(); i++)
-		if (out.inlier[i])
-		{
-			out.numInliers++;
-		{
-			// RMS in pixels: the reprojection part only.
-			TReprojectionResidual f(obs[i], K.fx(), K.fy(), K.cx(), K.cy());
-			double r[3];
-			f(rv, t, r);
-			se += (r[0] * r[0] + r[1] * r[1]) * obs[i].sigma * obs[i].sigma;
-		}
-		}
 	out.rmsPixels = out.numInliers ? std::sqrt(se / static_cast<double>(out.numInliers)) : 0;
 	out.cameraInWorld = cameraPoseFromParams(rv, t);
 	out.ok = out.numInliers >= opts_.minInliers;
