@@ -24,6 +24,31 @@ COptionTable COrbExtractor::TOptions::table()
 	return t;
 }
 
+namespace
+{
+// `total` split over `levels` pyramid levels as ORB-SLAM and OpenCV's ORB split it (a geometric
+// series in 1/scale), the rounding left to the last level.
+std::vector<int> levelShares(int total, double scale, int levels)
+{
+	const double f = 1.0 / scale;
+	double per = total * (1 - f) / (1 - std::pow(f, levels));
+	std::vector<int> out;
+	int sum = 0;
+	for (int l = 0; l < levels - 1; l++)
+	{
+		out.push_back(static_cast<int>(std::round(per)));
+		sum += out.back();
+		per *= f;
+	}
+	out.push_back(std::max(0, total - sum));
+	return out;
+}
+
+// Where level `octave`'s pixel coordinates lie in the image, less those coordinates times the
+// scale: the pyramid is resized about pixel centres, so level pixel x lies at (x + 0.5) s - 0.5.
+float pixelCentreOffset(double scaleFactor, int octave) { return 0.5f * (static_cast<float>(std::pow(scaleFactor, octave)) - 1.f); }
+}  // namespace
+
 COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 {
 	if (o.numFeatures < 10) throw InputError("", "[ORB] numFeatures must be at least 10");
@@ -35,29 +60,10 @@ COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 	orb_ = cv::ORB::create(
 		o.numFeatures * 4, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
 	// ORB-SLAM's quota per level: geometric in the scale, so each level gets features in proportion
-	// to its area.
-	const double f = 1.0 / o.scaleFactor;
-	double per = o.numFeatures * (1 - f) / (1 - std::pow(f, o.numLevels));
-	int sum = 0;
-	for (int l = 0; l < o.numLevels - 1; l++)
-	{
-		perLevel_.push_back(static_cast<int>(std::round(per)));
-		sum += perLevel_.back();
-		per *= f;
-	}
-	perLevel_.push_back(std::max(0, o.numFeatures - sum));
-	// Candidates per level before the grid: OpenCV's ORB split of four times the budget (what
-	// orb_->detect kept when it detected, before our own detection replaced it).
-	const int candidates = o.numFeatures * 4;
-	per = candidates * (1 - f) / (1 - std::pow(f, o.numLevels));
-	sum = 0;
-	for (int l = 0; l < o.numLevels - 1; l++)
-	{
-		candidatesPerLevel_.push_back(static_cast<int>(std::round(per)));
-		sum += candidatesPerLevel_.back();
-		per *= f;
-	}
-	candidatesPerLevel_.push_back(std::max(0, candidates - sum));
+	// to its area; the candidates before the grid are OpenCV's ORB split of four times the budget
+	// (what orb_->detect kept when it detected, before our own detection replaced it).
+	perLevel_ = levelShares(o.numFeatures, o.scaleFactor, o.numLevels);
+	candidatesPerLevel_ = levelShares(o.numFeatures * 4, o.scaleFactor, o.numLevels);
 	// Row half-widths of the orientation patch's disc (radius 15: the 31-pixel patch), as ORB
 	// defines it: rounded from the circle up to 45 degrees, then the rows above mirrored from the
 	// columns below so that the disc is symmetric under a quarter turn (a plain rounded circle
@@ -140,9 +146,9 @@ std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::M
 					{
 						// Where the corner is in the image (the pixel-centre correction extract()
 						// applies later), so that flagDynamic() would judge it the same way.
-						const double off = 0.5 * (scale - 1);
-						const int x = std::min(keepMask.cols - 1, cvRound(k.pt.x * scale + off)),
-								  y = std::min(keepMask.rows - 1, cvRound(k.pt.y * scale + off));
+						const float off = pixelCentreOffset(opts_.scaleFactor, l);
+						const int x = std::min(keepMask.cols - 1, cvRound(k.pt.x * static_cast<float>(scale) + off)),
+								  y = std::min(keepMask.rows - 1, cvRound(k.pt.y * static_cast<float>(scale) + off));
 						return keepMask.at<uchar>(y, x) == 0;
 					}),
 				kps.end());
@@ -250,7 +256,7 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 	// compute(), which must see the coordinates OpenCV produced.
 	for (auto& k : kept)
 	{
-		const float off = 0.5f * (static_cast<float>(std::pow(opts_.scaleFactor, k.octave)) - 1.f);
+		const float off = pixelCentreOffset(opts_.scaleFactor, k.octave);
 		k.pt.x += off;
 		k.pt.y += off;
 	}
