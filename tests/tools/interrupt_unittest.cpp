@@ -83,7 +83,7 @@ struct TInterrupted
 
 // Runs one of our tools with `args`, waits (at most 60 s) until `ready()`, presses Ctrl-C (SIGINT,
 // or sends `sig`) and waits for it to end.
-// With `secondAfterMs` >= 0, Ctrl-C is pressed a second time that long after the first.
+// With `secondAfterMs` >= 0, Ctrl-C is pressed a second time that long after the first was handled.
 TInterrupted interruptWhen(
 	const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready, int sig = SIGINT,
 	int secondAfterMs = -1)
@@ -111,6 +111,16 @@ TInterrupted interruptWhen(
 	kill(pid, sig);
 	if (secondAfterMs >= 0)
 	{
+		// Only once the first was handled (its message is on stderr): two signals pending at once
+		// are one signal, and on a loaded machine 5 ms can pass before the process runs at all.
+		const auto handled = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+		while (std::chrono::steady_clock::now() < handled)
+		{
+			std::ifstream e(log + ".err");
+			const std::string text((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+			if (text.find("stopping") != std::string::npos) break;
+			std::this_thread::sleep_for(std::chrono::milliseconds(1));
+		}
 		std::this_thread::sleep_for(std::chrono::milliseconds(secondAfterMs));
 		kill(pid, sig);
 	}
