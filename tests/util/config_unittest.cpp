@@ -222,8 +222,11 @@ TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
 	TYesSlamOptions o;
 	o.loadFromFile(d / "new.ini");
 	EXPECT_DOUBLE_EQ(o.camera.depthNoise, 0.004);
-	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.016);
-	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0, 1.44), 0.016 * 1.44);  // a level-2 keypoint in BA
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.032);  // z^3 by default (issue 39 item 2)
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0, 1.44), 0.032 * 1.44);	// a level-2 keypoint in BA
+	writeText(d / "z2.ini", "[Camera]\ndepthNoise = 0.004\ndepthNoiseExponent = 2\n");
+	o.loadFromFile(d / "z2.ini");
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.016);  // the random disparity noise alone
 	EXPECT_FALSE(TDepthNoise::none().used());
 }
 

@@ -363,7 +363,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	loop.relative = mrpt::poses::CPose3D(T);  // T_b_a: the current camera in the matched one's frame
 	// 4. The relative pose from the reprojection of the matched place's points into the current
 	// keyframe, with their depth as a weak term (the pose solve of tracking): the 3D-3D fit above
-	// weighs every point's depth error, which grows with z^2 (real Bonn slice: the fit was 6-11 cm
+	// weighs every point's depth error, which grows faster than z (real Bonn slice: the fit was 6-11 cm
 	// off the ground truth's relative pose, reprojection brings it to a few cm).
 	// With the sensor's depth noise at 0 (paper.ini) on reprojection alone: the solve and its inlier
 	// gate still run, as they did when the loop had its own depth option.
