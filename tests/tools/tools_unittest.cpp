@@ -884,8 +884,8 @@ TEST(Tools, EvalJsonToStdoutKeepsTheLinesBeforeIt)
 // 100 frames of the real Bonn crowd slice (people crossing close, the camera panning over walls
 // 2-5 m away; Bonn RGB-D Dynamic Dataset, CC BY-NC 4.0, test data only:
 // ../shared/data/bonn_crowd_dev/SOURCE.md), run from there as a sequence of its own with the
-// default configuration and the shipped detector: 12.5 mm with the z^3 model, 46.6 mm when far
-// depths were trusted as z^2 (the 6.8 cm at 3 m became 2.3 cm, and the far wall's biased depth
+// default configuration and the shipped detector: 17.3 mm with the z^2.5 model, 46.6 mm when far
+// depths were trusted as z^2 (2.3 cm at 3 m instead of 3.9 cm: the far walls' biased depths
 // pulled the poses).
 TEST(Tools, FarDepthIsWeighedAsTheRealSensorsErrorGrows)
 {

@@ -1,6 +1,8 @@
 // Config files: INI and YAML reach the same TOptions; unknown keys warn, wrong types fail.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "TestUtils.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
@@ -222,8 +224,8 @@ TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
 	TYesSlamOptions o;
 	o.loadFromFile(d / "new.ini");
 	EXPECT_DOUBLE_EQ(o.camera.depthNoise, 0.004);
-	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.032);  // z^3 by default (issue 39 item 2)
-	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0, 1.44), 0.032 * 1.44);	// a level-2 keypoint in BA
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.004 * std::pow(2.0, 2.5));  // z^2.5 by default (issue 39 item 2)
+	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0, 1.44), 0.004 * std::pow(2.0, 2.5) * 1.44);  // a level-2 keypoint in BA
 	writeText(d / "z2.ini", "[Camera]\ndepthNoise = 0.004\ndepthNoiseExponent = 2\n");
 	o.loadFromFile(d / "z2.ini");
 	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.016);  // the random disparity noise alone

@@ -13,8 +13,8 @@ COptionTable TDepthNoise::table()
 		"point fusion, see-through culling and the loop's relative pose; 0 = depth is not a measurement (reprojection only, eq. 7 and 24)");
 	t.real(
 		"depthNoiseExponent", depthNoiseExponent, 1, 4,
-		"how the depth error grows with z: 2 = structured light's random disparity noise alone, 3 = with the disparity distortion and far-depth bias that "
-		"grow faster (measured better on the real Xtion and Kinect frames and the real-sensor sims)");
+		"how the depth error grows with z: 2 = structured light's random disparity noise alone, 2.5 = with the disparity distortion and far-depth bias that "
+		"grow faster (measured better on the real Xtion frames and the real-sensor sims, as good on the Kinect frames)");
 	return t;
 }
 }  // namespace mrpt_yesslam

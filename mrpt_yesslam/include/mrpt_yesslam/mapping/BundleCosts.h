@@ -3,7 +3,7 @@
 // header so that tests can check their derivatives with ceres::GradientChecker.
 //
 // RGB-D observations constrain the measured depth besides the pixel (u, v): a third residual
-// (z_predicted - z_measured) / sigma_z with sigma_z from TDepthNoise (k z^3 by default: the
+// (z_predicted - z_measured) / sigma_z with sigma_z from TDepthNoise (k z^2.5 by default: the
 // structured-light model of Khoshelham & Elberink 2012 and the errors that grow faster), as dense RGB-D systems (DVO-SLAM, ElasticFusion) weight depth.
 // The paper's eq. 7 / 24 use the reprojection error only, and ORB-SLAM2 uses a virtual stereo
 // coordinate u - bf/z with a 1-pixel sigma, which at 3 m is a depth sigma of ~0.2 m: with keyframes

@@ -41,7 +41,7 @@ class CTracker
 	{
 		CPoseOptimizer::TOptions pose;
 		/** Keypoints farther than this are not used, m. Far depth is already weighted down by the
-		 * noise model (TDepthNoise, k z^3, in pose and BA), and far keypoints still pin the rotation
+		 * noise model (TDepthNoise, k z^2.5, in pose and BA), and far keypoints still pin the rotation
 		 * (ORB-SLAM2 keeps its far points too): a 4 m cut lost the far wall whenever people filled
 		 * the near view (default config 1.5x sim.ini's ATE on unseen walking sequences; 6 m: equal).
 		 * The limit only drops the Kinect's unreliable fringe beyond its range. */
