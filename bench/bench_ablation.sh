@@ -13,7 +13,8 @@
 # between the estimate's and the truth's frame-to-frame steps), mm. The verdict column applies the
 # rule of issue 39: a departure stays only where switching it off is worse on both real cameras
 # (the Bonn halves together, the TUM Kinect frames) and not better on the sims.
-# Usage: bench/bench_ablation.sh [FRAMES]   (outputs in bench_out/ablation/; RERUN=1 runs again)
+# Usage: bench/bench_ablation.sh [FRAMES]   (outputs in bench_out/ablation/; a run is reused while its
+# binary, configuration and sequence are unchanged; RERUN=1 runs every one again)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="${BIN:-$ROOT/build/rawlog_tools}"
@@ -61,12 +62,17 @@ declare -A SEQARGS=(
   [sim_xyz]="--input $OUT/sim_walking_xyz"
   [sim_fr1path]="--input $OUT/sim_fr1_xyz_path"
 )
-cell() {  # cell TAG SEQ CFG: "ATE / jitter" in mm, or "-" with the reason in the log
+cell() {  # cell TAG SEQ CFG: "ATE / jitter" in mm, "failed" (see the run's log) or "missing"
   local tag="$1" seq="$2" cfg="$3" dir="$OUT/runs/$1-$2"
   if [ "$seq" = fr1_rpy ] && [ ! -d "$SHARED/tum_fr1_rpy_dev" ]; then echo "missing"; return; fi
-  if [ -n "${RERUN:-}" ] || [ ! -f "$dir/eval.json" ]; then
+  # A run is reused only while it is what would run now: the same binary, configuration lines,
+  # sequence arguments and (for the sims) sequence.
+  local key; key="$(stat -c '%Y %s' "$BIN/yesslam") $(cat "$cfg") ${SEQARGS[$seq]} $(cat "${SEQARGS[$seq]##* }/.bench_key" 2>/dev/null || true)"
+  if [ "${RERUN:-0}" != 0 ] || [ ! -f "$dir/eval.json" ] || [ "$(cat "$dir/.bench_key" 2>/dev/null)" != "$key" ]; then
+    rm -rf "$dir"
     # shellcheck disable=SC2086  # SEQARGS are word lists
     "$BIN/yesslam" ${SEQARGS[$seq]} --config "$cfg" --sequential --no-dense-map --quiet --out "$dir" > "$dir.log" 2>&1 || true
+    [ -d "$dir" ] && printf '%s' "$key" > "$dir/.bench_key"
   fi
   python3 - "$dir/eval.json" <<'PY' 2>/dev/null || echo "failed"
 import json, sys
@@ -104,7 +110,7 @@ bonn = None if d[0] is None or d[1] is None else d[0] + d[1]
 kinect = [x for x in (d[2], d[3]) if x is not None]
 kin = sum(kinect) if kinect else None
 sims = [x for x in (d[4], d[5]) if x is not None]
-if bonn is None or kin is None: print("?")
+if bonn is None or kin is None or len(sims) < 2: print("? (a run failed: see its log)")
 elif bonn > 0.7 and kin > 0.5 and min(sims) > -0.5: print("keep (helps both cameras)")
 elif bonn < -0.7 and kin < -0.5: print("drop (hurts both cameras)")
 else: print("mixed: Bonn %+.1f, Kinect %+.1f, sims %+.1f / %+.1f mm" % (bonn, kin, sims[0], sims[1]))

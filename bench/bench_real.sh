@@ -16,7 +16,11 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BIN="${BIN:-$ROOT/build/rawlog_tools}"
-CFGARGS=(); [ -n "${CONFIG:-}" ] && CFGARGS=(--config "$CONFIG")
+CFGARGS=()
+if [ -n "${CONFIG:-}" ]; then
+  [ -n "${OUT_TAG:-}" ] || { echo "bench: CONFIG needs OUT_TAG (its own output folder, not the default's)" >&2; exit 1; }
+  CFGARGS=(--config "$CONFIG")
+fi
 RUNS="${1:-3}"
 SHARED="$ROOT/../shared/data"
 [ -x "$BIN/yesslam" ] || { echo "bench: build first (./scripts/build.sh)" >&2; exit 1; }

@@ -19,7 +19,7 @@ namespace mrpt_yesslam
  * Measured (docs/benchmarks.md, "The depth error grows faster than z^2"): the real Bonn windows
  * and every --real-sensor sim better, the TUM fr1 frames as good. z^3 was better still on the
  * Xtion but let a walker no detector reports drag the camera (near points gained too much weight
- * over the far static scene): 2.5 is the steepest growth that keeps that case. */
+ * over the far static scene): of 2, 2.5 and 3, 2.5 is the one that keeps that case. */
 struct TDepthNoise : public TTableOptions<TDepthNoise>
 {
 	/** sigma_z (m) at 1 m, at a pixel known exactly; 0 = depth is not a measurement
