@@ -28,6 +28,7 @@ COptionTable CTracker::TOptions::table()
 	t.count("weakInliers", weakInliers, 0, 100000, "a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the frame coasts (0 = off)");
 	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction");
 	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction");
+	t.count("priorLostFrames", priorLostFrames, 0, 1000, "for this many lost frames since the motion was last measured, the coasted prediction still judges weak solutions, with 1 + n times the departures (0 = only a prediction from tracked frames does)");
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
 	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
@@ -399,7 +400,6 @@ CTracker::TResult CTracker::track(TFrame& f)
 	const mrpt::poses::CPose3D lastPose = lastFramePose();
 	if (hook_) hook_();  // test only: where a correction racing tracking would land
 	const TResult r = trackFrom(f, lastPose);
-	refusedRun_ = f.tracked || !r.implausible ? 0 : refusedRun_ + 1;
 	anchor(f, lastPose);
 	return r;
 }
@@ -423,18 +423,19 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
 	f.pose = predicted;
 	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak
-	// solution must agree with; after lost frames it is a guess and constrains nothing.
-	// After a refused frame the coasted prediction still stands for a few frames, with wider
-	// tolerance each: otherwise the next frame would take the same weak solution unchecked (a
-	// person moving with the camera is there for several frames).
+	// solution must agree with. After a loss the coasted prediction still stands for a few frames
+	// (priorLostFrames), with wider tolerance each: a person who blinded the camera, or moves with
+	// it, is there for several frames, and the first frames back see little but them (real Bonn
+	// crowd slice: a frame after two lost ones was taken on 35 inliers 86 mm off). A refused frame is
+	// a lost frame too, so the next one does not take the same weak solution unchecked.
 	prior_.reset();
 	priorScale_ = 1;
 	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked)
 		prior_ = predicted;
-	else if (velocity_ && refusedRun_ > 0 && refusedRun_ <= 3)
+	else if (velocity_ && lostRun_ > 0 && lostRun_ <= opts_.priorLostFrames)
 	{
 		prior_ = predicted;
-		priorScale_ = 1.0 + static_cast<double>(refusedRun_);
+		priorScale_ = 1.0 + static_cast<double>(lostRun_);
 	}
 	if (!refKf_)
 	{

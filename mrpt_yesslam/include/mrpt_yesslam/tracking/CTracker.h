@@ -65,6 +65,11 @@ class CTracker
 		std::size_t weakInliers = 80;
 		double priorDeparture = 0.05;  //!< m: the farthest a weak solution may lie from the prediction
 		double priorDepartureDeg = 5;  //!< degrees: the most it may turn away from the prediction
+		/** After a loss (a person filled the view, or a weak solution was refused) the coasted
+		 * prediction still judges weak solutions for this many lost frames, counted since the
+		 * motion was last measured, with 1 + n times the departures: the first frames back are the
+		 * ones a person still covers. 0 = only a prediction from tracked frames judges. */
+		std::size_t priorLostFrames = 3;
 		/** Relocalisation tries at most this many keyframes: the best place-recognition candidates
 		 * (with a vocabulary), else the newest keyframes (0 = all). */
 		std::size_t relocKeyFrames = 60;
@@ -164,11 +169,10 @@ class CTracker
 	bool relocalise(TFrame& f, TResult& r);
 	/** Whether a solution on `inliers` may be taken (see TOptions::weakInliers); notes a refusal in `r`. */
 	bool plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r) const;
-	/** The prediction of the frame being tracked when it was made from tracked frames (weak
-	 * solutions must agree with it); none when the last frame was lost or there is no velocity. */
+	/** The prediction of the frame being tracked that weak solutions must agree with: made from
+	 * tracked frames, or coasted over at most priorLostFrames lost ones; none without a velocity. */
 	std::optional<mrpt::poses::CPose3D> prior_;
-	double priorScale_ = 1;	 //!< the departures allowed, times this (wider for each refused frame in a row)
-	std::size_t refusedRun_ = 0;  //!< frames in a row whose weak solution was refused
+	double priorScale_ = 1;	 //!< the departures allowed, times this (wider for each lost frame the prediction coasted over)
 	/** Local map points in view but not found whose place `f` sees through (farther keypoints
 	 * measured all around where the point should be in front). */
 	std::vector<TPointId> seenThrough(const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView,
@@ -212,7 +216,7 @@ class CTracker
 	/** Motions of the last tracked frames, oldest first (lostVelocityFrames of them); emptied when
 	 * tracking is lost, so that motions from before a loss never mix with those after it. */
 	std::deque<TMotion> recentMotion_;
-	std::size_t lostRun_ = 0;  //!< consecutive lost frames so far
+	std::size_t lostRun_ = 0;  //!< lost frames since the motion was last measured (two tracked frames in a row)
 	std::optional<TKeyFrameId> refKf_;
 	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
 	std::vector<CGeometricDynamicCheck::TMoverRegion> movers_;
