@@ -512,6 +512,38 @@ TEST(System, TheFrameCallbackSeesEveryFrameAsTrackingLeftIt)
 	EXPECT_EQ(s.stats.frames, 12u);
 }
 
+// Issue 41 item 5: with a dense map every frame keeps its colour and depth images, and the frames
+// Algorithm 1 may still choose from ([System] frameBuffer) hold them until they leave the buffer.
+// Once the run is over (before the outputs, the run's peak of memory) they are let go: only the
+// tracker's last frame keeps its images.
+TEST(System, TheRecentFramesImagesAreLetGoOnceTheRunIsOver)
+{
+	TYesSlamOptions o = walkingSystemOptions();
+	ASSERT_TRUE(o.dense.enabled) << "the images are kept for the dense map";
+	CYesSlamSystem sys(o);
+	std::vector<std::weak_ptr<const TFrameImages>> images;
+	sys.setFrameCallback([&](const TFrame& f) { images.push_back(f.images); });
+	auto src = openInputSource(walkingSequence(), o.input);
+	for (int i = 0; i < 20; i++)
+		if (auto obs = src->next()) sys.processFrame(*obs);
+	sys.waitForMapping();
+	ASSERT_EQ(images.size(), 20u);
+	const auto alive = [&]
+	{
+		std::size_t n = 0;
+		for (const auto& w : images) n += !w.expired();
+		return n;
+	};
+	EXPECT_GE(alive(), o.system.frameBuffer) << "the buffer holds its frames' images";
+	sys.releaseRecentFrames();
+	EXPECT_LE(alive(), 1u) << "only the last frame's";
+	// The system goes on after it: the next frames are tracked and can still become keyframes.
+	std::size_t tracked = 0;
+	for (int i = 0; i < 10; i++)
+		if (auto obs = src->next()) tracked += sys.processFrame(*obs).tracked;
+	EXPECT_EQ(tracked, 10u);
+}
+
 TEST(System, ProgressTotalsAreTheFramesThisRunWillProcess)
 {
 	// Issue 30 item 8: the progress line's total was the input's length whatever --max-frames and

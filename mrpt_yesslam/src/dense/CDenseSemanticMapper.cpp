@@ -367,49 +367,85 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	m.octree->setProbMiss(opts_.probMiss);
 	m.octree->setOccupancyThres(opts_.occupancyThreshold);
 
-	struct TVoxel
+	// Every point by voxel: (voxel, keyframe, point) triples sorted, as PCL's VoxelGrid does, instead
+	// of a hash map of voxels: 16 bytes a point for the time of the pass, where a hash node per voxel
+	// with its label vector took about 160 bytes and lived to the end of the build (issue 41 item 5:
+	// the build is the run's peak of memory; Bonn slice 21 -> 10 MB). The same sums in the same
+	// order (keyframes by id, then their points), so the same map to the last bit.
+	struct TPointRef
 	{
-		double x = 0, y = 0, z = 0;
-		std::uint32_t b = 0, g = 0, r = 0, n = 0;
-		std::uint32_t keyFrames = 0;
-		TKeyFrameId lastKf = 0;
-		TLabelBelief belief;
+		std::int64_t key;
+		std::uint32_t cloud, index;
 	};
-	std::unordered_map<std::int64_t, TVoxel> voxels;
-	const double inv = 1.0 / opts_.voxelSize;
-	const int K = numLabels();
+	std::vector<std::pair<mrpt::poses::CPose3D, const TPackedCloud*>> list;
+	list.reserve(clouds.size());
+	std::size_t total = 0;
 	for (const auto& [id, c] : clouds)
 	{
-		const auto T = poseOf(id);
+		list.emplace_back(poseOf(id), c.get());
+		total += c->points.size();
+	}
+	const double inv = 1.0 / opts_.voxelSize;
+	const float unit = static_cast<float>(unit_);
+	const auto worldPoint = [&](std::uint32_t cloud, std::uint32_t index)
+	{
+		const auto& p = list[cloud].second->points[index];
+		return transform(list[cloud].first, cv::Point3f(p.x, p.y, p.z) * unit);  // eq. 26
+	};
+	std::vector<TPointRef> refs;
+	refs.reserve(total);
+	for (std::uint32_t ci = 0; ci < list.size(); ci++)
+	{
+		const auto& [T, c] = list[ci];
 		octomap::Pointcloud scan;
 		scan.reserve(c->points.size());
-		const float unit = static_cast<float>(unit_);
-		for (const auto& p : c->points)
+		for (std::uint32_t i = 0; i < c->points.size(); i++)
 		{
-			const cv::Point3f w = transform(T, cv::Point3f(p.x, p.y, p.z) * unit);  // eq. 26
+			const cv::Point3f w = worldPoint(ci, i);
 			scan.push_back(w.x, w.y, w.z);
-			TVoxel& v = voxels[voxelKey(w, inv)];
-			v.x += w.x, v.y += w.y, v.z += w.z;
-			v.b += p.b, v.g += p.g, v.r += p.r;
-			v.n++;
-			if (v.keyFrames == 0 || v.lastKf != id) v.keyFrames++, v.lastKf = id;
-			if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
+			refs.push_back({voxelKey(w, inv), ci, i});
 		}
 		// Ray casting from the camera: cells passed are observed free (a person's old place too).
 		m.octree->insertScan(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), opts_.clearMargin, opts_.voxelSize);
 	}
 	m.octree->updateInnerOccupancy();
-	m.voxelsBeforeFilter = voxels.size();
+	std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
+
+	// A voxel's sums over its points; only those seen from minObservations keyframes are kept.
+	struct TVoxel
+	{
+		double x = 0, y = 0, z = 0;
+		std::uint32_t b = 0, g = 0, r = 0, n = 0;
+		std::uint32_t keyFrames = 0;
+		TLabelBelief belief;
+	};
+	std::vector<TVoxel> vox;
+	const int K = numLabels();
+	for (std::size_t i = 0; i < refs.size();)
+	{
+		TVoxel v;
+		std::size_t j = i;
+		for (; j < refs.size() && refs[j].key == refs[i].key; j++)
+		{
+			const auto& p = list[refs[j].cloud].second->points[refs[j].index];
+			const cv::Point3f w = worldPoint(refs[j].cloud, refs[j].index);
+			v.x += w.x, v.y += w.y, v.z += w.z;
+			v.b += p.b, v.g += p.g, v.r += p.r;
+			v.n++;
+			if (j == i || refs[j].cloud != refs[j - 1].cloud) v.keyFrames++;
+			if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
+		}
+		m.voxelsBeforeFilter++;
+		if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) vox.push_back(std::move(v));
+		i = j;
+	}
+	std::vector<TPointRef>().swap(refs);
 
 	// Voxel centroids, then statistical outlier removal on MRPT's KD-tree.
-	std::vector<const TVoxel*> vox;
-	vox.reserve(voxels.size());
-	for (const auto& [k, v] : voxels)
-		if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) vox.push_back(&v);
 	// A fixed order (the hash map's is not): by position.
 	std::vector<cv::Point3f> centres(vox.size());
 	for (std::size_t i = 0; i < vox.size(); i++)
-		centres[i] = cv::Point3f(static_cast<float>(vox[i]->x / vox[i]->n), static_cast<float>(vox[i]->y / vox[i]->n), static_cast<float>(vox[i]->z / vox[i]->n));
+		centres[i] = cv::Point3f(static_cast<float>(vox[i].x / vox[i].n), static_cast<float>(vox[i].y / vox[i].n), static_cast<float>(vox[i].z / vox[i].n));
 	std::vector<std::size_t> idx(vox.size());
 	std::iota(idx.begin(), idx.end(), 0);
 	std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
@@ -454,7 +490,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	for (const std::size_t i : idx)
 	{
 		if (!keep[i]) continue;
-		const TVoxel& v = *vox[i];
+		const TVoxel& v = vox[i];
 		const auto [label, prob] = v.belief.best(K);
 		auto& c = m.cloud;
 		c.xyz.push_back(centres[i]);

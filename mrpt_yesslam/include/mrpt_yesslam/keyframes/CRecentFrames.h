@@ -24,6 +24,8 @@ class CRecentFrames
 	/** Frame `frameId` if it is still here and was tracked, at its pose in `map` as it is now (a
 	 * copy when that moved it); null otherwise. */
 	std::shared_ptr<const TFrame> tracked(std::size_t frameId, const CSparseMap& map) const;
+	/** Lets go of every frame (their images are what the buffer costs). */
+	void clear() { frames_.clear(); }
 
    private:
 	struct TEntry
