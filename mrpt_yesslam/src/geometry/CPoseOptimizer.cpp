@@ -153,9 +153,36 @@ void CPoseOptimizer::solveRound(
 	// Huber's rho on a squared residual s with corner b (Ceres' HuberLoss(sqrt(b))): s inside,
 	// 2 sqrt(b s) - b outside; its derivative is the weight of the normal equations.
 	const auto rho = [](double s, double b) { return s <= b ? s : 2.0 * std::sqrt(b * s) - b; };
+	// The prior (setPrior) as world-to-camera, its deviation in the left perturbation's terms:
+	// rotation log(R Rp^T), translation t - R Rp^T tp; its Jacobian is the identity up to terms in
+	// the deviation itself (small by construction), which Gauss-Newton may drop.
+	Eigen::Matrix3d Rp = Eigen::Matrix3d::Identity();
+	Eigen::Vector3d tp = Eigen::Vector3d::Zero();
+	Vec6 priorInfo = Vec6::Zero();
+	if (prior_ && prior_->sigmaT > 0 && prior_->sigmaR > 0)
+	{
+		const mrpt::poses::CPose3D Tcw = -prior_->cameraInWorld;
+		Rp = Tcw.getRotationMatrix().asEigen();
+		tp = Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z());
+		priorInfo << Eigen::Vector3d::Constant(1.0 / (prior_->sigmaR * prior_->sigmaR)), Eigen::Vector3d::Constant(1.0 / (prior_->sigmaT * prior_->sigmaT));
+	}
+	const bool hasPrior = priorInfo.squaredNorm() > 0;
+	const auto priorDeviation = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
+	{
+		const Eigen::Matrix3d D = Rc * Rp.transpose();
+		const Eigen::AngleAxisd aa(D);
+		Vec6 d;
+		d << aa.angle() * aa.axis(), tc - D * tp;
+		return d;
+	};
 	const auto cost = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
 	{
 		double c = 0;
+		if (hasPrior)
+		{
+			const Vec6 d = priorDeviation(Rc, tc);
+			c += d.dot(priorInfo.cwiseProduct(d));
+		}
 		for (std::size_t i = 0; i < f.size(); i++)
 		{
 			if (!use[i]) continue;
@@ -185,6 +212,13 @@ void CPoseOptimizer::solveRound(
 			const double w = s <= limit[i] ? 1.0 : std::sqrt(limit[i] / s);
 			H.noalias() += w * J.transpose() * J;
 			g.noalias() += w * J.transpose() * r;
+		}
+		if (hasPrior)
+		{
+			const Vec6 d = priorDeviation(R, t);
+			c0 += d.dot(priorInfo.cwiseProduct(d));
+			H.diagonal() += priorInfo;
+			g += priorInfo.cwiseProduct(d);
 		}
 		if (g.lpNorm<Eigen::Infinity>() < 1e-10) return;  // at the minimum
 		bool stepped = false;

@@ -28,6 +28,8 @@ COptionTable CTracker::TOptions::table()
 	t.count("weakInliers", weakInliers, 0, 100000, "a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the frame coasts (0 = off)");
 	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction");
 	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction");
+	t.real("motionPriorSigma", motionPriorSigma, 0, 10, "m: the motion model's prediction as a weak term of the pose solve, per camera axis (0 = none)");
+	t.real("motionPriorSigmaDeg", motionPriorSigmaDeg, 0, 180, "degrees: the same for the rotation (0 = none)");
 	t.count("priorLostFrames", priorLostFrames, 0, 1000, "for this many lost frames since the motion was last measured, the coasted prediction still judges weak solutions, with 1 + n times the departures (0 = only a prediction from tracked frames does)");
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
@@ -213,7 +215,10 @@ TPoseEstimate CTracker::refineWith(
 {
 	std::vector<bool> uncertain(m.size());
 	for (std::size_t k = 0; k < m.size(); k++) uncertain[k] = f.features.isUncertain(m[k].keypoint);
-	return check_.refine(optimizer_, makePoseObservations(f, m, pts, scaleFactor_, noise_), uncertain, f.camera, guess);
+	if (!motionPrior_) return check_.refine(optimizer_, makePoseObservations(f, m, pts, scaleFactor_, noise_), uncertain, f.camera, guess);
+	CPoseOptimizer withPrior = optimizer_;
+	withPrior.setPrior(motionPrior_);
+	return check_.refine(withPrior, makePoseObservations(f, m, pts, scaleFactor_, noise_), uncertain, f.camera, guess);
 }
 
 TLocalMapPoints CTracker::lastFramePoints(const mrpt::poses::CPose3D& lastPose) const
@@ -437,6 +442,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 		prior_ = predicted;
 		priorScale_ = 1.0 + static_cast<double>(lostRun_);
 	}
+	motionPrior_.reset();
 	if (!refKf_)
 	{
 		// A loaded map (map reuse): the first frames are placed in it by relocalisation.
@@ -448,6 +454,10 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 		return r;
 	}
 	check_.markMovers(f.features, movers_);
+	// The mean of the last tracked frames' motions, not the last step alone: each pose carries its
+	// own noise, and a prior from one step would pass it on.
+	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && velocity_ && lostRun_ == 0 && last_ && last_->tracked && recentMotion_.size() >= opts_.lostVelocityFrames)
+		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), 1.0), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).
 	std::optional<mrpt::poses::CPose3D> guess;
@@ -468,6 +478,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 			used = matcher_.matchBruteForce(f, pts.descriptors);
 			const auto obs = makePoseObservations(f, used, pts, scaleFactor_, noise_);
 			const TPoseEstimate pnp = optimizer_.solvePnPRansac(obs, f.camera);
+			motionPrior_.reset();  // the prediction was too far off to search around
 			if (pnp.ok)
 			{
 				e = refineWith(f, used, pts, pnp.cameraInWorld);
@@ -506,6 +517,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 		r.ok = true;
 		return r;
 	}
+	motionPrior_.reset();
 	if (relocalise(f, r))
 	{
 		f.tracked = true;

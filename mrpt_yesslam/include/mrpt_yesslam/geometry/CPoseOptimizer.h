@@ -7,6 +7,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "mrpt_yesslam/util/ConfigFile.h"
@@ -110,6 +111,17 @@ class CPoseOptimizer
 
 	const TOptions& options() const { return opts_; }
 
+	/** A weak prior on the pose: where the camera is expected (T_w_c) and how far it may be, in
+	 * metres and radians per axis of the camera frame (the motion model's prediction). */
+	struct TPosePrior
+	{
+		mrpt::poses::CPose3D cameraInWorld;
+		double sigmaT = 0, sigmaR = 0;
+	};
+	/** refine() adds the prior's squared whitened deviation to its cost (none: reprojection and
+	 * depth alone). */
+	void setPrior(std::optional<TPosePrior> p) { prior_ = std::move(p); }
+
    private:
 	/** One round of refine(): Levenberg-Marquardt on world-to-camera `R`, `t` over the
 	 * observations `use` marks, Huber-weighted with each one's chi-square `limit`. */
@@ -118,5 +130,6 @@ class CPoseOptimizer
 		Eigen::Vector3d& t) const;
 
 	TOptions opts_;
+	std::optional<TPosePrior> prior_;
 };
 }  // namespace mrpt_yesslam

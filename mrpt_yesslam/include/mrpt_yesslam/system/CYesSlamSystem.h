@@ -142,7 +142,8 @@ class CYesSlamSystem
 	void settle() noexcept;
 	/** The run is over: lets go of the recent frames kept for Algorithm 1's delayed choice (with a
 	 * dense map each holds its colour and depth images, 2 MB at 640 x 480, about 17 MB in all;
-	 * no output needs them). A frame processed after it starts with an empty buffer. */
+	 * no output needs them). A frame processed after it starts with an empty buffer. Not while
+	 * processFrame runs (the buffer is the frame thread's). */
 	void releaseRecentFrames() { recent_.clear(); }
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. */

@@ -68,8 +68,16 @@ class CTracker
 		/** After a loss (a person filled the view, or a weak solution was refused) the coasted
 		 * prediction still judges weak solutions for this many lost frames, counted since the
 		 * motion was last measured, with 1 + n times the departures: the first frames back are the
-		 * ones a person still covers. 0 = only a prediction from tracked frames judges. */
+		 * ones a person still covers. Never beyond lostCoastFrames (the prediction is held then,
+		 * and with lostDamping 0 at once). 0 = only a prediction from tracked frames judges, none
+		 * after any loss (a refused frame's successor included). */
 		std::size_t priorLostFrames = 3;
+		/** The motion model's prediction (the mean of the last lostVelocityFrames motions, once
+		 * that many were measured since a loss) as a weak term of the pose solve, sigma per camera
+		 * axis (0 = none): far points leave a sideways shift and a turn that cancel in the image
+		 * nearly free, and without it the pose zig-zags along that pair frame to frame. */
+		double motionPriorSigma = 0.005;  //!< m
+		double motionPriorSigmaDeg = 1;	//!< degrees
 		/** Relocalisation tries at most this many keyframes: the best place-recognition candidates
 		 * (with a vocabulary), else the newest keyframes (0 = all). */
 		std::size_t relocKeyFrames = 60;
@@ -172,6 +180,9 @@ class CTracker
 	/** The prediction of the frame being tracked that weak solutions must agree with: made from
 	 * tracked frames, or coasted over at most priorLostFrames lost ones; none without a velocity. */
 	std::optional<mrpt::poses::CPose3D> prior_;
+	/** The weak term refineWith adds to the pose solve (motionPriorSigma); none outside tracking's
+	 * own searches (PnP recovery, relocalisation). */
+	std::optional<CPoseOptimizer::TPosePrior> motionPrior_;
 	double priorScale_ = 1;	 //!< the departures allowed, times this (wider for each lost frame the prediction coasted over)
 	/** Local map points in view but not found whose place `f` sees through (farther keypoints
 	 * measured all around where the point should be in front). */

@@ -545,6 +545,10 @@ TSlamJobSummary runSlamJob(
 			// Already failing: the first error is the one reported.
 		}
 		sys.settle();  // every stage done before the outputs (its failures are not this error)
+		sys.releaseRecentFrames();	// as below: no frame is processed after this
+#if defined(__GLIBC__)
+		malloc_trim(0);
+#endif
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
 		throw;
 	}
