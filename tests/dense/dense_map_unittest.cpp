@@ -2,6 +2,7 @@
 // clouds from images, re-placing after pose changes, and a whole run on a generated walking
 // sequence scored against the simulator's exact labels.
 #include <gtest/gtest.h>
+#include <set>
 
 #include <octomap/OcTree.h>
 
@@ -271,6 +272,51 @@ TEST(DenseMapper, CloudsAreRePlacedWhenKeyFramePosesChange)
 	EXPECT_TRUE(dm.octree->search(octomap::point3d(1.0f, 2.5f, 5.5f)) != nullptr);
 	EXPECT_EQ(dm.cloud.label[1], 5);
 	EXPECT_NEAR(dm.cloud.labelProb[1], 0.8, 0.01);
+}
+
+// Issue 41 item 5: the final build sorts the stored points by voxel a slab of x columns at a time
+// ([DenseMapping] buildSlabPoints) so that a long run's many views of each voxel never sit in
+// memory at once; the map is the same whatever the slabs: here 40 keyframes see one wall, in one
+// slab and in slabs of at most 1000 points (tens of them).
+TEST(DenseMapper, TheBuildGivesTheSameMapWhateverItsSlabs)
+{
+	const auto buildWith = [](std::size_t slabPoints)
+	{
+		CDenseSemanticMapper::TOptions o;
+		o.buildSlabPoints = slabPoints;
+		CDenseSemanticMapper m(o, CDynamicObjectMasker::TOptions(), 80);
+		for (TKeyFrameId k = 0; k < 40; k++)
+		{
+			TKeyFrameCloud c;
+			for (int i = 0; i < 60; i++)
+				for (int j = 0; j < 40; j++)
+				{
+					// A wall 2 m ahead, seen a little shifted by each keyframe, with a person (label 1) in it.
+					c.xyz.emplace_back(-0.6f + 0.02f * static_cast<float>(i) + 0.003f * static_cast<float>(k % 7), -0.4f + 0.02f * static_cast<float>(j), 2.0f + 0.001f * static_cast<float>((i * 7 + j * 3 + k) % 5));
+					c.bgr.emplace_back(static_cast<uchar>(i), static_cast<uchar>(j), static_cast<uchar>(k));
+					const bool person = i > 20 && i < 30;
+					c.label.push_back(person ? 1 : 0);
+					c.labelProb.push_back(person ? 0.8f : 0.6f);
+				}
+			m.setKeyFrameCloud(k, c);
+		}
+		return m.build([](TKeyFrameId k) { return mrpt::poses::CPose3D(0.001 * static_cast<double>(k), 0, 0, 0, 0, 0); });
+	};
+	const TDenseMap one = buildWith(std::size_t{1} << 20), many = buildWith(1000);
+	ASSERT_GT(one.cloud.size(), 1000u);
+	EXPECT_EQ(one.voxelsBeforeFilter, many.voxelsBeforeFilter);
+	ASSERT_EQ(one.cloud.size(), many.cloud.size());
+	for (std::size_t i = 0; i < one.cloud.size(); i++)
+	{
+		ASSERT_EQ(one.cloud.xyz[i], many.cloud.xyz[i]) << i;
+		ASSERT_EQ(one.cloud.bgr[i], many.cloud.bgr[i]) << i;
+		ASSERT_EQ(one.cloud.label[i], many.cloud.label[i]) << i;
+		ASSERT_EQ(one.cloud.labelProb[i], many.cloud.labelProb[i]) << i;
+		ASSERT_EQ(one.cloud.observations[i], many.cloud.observations[i]) << i;
+	}
+	EXPECT_EQ(one.outliersRemoved, many.outliersRemoved);
+	std::set<TSemLabel> labels(one.cloud.label.begin(), one.cloud.label.end());
+	EXPECT_EQ(labels.size(), 2u) << "the wall and the person in it";
 }
 
 TEST(DenseMapper, StoredCloudsTakeTwelveBytesAPointWithinHalfAMillimetre)

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -44,6 +45,7 @@ COptionTable CDenseSemanticMapper::TOptions::table()
 	t.real("occupancyThreshold", occupancyThreshold, 0.55, 0.999, "OctoMap: occupied above this probability (0.8: two keyframes' hits; above 0.51, what a seen but unconfirmed surface keeps)");
 	t.real("clearMargin", clearMargin, 0, 1, "OctoMap: a ray marks space free only up to this far before the surface it measured, m (depth noise, thinning)");
 	t.integer("minObservations", minObservations, 1, 1000, "dense cloud: keyframes that must see a voxel");
+	t.count("buildSlabPoints", buildSlabPoints, 1000, std::size_t{1} << 34, "final build: stored points sorted by voxel at a time (16 bytes each; fewer = less memory, more passes; the same map)");
 	t.count("queue", queue, 1, 1000, "parallel mode: keyframes waiting for the dense stage before tracking waits");
 	return t;
 }
@@ -368,10 +370,12 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	m.octree->setOccupancyThres(opts_.occupancyThreshold);
 
 	// Every point by voxel: (voxel, keyframe, point) triples sorted, as PCL's VoxelGrid does, instead
-	// of a hash map of voxels: 16 bytes a point for the time of the pass, where a hash node per voxel
-	// with its label vector took about 160 bytes and lived to the end of the build (issue 41 item 5:
-	// the build is the run's peak of memory; Bonn slice 21 -> 10 MB). The same sums in the same
-	// order (keyframes by id, then their points), so the same map to the last bit.
+	// of a hash map of every voxel (about 160 bytes each with its label vector, kept to the end of
+	// the build; issue 41 item 5: the build was the run's peak of memory). 16 bytes a point, and no
+	// more than buildSlabPoints of them at a time: the voxels are taken in slabs of whole columns of x
+	// (a long run's keyframes see each voxel many times, and all its points at once would outweigh
+	// the hash map). The same sums in the same order (keyframes by id, then their points), and the
+	// voxels in key order, slab after slab: the same map to the last bit, whatever the slabs.
 	struct TPointRef
 	{
 		std::int64_t key;
@@ -379,12 +383,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	};
 	std::vector<std::pair<mrpt::poses::CPose3D, const TPackedCloud*>> list;
 	list.reserve(clouds.size());
-	std::size_t total = 0;
-	for (const auto& [id, c] : clouds)
-	{
-		list.emplace_back(poseOf(id), c.get());
-		total += c->points.size();
-	}
+	for (const auto& [id, c] : clouds) list.emplace_back(poseOf(id), c.get());
 	const double inv = 1.0 / opts_.voxelSize;
 	const float unit = static_cast<float>(unit_);
 	const auto worldPoint = [&](std::uint32_t cloud, std::uint32_t index)
@@ -392,8 +391,8 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		const auto& p = list[cloud].second->points[index];
 		return transform(list[cloud].first, cv::Point3f(p.x, p.y, p.z) * unit);  // eq. 26
 	};
-	std::vector<TPointRef> refs;
-	refs.reserve(total);
+	const auto columnOf = [](std::int64_t key) { return key >> 42; };  // voxelKey's x field
+	std::map<std::int64_t, std::size_t> perColumn;
 	for (std::uint32_t ci = 0; ci < list.size(); ci++)
 	{
 		const auto& [T, c] = list[ci];
@@ -403,13 +402,25 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		{
 			const cv::Point3f w = worldPoint(ci, i);
 			scan.push_back(w.x, w.y, w.z);
-			refs.push_back({voxelKey(w, inv), ci, i});
+			perColumn[columnOf(voxelKey(w, inv))]++;
 		}
 		// Ray casting from the camera: cells passed are observed free (a person's old place too).
 		m.octree->insertScan(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), opts_.clearMargin, opts_.voxelSize);
 	}
 	m.octree->updateInnerOccupancy();
-	std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
+	// Slabs: consecutive columns up to buildSlabPoints points (a column over it is a slab of its own).
+	std::vector<std::pair<std::int64_t, std::int64_t>> slabs;  // first and last column
+	std::vector<std::size_t> slabPoints;
+	for (const auto& [col, n] : perColumn)
+	{
+		if (slabs.empty() || slabPoints.back() + n > opts_.buildSlabPoints)
+		{
+			slabs.emplace_back(col, col);
+			slabPoints.push_back(0);
+		}
+		slabs.back().second = col;
+		slabPoints.back() += n;
+	}
 
 	// A voxel's sums over its points; only those seen from minObservations keyframes are kept.
 	struct TVoxel
@@ -421,23 +432,36 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	};
 	std::vector<TVoxel> vox;
 	const int K = numLabels();
-	for (std::size_t i = 0; i < refs.size();)
+	std::vector<TPointRef> refs;
+	for (std::size_t s = 0; s < slabs.size(); s++)
 	{
-		TVoxel v;
-		std::size_t j = i;
-		for (; j < refs.size() && refs[j].key == refs[i].key; j++)
+		refs.clear();
+		refs.reserve(slabPoints[s]);
+		for (std::uint32_t ci = 0; ci < list.size(); ci++)
+			for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++)
+			{
+				const std::int64_t key = voxelKey(worldPoint(ci, i), inv);
+				if (columnOf(key) >= slabs[s].first && columnOf(key) <= slabs[s].second) refs.push_back({key, ci, i});
+			}
+		std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
+		for (std::size_t i = 0; i < refs.size();)
 		{
-			const auto& p = list[refs[j].cloud].second->points[refs[j].index];
-			const cv::Point3f w = worldPoint(refs[j].cloud, refs[j].index);
-			v.x += w.x, v.y += w.y, v.z += w.z;
-			v.b += p.b, v.g += p.g, v.r += p.r;
-			v.n++;
-			if (j == i || refs[j].cloud != refs[j - 1].cloud) v.keyFrames++;
-			if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
+			TVoxel v;
+			std::size_t j = i;
+			for (; j < refs.size() && refs[j].key == refs[i].key; j++)
+			{
+				const auto& p = list[refs[j].cloud].second->points[refs[j].index];
+				const cv::Point3f w = worldPoint(refs[j].cloud, refs[j].index);
+				v.x += w.x, v.y += w.y, v.z += w.z;
+				v.b += p.b, v.g += p.g, v.r += p.r;
+				v.n++;
+				if (j == i || refs[j].cloud != refs[j - 1].cloud) v.keyFrames++;
+				if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
+			}
+			m.voxelsBeforeFilter++;
+			if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) vox.push_back(std::move(v));
+			i = j;
 		}
-		m.voxelsBeforeFilter++;
-		if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) vox.push_back(std::move(v));
-		i = j;
 	}
 	std::vector<TPointRef>().swap(refs);
 

@@ -122,6 +122,10 @@ class CDenseSemanticMapper
 		double clearMargin = 0.05;
 		/** Dense cloud: a voxel must hold points of this many keyframes (the same reason). */
 		int minObservations = 2;
+		/** The final build sorts the stored points by voxel this many at a time (16 bytes each),
+		 * whole x columns of voxels per pass: less memory, more passes over the clouds; the map is
+		 * the same whatever it is. */
+		std::size_t buildSlabPoints = std::size_t{1} << 20;
 		std::size_t queue = 4;	//!< parallel: keyframes waiting for the dense stage before tracking waits
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
