@@ -302,7 +302,8 @@ TEST(DenseMapper, TheBuildGivesTheSameMapWhateverItsSlabs)
 		}
 		return m.build([](TKeyFrameId k) { return mrpt::poses::CPose3D(0.001 * static_cast<double>(k), 0, 0, 0, 0, 0); });
 	};
-	const TDenseMap one = buildWith(std::size_t{1} << 20), many = buildWith(1000);
+	// 1000: every column (1,200-1,600 points) a slab of its own; 4000: slabs of two or three columns.
+	const TDenseMap one = buildWith(std::size_t{1} << 20), many = buildWith(1000), some = buildWith(4000);
 	ASSERT_GT(one.cloud.size(), 1000u);
 	EXPECT_EQ(one.voxelsBeforeFilter, many.voxelsBeforeFilter);
 	ASSERT_EQ(one.cloud.size(), many.cloud.size());
@@ -315,6 +316,12 @@ TEST(DenseMapper, TheBuildGivesTheSameMapWhateverItsSlabs)
 		ASSERT_EQ(one.cloud.observations[i], many.cloud.observations[i]) << i;
 	}
 	EXPECT_EQ(one.outliersRemoved, many.outliersRemoved);
+	ASSERT_EQ(one.cloud.size(), some.cloud.size());
+	for (std::size_t i = 0; i < one.cloud.size(); i++)
+	{
+		ASSERT_EQ(one.cloud.xyz[i], some.cloud.xyz[i]) << i;
+		ASSERT_EQ(one.cloud.label[i], some.cloud.label[i]) << i;
+	}
 	std::set<TSemLabel> labels(one.cloud.label.begin(), one.cloud.label.end());
 	EXPECT_EQ(labels.size(), 2u) << "the wall and the person in it";
 }

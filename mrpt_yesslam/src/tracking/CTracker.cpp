@@ -28,8 +28,8 @@ COptionTable CTracker::TOptions::table()
 	t.count("weakInliers", weakInliers, 0, 100000, "a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the frame coasts (0 = off)");
 	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction");
 	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction");
-	t.real("motionPriorSigma", motionPriorSigma, 0, 10, "m: the motion model's prediction as a weak term of the pose solve, per camera axis (0 = none)");
-	t.real("motionPriorSigmaDeg", motionPriorSigmaDeg, 0, 180, "degrees: the same for the rotation (0 = none)");
+	t.real("motionPriorSigma", motionPriorSigma, 0, 10, "m: the motion model's prediction as a weak term of the pose solve, per camera axis (this or motionPriorSigmaDeg 0 = no prior)");
+	t.real("motionPriorSigmaDeg", motionPriorSigmaDeg, 0, 180, "degrees: the same for the rotation (this or motionPriorSigma 0 = no prior)");
 	t.count("priorLostFrames", priorLostFrames, 0, 1000, "for this many lost frames since the motion was last measured, the coasted prediction still judges weak solutions, with 1 + n times the departures (0 = only a prediction from tracked frames does)");
 	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
@@ -111,8 +111,11 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		velocityInterval_ = f->timestamp - last_->timestamp;
 		lostRun_ = 0;
-		if (velocityInterval_ < 0) recentMotion_.clear();  // time went back: the motions before are of another clock
+		if (velocityInterval_ < 0) recentMotion_.clear(), smoothMotions_ = 0;  // time went back: the motions before are of another clock
 		recentMotion_.push_back({mrpt::poses::Lie::SE<3>::log(*velocity_), velocityInterval_});
+		// The step onto a relocalised frame is a jump from where tracking had drifted, not the
+		// camera's motion: the motion prior waits for lostVelocityFrames steps after it.
+		smoothMotions_ = relocalisedFrame_ && *relocalisedFrame_ == f->id ? 0 : smoothMotions_ + 1;
 		while (recentMotion_.size() > opts_.lostVelocityFrames) recentMotion_.pop_front();
 	}
 	else if (!f->tracked)
@@ -131,6 +134,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		// The motions before the loss are spent on this coast: after it, the velocity (and the
 		// rolling-shutter correction with it) is measured anew, never averaged with them.
 		recentMotion_.clear();
+		smoothMotions_ = 0;
 	}
 	last_ = f;
 	if (fromTrack && map_.generation() != tracked_->generation)
@@ -405,6 +409,7 @@ CTracker::TResult CTracker::track(TFrame& f)
 	const mrpt::poses::CPose3D lastPose = lastFramePose();
 	if (hook_) hook_();  // test only: where a correction racing tracking would land
 	const TResult r = trackFrom(f, lastPose);
+	if (r.relocalised) relocalisedFrame_ = f.id;
 	anchor(f, lastPose);
 	return r;
 }
@@ -454,10 +459,14 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 		return r;
 	}
 	check_.markMovers(f.features, movers_);
-	// The mean of the last tracked frames' motions, not the last step alone: each pose carries its
-	// own noise, and a prior from one step would pass it on.
-	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && velocity_ && lostRun_ == 0 && last_ && last_->tracked && recentMotion_.size() >= opts_.lostVelocityFrames)
-		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), 1.0), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
+	// The motion of the last tracked frames over this frame's interval (motionOver: their mean, not
+	// the last step alone, whose noise a prior would pass on; over the time, so that a dropped
+	// frame does not leave the prior a step behind), once lostVelocityFrames steps were measured
+	// since a loss or a relocalisation (ORB-SLAM2 skips its motion model for two frames after one).
+	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp &&
+		smoothMotions_ >= opts_.lostVelocityFrames)
+		if (const auto motion = motionOver(f.timestamp - last_->timestamp))
+			motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + *motion, opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).
 	std::optional<mrpt::poses::CPose3D> guess;

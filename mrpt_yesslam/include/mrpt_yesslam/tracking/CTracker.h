@@ -72,10 +72,11 @@ class CTracker
 		 * and with lostDamping 0 at once). 0 = only a prediction from tracked frames judges, none
 		 * after any loss (a refused frame's successor included). */
 		std::size_t priorLostFrames = 3;
-		/** The motion model's prediction (the mean of the last lostVelocityFrames motions, once
-		 * that many were measured since a loss) as a weak term of the pose solve, sigma per camera
-		 * axis (0 = none): far points leave a sideways shift and a turn that cancel in the image
-		 * nearly free, and without it the pose zig-zags along that pair frame to frame. */
+		/** The motion model's prediction (the motion of the last lostVelocityFrames tracked frames
+		 * over this frame's interval, once that many steps were measured since a loss or a
+		 * relocalisation) as a weak term of the pose solve, sigma per camera axis (either 0 = no
+		 * prior): far points leave a sideways shift and a turn that cancel in the image nearly
+		 * free, and without it the pose zig-zags along that pair frame to frame. */
 		double motionPriorSigma = 0.005;  //!< m
 		double motionPriorSigmaDeg = 1;	//!< degrees
 		/** Relocalisation tries at most this many keyframes: the best place-recognition candidates
@@ -227,6 +228,10 @@ class CTracker
 	/** Motions of the last tracked frames, oldest first (lostVelocityFrames of them); emptied when
 	 * tracking is lost, so that motions from before a loss never mix with those after it. */
 	std::deque<TMotion> recentMotion_;
+	/** Steps measured since the last loss or relocalisation (the motion prior needs
+	 * lostVelocityFrames of them). */
+	std::size_t smoothMotions_ = 0;
+	std::optional<std::size_t> relocalisedFrame_;  //!< the last frame relocalisation placed
 	std::size_t lostRun_ = 0;  //!< lost frames since the motion was last measured (two tracked frames in a row)
 	std::optional<TKeyFrameId> refKf_;
 	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
