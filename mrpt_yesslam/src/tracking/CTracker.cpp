@@ -459,14 +459,20 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 		return r;
 	}
 	check_.markMovers(f.features, movers_);
-	// The motion of the last tracked frames over this frame's interval (motionOver: their mean, not
-	// the last step alone, whose noise a prior would pass on; over the time, so that a dropped
-	// frame does not leave the prior a step behind), once lostVelocityFrames steps were measured
-	// since a loss or a relocalisation (ORB-SLAM2 skips its motion model for two frames after one).
+	// The mean step of the last tracked frames (not the last step alone, whose noise a prior would
+	// pass on), taken as many times as this frame's interval holds their mean interval: a dropped
+	// frame does not leave the prior a step behind, and a stamp a microsecond off (a recording
+	// played through OpenNI2) changes nothing. Once lostVelocityFrames steps were measured since a
+	// loss or a relocalisation (ORB-SLAM2 skips its motion model for two frames after one).
 	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp &&
-		smoothMotions_ >= opts_.lostVelocityFrames)
-		if (const auto motion = motionOver(f.timestamp - last_->timestamp))
-			motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + *motion, opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
+		smoothMotions_ >= opts_.lostVelocityFrames && !recentMotion_.empty())
+	{
+		double span = 0;
+		for (const auto& m : recentMotion_) span += std::max(0.0, m.seconds);
+		const double typical = span / static_cast<double>(recentMotion_.size());
+		const double steps = typical > 0 ? std::max(1.0, std::round((f.timestamp - last_->timestamp) / typical)) : 1.0;
+		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), steps), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
+	}
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).
 	std::optional<mrpt::poses::CPose3D> guess;

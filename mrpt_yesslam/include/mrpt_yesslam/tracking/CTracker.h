@@ -72,8 +72,8 @@ class CTracker
 		 * and with lostDamping 0 at once). 0 = only a prediction from tracked frames judges, none
 		 * after any loss (a refused frame's successor included). */
 		std::size_t priorLostFrames = 3;
-		/** The motion model's prediction (the motion of the last lostVelocityFrames tracked frames
-		 * over this frame's interval, once that many steps were measured since a loss or a
+		/** The motion model's prediction (the mean step of the last lostVelocityFrames tracked
+		 * frames, times the frame intervals since the last, once that many steps were measured since a loss or a
 		 * relocalisation) as a weak term of the pose solve, sigma per camera axis (either 0 = no
 		 * prior): far points leave a sideways shift and a turn that cancel in the image nearly
 		 * free, and without it the pose zig-zags along that pair frame to frame. */
