@@ -111,7 +111,11 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		velocityInterval_ = f->timestamp - last_->timestamp;
 		lostRun_ = 0;
-		if (velocityInterval_ < 0) recentMotion_.clear(), smoothMotions_ = 0;  // time went back: the motions before are of another clock
+		if (velocityInterval_ < 0)	// time went back: the motions before are of another clock
+		{
+			recentMotion_.clear();
+			smoothMotions_ = 0;
+		}
 		recentMotion_.push_back({mrpt::poses::Lie::SE<3>::log(*velocity_), velocityInterval_});
 		// The step onto a relocalised frame is a jump from where tracking had drifted, not the
 		// camera's motion: the motion prior waits for lostVelocityFrames steps after it.
@@ -219,8 +223,7 @@ TPoseEstimate CTracker::refineWith(
 {
 	std::vector<bool> uncertain(m.size());
 	for (std::size_t k = 0; k < m.size(); k++) uncertain[k] = f.features.isUncertain(m[k].keypoint);
-	if (!motionPrior_) return check_.refine(optimizer_, makePoseObservations(f, m, pts, scaleFactor_, noise_), uncertain, f.camera, guess);
-	CPoseOptimizer withPrior = optimizer_;
+	CPoseOptimizer withPrior = optimizer_;	// the options alone: cheap
 	withPrior.setPrior(motionPrior_);
 	return check_.refine(withPrior, makePoseObservations(f, m, pts, scaleFactor_, noise_), uncertain, f.camera, guess);
 }
