@@ -26,7 +26,7 @@ OUT="$ROOT/bench_out/speed"; mkdir -p "$OUT/runs"
 "$ROOT/bench/bonn_camera.sh" "$SHARED/bonn_crowd_dev" "$OUT/bonn_camera.txt"
 sim_sequence "$OUT/sim_crowd" --preset crowd --real-sensor --frames 300 --seed 1
 
-STAGES="orb track mask detect detect_wait keyframe mapping dense loop_detect"
+STAGES="orb orb_cpu track track_cpu mask detect detect_wait keyframe mapping mapping_cpu dense dense_cpu loop_detect"
 builds=(A); [ -n "$BIN_B" ] && builds+=(B)
 bin_of() { [ "$1" = A ] && echo "$BIN" || echo "$BIN_B"; }
 run() {  # run BUILD SEQUENCE I ARGS...
@@ -86,5 +86,6 @@ if "B" in builds:
 PY
 echo
 echo "Stages in ms: orb, track, mask and keyframe per frame on the tracking thread; detect the detector's own"
-echo "time on its thread, detect_wait what the frame waited for it; mapping, dense, loop_detect per keyframe."
+echo "time on its thread, detect_wait what the frame waited for it; mapping, dense, loop_detect per keyframe;"
+echo "*_cpu the CPU time the stage's thread used (the wall time also counts waiting for one of the shared cores)."
 echo "Runs in $OUT/runs."

@@ -434,6 +434,15 @@ TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
 	EXPECT_EQ(mapped.load(), st.keyFrames);
 	EXPECT_EQ(st.stageMs.at("mapping").size(), st.keyFrames);
 	EXPECT_EQ(sys.trajectory().size(), 60u);
+	// Each timed stage also has its thread's CPU time, which can never exceed the wall time it
+	// was measured over (one thread: it runs at most all the time it is timed).
+	for (const char* stage : {"orb", "track", "mapping"})
+	{
+		const auto& wall = st.stageMs.at(stage);
+		const auto& cpu = st.stageMs.at(std::string(stage) + "_cpu");
+		ASSERT_EQ(cpu.size(), wall.size()) << stage;
+		for (std::size_t i = 0; i < wall.size(); i++) EXPECT_LE(cpu[i], wall[i] + 0.05) << stage << " " << i;
+	}
 
 	// A failure on the mapping thread reaches the caller as an error, not std::terminate.
 	CYesSlamSystem failing(o);

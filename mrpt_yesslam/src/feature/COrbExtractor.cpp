@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <map>
+#include <stdexcept>
 #include <opencv2/imgproc.hpp>
 
 #include "mrpt_yesslam/util/Error.h"
@@ -57,8 +57,9 @@ COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 	if (o.cellSize < 8) throw InputError("", "[ORB] cellSize must be at least 8");
 	if (o.fastThreshold < 1 || o.fastThreshold > 100) throw InputError("", "[ORB] fastThreshold must be 1..100");
 	// Detect generously; the grid then keeps an even subset.
-	orb_ = cv::ORB::create(
-		o.numFeatures * 4, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
+	// One level: it describes each level's keypoints on the level image detect() already made, where
+	// OpenCV's multi-level compute() rebuilt the whole pyramid first (a third of its time, issue 41).
+	describer_ = cv::ORB::create(o.numFeatures, static_cast<float>(o.scaleFactor), 1, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
 	// ORB-SLAM's quota per level: geometric in the scale, so each level gets features in proportion
 	// to its area; the candidates before the grid are OpenCV's ORB split of four times the budget
 	// (what orb_->detect kept when it detected, before our own detection replaced it).
@@ -187,6 +188,37 @@ float COrbExtractor::orientation(const cv::Mat& level, cv::Point2f pt) const
 	return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));
 }
 
+cv::Mat COrbExtractor::describe(const std::vector<cv::Mat>& pyramid, const std::vector<cv::KeyPoint>& keypoints) const
+{
+	// Level by level, in level pixels: what OpenCV's compute() does after its own pyramid (the level
+	// bordered by reflection, blurred 7x7, sigma 2, then the steered BRIEF tests), so the
+	// descriptors are the ones it gave to the bit (bench_orb's checksum over 50 Bonn frames).
+	cv::Mat out(static_cast<int>(keypoints.size()), 32, CV_8U);
+	std::vector<std::vector<std::size_t>> ofLevel(pyramid.size());
+	for (std::size_t i = 0; i < keypoints.size(); i++) ofLevel[static_cast<std::size_t>(keypoints[i].octave)].push_back(i);
+	for (std::size_t l = 0; l < pyramid.size(); l++)
+	{
+		if (ofLevel[l].empty()) continue;
+		const float inv = static_cast<float>(1.0 / std::pow(opts_.scaleFactor, static_cast<double>(l)));
+		std::vector<cv::KeyPoint> kps;
+		kps.reserve(ofLevel[l].size());
+		for (std::size_t i : ofLevel[l])
+		{
+			cv::KeyPoint k = keypoints[i];
+			k.pt = cv::Point2f(static_cast<float>(cvRound(k.pt.x * inv)), static_cast<float>(cvRound(k.pt.y * inv)));
+			k.octave = 0;
+			k.size = 31;
+			kps.push_back(k);
+		}
+		cv::Mat d;
+		describer_->compute(pyramid[l], kps, d);
+		// compute() drops keypoints too close to the border; detect() kept none there.
+		if (d.rows != static_cast<int>(ofLevel[l].size())) throw std::logic_error("COrbExtractor: a keypoint was not described");
+		for (std::size_t j = 0; j < ofLevel[l].size(); j++) d.row(static_cast<int>(j)).copyTo(out.row(static_cast<int>(ofLevel[l][j])));
+	}
+	return out;
+}
+
 TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, const cv::Mat& mask) const
 {
 	TFeatures out;
@@ -205,18 +237,22 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 	// Per level: bucket into cells, then take the strongest remaining corner of every cell in turn
 	// until the level's quota is met.
 	std::vector<cv::KeyPoint> kept;
-	std::map<int, std::vector<cv::KeyPoint>> byLevel;
-	for (const auto& k : all) byLevel[k.octave].push_back(k);
-	for (auto& [level, kps] : byLevel)
+	std::vector<std::vector<cv::KeyPoint>> byLevel(pyramid.size());
+	for (const auto& k : all) byLevel[static_cast<std::size_t>(k.octave)].push_back(k);
+	for (std::size_t level = 0; level < byLevel.size(); level++)
 	{
-		if (level < 0 || level >= static_cast<int>(perLevel_.size())) continue;
-		const double scale = std::pow(opts_.scaleFactor, level);
+		const auto& kps = byLevel[level];
+		const double scale = std::pow(opts_.scaleFactor, static_cast<double>(level));
 		const double cell = opts_.cellSize * scale;
-		const int cols = std::max(1, static_cast<int>(std::ceil(grey.cols / cell)));
-		std::map<int, std::vector<cv::KeyPoint>> cells;
+		const int cols = std::max(1, static_cast<int>(std::ceil(grey.cols / cell))), rows = std::max(1, static_cast<int>(std::ceil(grey.rows / cell)));
+		// Cells in row-major order, the order the round-robin below visits them in.
+		std::vector<std::vector<cv::KeyPoint>> cells(static_cast<std::size_t>(cols * rows));
 		for (const auto& k : kps)
-			cells[static_cast<int>(k.pt.y / cell) * cols + static_cast<int>(k.pt.x / cell)].push_back(k);
-		for (auto& [id, v] : cells)
+		{
+			const int cx = std::min(cols - 1, static_cast<int>(k.pt.x / cell)), cy = std::min(rows - 1, static_cast<int>(k.pt.y / cell));
+			cells[static_cast<std::size_t>(cy * cols + cx)].push_back(k);
+		}
+		for (auto& v : cells)
 			// FAST scores are small integers: ties are common. They are broken by a hash of the
 			// position, so the choice neither depends on the order the detector listed its corners in
 			// nor favours a side of the cell (broken by row, the top rows of every cell won). Which
@@ -226,12 +262,12 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 				v.begin(), v.end(),
 				[](const cv::KeyPoint& a, const cv::KeyPoint& b)
 				{ return a.response != b.response ? a.response > b.response : positionHash(a.pt) < positionHash(b.pt); });
-		const int quota = perLevel_[static_cast<std::size_t>(level)];
+		const int quota = perLevel_[level];
 		int taken = 0;
 		for (std::size_t round = 0; taken < quota; round++)
 		{
 			bool any = false;
-			for (auto& [id, v] : cells)
+			for (const auto& v : cells)
 				if (round < v.size() && taken < quota)
 				{
 					kept.push_back(v[round]);
@@ -247,7 +283,7 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 		const float inv = static_cast<float>(1.0 / std::pow(opts_.scaleFactor, k.octave));
 		k.angle = orientation(pyramid[static_cast<std::size_t>(k.octave)], k.pt * inv);
 	}
-	orb_->compute(grey, kept, out.descriptors);
+	out.descriptors = describe(pyramid, kept);
 	// OpenCV's ORB reports a level-L corner at x_L * s (s = scaleFactor^L), but the pyramid is made
 	// by resizing about pixel centres, so level pixel x_L lies at (x_L + 0.5) s - 0.5 in the image:
 	// every keypoint of level L sat 0.5 (s - 1) pixels up and to the left (1.3 px at level 7).

@@ -183,10 +183,12 @@ CYesSlamSystem::~CYesSlamSystem()
 void CYesSlamSystem::denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
 {
 	const auto t0 = SteadyClock::now();
+	const double c0 = threadCpuMs();
 	dense_->addKeyFrame(kf, *f);
-	const double ms = msSince(t0);
+	const double ms = msSince(t0), cpu = threadCpuMs() - c0;
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	stats_.stageMs["dense"].push_back(ms);
+	stats_.stageMs["dense_cpu"].push_back(cpu);
 }
 
 TDenseMap CYesSlamSystem::buildDenseMap() const
@@ -235,6 +237,7 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
 	const auto t0 = SteadyClock::now();
+	const double c0 = threadCpuMs();
 	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
 	// detection find it; culled keyframes leave the database with the map. The words and the
 	// database (its own lock) are nothing a loop correction writes: outside the map-update lock.
@@ -247,10 +250,11 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	}
 	if (bowDatabase_)
 		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
-	const double ms = msSince(t0);
+	const double ms = msSince(t0), cpu = threadCpuMs() - c0;
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.stageMs["mapping"].push_back(ms);
+		stats_.stageMs["mapping_cpu"].push_back(cpu);
 		stats_.culledKeyFrames += st.erasedKeyFrames.size();
 	}
 	// The loop stage pins the keyframe until its loop is done; one culled already has none to close.
@@ -367,6 +371,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	rep.frameId = f->id;
 
 	auto t0 = SteadyClock::now();
+	double c0 = threadCpuMs();
 	// Under 0.1 ms apart the depth moves by micrometres: nothing to do.
 	if (opts_.tracking.depthMoment && depthTime && std::abs(*depthTime - timestamp) > 1e-4)
 		if (const auto motion = tracker_.motionOver(*depthTime - timestamp))
@@ -385,7 +390,9 @@ TFrameReport CYesSlamSystem::processFrame(
 	}
 	lastFrameTime_ = timestamp;
 	ms["orb"] += msSince(t0);
+	ms["orb_cpu"] += threadCpuMs() - c0;
 	t0 = SteadyClock::now();
+	c0 = threadCpuMs();
 	rep.features = f->size();
 	rep.staticFeatures = f->features.numStatic();
 	rep.detections = f->detections.size();
@@ -419,6 +426,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		rep.movingPointsErased = r.movingPointsErased;
 	}
 	ms["track"] = msSince(t0);
+	ms["track_cpu"] = threadCpuMs() - c0;
 	// The trajectory stores the pose relative to the reference keyframe as tracking saw it, before
 	// this frame's keyframe (if any) goes through local BA, as ORB-SLAM2 does.
 	CFrameRecords::TRecord rec;

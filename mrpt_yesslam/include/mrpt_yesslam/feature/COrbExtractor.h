@@ -61,9 +61,12 @@ class COrbExtractor
 	std::vector<cv::KeyPoint> detect(const cv::Mat& grey, const cv::Mat& keepMask, std::vector<cv::Mat>& pyramid) const;
 	/** A keypoint's orientation (degrees) at `pt` of its pyramid level's image. */
 	float orientation(const cv::Mat& level, cv::Point2f pt) const;
+	/** ORB descriptors (one 32-byte row each) of oriented keypoints in level-0 pixels, read on
+	 * their levels of `pyramid` (detect()'s). */
+	cv::Mat describe(const std::vector<cv::Mat>& pyramid, const std::vector<cv::KeyPoint>& keypoints) const;
 
 	TOptions opts_;
-	cv::Ptr<cv::ORB> orb_;	//!< describes the keypoints detect() found
+	cv::Ptr<cv::ORB> describer_;  //!< one-level ORB: describes one pyramid level's keypoints
 	std::vector<int> perLevel_;	 //!< feature quota of each level
 	std::vector<int> candidatesPerLevel_;  //!< corners kept per level before the grid
 	std::vector<int> discHalfWidth_;  //!< orientation disc: half-width of row |v|

@@ -1,6 +1,7 @@
 #pragma once
 // Stage timings: every stage measures with the steady clock (never the wall clock, which jumps).
 #include <chrono>
+#include <ctime>
 
 namespace mrpt_yesslam
 {
@@ -9,4 +10,14 @@ using SteadyClock = std::chrono::steady_clock;
 
 /** Milliseconds since `t0` on the steady clock. */
 inline double msSince(SteadyClock::time_point t0) { return std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count(); }
+
+/** CPU time the calling thread has used, in ms. A stage's wall time also counts the time its thread
+ * waited for a core: on two cores shared by the frame, detector, reader, mapping and dense threads
+ * the wall time of a stage is up to twice its work, which the "_cpu" stages (stats.json) give. */
+inline double threadCpuMs()
+{
+	timespec ts{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+	return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
 }  // namespace mrpt_yesslam
