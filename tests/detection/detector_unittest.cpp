@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <fstream>
 #include <sstream>
@@ -121,6 +122,20 @@ TEST(Detector, TheShippedModelIsTheDefaultAndFindsThePeople)
 	EXPECT_EQ(bytes(shareDir() + "/models/yolo-fastest-1.1/yolo-fastest-1.1.weights"),
 		bytes(sharedFile("models/yolo_fastest_darknet/yolo-fastest-1.1.weights")));
 	expectFindsPeople(*det);
+}
+
+TEST(Detector, InferenceLeavesTwoCoresToSlamUnlessToldOtherwise)
+{
+	// Issue 41: on two cores OpenCV's default (a thread per core) split every layer over the core
+	// the frame thread needs; inference gets every core but two, at least one, or what it is told.
+	CObjectDetector::TOptions o;
+	o.backend = "yolo";
+	(void)createObjectDetector(o);
+	EXPECT_EQ(cv::getNumThreads(), std::max(1, cv::getNumberOfCPUs() - 2));
+	// Told: one (more than the first call's would make TBB warn that it keeps its first limit).
+	o.threads = 1;
+	(void)createObjectDetector(o);
+	EXPECT_EQ(cv::getNumThreads(), 1);
 }
 
 TEST(Detector, YoloxOnnxDecodesToTheSamePeople)

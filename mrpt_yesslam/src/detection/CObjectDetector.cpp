@@ -39,7 +39,7 @@ COptionTable CObjectDetector::TOptions::table()
 	t.text("dynamicClasses", dynamicClasses, "comma-separated class names treated as dynamic");
 	t.text("file", file, "file backend: detections.txt (empty = the one beside the input)");
 	t.real("fileMaxDiff", fileMaxDiff, 0, kBig, "file backend: largest frame/detection stamp difference, s");
-	t.integer("threads", threads, 0, 256, "OpenCV threads for inference (0 = OpenCV's default)");
+	t.integer("threads", threads, 0, 256, "OpenCV threads for inference (process-wide); 0 = every core but two (the frame thread and the mapping stages), at least one");
 	return t;
 }
 

@@ -38,7 +38,7 @@ class CObjectDetector
 		std::string dynamicClasses = "person";	//!< comma-separated class names treated as dynamic
 		std::string file;  //!< file backend: detections.txt
 		double fileMaxDiff = 0.005;	 //!< file backend: largest frame/detection stamp difference, s
-		int threads = 0;  //!< OpenCV threads for inference (0 = OpenCV's default)
+		int threads = 0;  //!< OpenCV threads for inference (0 = every core but two, at least one)
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -68,7 +69,10 @@ TDetectJobSummary runDetectionJob(
 	if (!fs::exists(o.input, ec)) throw InputError(o.input, "not found");
 	if (o.outDir.empty()) throw InputError("", "no output folder given");
 	// Models and options first: a run that cannot start leaves no output folder behind.
-	auto detector = createObjectDetector(o.detector);
+	// Nothing runs beside detection here: every core (the detector's own default leaves two to SLAM).
+	CObjectDetector::TOptions detectorOptions = o.detector;
+	if (detectorOptions.threads == 0) detectorOptions.threads = cv::getNumberOfCPUs();
+	auto detector = createObjectDetector(detectorOptions);
 	CDynamicObjectMasker masker(o.masker);
 	fs::create_directories(o.outDir, ec);
 	if (ec || !fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create output folder");
