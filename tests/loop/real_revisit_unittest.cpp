@@ -19,12 +19,13 @@ using namespace yesslam_test;
 // degrees apart (ground truth), the later ones with people walking close. Keyframes made at those
 // frames (default detector and masks, as a run makes them) are verified as a loop pair. Before
 // (matching in the direct index, the relative pose from the 3D-3D fit) two of the seven were
-// accepted, 6 and 11 cm off the ground truth's relative pose. Now (every static keypoint with
+// accepted, 6 and 11 cm off the ground truth's relative pose. Then (every static keypoint with
 // depth matched, guided matching after the RANSAC seed, the pose refined on reprojection) the four
-// from frame 180 on are accepted 3.4-4.7 cm off (our own tracking's relative error over these
-// gaps: 2 cm median). Frames 150-170 keep 5-22 consistent correspondences among the 100-300 static
-// keypoints with depth the people leave, too few for ORB-SLAM2's thresholds (20 inliers, 40
-// projection matches); the 2 cm is not reached (docs/benchmarks.md, "Loops on real frames").
+// from frame 180 on were accepted 2.6-3.8 cm off; now that the pose is solved again on the place's
+// points the projection search finds, 1.1-2.7 cm off, three of them within the 2 cm (our own
+// tracking's relative error over these gaps: 2 cm median). Frames 150-170 keep 5-22 consistent
+// correspondences among the 100-300 static keypoints with depth the people leave, too few for
+// ORB-SLAM2's thresholds (20 inliers, 40 projection matches) (docs/benchmarks.md, "Loops on real frames").
 TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
 {
 	const std::string dir = sharedFile("data/bonn_crowd_dev");
@@ -64,7 +65,7 @@ TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
 		if (++index > *wanted.rbegin()) break;
 	}
 	ASSERT_EQ(kfOf.size(), wanted.size());
-	std::size_t accepted = 0;
+	std::size_t accepted = 0, within2cm = 0;
 	for (const std::size_t k : wanted)
 	{
 		if (k == 0) continue;
@@ -78,8 +79,10 @@ TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
 		accepted++;
 		const mrpt::poses::CPose3D err = (-trueRel) + loop->relative;
 		const double deg = mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log(err.getRotationMatrix()).norm());
-		EXPECT_LT(err.norm(), 0.05) << "frame " << k << ": " << loop->ransacInliers << " inliers, true " << trueRel << " found " << loop->relative;
-		EXPECT_LT(deg, 2.5) << "frame " << k;
+		EXPECT_LT(err.norm(), 0.03) << "frame " << k << ": " << loop->ransacInliers << " inliers, true " << trueRel << " found " << loop->relative;
+		EXPECT_LT(deg, 1.0) << "frame " << k;
+		within2cm += err.norm() < 0.02;
 	}
 	EXPECT_GE(accepted, 4u);
+	EXPECT_GE(within2cm, 3u) << "of the accepted pairs, within the issue's 2 cm";
 }

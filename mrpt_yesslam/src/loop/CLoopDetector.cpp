@@ -399,6 +399,33 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	const COrbMatcher matcher(opts_.maxHamming, opts_.ratio);
 	const auto found = matcher.searchByProjection(f, loop.correctedPose, pts, opts_.projectionRadius, nullptr, false, scaleFactor_);
 	if (found.size() < opts_.minProjectionMatches) return std::nullopt;
+	// 6. The pose re-solved on what that search found, as tracking solves a frame on its local map
+	// (ORB-SLAM2 stops at the count; its loop edge keeps the Sim3 fit's pose). The search's pairs
+	// obey the matcher's view and scale checks, where the fit's inliers only passed a loose 3-sigma
+	// reprojection gate: on the real Bonn slice's revisits (frames 180-205 against frame 0) the
+	// relative pose came 38 / 33 / 27 / 26 mm off the ground truth's before, 13 / 11 / 27 / 18 after
+	// (a second search with the new pose finds the same pairs). Where the solve fails, the pose stays.
+	{
+		std::vector<TPoseObservation> obs;
+		for (const auto& m : found)
+		{
+			TPoseObservation o;
+			const auto& P = pts.positions[m.point];
+			o.world = {P.x, P.y, P.z};
+			const auto& kp = fa.keypoints[m.keypoint];
+			o.pixel = {kp.pt.x, kp.pt.y};
+			o.sigma = sigmaOf(kp);
+			o.depth = fa.depth[m.keypoint];
+			o.sigmaZ = noise_.used() && o.depth > 0 ? noise_.sigma(o.depth) : 0.0;
+			obs.push_back(o);
+		}
+		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.correctedPose);
+		if (e.ok && e.numInliers >= opts_.minInliers)
+		{
+			loop.correctedPose = e.cameraInWorld;
+			loop.relative = (-b.pose) + loop.correctedPose;
+		}
+	}
 	for (const auto& m : found) loop.pointMatches.emplace_back(m.keypoint, pts.ids[m.point]);
 	return loop;
 }
