@@ -23,9 +23,10 @@ using namespace yesslam_test;
 // depth matched, guided matching after the RANSAC seed, the pose refined on reprojection) the four
 // from frame 180 on were accepted 2.6-3.8 cm off; now that the pose is solved again on the place's
 // points the projection search finds, 1.1-2.7 cm off, three of them within the 2 cm (our own
-// tracking's relative error over these gaps: 2 cm median). Frames 150-170 keep 5-22 consistent
-// correspondences among the 100-300 static keypoints with depth the people leave, too few for
-// ORB-SLAM2's thresholds (20 inliers, 40 projection matches) (docs/benchmarks.md, "Loops on real frames").
+// tracking's relative error over these gaps: 2 cm median); the test holds each under 3.5 cm.
+// Frames 150-170 keep 5-22 consistent correspondences among the 100-300 static keypoints with
+// depth the people leave, too few for ORB-SLAM2's thresholds (20 inliers, 40 projection matches)
+// (docs/benchmarks.md, "Loops on real frames").
 TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
 {
 	const std::string dir = sharedFile("data/bonn_crowd_dev");
@@ -79,7 +80,7 @@ TEST(LoopClosing, RealRevisitsOfTheBonnSliceVerifyWithTheirTrueRelativePose)
 		accepted++;
 		const mrpt::poses::CPose3D err = (-trueRel) + loop->relative;
 		const double deg = mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log(err.getRotationMatrix()).norm());
-		EXPECT_LT(err.norm(), 0.03) << "frame " << k << ": " << loop->ransacInliers << " inliers, true " << trueRel << " found " << loop->relative;
+		EXPECT_LT(err.norm(), 0.035) << "frame " << k << ": " << loop->ransacInliers << " inliers, true " << trueRel << " found " << loop->relative;
 		EXPECT_LT(deg, 1.0) << "frame " << k;
 		within2cm += err.norm() < 0.02;
 	}

@@ -441,7 +441,8 @@ TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
 		const auto& wall = st.stageMs.at(stage);
 		const auto& cpu = st.stageMs.at(std::string(stage) + "_cpu");
 		ASSERT_EQ(cpu.size(), wall.size()) << stage;
-		for (std::size_t i = 0; i < wall.size(); i++) EXPECT_LE(cpu[i], wall[i] + 0.05) << stage << " " << i;
+		// Two clocks: a small relative tolerance for their rates, an absolute one for their reading.
+		for (std::size_t i = 0; i < wall.size(); i++) EXPECT_LE(cpu[i], wall[i] * 1.002 + 0.1) << stage << " " << i;
 	}
 
 	// A failure on the mapping thread reaches the caller as an error, not std::terminate.

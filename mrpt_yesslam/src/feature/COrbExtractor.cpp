@@ -192,7 +192,8 @@ cv::Mat COrbExtractor::describe(const std::vector<cv::Mat>& pyramid, const std::
 {
 	// Level by level, in level pixels: what OpenCV's compute() does after its own pyramid (the level
 	// bordered by reflection, blurred 7x7, sigma 2, then the steered BRIEF tests), so the
-	// descriptors are the ones it gave to the bit (bench_orb's checksum over 50 Bonn frames).
+	// descriptors are the ones it gave to the bit (bench_orb's checksum over 100 Bonn and 100
+	// simulated frames; our pyramid's sizes are OpenCV's for 640x480 at scale 1.2).
 	cv::Mat out(static_cast<int>(keypoints.size()), 32, CV_8U);
 	std::vector<std::vector<std::size_t>> ofLevel(pyramid.size());
 	for (std::size_t i = 0; i < keypoints.size(); i++) ofLevel[static_cast<std::size_t>(keypoints[i].octave)].push_back(i);

@@ -404,7 +404,10 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	// obey the matcher's view and scale checks, where the fit's inliers only passed a loose 3-sigma
 	// reprojection gate: on the real Bonn slice's revisits (frames 180-205 against frame 0) the
 	// relative pose came 38 / 33 / 27 / 26 mm off the ground truth's before, 13 / 11 / 27 / 18 after
-	// (a second search with the new pose finds the same pairs). Where the solve fails, the pose stays.
+	// (a second search with the new pose finds the same pairs). The new pose is taken only where as
+	// many pairs agree with it as the count asked for, and then only those pairs are fused by the
+	// correction; otherwise the fitted pose and every pair the search found stay.
+	std::vector<bool> agrees(found.size(), true);
 	{
 		std::vector<TPoseObservation> obs;
 		for (const auto& m : found)
@@ -420,13 +423,15 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 			obs.push_back(o);
 		}
 		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.correctedPose);
-		if (e.ok && e.numInliers >= opts_.minInliers)
+		if (e.ok && e.numInliers >= std::max(opts_.minInliers, opts_.minProjectionMatches))
 		{
 			loop.correctedPose = e.cameraInWorld;
 			loop.relative = (-b.pose) + loop.correctedPose;
+			agrees = e.inlier;
 		}
 	}
-	for (const auto& m : found) loop.pointMatches.emplace_back(m.keypoint, pts.ids[m.point]);
+	for (std::size_t k = 0; k < found.size(); k++)
+		if (agrees[k]) loop.pointMatches.emplace_back(found[k].keypoint, pts.ids[found[k].point]);
 	return loop;
 }
 }  // namespace mrpt_yesslam

@@ -13,7 +13,8 @@ inline double msSince(SteadyClock::time_point t0) { return std::chrono::duration
 
 /** CPU time the calling thread has used, in ms. A stage's wall time also counts the time its thread
  * waited for a core: on two cores shared by the frame, detector, reader, mapping and dense threads
- * the wall time of a stage is up to twice its work, which the "_cpu" stages (stats.json) give. */
+ * the wall time of a stage is up to twice its work, which the "_cpu" stages (stats.json) give.
+ * Only the calling thread's: work handed to OpenCV's or Ceres' helper threads is not in it. */
 inline double threadCpuMs()
 {
 	timespec ts{};
