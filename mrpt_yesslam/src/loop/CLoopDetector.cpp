@@ -240,6 +240,19 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	// 2. RANSAC on the 3D points (eq. 23, s = 1): p_b = R p_a + t.
 	const CPinholeCamera Ka(a.camera), Kb(b.camera);
 	const auto sigmaOf = [&](const cv::KeyPoint& k) { return std::pow(scaleFactor_, std::max(0, k.octave)); };
+	// Keypoint i of the current keyframe seeing `point` (in the frame the pose is solved in), for
+	// the pose solves of steps 4 and 6: its depth a weak term with the sensor's noise.
+	const auto observation = [&](std::size_t i, const Eigen::Vector3d& point)
+	{
+		TPoseObservation o;
+		o.world = point;
+		const auto& kp = fa.keypoints[i];
+		o.pixel = {kp.pt.x, kp.pt.y};
+		o.sigma = sigmaOf(kp);
+		o.depth = fa.depth[i];
+		o.sigmaZ = noise_.used() && o.depth > 0 ? noise_.sigma(o.depth) : 0.0;
+		return o;
+	};
 	std::vector<Eigen::Vector3d> pa, pb;
 	const auto setPoints = [&]
 	{
@@ -369,17 +382,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	// gate still run, as they did when the loop had its own depth option.
 	{
 		std::vector<TPoseObservation> obs;
-		for (const auto k : bestIn)
-		{
-			TPoseObservation o;
-			o.world = pb[k];
-			const auto& kp = fa.keypoints[matches[k].first];
-			o.pixel = {kp.pt.x, kp.pt.y};
-			o.sigma = sigmaOf(kp);
-			o.depth = fa.depth[matches[k].first];
-			o.sigmaZ = noise_.used() ? noise_.sigma(o.depth) : 0.0;
-			obs.push_back(o);
-		}
+		for (const auto k : bestIn) obs.push_back(observation(matches[k].first, pb[k]));
 		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.relative);
 		if (!e.ok || e.numInliers < opts_.minInliers) return std::nullopt;
 		loop.relative = e.cameraInWorld;
@@ -412,15 +415,8 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		std::vector<TPoseObservation> obs;
 		for (const auto& m : found)
 		{
-			TPoseObservation o;
 			const auto& P = pts.positions[m.point];
-			o.world = {P.x, P.y, P.z};
-			const auto& kp = fa.keypoints[m.keypoint];
-			o.pixel = {kp.pt.x, kp.pt.y};
-			o.sigma = sigmaOf(kp);
-			o.depth = fa.depth[m.keypoint];
-			o.sigmaZ = noise_.used() && o.depth > 0 ? noise_.sigma(o.depth) : 0.0;
-			obs.push_back(o);
+			obs.push_back(observation(m.keypoint, {P.x, P.y, P.z}));
 		}
 		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.correctedPose);
 		if (e.ok && e.numInliers >= std::max(opts_.minInliers, opts_.minProjectionMatches))

@@ -63,11 +63,9 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		// Detection on the worker while ORB runs here: "detect" is the detector's own time (on its
 		// thread), "detect_wait" what this frame still waited for it after ORB.
 		if (!async_->submitted(id, timestamp)) async_->submit(bgr, timestamp, id);	// else detectAhead() did
-		t0 = SteadyClock::now();
-		const double c0 = threadCpuMs();
+		const TStageClock orb;
 		f->features = extractor_.extract(bgr, depth);
-		ms["orb"] = msSince(t0);
-		ms["orb_cpu"] = threadCpuMs() - c0;
+		orb.addTo(ms, "orb");
 		t0 = SteadyClock::now();
 		double detectMs = 0;
 		f->detections = async_->get(id, &detectMs);
@@ -82,14 +80,11 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		ms["detect"] = msSince(t0);
 		ms["detect_wait"] = ms["detect"];  // in this thread: the frame waits all of it
 		computeMask();
-		t0 = SteadyClock::now();
-		const double c0 = threadCpuMs();
+		const TStageClock orb;
 		f->features = extractor_.extract(bgr, depth, mask);
-		ms["orb"] = msSince(t0);
-		ms["orb_cpu"] = threadCpuMs() - c0;
+		orb.addTo(ms, "orb");
 	}
-	t0 = SteadyClock::now();
-	const double c1 = threadCpuMs();
+	const TStageClock rest;	 // counted in "orb"
 	if (dynamicFilter_) check_.classify(f->features, f->detections, bgr.size());  // at the raw keypoints, as the mask
 	// Colours (and, in the extractor, depth and mask) are looked up at the raw keypoint, in the
 	// image as it is; only then are keypoints undistorted: tracking works in undistorted pixels.
@@ -118,8 +113,7 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		im->dynamicMask = mask;	 // made for this frame
 		f->images = std::move(im);
 	}
-	ms["orb"] += msSince(t0);
-	ms["orb_cpu"] += threadCpuMs() - c1;
+	rest.addTo(ms, "orb");
 	if (stageMs)
 		for (const auto& [k, v] : ms) (*stageMs)[k] = v;
 	return f;

@@ -182,10 +182,9 @@ CYesSlamSystem::~CYesSlamSystem()
 
 void CYesSlamSystem::denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
 {
-	const auto t0 = SteadyClock::now();
-	const double c0 = threadCpuMs();
+	const TStageClock clock;
 	dense_->addKeyFrame(kf, *f);
-	const double ms = msSince(t0), cpu = threadCpuMs() - c0;
+	const double ms = clock.wallMs(), cpu = clock.cpuMs();
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	stats_.stageMs["dense"].push_back(ms);
 	stats_.stageMs["dense_cpu"].push_back(cpu);
@@ -236,8 +235,7 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
-	const auto t0 = SteadyClock::now();
-	const double c0 = threadCpuMs();
+	const TStageClock clock;
 	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
 	// detection find it; culled keyframes leave the database with the map. The words and the
 	// database (its own lock) are nothing a loop correction writes: outside the map-update lock.
@@ -250,7 +248,7 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	}
 	if (bowDatabase_)
 		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
-	const double ms = msSince(t0), cpu = threadCpuMs() - c0;
+	const double ms = clock.wallMs(), cpu = clock.cpuMs();
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.stageMs["mapping"].push_back(ms);
@@ -370,8 +368,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	const std::shared_ptr<TFrame> f = builder_.build(bgr, depth, timestamp, camera, nextFrameId_++, &ms);
 	rep.frameId = f->id;
 
-	auto t0 = SteadyClock::now();
-	double c0 = threadCpuMs();
+	const TStageClock rest;  // the rest of the frame's features: counted in "orb"
 	// Under 0.1 ms apart the depth moves by micrometres: nothing to do.
 	if (opts_.tracking.depthMoment && depthTime && std::abs(*depthTime - timestamp) > 1e-4)
 		if (const auto motion = tracker_.motionOver(*depthTime - timestamp))
@@ -389,10 +386,8 @@ TFrameReport CYesSlamSystem::processFrame(
 		if (const auto motion = tracker_.motionOver(readout)) unrollShutter(f->features, CPinholeCamera(f->camera), *motion);
 	}
 	lastFrameTime_ = timestamp;
-	ms["orb"] += msSince(t0);
-	ms["orb_cpu"] += threadCpuMs() - c0;
-	t0 = SteadyClock::now();
-	c0 = threadCpuMs();
+	rest.addTo(ms, "orb");
+	const TStageClock track;
 	rep.features = f->size();
 	rep.staticFeatures = f->features.numStatic();
 	rep.detections = f->detections.size();
@@ -425,8 +420,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		rep.poseRefused = r.implausible && !f->tracked;
 		rep.movingPointsErased = r.movingPointsErased;
 	}
-	ms["track"] = msSince(t0);
-	ms["track_cpu"] = threadCpuMs() - c0;
+	track.addTo(ms, "track");
 	// The trajectory stores the pose relative to the reference keyframe as tracking saw it, before
 	// this frame's keyframe (if any) goes through local BA, as ORB-SLAM2 does.
 	CFrameRecords::TRecord rec;
@@ -439,7 +433,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	// a frame tracking did not see (before the map exists) keeps its absolute pose.
 	rec.anchor = tracker_.anchorOf(f->id).value_or(TAnchor{std::nullopt, f->pose});
 
-	t0 = SteadyClock::now();
+	const auto t0 = SteadyClock::now();
 	std::shared_ptr<const TFrame> frame = f;
 	recent_.push(frame, rec.anchor);
 	if (initialising)

@@ -2,6 +2,8 @@
 // Stage timings: every stage measures with the steady clock (never the wall clock, which jumps).
 #include <chrono>
 #include <ctime>
+#include <map>
+#include <string>
 
 namespace mrpt_yesslam
 {
@@ -21,4 +23,20 @@ inline double threadCpuMs()
 	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
 	return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
+
+/** A stage's two clocks, started together: the wall time it took and its thread's CPU time. */
+struct TStageClock
+{
+	SteadyClock::time_point wall = SteadyClock::now();
+	double cpu = threadCpuMs();
+
+	double wallMs() const { return msSince(wall); }
+	double cpuMs() const { return threadCpuMs() - cpu; }
+	/** Adds the time since the start to `ms[stage]` and the CPU time to `ms[stage + "_cpu"]`. */
+	void addTo(std::map<std::string, double>& ms, const std::string& stage) const
+	{
+		ms[stage] += wallMs();
+		ms[stage + "_cpu"] += cpuMs();
+	}
+};
 }  // namespace mrpt_yesslam
