@@ -12,6 +12,7 @@ PACKAGES=(
   libceres-dev libeigen3-dev                # optimisation, linear algebra
   liboctomap-dev                            # semantic OctoMap
   libopenni2-dev                            # live RGB-D cameras
+  libdeflate-dev                            # fast inflate for dataset PNGs
   libgtest-dev googletest                   # unit tests
   mrpt-apps                                 # rawlog-edit: tests check that MRPT's own tools read our rawlogs
   libegl1 libegl-mesa0 libgl1-mesa-dri      # headless OpenGL (EGL + Mesa software renderer) for rendering

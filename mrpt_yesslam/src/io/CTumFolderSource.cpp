@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "mrpt_yesslam/io/Association.h"
+#include "mrpt_yesslam/io/PngDecoder.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/Error.h"
@@ -16,41 +15,6 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-namespace
-{
-// A complete PNG ends with its IEND chunk. Checking that first gives a precise message for the
-// most common damage (a copy cut short) and keeps libpng from printing its own lines to stderr.
-bool pngLooksTruncated(const std::string& path)
-{
-	static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
-	std::ifstream f(path, std::ios::binary);
-	unsigned char sig[8] = {0};
-	if (!f.read(reinterpret_cast<char*>(sig), 8) || sig[0] != 0x89 || sig[1] != 'P' || sig[2] != 'N' || sig[3] != 'G')
-		return false;  // not a PNG: let the decoder decide
-	f.seekg(-12, std::ios::end);
-	unsigned char tail[12] = {0};
-	if (!f.read(reinterpret_cast<char*>(tail), 12)) return true;
-	return std::memcmp(tail, iend, 12) != 0;
-}
-
-// cv::imread returns an empty Mat for most damage but throws for some truncated files.
-cv::Mat readImage(const std::string& path, int flags, const std::string& what)
-{
-	if (pngLooksTruncated(path)) throw InputError(path, "cannot decode " + what + " (truncated PNG: no IEND chunk)");
-	cv::Mat m;
-	try
-	{
-		m = cv::imread(path, flags);
-	}
-	catch (const cv::Exception&)
-	{
-		m.release();
-	}
-	if (m.empty()) throw InputError(path, "cannot decode " + what + " (corrupt or not an image)");
-	return m;
-}
-}  // namespace
-
 std::vector<TTumListEntry> readTumFileList(const std::string& path) { return parseTumFileList(readTextFile(path), path); }
 
 std::vector<TTumListEntry> parseTumFileList(const std::string& text, const std::string& path)
@@ -130,8 +94,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr CTumFolderSource::next()
 	std::error_code ec;
 	if (!fs::exists(fr.rgbPath, ec)) throw InputError(fr.rgbPath, "image listed in rgb.txt not found");
 	if (!fs::exists(fr.depthPath, ec)) throw InputError(fr.depthPath, "image listed in depth.txt not found");
-	const cv::Mat bgr = readImage(fr.rgbPath, cv::IMREAD_COLOR, "image");
-	const cv::Mat depth = readImage(fr.depthPath, cv::IMREAD_UNCHANGED, "depth image");
+	const cv::Mat bgr = readImageFile(fr.rgbPath, cv::IMREAD_COLOR, "image");
+	const cv::Mat depth = readImageFile(fr.depthPath, cv::IMREAD_UNCHANGED, "depth image");
 	if (depth.channels() != 1)
 		throw InputError(fr.depthPath, "depth image has " + std::to_string(depth.channels()) + " channels, expected 1");
 	if (depth.depth() == CV_8U)
