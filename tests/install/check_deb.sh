@@ -12,7 +12,7 @@ trap 'rm -rf "$work"' EXIT
 deb="$(ls "$work"/out/*.deb 2>/dev/null | head -1)"
 [ -n "$deb" ] || { echo "check_deb: cpack made no .deb" >&2; tail -20 "$work/cpack.log" >&2; exit 1; }
 depends="$(dpkg-deb -f "$deb" Depends)"
-for p in libmrpt-dev libopencv-dev libceres-dev liboctomap-dev libopenni2-dev 'libc6 '; do
+for p in libmrpt-dev libopencv-dev libceres-dev liboctomap-dev libopenni2-dev libdeflate-dev 'libc6 '; do
   grep -q "$p" <<< "$depends " || { echo "check_deb: $deb does not depend on ${p% }: Depends: $depends" >&2; exit 1; }
 done
 contents="$(dpkg-deb -c "$deb")"
