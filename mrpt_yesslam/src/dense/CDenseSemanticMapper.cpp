@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <cmath>
 #include <numeric>
@@ -430,7 +431,9 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		std::uint32_t keyFrames = 0;
 		TLabelBelief belief;
 	};
-	std::vector<TVoxel> vox;
+	// A deque: grown in blocks, never copied whole (a vector's doubling held up to three times the
+	// voxels at its last growth: the build's peak of memory).
+	std::deque<TVoxel> vox;
 	const int K = numLabels();
 	std::vector<TPointRef> refs;
 	for (std::size_t s = 0; s < slabs.size(); s++)
@@ -511,6 +514,12 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		TLabelBelief belief;
 	};
 	std::unordered_map<octomap::OcTreeKey, TCell, octomap::OcTreeKey::KeyHash> cells;
+	const std::size_t kept = vox.size() - m.outliersRemoved;
+	m.cloud.xyz.reserve(kept);
+	m.cloud.bgr.reserve(kept);
+	m.cloud.label.reserve(kept);
+	m.cloud.labelProb.reserve(kept);
+	m.cloud.observations.reserve(kept);
 	for (const std::size_t i : idx)
 	{
 		if (!keep[i]) continue;

@@ -125,7 +125,7 @@ class CDenseSemanticMapper
 		/** The final build sorts the stored points by voxel this many at a time (16 bytes each),
 		 * whole x columns of voxels per pass: less memory, more passes over the clouds; the map is
 		 * the same whatever it is. */
-		std::size_t buildSlabPoints = std::size_t{1} << 20;
+		std::size_t buildSlabPoints = std::size_t{1} << 18;
 		std::size_t queue = 4;	//!< parallel: keyframes waiting for the dense stage before tracking waits
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
