@@ -6,7 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <deque>
+#include <functional>
+#include <limits>
 #include <map>
 #include <cmath>
 #include <numeric>
@@ -431,64 +432,73 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		std::uint32_t keyFrames = 0;
 		TLabelBelief belief;
 	};
-	// A deque: grown in blocks, never copied whole (a vector's doubling held up to three times the
-	// voxels at its last growth: the build's peak of memory).
-	std::deque<TVoxel> vox;
 	const int K = numLabels();
-	std::vector<TPointRef> refs;
-	for (std::size_t s = 0; s < slabs.size(); s++)
+	// Every voxel of every slab, in key order (slab after slab), given to `use` with its sums: the
+	// same slabs, sorts and sums each time it is called.
+	const auto forEachVoxel = [&](bool withLabels, const std::function<void(const TVoxel&)>& use)
 	{
-		refs.clear();
-		refs.reserve(slabPoints[s]);
-		for (std::uint32_t ci = 0; ci < list.size(); ci++)
-			for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++)
-			{
-				const std::int64_t key = voxelKey(worldPoint(ci, i), inv);
-				if (columnOf(key) >= slabs[s].first && columnOf(key) <= slabs[s].second) refs.push_back({key, ci, i});
-			}
-		std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
-		for (std::size_t i = 0; i < refs.size();)
+		std::vector<TPointRef> refs;
+		for (std::size_t s = 0; s < slabs.size(); s++)
 		{
-			TVoxel v;
-			std::size_t j = i;
-			for (; j < refs.size() && refs[j].key == refs[i].key; j++)
+			refs.clear();
+			refs.reserve(slabPoints[s]);
+			for (std::uint32_t ci = 0; ci < list.size(); ci++)
+				for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++)
+				{
+					const std::int64_t key = voxelKey(worldPoint(ci, i), inv);
+					if (columnOf(key) >= slabs[s].first && columnOf(key) <= slabs[s].second) refs.push_back({key, ci, i});
+				}
+			std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
+			for (std::size_t i = 0; i < refs.size();)
 			{
-				const auto& p = list[refs[j].cloud].second->points[refs[j].index];
-				const cv::Point3f w = worldPoint(refs[j].cloud, refs[j].index);
-				v.x += w.x, v.y += w.y, v.z += w.z;
-				v.b += p.b, v.g += p.g, v.r += p.r;
-				v.n++;
-				if (j == i || refs[j].cloud != refs[j - 1].cloud) v.keyFrames++;
-				if (p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);	// eq. 29
+				TVoxel v;
+				std::size_t j = i;
+				for (; j < refs.size() && refs[j].key == refs[i].key; j++)
+				{
+					const auto& p = list[refs[j].cloud].second->points[refs[j].index];
+					const cv::Point3f w = worldPoint(refs[j].cloud, refs[j].index);
+					v.x += w.x, v.y += w.y, v.z += w.z;
+					v.b += p.b, v.g += p.g, v.r += p.r;
+					v.n++;
+					if (j == i || refs[j].cloud != refs[j - 1].cloud) v.keyFrames++;
+					if (withLabels && p.prob > 0) v.belief.observe(p.label, p.prob / 255.0, K);  // eq. 29
+				}
+				use(v);
+				i = j;
 			}
-			m.voxelsBeforeFilter++;
-			if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) vox.push_back(std::move(v));
-			i = j;
 		}
-	}
-	std::vector<TPointRef>().swap(refs);
+	};
+	const auto centreOf = [](const TVoxel& v) {
+		return cv::Point3f(static_cast<float>(v.x / v.n), static_cast<float>(v.y / v.n), static_cast<float>(v.z / v.n));
+	};
+	// Two passes over the voxels instead of every voxel's sums and label evidence kept at once
+	// (about 110 bytes a voxel: the build's peak of memory, issue 41 item 5): the first keeps only
+	// the centres of the voxels seen often enough, for the outlier filter; the second sums them again,
+	// with their labels, and writes each kept voxel's point into the cloud.
+	std::vector<cv::Point3f> centres;
+	forEachVoxel(false, [&](const TVoxel& v) {
+		m.voxelsBeforeFilter++;
+		if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) centres.push_back(centreOf(v));
+	});
+	centres.shrink_to_fit();
 
-	// Voxel centroids, then statistical outlier removal on MRPT's KD-tree.
-	// A fixed order (the hash map's is not): by position.
-	std::vector<cv::Point3f> centres(vox.size());
-	for (std::size_t i = 0; i < vox.size(); i++)
-		centres[i] = cv::Point3f(static_cast<float>(vox[i].x / vox[i].n), static_cast<float>(vox[i].y / vox[i].n), static_cast<float>(vox[i].z / vox[i].n));
-	std::vector<std::size_t> idx(vox.size());
+	// Statistical outlier removal on MRPT's KD-tree. The cloud in a fixed order: by position.
+	std::vector<std::uint32_t> idx(centres.size());
 	std::iota(idx.begin(), idx.end(), 0);
-	std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+	std::sort(idx.begin(), idx.end(), [&](std::uint32_t a, std::uint32_t b) {
 		return std::tie(centres[a].z, centres[a].y, centres[a].x) < std::tie(centres[b].z, centres[b].y, centres[b].x);
 	});
-	std::vector<bool> keep(vox.size(), true);
+	std::vector<bool> keep(centres.size(), true);
 	const std::size_t kn = static_cast<std::size_t>(opts_.outlierNeighbours);
-	if (kn > 0 && vox.size() > kn + 1)
+	if (kn > 0 && centres.size() > kn + 1)
 	{
 		mrpt::maps::CSimplePointsMap pm;
-		pm.reserve(vox.size());
+		pm.reserve(centres.size());
 		for (const auto& p : centres) pm.insertPointFast(p.x, p.y, p.z);
-		std::vector<double> meanDist(vox.size());
+		std::vector<double> meanDist(centres.size());
 		std::vector<size_t> nn;
 		std::vector<float> d2;
-		for (std::size_t i = 0; i < vox.size(); i++)
+		for (std::size_t i = 0; i < centres.size(); i++)
 		{
 			pm.kdTreeNClosestPoint3DIdx(centres[i].x, centres[i].y, centres[i].z, kn + 1, nn, d2);
 			double s = 0;
@@ -499,44 +509,52 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		double var = 0;
 		for (const double d : meanDist) var += (d - mean) * (d - mean);
 		const double limit = mean + opts_.outlierStdDev * std::sqrt(var / static_cast<double>(meanDist.size()));
-		for (std::size_t i = 0; i < vox.size(); i++)
+		for (std::size_t i = 0; i < centres.size(); i++)
 			if (meanDist[i] > limit)
 			{
 				keep[i] = false;
 				m.outliersRemoved++;
 			}
 	}
+	// Each kept voxel's place in the cloud (its rank by position among the kept ones).
+	constexpr std::uint32_t kDropped = std::numeric_limits<std::uint32_t>::max();
+	std::vector<std::uint32_t> place(centres.size(), kDropped);
+	std::uint32_t kept = 0;
+	for (const std::uint32_t i : idx)
+		if (keep[i]) place[i] = kept++;
+	std::vector<std::uint32_t>().swap(idx);
+	auto& c = m.cloud;
+	c.xyz.resize(kept);
+	c.bgr.resize(kept);
+	c.label.resize(kept);
+	c.labelProb.resize(kept);
+	c.observations.resize(kept);
 
-	// The cloud, and the octree's occupied cells get colour and fused label from the points in them.
+	// The cloud, and the octree's occupied cells get colour and fused label from the points in them
+	// (merged in voxel key order).
 	struct TCell
 	{
 		std::uint32_t b = 0, g = 0, r = 0, n = 0;
 		TLabelBelief belief;
 	};
 	std::unordered_map<octomap::OcTreeKey, TCell, octomap::OcTreeKey::KeyHash> cells;
-	const std::size_t kept = vox.size() - m.outliersRemoved;
-	m.cloud.xyz.reserve(kept);
-	m.cloud.bgr.reserve(kept);
-	m.cloud.label.reserve(kept);
-	m.cloud.labelProb.reserve(kept);
-	m.cloud.observations.reserve(kept);
-	for (const std::size_t i : idx)
-	{
-		if (!keep[i]) continue;
-		const TVoxel& v = vox[i];
+	std::size_t i = 0;	// the voxel's index among those seen often enough (as in the first pass)
+	forEachVoxel(true, [&](const TVoxel& v) {
+		if (v.keyFrames < static_cast<std::uint32_t>(opts_.minObservations)) return;
+		const std::uint32_t at = place[i++];
+		if (at == kDropped) return;
 		const auto [label, prob] = v.belief.best(K);
-		auto& c = m.cloud;
-		c.xyz.push_back(centres[i]);
-		c.bgr.emplace_back(static_cast<uchar>(v.b / v.n), static_cast<uchar>(v.g / v.n), static_cast<uchar>(v.r / v.n));
-		c.label.push_back(label);
-		c.labelProb.push_back(static_cast<float>(prob));
-		c.observations.push_back(v.keyFrames);
+		c.xyz[at] = centreOf(v);
+		c.bgr[at] = cv::Vec3b(static_cast<uchar>(v.b / v.n), static_cast<uchar>(v.g / v.n), static_cast<uchar>(v.r / v.n));
+		c.label[at] = label;
+		c.labelProb[at] = static_cast<float>(prob);
+		c.observations[at] = v.keyFrames;
 		octomap::OcTreeKey key;
-		if (!m.octree->coordToKeyChecked(octomap::point3d(centres[i].x, centres[i].y, centres[i].z), key)) continue;
+		if (!m.octree->coordToKeyChecked(octomap::point3d(c.xyz[at].x, c.xyz[at].y, c.xyz[at].z), key)) return;
 		TCell& cell = cells[key];
 		cell.b += v.b, cell.g += v.g, cell.r += v.r, cell.n += v.n;
 		cell.belief.merge(v.belief);
-	}
+	});
 	for (const auto& [key, cell] : cells)
 	{
 		CSemanticOcTreeNode* node = m.octree->search(key);
