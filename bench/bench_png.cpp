@@ -46,7 +46,7 @@ int main(int argc, char** argv)
 		return 1;
 	}
 	const std::string folder = argv[1];
-	const int frames = argc > 2 ? std::atoi(argv[2]) : 100, repeats = argc > 3 ? std::atoi(argv[3]) : 3;
+	const int frames = argc > 2 ? std::atoi(argv[2]) : 100, repeats = std::max(1, argc > 3 ? std::atoi(argv[3]) : 3);
 	const auto rgb = listed(folder, "rgb.txt"), depth = listed(folder, "depth.txt");
 	const std::size_t n = std::min({static_cast<std::size_t>(std::max(frames, 1)), rgb.size(), depth.size()});
 	if (n == 0)

@@ -37,7 +37,10 @@ run() {  # run BUILD SEQUENCE I ARGS...
 }
 # Builds from before --gt-format (b67dc07, issue 41's reference) read the Bonn markers' poses as the
 # camera's: their ATE column is then not comparable, their speed is.
-gt_format() { "$(bin_of "$1")/yesslam" --help 2>&1 | grep -q -- '--gt-format' && echo "--gt-format bonn" || true; }
+gt_format() {  # (the help into a variable: grep -q leaving a pipe early fails it under pipefail)
+  local help; help="$("$(bin_of "$1")/yesslam" --help 2>&1 || true)"
+  [[ "$help" == *--gt-format* ]] && echo "--gt-format bonn" || true
+}
 for i in $(seq "$RUNS"); do
   for b in "${builds[@]}"; do
     # shellcheck disable=SC2046

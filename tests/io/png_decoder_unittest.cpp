@@ -169,6 +169,23 @@ TEST(PngDecoder, OtherKindsAreLeftToOpenCv)
 	EXPECT_FALSE(decodePng(encodePng(depth, 1).data(), encodePng(depth, 1).size(), cv::IMREAD_COLOR).handled);
 	const auto trns = encodePng(randomImage(CV_8UC3, 5), 1, {{"tRNS", {0, 1, 0, 2, 0, 3}}});
 	EXPECT_FALSE(decodePng(trns.data(), trns.size(), cv::IMREAD_UNCHANGED).handled);
+	// Chunks OpenCV acts on or libpng refuses: an Exif orientation, an unknown critical chunk, image
+	// data split by another chunk.
+	const cv::Mat rgb = randomImage(CV_8UC3, 6);
+	const auto exif = encodePng(rgb, 1, {{"eXIf", {'M', 'M', 0, 42}}});
+	EXPECT_FALSE(decodePng(exif.data(), exif.size(), cv::IMREAD_COLOR).handled);
+	const auto critical = encodePng(rgb, 1, {{"ABCD", {1, 2}}});
+	EXPECT_FALSE(decodePng(critical.data(), critical.size(), cv::IMREAD_COLOR).handled);
+	auto split = encodePng(rgb, 2);
+	{
+		// A tEXt chunk moved between the two IDATs (the first IDAT starts after IHDR, at byte 33).
+		const std::size_t first = 33, firstLen = (std::size_t(split[33]) << 24) | (std::size_t(split[34]) << 16) | (std::size_t(split[35]) << 8) | split[36];
+		std::vector<std::uint8_t> text;
+		chunk(text, "tEXt", {'a', 0, 'b'});
+		split.insert(split.begin() + static_cast<std::ptrdiff_t>(first + 12 + firstLen), text.begin(), text.end());
+		EXPECT_TRUE(cv::imdecode(split, cv::IMREAD_COLOR).empty()) << "libpng took IDATs split by another chunk";
+		EXPECT_FALSE(decodePng(split.data(), split.size(), cv::IMREAD_COLOR).handled);
+	}
 	// readImageFile still gives what cv::imread gives for them.
 	TempDir d("png");
 	const std::string path = d.path() + "/grey.png";
@@ -215,4 +232,5 @@ TEST(PngDecoder, DamageIsReportedNotDecoded)
 	std::ofstream(text) << "not an image\n";
 	EXPECT_THROW(readImageFile(text, cv::IMREAD_COLOR, "image"), InputError);
 	EXPECT_THROW(readImageFile(d.path() + "/missing.png", cv::IMREAD_COLOR, "image"), InputError);
+	EXPECT_THROW(readImageFile(d.path(), cv::IMREAD_COLOR, "image"), InputError) << "a folder is not an image";
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "mrpt_yesslam/util/Stopwatch.h"
@@ -530,8 +531,10 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	c.labelProb.resize(kept);
 	c.observations.resize(kept);
 
-	// The cloud, and the octree's occupied cells get colour and fused label from the points in them
-	// (merged in voxel key order).
+	// The cloud, and the octree's occupied cells get colour and fused label from the points in them.
+	// A cell's voxels are merged in key order (before the two passes: by position), a fixed order,
+	// the same whatever the slabs; their label evidence sums may differ in the last bits from the
+	// order before (the map files of the runs checked were the same to the byte).
 	struct TCell
 	{
 		std::uint32_t b = 0, g = 0, r = 0, n = 0;
@@ -555,6 +558,7 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		cell.b += v.b, cell.g += v.g, cell.r += v.r, cell.n += v.n;
 		cell.belief.merge(v.belief);
 	});
+	if (i != centres.size()) throw std::logic_error("CDenseSemanticMapper::build: the two passes saw different voxels");
 	for (const auto& [key, cell] : cells)
 	{
 		CSemanticOcTreeNode* node = m.octree->search(key);

@@ -73,11 +73,24 @@ void CSemanticOcTree::insertScan(const octomap::Pointcloud& scan, const octomap:
 		octomap::OcTreeKey k;
 		if (!coordToKeyChecked(p, k)) continue;
 		if (hits.insert(k).second) ends.push_back(keyToCoord(k));
-		if (r > 0)
-			for (int dx = -1; dx <= 1; dx++)
-				for (int dy = -1; dy <= 1; dy++)
-					for (int dz = -1; dz <= 1; dz++)
-						if ((dx || dy || dz) && coordToKeyChecked(p + octomap::point3d(dx * r, dy * r, dz * r), k)) reached.insert(k);
+		if (!(r > 0)) continue;
+		// The cells within pointSpacing of the point: those of the 26 points p + (dx, dy, dz) * r,
+		// dx, dy, dz in {-1, 0, 1}. Each axis gives at most three distinct keys (the point's and its two
+		// offsets'; one or two when the spacing is under a cell), so the cells are their product,
+		// inserted once each instead of 26 lookups and insertions (the build's largest cost). The
+		// product also holds the point's own cell, which is a hit and so never changed as reached.
+		octomap::key_type axis[3][3];
+		int n[3] = {0, 0, 0};
+		for (unsigned a = 0; a < 3; a++)
+			for (const int d : {-1, 0, 1})
+			{
+				octomap::key_type key;
+				if (!coordToKeyChecked(p(a) + static_cast<float>(d) * r, key)) continue;
+				if (std::find(axis[a], axis[a] + n[a], key) == axis[a] + n[a]) axis[a][n[a]++] = key;
+			}
+		for (int i = 0; i < n[0]; i++)
+			for (int j = 0; j < n[1]; j++)
+				for (int l = 0; l < n[2]; l++) reached.insert(octomap::OcTreeKey(axis[0][i], axis[1][j], axis[2][l]));
 	}
 	octomap::KeyRay ray;
 	for (const auto& e : ends)

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
@@ -106,30 +107,39 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 	if (colourType == 2 && bitDepth == 8 && (imreadFlags == cv::IMREAD_COLOR || imreadFlags == cv::IMREAD_UNCHANGED)) type = CV_8UC3;
 	if (colourType == 0 && bitDepth == 8 && imreadFlags == cv::IMREAD_UNCHANGED) type = CV_8UC1;
 	if (colourType == 0 && bitDepth == 16 && imreadFlags == cv::IMREAD_UNCHANGED) type = CV_16UC1;
-	if (type < 0 || compression != 0 || filter != 0 || interlace != 0 || width == 0 || height == 0) return notHere;
+	// libpng refuses sides over a million pixels: left to it (and its message).
+	if (type < 0 || compression != 0 || filter != 0 || interlace != 0 || width == 0 || height == 0 || width > 1000000 || height > 1000000)
+		return notHere;
 	const std::size_t channels = type == CV_8UC3 ? 3 : 1, bytesPerPixel = channels * static_cast<std::size_t>(bitDepth / 8);
 	const std::size_t rowBytes = static_cast<std::size_t>(width) * bytesPerPixel;
 	// A header claiming more than 1 GiB of pixels is left to OpenCV's limits and messages.
 	if (rowBytes > (std::size_t(1) << 30) / height) return notHere;
 	if (libdeflate_crc32(0, ihdr + 4, 4 + 13) != bigEndian32(ihdr + 8 + 13)) return damaged("CRC error in IHDR");
 
-	// The IDAT chunks' data are one zlib stream; chunks before and between them (text, gamma,
-	// physical size) change nothing OpenCV gives, except tRNS (transparency): left to OpenCV.
+	// The consecutive IDAT chunks' data are one zlib stream. Ancillary chunks (text, gamma, physical
+	// size) change nothing OpenCV gives, except tRNS (transparency) and eXIf (OpenCV turns the image
+	// by its orientation): left to OpenCV, as are unknown critical chunks and IDATs split by another
+	// chunk (libpng refuses both).
 	thread_local std::vector<std::uint8_t> stream;  // kept: a reader decodes frame after frame
 	stream.clear();
-	bool ended = false;
+	bool ended = false, seenIdat = false, idatDone = false;
 	for (std::size_t at = 8 + 25; at + 12 <= size;)
 	{
 		const std::uint32_t length = bigEndian32(data + at);
 		const std::uint8_t* chunkType = data + at + 4;
 		if (length > size - at - 12) return damaged("a chunk runs past the end of the file");
-		if (std::memcmp(chunkType, "tRNS", 4) == 0 || std::memcmp(chunkType, "PLTE", 4) == 0) return notHere;
-		if (std::memcmp(chunkType, "IDAT", 4) == 0)
+		const bool idat = std::memcmp(chunkType, "IDAT", 4) == 0, iend = std::memcmp(chunkType, "IEND", 4) == 0;
+		const bool critical = chunkType[0] >= 'A' && chunkType[0] <= 'Z';
+		if (std::memcmp(chunkType, "tRNS", 4) == 0 || std::memcmp(chunkType, "eXIf", 4) == 0 || (critical && !idat && !iend)) return notHere;
+		if (!idat && seenIdat) idatDone = true;
+		if (idat)
 		{
+			if (idatDone) return notHere;
+			seenIdat = true;
 			if (libdeflate_crc32(0, chunkType, 4 + length) != bigEndian32(chunkType + 4 + length)) return damaged("CRC error in IDAT");
 			stream.insert(stream.end(), chunkType + 4, chunkType + 4 + length);
 		}
-		if (std::memcmp(chunkType, "IEND", 4) == 0)
+		if (iend)
 		{
 			ended = true;
 			break;
@@ -141,9 +151,23 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 
 	const std::size_t stride = rowBytes + 1;  // each row starts with its filter type
 	thread_local std::vector<std::uint8_t> raw;
+	// The buffers are kept for the next frame (a reader decodes frame after frame), but not those of
+	// a huge image, whatever the outcome.
+	struct Release
+	{
+		~Release()
+		{
+			if (raw.capacity() > (std::size_t(64) << 20)) std::vector<std::uint8_t>().swap(raw);
+			if (stream.capacity() > (std::size_t(64) << 20)) std::vector<std::uint8_t>().swap(stream);
+		}
+	} release;
 	raw.resize(stride * height);
-	if (libdeflate_zlib_decompress(decompressor(), stream.data(), stream.size(), raw.data(), raw.size(), nullptr) != LIBDEFLATE_SUCCESS)
-		return damaged("the compressed image data is corrupt or of the wrong size");
+	libdeflate_decompressor* d = decompressor();
+	if (!d) return notHere;	 // out of memory: OpenCV may still manage
+	const libdeflate_result z = libdeflate_zlib_decompress(d, stream.data(), stream.size(), raw.data(), raw.size(), nullptr);
+	// More data than the image needs: libpng only warns and decodes it, so OpenCV does.
+	if (z == LIBDEFLATE_INSUFFICIENT_SPACE) return notHere;
+	if (z != LIBDEFLATE_SUCCESS) return damaged("the compressed image data is corrupt or too short");
 	const std::vector<std::uint8_t> zeros(rowBytes, 0);
 	for (std::size_t y = 0; y < height; y++)
 	{
@@ -175,6 +199,8 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 
 cv::Mat readImageFile(const std::string& path, int imreadFlags, const std::string& what)
 {
+	std::error_code ec;
+	if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "cannot decode " + what + " (not a file)");
 	std::ifstream f(path, std::ios::binary | std::ios::ate);
 	if (!f) throw InputError(path, "cannot open " + what);
 	const std::streamoff size = f.tellg();
