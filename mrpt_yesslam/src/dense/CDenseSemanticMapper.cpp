@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <future>
 #include <limits>
 #include <map>
 #include <cmath>
@@ -395,22 +396,31 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		return transform(list[cloud].first, cv::Point3f(p.x, p.y, p.z) * unit);  // eq. 26
 	};
 	const auto columnOf = [](std::int64_t key) { return key >> 42; };  // voxelKey's x field
+	// The octree's cell keys, computed here from a grid of its resolution, not from the tree being built.
+	const CSemanticOcTree keyGrid(m.octree->getResolution());
+	// The octree on a second thread while this one sums the voxels: both only read the stored clouds
+	// and the poses, and each writes only its own part (the octree there, the cloud here; the cells'
+	// colours and labels go into the octree once it is done). At the end of a run the stages are idle,
+	// so the two share the cores the run had (the octree was about 60 % of the build).
+	auto octreeBuilt = std::async(std::launch::async, [&] {
+		for (std::uint32_t ci = 0; ci < list.size(); ci++)
+		{
+			const auto& [T, c] = list[ci];
+			octomap::Pointcloud scan;
+			scan.reserve(c->points.size());
+			for (std::uint32_t i = 0; i < c->points.size(); i++)
+			{
+				const cv::Point3f w = worldPoint(ci, i);
+				scan.push_back(w.x, w.y, w.z);
+			}
+			// Ray casting from the camera: cells passed are observed free (a person's old place too).
+			m.octree->insertScan(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), opts_.clearMargin, opts_.voxelSize);
+		}
+		m.octree->updateInnerOccupancy();
+	});
 	std::map<std::int64_t, std::size_t> perColumn;
 	for (std::uint32_t ci = 0; ci < list.size(); ci++)
-	{
-		const auto& [T, c] = list[ci];
-		octomap::Pointcloud scan;
-		scan.reserve(c->points.size());
-		for (std::uint32_t i = 0; i < c->points.size(); i++)
-		{
-			const cv::Point3f w = worldPoint(ci, i);
-			scan.push_back(w.x, w.y, w.z);
-			perColumn[columnOf(voxelKey(w, inv))]++;
-		}
-		// Ray casting from the camera: cells passed are observed free (a person's old place too).
-		m.octree->insertScan(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), opts_.clearMargin, opts_.voxelSize);
-	}
-	m.octree->updateInnerOccupancy();
+		for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++) perColumn[columnOf(voxelKey(worldPoint(ci, i), inv))]++;
 	// Slabs: consecutive columns up to buildSlabPoints points (a column over it is a slab of its own).
 	std::vector<std::pair<std::int64_t, std::int64_t>> slabs;  // first and last column
 	std::vector<std::size_t> slabPoints;
@@ -553,12 +563,13 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		c.labelProb[at] = static_cast<float>(prob);
 		c.observations[at] = v.keyFrames;
 		octomap::OcTreeKey key;
-		if (!m.octree->coordToKeyChecked(octomap::point3d(c.xyz[at].x, c.xyz[at].y, c.xyz[at].z), key)) return;
+		if (!keyGrid.coordToKeyChecked(octomap::point3d(c.xyz[at].x, c.xyz[at].y, c.xyz[at].z), key)) return;
 		TCell& cell = cells[key];
 		cell.b += v.b, cell.g += v.g, cell.r += v.r, cell.n += v.n;
 		cell.belief.merge(v.belief);
 	});
 	if (i != centres.size()) throw std::logic_error("CDenseSemanticMapper::build: the two passes saw different voxels");
+	octreeBuilt.get();
 	for (const auto& [key, cell] : cells)
 	{
 		CSemanticOcTreeNode* node = m.octree->search(key);
