@@ -7,31 +7,22 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/io/PngDecoder.h"
 
 using namespace mrpt_yesslam;
 
 namespace
 {
-// The image paths of a TUM list file (timestamp path per line, '#' comments), in order.
+// The image paths a TUM list file of the folder names, in order (the library's own list reader).
 std::vector<std::string> listed(const std::string& folder, const std::string& list)
 {
-	std::ifstream in(folder + "/" + list);
 	std::vector<std::string> out;
-	std::string line;
-	while (std::getline(in, line))
-	{
-		if (line.empty() || line[0] == '#') continue;
-		std::istringstream ss(line);
-		std::string stamp, path;
-		if (ss >> stamp >> path) out.push_back(folder + "/" + path);
-	}
+	for (const auto& e : readTumFileList(folder + "/" + list)) out.push_back(folder + "/" + e.file);
 	return out;
 }
 
@@ -47,7 +38,17 @@ int main(int argc, char** argv)
 	}
 	const std::string folder = argv[1];
 	const int frames = argc > 2 ? std::atoi(argv[2]) : 100, repeats = std::max(1, argc > 3 ? std::atoi(argv[3]) : 3);
-	const auto rgb = listed(folder, "rgb.txt"), depth = listed(folder, "depth.txt");
+	std::vector<std::string> rgb, depth;
+	try
+	{
+		rgb = listed(folder, "rgb.txt");
+		depth = listed(folder, "depth.txt");
+	}
+	catch (const std::exception& e)
+	{
+		std::fprintf(stderr, "bench_png: error: %s\n", e.what());
+		return 1;
+	}
 	const std::size_t n = std::min({static_cast<std::size_t>(std::max(frames, 1)), rgb.size(), depth.size()});
 	if (n == 0)
 	{
