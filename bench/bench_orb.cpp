@@ -14,21 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "TumList.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
-#include "mrpt_yesslam/io/CTumFolderSource.h"
 
 using namespace mrpt_yesslam;
 
 namespace
 {
-// The image paths a TUM list file of the folder names, in order (the library's own list reader).
-std::vector<std::string> listed(const std::string& folder, const std::string& list)
-{
-	std::vector<std::string> out;
-	for (const auto& e : readTumFileList(folder + "/" + list)) out.push_back(folder + "/" + e.file);
-	return out;
-}
-
 // FNV-1a over raw bytes: a fingerprint of the features, not a security hash.
 void mix(std::uint64_t& h, const void* p, std::size_t n)
 {
@@ -49,8 +41,8 @@ int main(int argc, char** argv)
 	std::vector<std::string> rgb, depth;
 	try
 	{
-		rgb = listed(folder, "rgb.txt");
-		depth = listed(folder, "depth.txt");
+		rgb = yesslam_bench::listedImages(folder, "rgb.txt");
+		depth = yesslam_bench::listedImages(folder, "depth.txt");
 	}
 	catch (const std::exception& e)
 	{

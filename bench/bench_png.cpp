@@ -11,21 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "mrpt_yesslam/io/CTumFolderSource.h"
+#include "TumList.h"
 #include "mrpt_yesslam/io/PngDecoder.h"
 
 using namespace mrpt_yesslam;
 
 namespace
 {
-// The image paths a TUM list file of the folder names, in order (the library's own list reader).
-std::vector<std::string> listed(const std::string& folder, const std::string& list)
-{
-	std::vector<std::string> out;
-	for (const auto& e : readTumFileList(folder + "/" + list)) out.push_back(folder + "/" + e.file);
-	return out;
-}
-
 double msSince(std::chrono::steady_clock::time_point t0) { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(); }
 }  // namespace
 
@@ -41,8 +33,8 @@ int main(int argc, char** argv)
 	std::vector<std::string> rgb, depth;
 	try
 	{
-		rgb = listed(folder, "rgb.txt");
-		depth = listed(folder, "depth.txt");
+		rgb = yesslam_bench::listedImages(folder, "rgb.txt");
+		depth = yesslam_bench::listedImages(folder, "depth.txt");
 	}
 	catch (const std::exception& e)
 	{
