@@ -402,7 +402,8 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	// and the poses, and each writes only its own part (the octree there, the cloud here; the cells'
 	// colours and labels go into the octree once it is done). At the end of a run the stages are idle,
 	// so the two share the cores the run had (the octree was about 60 % of the build).
-	auto octreeBuilt = std::async(std::launch::async, [&] {
+	// (Deferred into get() if no thread can be started.)
+	auto octreeBuilt = std::async(std::launch::async | std::launch::deferred, [&] {
 		for (std::uint32_t ci = 0; ci < list.size(); ci++)
 		{
 			const auto& [T, c] = list[ci];
