@@ -7,7 +7,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_PER="${1:-600}"; shift || true
-TARGETS=("$@"); [ ${#TARGETS[@]} -gt 0 ] || TARGETS=(trajectory tum_list association camera_file config rawlog detections map)
+TARGETS=("$@"); [ ${#TARGETS[@]} -gt 0 ] || TARGETS=(trajectory tum_list association camera_file config rawlog detections map png)
 command -v clang++ >/dev/null || {
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
   $SUDO apt-get install -y -qq clang libclang-rt-14-dev >/dev/null
