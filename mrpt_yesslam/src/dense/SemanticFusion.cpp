@@ -25,7 +25,8 @@ void TLabelBelief::merge(const TLabelBelief& o)
 	base += o.base;
 	for (const auto& [l, g] : o.extra)
 	{
-		auto it = std::find_if(extra.begin(), extra.end(), [&](const auto& e) { return e.first == l; });
+		// (A structured binding is captured by copy: C++17 lets no lambda capture it by reference.)
+		auto it = std::find_if(extra.begin(), extra.end(), [l = l](const auto& e) { return e.first == l; });
 		if (it == extra.end())
 			extra.emplace_back(l, g);
 		else
