@@ -39,21 +39,7 @@ int main(int argc, char** argv)
 	const std::string folder = argv[1];
 	const int frames = argc > 2 ? std::atoi(argv[2]) : 50, repeats = argc > 3 ? std::atoi(argv[3]) : 5;
 	std::vector<std::string> rgb, depth;
-	try
-	{
-		rgb = yesslam_bench::listedImages(folder, "rgb.txt");
-		depth = yesslam_bench::listedImages(folder, "depth.txt");
-	}
-	catch (const std::exception& e)
-	{
-		std::fprintf(stderr, "bench_orb: error: %s\n", e.what());
-		return 1;
-	}
-	if (rgb.empty())
-	{
-		std::fprintf(stderr, "bench_orb: error: %s/rgb.txt lists no images\n", folder.c_str());
-		return 1;
-	}
+	if (!yesslam_bench::listFolderImages("bench_orb", folder, rgb, depth)) return 1;
 	std::vector<cv::Mat> images, depths;
 	for (int i = 0; i < frames && i < static_cast<int>(rgb.size()); i++)
 	{

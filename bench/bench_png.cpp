@@ -31,16 +31,7 @@ int main(int argc, char** argv)
 	const std::string folder = argv[1];
 	const int frames = argc > 2 ? std::atoi(argv[2]) : 100, repeats = std::max(1, argc > 3 ? std::atoi(argv[3]) : 3);
 	std::vector<std::string> rgb, depth;
-	try
-	{
-		rgb = yesslam_bench::listedImages(folder, "rgb.txt");
-		depth = yesslam_bench::listedImages(folder, "depth.txt");
-	}
-	catch (const std::exception& e)
-	{
-		std::fprintf(stderr, "bench_png: error: %s\n", e.what());
-		return 1;
-	}
+	if (!yesslam_bench::listFolderImages("bench_png", folder, rgb, depth)) return 1;
 	const std::size_t n = std::min({static_cast<std::size_t>(std::max(frames, 1)), rgb.size(), depth.size()});
 	if (n == 0)
 	{

@@ -419,9 +419,18 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		}
 		m.octree->updateInnerOccupancy();
 	});
+	// Points per column of voxels (for the slabs), and each cloud's first and last column: a slab's
+	// pass skips the clouds with no point in it instead of transforming every point again.
 	std::map<std::int64_t, std::size_t> perColumn;
+	std::vector<std::pair<std::int64_t, std::int64_t>> cloudColumns(list.size(), {std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()});
 	for (std::uint32_t ci = 0; ci < list.size(); ci++)
-		for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++) perColumn[columnOf(voxelKey(worldPoint(ci, i), inv))]++;
+		for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++)
+		{
+			const std::int64_t col = columnOf(voxelKey(worldPoint(ci, i), inv));
+			perColumn[col]++;
+			cloudColumns[ci].first = std::min(cloudColumns[ci].first, col);
+			cloudColumns[ci].second = std::max(cloudColumns[ci].second, col);
+		}
 	// Slabs: consecutive columns up to buildSlabPoints points (a column over it is a slab of its own).
 	std::vector<std::pair<std::int64_t, std::int64_t>> slabs;  // first and last column
 	std::vector<std::size_t> slabPoints;
@@ -455,11 +464,14 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 			refs.clear();
 			refs.reserve(slabPoints[s]);
 			for (std::uint32_t ci = 0; ci < list.size(); ci++)
+			{
+				if (cloudColumns[ci].second < slabs[s].first || cloudColumns[ci].first > slabs[s].second) continue;
 				for (std::uint32_t i = 0; i < list[ci].second->points.size(); i++)
 				{
 					const std::int64_t key = voxelKey(worldPoint(ci, i), inv);
 					if (columnOf(key) >= slabs[s].first && columnOf(key) <= slabs[s].second) refs.push_back({key, ci, i});
 				}
+			}
 			std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
 			for (std::size_t i = 0; i < refs.size();)
 			{
