@@ -6,11 +6,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "mrpt_yesslam/util/Deflate.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam
@@ -20,17 +20,6 @@ namespace
 std::uint32_t bigEndian32(const std::uint8_t* p)
 {
 	return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | std::uint32_t(p[3]);
-}
-
-// One decompressor per thread (the reader thread decodes; tests may decode from several).
-libdeflate_decompressor* decompressor()
-{
-	struct Free
-	{
-		void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
-	};
-	thread_local std::unique_ptr<libdeflate_decompressor, Free> d(libdeflate_alloc_decompressor());
-	return d.get();
 }
 
 int paeth(int a, int b, int c)
@@ -162,7 +151,7 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 		}
 	} release;
 	raw.resize(stride * height);
-	libdeflate_decompressor* d = decompressor();
+	libdeflate_decompressor* d = threadDecompressor();  // the reader thread decodes; tests may decode from several
 	if (!d) return notHere;	 // out of memory: OpenCV may still manage
 	const libdeflate_result z = libdeflate_zlib_decompress(d, stream.data(), stream.size(), raw.data(), raw.size(), nullptr);
 	// More data than the image needs: libpng only warns and decodes it, so OpenCV does.

@@ -122,7 +122,7 @@ class CDenseSemanticMapper
 		double clearMargin = 0.05;
 		/** Dense cloud: a voxel must hold points of this many keyframes (the same reason). */
 		int minObservations = 2;
-		/** The final build sorts the stored points by voxel this many at a time (16 bytes each),
+		/** The final build sorts the stored points by voxel this many at a time (32 bytes each),
 		 * whole x columns of voxels per pass: less memory, more passes over the clouds; the map is
 		 * the same whatever it is. */
 		std::size_t buildSlabPoints = std::size_t{1} << 18;
@@ -161,7 +161,7 @@ class CDenseSemanticMapper
 	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf, std::size_t step = 1) const;
 
 	std::size_t numKeyFrames() const;
-	/** Stored points over all keyframes (memory: 12 bytes each, storedBytes()). */
+	/** Stored points over all keyframes (their memory: storedBytes()). */
 	std::size_t numStoredPoints() const;
 	/** Memory the stored clouds take. */
 	std::size_t storedBytes() const;
@@ -174,9 +174,9 @@ class CDenseSemanticMapper
 	CDynamicObjectMasker masker_;  //!< segmentAll only (const): labelMethod fill
 	CObjectSegmenter segmenter_;  //!< labelMethod segments
 	int numClasses_;
-	/** A keyframe's cloud as stored: 12 bytes a point (position in steps of unit_, colour, label,
-	 * quantised probability), not TKeyFrameCloud's 20 plus growth slack: a long run keeps one per
-	 * keyframe, culled ones included. */
+	/** A keyframe's cloud as stored: per point a position in steps of unit_, colour, label and
+	 * quantised probability (12 bytes), DEFLATEd to about 5 bytes, not TKeyFrameCloud's 20 plus
+	 * growth slack: a long run keeps one per keyframe, culled ones included. */
 	struct TPackedCloud;
 	double unit_;  //!< m per stored coordinate step
 	mutable std::mutex mtx_;
