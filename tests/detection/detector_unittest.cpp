@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <iostream>
+#include <malloc.h>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -410,4 +412,32 @@ TEST(Detector, AsyncGivesTheSameDetectionsAndPropagatesErrors)
 	CAsyncDetector bad(createObjectDetector(o));
 	bad.submit(cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(0)), 1.0);
 	expectInputError([&] { bad.get(); }, {"dets.txt", "outside"});
+}
+
+TEST(Detector, TheShippedNetworkIsLetGoBeforeARunsOutputsAndItsNamesStay)
+{
+	// Issue 41 item 5: a run's outputs are its peak of memory and no frame is detected after the
+	// run; the network (weights and layer buffers of the shipped Yolo-Fastest-1.1, Darknet YOLO
+	// licence / public domain) goes before them, through the detector thread as a run has it.
+	const cv::Mat img = cv::imread(sharedFile(kPeople[0].image), cv::IMREAD_COLOR);
+	ASSERT_FALSE(img.empty());
+	CObjectDetector::TOptions o;
+	o.backend = "yolo";
+	CAsyncDetector async(createObjectDetector(o));
+	const auto inUse = [] { return mallinfo2().uordblks + mallinfo2().hblkhd; };
+	async.submit(img, 0.0, 1);
+	async.submit(img, 0.0, 2);	// one detected ahead and never collected: the release waits for it
+	ASSERT_FALSE(async.get(1).empty());
+	const std::size_t before = inUse();
+	const auto names = async.detector().classNames();
+	const std::string description = async.detector().description();
+	async.releaseModel();
+	const std::size_t after = inUse();
+	std::cout << "network let go: " << (double(before) - double(after)) / 1048576 << " MB\n";
+	EXPECT_GT(before, after + (std::size_t(3) << 20));
+	EXPECT_EQ(async.detector().classNames(), names);
+	EXPECT_EQ(async.detector().description(), description);
+	EXPECT_FALSE(async.get(2).empty()) << "a detection finished before the release is still there";
+	async.submit(img, 0.0, 3);
+	EXPECT_THROW(async.get(3), std::logic_error);
 }

@@ -49,6 +49,13 @@ std::vector<TDetection> CAsyncDetector::get(std::size_t key, double* detectMs)
 	return std::move(d);
 }
 
+void CAsyncDetector::releaseModel()
+{
+	// Including the dropped frames' tasks, which no future waits for (get() lets them finish in the background).
+	worker_.waitIdle();
+	det_->releaseModel();
+}
+
 std::vector<TDetection> CAsyncDetector::get(double* detectMs)
 {
 	if (pending_.empty()) throw std::logic_error("CAsyncDetector::get: no frame was submitted");

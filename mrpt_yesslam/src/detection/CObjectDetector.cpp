@@ -62,8 +62,15 @@ void CObjectDetector::setClassNames(std::vector<std::string> names, const std::s
 	}
 }
 
+void CObjectDetector::releaseModel()
+{
+	released_ = true;
+	releaseModelImpl();
+}
+
 std::vector<TDetection> CObjectDetector::detect(const cv::Mat& bgr, double timestamp)
 {
+	if (released_) throw std::logic_error("the detector's model was released (releaseModel): no detection after that");
 	if (bgr.empty()) return {};
 	std::vector<TDetection> out;
 	const cv::Rect2f image(0, 0, static_cast<float>(bgr.cols), static_cast<float>(bgr.rows));

@@ -31,6 +31,14 @@ void CFrameBuilder::detectAhead(const cv::Mat& bgr, double timestamp, std::size_
 
 const CObjectDetector* CFrameBuilder::detector() const { return async_ ? &async_->detector() : detector_.get(); }
 
+void CFrameBuilder::releaseDetectorModel()
+{
+	if (async_)
+		async_->releaseModel();
+	else if (detector_)
+		detector_->releaseModel();
+}
+
 std::shared_ptr<TFrame> CFrameBuilder::build(
 	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera, std::size_t id,
 	std::map<std::string, double>* stageMs)

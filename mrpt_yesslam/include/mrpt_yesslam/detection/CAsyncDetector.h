@@ -43,6 +43,9 @@ class CAsyncDetector
 	std::vector<TDetection> get(double* detectMs = nullptr);
 	/** The wrapped detector (class names etc.; do not call detect() on it while a frame is in flight). */
 	const CObjectDetector& detector() const { return *det_; }
+	/** Waits until the detector thread is idle (the results stay to be collected), then the
+	 * detector lets go of its model (CObjectDetector::releaseModel). */
+	void releaseModel();
 
    private:
 	std::unique_ptr<CObjectDetector> det_;

@@ -58,16 +58,23 @@ class CObjectDetector
 	bool isDynamicClass(int classId) const { return dynamicIds_.count(classId) > 0; }
 	/** A short description of the backend and model, for logs. */
 	virtual std::string description() const = 0;
+	/** Lets go of the model (weights, layer buffers: about 8 MB for the shipped network) once no
+	 * more images will come, as before a run's outputs (issue 41 item 5: they are the run's peak of
+	 * memory); class names and description stay. detect() afterwards throws std::logic_error. */
+	void releaseModel();
 
    protected:
 	explicit CObjectDetector(const TOptions& opts) : opts_(opts) {}
 	/** The backend's raw detections (scores in [0,1], boxes in image pixels). */
 	virtual std::vector<TDetection> detectImpl(const cv::Mat& bgr, double timestamp) = 0;
+	/** The backend's part of releaseModel() (nothing for backends without a model in memory). */
+	virtual void releaseModelImpl() {}
 	/** Sets the class names and resolves the dynamic class set against them (throws for an unknown
 	 * dynamic class name). */
 	void setClassNames(std::vector<std::string> names, const std::string& sourceForErrors);
 
 	TOptions opts_;
+	bool released_ = false;	 //!< releaseModel() was called
 
    private:
 	std::vector<std::string> names_;

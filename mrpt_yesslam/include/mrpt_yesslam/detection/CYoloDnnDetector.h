@@ -55,6 +55,7 @@ class CYoloDnnDetector : public CObjectDetector
 
    protected:
 	std::vector<TDetection> detectImpl(const cv::Mat& bgr, double timestamp) override;
+	void releaseModelImpl() override { net_ = cv::dnn::Net(); }
 
    private:
 	cv::Mat makeBlob(const cv::Mat& bgr, int size, TFit& fit) const;

@@ -43,6 +43,8 @@ class CFrameBuilder
 
 	/** The detector (null without one). */
 	const CObjectDetector* detector() const;
+	/** The detector lets go of its model once no more frames will be built (after pending detections). */
+	void releaseDetectorModel();
 	const COrbExtractor& extractor() const { return extractor_; }
 
    private:

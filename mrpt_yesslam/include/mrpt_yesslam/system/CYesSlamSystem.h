@@ -145,6 +145,9 @@ class CYesSlamSystem
 	 * no output needs them). A frame processed after it starts with an empty buffer. Not while
 	 * processFrame runs (the buffer is the frame thread's). */
 	void releaseRecentFrames() { recent_.clear(); }
+	/** Once the run is over, the detector lets go of its network (about 8 MB; class names stay for
+	 * the outputs); processFrame() afterwards fails. */
+	void releaseDetectorModel() { builder_.releaseDetectorModel(); }
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
 	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }

@@ -158,9 +158,11 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, con
 // The outputs (the dense map's build above all) were the run's peak of memory (issue 41 item 5):
 // before them, the frames no output needs go, and glibc gives back what its per-thread arenas hold
 // free (the stages' threads freed it). Bonn slice peak RSS 222-225 -> 188-190 MB with these two.
+// The detector's network goes too (a 900-frame run with the shipped detector: median peak 212 -> 202 MB).
 void releaseBeforeOutputs(CYesSlamSystem& sys)
 {
 	sys.releaseRecentFrames();
+	sys.releaseDetectorModel();
 #if defined(__GLIBC__)
 	malloc_trim(0);
 #endif
