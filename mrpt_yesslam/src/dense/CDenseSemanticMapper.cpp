@@ -18,7 +18,7 @@
 
 #include "mrpt_yesslam/util/Stopwatch.h"
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
-#include "mrpt_yesslam/util/Deflate.h"
+#include "../util/Deflate.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam
@@ -156,6 +156,7 @@ struct CDenseSemanticMapper::TPackedCloud
 			TPoint& p = out[i];
 			for (int a = 0; a < 3; a++)
 				acc[a] = static_cast<std::uint16_t>(acc[a] + (planes[(2 * a) * n + i] | (planes[(2 * a + 1) * n + i] << 8)));
+			// (uint16 -> int16 above 32767 wraps, as the packing's uint16 differences assume: GCC and Clang define it so.)
 			p.x = static_cast<std::int16_t>(acc[0]), p.y = static_cast<std::int16_t>(acc[1]), p.z = static_cast<std::int16_t>(acc[2]);
 			p.b = planes[6 * n + i], p.g = planes[7 * n + i], p.r = planes[8 * n + i];
 			p.label = planes[9 * n + i], p.prob = planes[10 * n + i];

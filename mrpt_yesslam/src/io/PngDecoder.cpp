@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "mrpt_yesslam/util/Deflate.h"
+#include "../util/Deflate.h"
 #include "mrpt_yesslam/util/Error.h"
 
 namespace mrpt_yesslam

@@ -1,9 +1,10 @@
-#include "mrpt_yesslam/util/Deflate.h"
+#include "Deflate.h"
 
 #include <libdeflate.h>
 
 #include <memory>
 #include <new>
+#include <stdexcept>
 
 namespace mrpt_yesslam
 {
@@ -13,7 +14,8 @@ libdeflate_decompressor* threadDecompressor()
 	{
 		void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
 	};
-	thread_local std::unique_ptr<libdeflate_decompressor, Free> d(libdeflate_alloc_decompressor());
+	thread_local std::unique_ptr<libdeflate_decompressor, Free> d;
+	if (!d) d.reset(libdeflate_alloc_decompressor());  // again after a failed allocation
 	return d.get();
 }
 
@@ -33,8 +35,11 @@ std::vector<std::uint8_t> deflateBytes(const void* data, std::size_t n, int leve
 		madeFor = level;
 	}
 	std::vector<std::uint8_t> out(libdeflate_deflate_compress_bound(c.get(), n));
-	// Never 0 for a buffer of the bound's size (libdeflate's contract).
-	out.resize(libdeflate_deflate_compress(c.get(), data, n, out.data(), out.size()));
+	const std::size_t size = libdeflate_deflate_compress(c.get(), n ? data : out.data(), n, out.data(), out.size());
+	// Never 0 for a buffer of the bound's size (libdeflate's contract): an empty stream would only
+	// be found out when it is inflated.
+	if (size == 0) throw std::logic_error("libdeflate: compression into a buffer of its bound's size failed");
+	out.resize(size);
 	out.shrink_to_fit();
 	return out;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // libdeflate with one (de)compressor per thread: the PNG decoder inflates dataset images on the
 // reader thread, the dense mapper packs keyframe clouds on its stage and unpacks them while it builds.
+// Private to the library (libdeflate is not part of its public interface).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
