@@ -436,7 +436,8 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 
 	// Every point by voxel: (voxel, keyframe, point) triples sorted, as PCL's VoxelGrid does, instead
 	// of a hash map of every voxel (about 160 bytes each with its label vector, kept to the end of
-	// the build; issue 41 item 5: the build was the run's peak of memory). 32 bytes a point (with the point: the clouds are packed), and no
+	// the build; issue 41 item 5: the build was the run's peak of memory). 32 bytes a point (the
+	// point itself with its voxel: the stored clouds are packed, not open to random access), and no
 	// more than buildSlabPoints of them at a time: the voxels are taken in slabs of whole columns of x
 	// (a long run's keyframes see each voxel many times, and all its points at once would outweigh
 	// the hash map). The same sums in the same order (keyframes by id, then their points), and the
