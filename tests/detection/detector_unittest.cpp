@@ -6,7 +6,8 @@
 #include <filesystem>
 #include <iostream>
 #include <malloc.h>
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || (defined(__has_feature) && __has_feature(address_sanitizer))
+#define YESSLAM_TEST_ASAN 1
 // ASan's allocator serves the heap there (GCC ships no header for it).
 extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 #endif
@@ -430,23 +431,27 @@ TEST(Detector, TheShippedNetworkIsLetGoBeforeARunsOutputsAndItsNamesStay)
 	CAsyncDetector async(createObjectDetector(o));
 	const auto inUse = []() -> std::size_t
 	{
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(YESSLAM_TEST_ASAN)
 		return __sanitizer_get_current_allocated_bytes();
-#else
+#elif defined(__GLIBC__)
 		const struct mallinfo2 m = mallinfo2();
 		return m.uordblks + m.hblkhd;
+#else
+		return 0;  // no count of the heap: only the behaviour is checked
 #endif
 	};
 	async.submit(img, 0.0, 1);
-	async.submit(img, 0.0, 2);	// one detected ahead and never collected: the release waits for it
 	ASSERT_FALSE(async.get(1).empty());
-	const std::size_t before = inUse();
 	const auto names = async.detector().classNames();
 	const std::string description = async.detector().description();
+	// Measured with the detector thread idle, then one frame detected ahead and never collected
+	// (the release waits for it; only its few detections are held after).
+	const std::size_t before = inUse();
+	async.submit(img, 0.0, 2);
 	async.releaseModel();
 	const std::size_t after = inUse();
 	std::cout << "network let go: " << (double(before) - double(after)) / 1048576 << " MB\n";
-	EXPECT_GT(before, after + (std::size_t(3) << 20));
+	if (before > 0) EXPECT_GT(before, after + (std::size_t(3) << 20));
 	EXPECT_EQ(async.detector().classNames(), names);
 	EXPECT_EQ(async.detector().description(), description);
 	EXPECT_FALSE(async.get(2).empty()) << "a detection finished before the release is still there";

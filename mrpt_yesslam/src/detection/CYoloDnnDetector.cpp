@@ -1,5 +1,6 @@
 #include "mrpt_yesslam/detection/CYoloDnnDetector.h"
 
+#include <stdexcept>
 #include <opencv2/core/utility.hpp>
 
 #include <algorithm>
@@ -342,6 +343,7 @@ cv::Mat CYoloDnnDetector::makeBlob(const cv::Mat& bgr, int size, TFit& fit) cons
 
 std::vector<cv::Mat> CYoloDnnDetector::forward(const cv::Mat& blob)
 {
+	if (released()) throw std::logic_error("the detector's model was released (releaseModel): no inference after that");
 	net_.setInput(blob);
 	std::vector<cv::Mat> outs;
 	net_.forward(outs, outNames_);

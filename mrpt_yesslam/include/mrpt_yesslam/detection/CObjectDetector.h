@@ -60,7 +60,8 @@ class CObjectDetector
 	virtual std::string description() const = 0;
 	/** Lets go of the model (weights, layer buffers: about 8 MB for the shipped network) once no
 	 * more images will come, as before a run's outputs (issue 41 item 5: they are the run's peak of
-	 * memory); class names and description stay. detect() afterwards throws std::logic_error. */
+	 * memory); class names and description stay. detect() afterwards throws std::logic_error.
+	 * Call it from the thread that runs detect() or hands it work (CAsyncDetector::releaseModel). */
 	void releaseModel();
 
    protected:
@@ -73,12 +74,15 @@ class CObjectDetector
 	 * dynamic class name). */
 	void setClassNames(std::vector<std::string> names, const std::string& sourceForErrors);
 
+	/** releaseModel() was called (backends check it where they run the model outside detect()). */
+	bool released() const { return released_; }
+
 	TOptions opts_;
-	bool released_ = false;	 //!< releaseModel() was called
 
    private:
 	std::vector<std::string> names_;
 	std::set<int> dynamicIds_;
+	bool released_ = false;
 };
 
 /** Reads a class names file (one name per line; blank lines ignored); with expectedCount > 0 the
