@@ -138,6 +138,41 @@ std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt
 }
 }  // namespace
 
+namespace
+{
+// The prior as world-to-camera (rotation Rp, translation tp) and its information per axis.
+void priorFrame(const CPoseOptimizer::TPosePrior& p, Eigen::Matrix3d& Rp, Eigen::Vector3d& tp, Eigen::Matrix<double, 6, 1>& info)
+{
+	const mrpt::poses::CPose3D Tcw = -p.cameraInWorld;
+	Rp = Tcw.getRotationMatrix().asEigen();
+	tp = Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z());
+	info << Eigen::Vector3d::Constant(1.0 / (p.sigmaR * p.sigmaR)), Eigen::Vector3d::Constant(1.0 / (p.sigmaT * p.sigmaT));
+}
+
+// The deviation of world-to-camera (Rc, tc) from the prior's, in the left perturbation's terms:
+// rotation log(Rc Rp^T), translation tc - Rc Rp^T tp.
+Eigen::Matrix<double, 6, 1> priorDeviationAt(const Eigen::Matrix3d& Rp, const Eigen::Vector3d& tp, const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
+{
+	const Eigen::Matrix3d D = Rc * Rp.transpose();
+	const Eigen::AngleAxisd aa(D);
+	Eigen::Matrix<double, 6, 1> d;
+	d << aa.angle() * aa.axis(), tc - D * tp;
+	return d;
+}
+}  // namespace
+
+bool CPoseOptimizer::priorTerm(
+	const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation, Eigen::Matrix<double, 6, 1>& information) const
+{
+	if (!prior_ || !(prior_->sigmaT > 0) || !(prior_->sigmaR > 0)) return false;
+	Eigen::Matrix3d Rp;
+	Eigen::Vector3d tp;
+	priorFrame(*prior_, Rp, tp, information);
+	const mrpt::poses::CPose3D Tcw = -cameraInWorld;
+	deviation = priorDeviationAt(Rp, tp, Tcw.getRotationMatrix().asEigen(), Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z()));
+	return true;
+}
+
 void CPoseOptimizer::solveRound(
 	const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit, const std::vector<bool>& use, Eigen::Matrix3d& R,
 	Eigen::Vector3d& t) const
@@ -159,22 +194,9 @@ void CPoseOptimizer::solveRound(
 	Eigen::Matrix3d Rp = Eigen::Matrix3d::Identity();
 	Eigen::Vector3d tp = Eigen::Vector3d::Zero();
 	Vec6 priorInfo = Vec6::Zero();
-	if (prior_ && prior_->sigmaT > 0 && prior_->sigmaR > 0)
-	{
-		const mrpt::poses::CPose3D Tcw = -prior_->cameraInWorld;
-		Rp = Tcw.getRotationMatrix().asEigen();
-		tp = Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z());
-		priorInfo << Eigen::Vector3d::Constant(1.0 / (prior_->sigmaR * prior_->sigmaR)), Eigen::Vector3d::Constant(1.0 / (prior_->sigmaT * prior_->sigmaT));
-	}
+	if (prior_ && prior_->sigmaT > 0 && prior_->sigmaR > 0) priorFrame(*prior_, Rp, tp, priorInfo);
 	const bool hasPrior = priorInfo.squaredNorm() > 0;
-	const auto priorDeviation = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
-	{
-		const Eigen::Matrix3d D = Rc * Rp.transpose();
-		const Eigen::AngleAxisd aa(D);
-		Vec6 d;
-		d << aa.angle() * aa.axis(), tc - D * tp;
-		return d;
-	};
+	const auto priorDeviation = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc) { return priorDeviationAt(Rp, tp, Rc, tc); };
 	const auto cost = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
 	{
 		double c = 0;

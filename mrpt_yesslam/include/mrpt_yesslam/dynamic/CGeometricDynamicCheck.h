@@ -26,8 +26,10 @@
 //   neighbours at the same depth), and each group is left out in turn (one Gauss-Newton step from
 //   the estimate). A static surface still fits the pose the others give; a mover's members then
 //   miss together, far beyond what independent noise allows (n |mean whitened residual|^2 over a
-//   chi-square bound, and a mean displacement of at least moverShift). The worst such group leaves and the
-//   pose is re-estimated, up to three times, never more than half of the inliers. This is a
+//   chi-square bound). The group that misses worst leaves when its mean displacement is at least
+//   moverShift (else nothing does: the others' misfit may be its pull), and the pose is
+//   re-estimated, up to three times, never more than half of the inliers. The step is taken on the
+//   whole cost the pose solve minimises, the motion model's prior included. This is a
 //   group-deletion diagnostic (Cook's distance) on StaticFusion's and Co-Fusion's idea that a
 //   region's residual, not a point's, says what moves.
 #include <mrpt/img/TCamera.h>

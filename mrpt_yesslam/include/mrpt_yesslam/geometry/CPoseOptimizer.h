@@ -122,6 +122,11 @@ class CPoseOptimizer
 	 * depth alone). */
 	void setPrior(std::optional<TPosePrior> p) { prior_ = std::move(p); }
 
+	/** The prior's term at a pose (T_w_c), as refine() weighs it: the deviation (rotation, then
+	 * translation, in the left perturbation's terms of world-to-camera) and its information per
+	 * axis; false without a prior. What the geometric check needs to linearise the whole cost. */
+	bool priorTerm(const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation, Eigen::Matrix<double, 6, 1>& information) const;
+
    private:
 	/** One round of refine(): Levenberg-Marquardt on world-to-camera `R`, `t` over the
 	 * observations `use` marks, Huber-weighted with each one's chi-square `limit`. */
