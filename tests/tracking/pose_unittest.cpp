@@ -312,3 +312,39 @@ TEST(RelativeMotion, AScaledMotionTurnsOnItsGeodesicAndMovesItsShareOfTheWay)
 	// The twist form: scaling the log of the motion.
 	EXPECT_TRUE(near(scaledTwist(mrpt::poses::Lie::SE<3>::log(T), 0.3), scaleMotion(T, 0.3)));
 }
+
+// The prior's term as the geometric check reads it (priorTerm) must be the pose solve's: the
+// deviation of world-to-camera in the left perturbation's terms, rotation first, and zero at the
+// prior itself.
+TEST(PoseOptimizer, ThePriorsTermIsTheLeftPerturbationOfWorldToCameraRotationFirst)
+{
+	CPoseOptimizer opt{CPoseOptimizer::TOptions()};
+	Eigen::Matrix<double, 6, 1> dev, info;
+	const mrpt::poses::CPose3D prior(0.3, -0.2, 1.1, 0.4, -0.1, 0.2);
+	EXPECT_FALSE(opt.priorTerm(prior, dev, info));
+	opt.setPrior(CPoseOptimizer::TPosePrior{prior, 0.005, 0.02});
+	ASSERT_TRUE(opt.priorTerm(prior, dev, info));
+	EXPECT_LT(dev.norm(), 1e-12);
+	for (int k = 0; k < 3; k++)
+	{
+		EXPECT_NEAR(info[k], 1.0 / (0.02 * 0.02), 1e-6);
+		EXPECT_NEAR(info[k + 3], 1.0 / (0.005 * 0.005), 1e-6);
+	}
+	// World-to-camera moved by exp(w) on the left, then v.
+	const Eigen::Vector3d w(0.01, -0.02, 0.015), v(0.004, 0.003, -0.006);
+	const mrpt::poses::CPose3D Tcw = -prior;
+	const Eigen::Matrix3d dR = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+	const Eigen::Matrix3d R1 = dR * Tcw.getRotationMatrix().asEigen();
+	const Eigen::Vector3d t1 = dR * Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z()) + v;
+	mrpt::math::CMatrixDouble33 R1m;
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) R1m(i, j) = R1(i, j);
+	mrpt::math::CVectorFixedDouble<3> t1v;
+	for (int i = 0; i < 3; i++) t1v[i] = t1[i];
+	ASSERT_TRUE(opt.priorTerm(-mrpt::poses::CPose3D(R1m, t1v), dev, info));
+	for (int k = 0; k < 3; k++)
+	{
+		EXPECT_NEAR(dev[k], w[k], 1e-9) << "rotation, axis " << k;
+		EXPECT_NEAR(dev[k + 3], v[k], 1e-9) << "translation, axis " << k;
+	}
+}

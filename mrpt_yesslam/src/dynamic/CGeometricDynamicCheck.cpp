@@ -300,20 +300,19 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 			b += jac[i].transpose() * res[i];
 			use[i] = true;
 		}
-		// The estimate minimises reprojection and depth plus the motion model's prior (tracking's
-		// weak term): the leave-one-out step below assumes the whole cost's gradient vanishes at
-		// the estimate, which holds only with the prior's term in H and b. Without it the prior's
-		// pull was read as every group's misfit, and the others' pose was free to follow a mover
-		// where far walls leave a turn and a shift nearly free.
+		// The motion model's prior (tracking's weak term) belongs to the others' cost as it does to
+		// the pose solve's: without its term in H and b the leave-one-out step undid the prior's
+		// hold, and where far walls leave a turn and a shift nearly free the others' pose followed
+		// a near mover, which then seemed to fit.
 		Vec6 priorDev, priorInfo;
 		if (optimizer.priorTerm(e.cameraInWorld, priorDev, priorInfo))
 		{
 			H.diagonal() += priorInfo;
 			b += priorInfo.cwiseProduct(priorDev);
 		}
-		// Leave each group out (one Gauss-Newton step: the estimate is a minimum of all of them,
-		// so the step is (H - H_g)^-1 (b_g - b)), and see how its own members fit the pose that
-		// the others give. A static surface still fits it; a mover that pulled the estimate no
+		// Leave each group out (one Gauss-Newton step from the estimate to the minimum of the
+		// others' linearised cost, (H - H_g)^-1 (b_g - b)), and see how its own members fit the
+		// pose that the others give. A static surface still fits it; a mover that pulled the estimate no
 		// longer does, and its members miss together.
 		const auto groups = depthCoherentGroups(obs, use, K);
 		double worst = 0;
