@@ -998,3 +998,36 @@ TEST(Tools, SmallThingsANewUserNoticed)
 	for (const char* f : {"trajectory.txt", "keyframes.txt", "trajectory_online.txt"})
 		EXPECT_EQ(readText(d / ("run/" + std::string(f))).find("-0.000000000"), std::string::npos) << f;
 }
+
+// Issue 39 item 1: a person the detector misses, close to the camera, must not carry the pose. The
+// simulated crowd (yesslam-sim, real-sensor model, seed 1) with the shipped Yolo-Fastest, which
+// misses most simulated people: at frames 547-551 a walker 0.9 m away fills a third of the view
+// and the keyframe before made map points on it. Before, the mover check's candidate was the worst
+// of the groups that moved at least moverShift: the walker's body group fitted the others' pose
+// worst but moved a few millimetres, and a wall 3.8 m away, bent by it, was left out instead; the
+// frames were reported tracked 34-80 mm off. Now the worst group is the candidate, and when it
+// moved too little the others are tested again without it (the walker's legs then leave, and the
+// body after them): every frame of the passage stays within 25 mm of the truth after the run's
+// alignment (it was 34-80 mm; the run's median is 6 mm).
+TEST(Tools, AnUndetectedPersonCloseToTheCameraDoesNotCarryThePose)
+{
+	TempDir d("tool_undetected_close");
+	mrpt_yesslam::TSimOptions so;	 // yesslam-sim --preset crowd --real-sensor --seed 1 --frames 560
+	so.preset = "crowd";
+	so.realSensor = true;
+	so.seed = 1;
+	so.frames = 560;
+	const std::string seq = cachedSequence("tools_crowd_real_sensor_s1_560", so);
+	const auto run = runTool("yesslam", {"--input", seq, "--out", d / "run", "--detector", "yolo", "--quiet", "--sequential", "--no-dense-map", "--no-loop-closure"});
+	ASSERT_EQ(run.exitCode, 0) << run.err;
+	// The online poses (what tracking reported then), aligned to the truth over the whole run.
+	const auto ev = runTool("yesslam-eval", {"--gt", seq + "/groundtruth.txt", "--est", d / "run/trajectory_online.txt", "--errors", d / "errors.csv"});
+	ASSERT_EQ(ev.exitCode, 0) << ev.err;
+	std::istringstream csv(readText(d / "errors.csv"));
+	std::string line;
+	std::getline(csv, line);
+	std::vector<double> err;
+	while (std::getline(csv, line)) err.push_back(std::stod(line.substr(line.find(',') + 1)));
+	ASSERT_EQ(err.size(), 560u);
+	for (std::size_t k = 540; k < 560; k++) EXPECT_LT(err[k], 0.025) << "frame " << k << " (online pose)";
+}

@@ -23,7 +23,7 @@ COptionTable CGeometricDynamicCheck::TOptions::table()
 	t.flag("movers", movers, "box-free check for movers no detector reports: a depth-coherent group of matches that the pose from the others cannot explain leaves the solve");
 	t.real("moverCell", moverCell, 4, 10000, "image cell side of the mover check's groups, pixels");
 	t.real("moverChi2", moverChi2, 1, 1e6, "a group misses when n |mean whitened residual|^2 under the pose from the others exceeds this; the worst such group ...");
-	t.real("moverShift", moverShift, 0, 100, "... moves (leaves the solve) when its mean displacement under that pose is at least this, m (else no group leaves)");
+	t.real("moverShift", moverShift, 0, 100, "... moves (leaves the solve) when its mean displacement under that pose is at least this, m (else the others are tested again without it)");
 	return t;
 }
 
@@ -315,22 +315,32 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 		// pose that the others give. A static surface still fits it; a mover that pulled the estimate no
 		// longer does, and its members miss together.
 		const auto groups = depthCoherentGroups(obs, use, K);
-		double worst = 0;
-		std::size_t worstGroup = groups.size();
-		bool worstMoves = false;
+		std::vector<Mat6> Hgs(groups.size(), Mat6::Zero());
+		std::vector<Vec6> bgs(groups.size(), Vec6::Zero());
 		for (std::size_t gi = 0; gi < groups.size(); gi++)
+			for (std::size_t i : groups[gi])
+			{
+				Hgs[gi] += jac[i].transpose() * jac[i];
+				bgs[gi] += jac[i].transpose() * res[i];
+			}
+		// Group gi left out, and `also` with it (none: groups.size()): its statistic (n |mean
+		// whitened residual|^2) and its mean metric displacement under the others' pose; false
+		// where the group is too small, would take too many inliers, or the step is not finite.
+		const auto test = [&](std::size_t gi, std::size_t also, double& stat, double& size)
 		{
 			const auto& g = groups[gi];
-			if (g.size() < kMinGroup || 2 * (st.movingMatches + g.size()) > initialInliers) continue;
-			Mat6 Hg = Mat6::Zero();
-			Vec6 bg = Vec6::Zero();
-			for (std::size_t i : g)
+			// What judges the group must be the majority: with `also` out too, both count.
+			const std::size_t out = st.movingMatches + g.size() + (also < groups.size() ? groups[also].size() : 0);
+			if (g.size() < kMinGroup || 2 * out > initialInliers) return false;
+			Mat6 Ho = H - Hgs[gi];
+			Vec6 bo = bgs[gi] - b;
+			if (also < groups.size())
 			{
-				Hg += jac[i].transpose() * jac[i];
-				bg += jac[i].transpose() * res[i];
+				Ho -= Hgs[also];
+				bo += bgs[also];
 			}
-			const Vec6 step = (H - Hg).ldlt().solve(bg - b);
-			if (!step.allFinite()) continue;
+			const Vec6 step = Ho.ldlt().solve(bo);
+			if (!step.allFinite()) return false;
 			// Mean whitened residual (the statistic) and mean metric displacement (the size).
 			Eigen::Vector3d mean = Eigen::Vector3d::Zero(), shift = Eigen::Vector3d::Zero();
 			for (std::size_t i : g)
@@ -343,20 +353,48 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 			const double m = static_cast<double>(g.size());
 			mean /= m;
 			shift /= m;
-			const double stat = m * mean.squaredNorm();
-			// The candidate is the group the others explain worst, and it leaves only if it moved
-			// far enough to count. Taking the worst of those that moved far enough instead let a
-			// far wall go whose misfit was the pull of a near mover below the threshold (its
-			// metric size grows with depth): the pose then followed the mover (yesslam-sim crowd
-			// seed 1 with the shipped detector, frames 549-551: 48-80 mm off, person inliers left).
-			if (stat > opts_.moverChi2 && stat > worst)
+			stat = m * mean.squaredNorm();
+			size = shift.norm();
+			return true;
+		};
+		// The candidate is the group the others explain worst, and it leaves only if it moved far
+		// enough to count. Taking the worst of those that moved far enough instead let a far wall
+		// go whose misfit was the pull of a near mover below the threshold (its metric size grows
+		// with depth): the pose then followed the mover (yesslam-sim crowd seed 1 with the shipped
+		// detector, frames 549-551: 48-80 mm off, person inliers left in).
+		double worst = 0, worstSize = 0;
+		std::size_t worstGroup = groups.size();
+		for (std::size_t gi = 0; gi < groups.size(); gi++)
+		{
+			double stat = 0, size = 0;
+			if (test(gi, groups.size(), stat, size) && stat > opts_.moverChi2 && stat > worst)
 			{
 				worst = stat;
+				worstSize = size;
 				worstGroup = gi;
-				worstMoves = shift.norm() >= opts_.moverShift;
 			}
 		}
-		if (worstGroup == groups.size() || !worstMoves) break;
+		if (worstGroup == groups.size()) break;
+		if (worstSize < opts_.moverShift)
+		{
+			// The worst group moved too little to leave, but its pull is in every other group's
+			// test (and its statistic grows with its size: a large static surface with a shared
+			// depth error can be the worst). The others are tested again without it too, and the
+			// worst of them that moved far enough is the mover, if any.
+			const std::size_t held = worstGroup;
+			worst = 0;
+			worstGroup = groups.size();
+			for (std::size_t gi = 0; gi < groups.size(); gi++)
+			{
+				double stat = 0, size = 0;
+				if (gi != held && test(gi, held, stat, size) && stat > opts_.moverChi2 && size >= opts_.moverShift && stat > worst)
+				{
+					worst = stat;
+					worstGroup = gi;
+				}
+			}
+			if (worstGroup == groups.size()) break;
+		}
 		for (std::size_t i : groups[worstGroup]) removed[i] = true;
 		st.movingGroups++;
 		st.movingMatches += groups[worstGroup].size();

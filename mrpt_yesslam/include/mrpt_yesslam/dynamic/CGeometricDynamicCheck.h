@@ -27,7 +27,8 @@
 //   the estimate). A static surface still fits the pose the others give; a mover's members then
 //   miss together, far beyond what independent noise allows (n |mean whitened residual|^2 over a
 //   chi-square bound). The group that misses worst leaves when its mean displacement is at least
-//   moverShift (else nothing does: the others' misfit may be its pull), and the pose is
+//   moverShift; else the others are tested again without it (their misfit may be its pull) and
+//   the worst of them that still misses and moved that far leaves, if any. Then the pose is
 //   re-estimated, up to three times, never more than half of the inliers. The step is taken on the
 //   whole cost the pose solve minimises, the motion model's prior included. This is a
 //   group-deletion diagnostic (Cook's distance) on StaticFusion's and Co-Fusion's idea that a
