@@ -181,6 +181,33 @@ void observeWindow(
 		obs.push_back(o);
 	}
 }
+
+// One set of certain observations solved without the mover check (plain) and with it (checked).
+struct TPlainAndChecked
+{
+	TPoseEstimate plain, checked;
+	CGeometricDynamicCheck::TStats stats;  //!< of the checked solve
+};
+TPlainAndChecked solvePlainAndChecked(
+	const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const mrpt::poses::CPose3D& guess,
+	const CGeometricDynamicCheck::TOptions& opts = CGeometricDynamicCheck::TOptions())
+{
+	const std::vector<bool> certain(obs.size(), false);
+	CGeometricDynamicCheck::TOptions noMovers = opts;
+	noMovers.movers = false;
+	TPlainAndChecked r;
+	r.plain = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, certain, fr3Camera(), guess);
+	r.checked = CGeometricDynamicCheck(opts).refine(optimizer, obs, certain, fr3Camera(), guess, &r.stats);
+	return r;
+}
+
+// How many of the observations [begin, end) an estimate left out as moving.
+std::size_t countMoving(const TPoseEstimate& e, std::size_t begin, std::size_t end)
+{
+	std::size_t n = 0;
+	for (std::size_t i = begin; i < end; i++) n += e.isMoving(i);
+	return n;
+}
 }  // namespace
 
 TEST(GeometricCheck, AnUndetectedMoverCloseToTheCameraIsLeftOut)
@@ -195,21 +222,19 @@ TEST(GeometricCheck, AnUndetectedMoverCloseToTheCameraIsLeftOut)
 	observeWindow(obs, truth, 140, 0, 640, 0, 480, 2.5, 4.0, Eigen::Vector3d::Zero(), rng);
 	const std::size_t firstMover = obs.size();
 	observeWindow(obs, truth, 70, 380, 560, 80, 420, 1.2, 1.5, Eigen::Vector3d(0.012, 0.0, 0.016), rng);
-	const std::vector<bool> certain(obs.size(), false);
 	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
 	const auto K = fr3Camera();
 
-	CGeometricDynamicCheck::TOptions noMovers;
-	noMovers.movers = false;
-	const TPoseEstimate dragged = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, certain, K, truth);
+	const TPlainAndChecked r = solvePlainAndChecked(optimizer, obs, truth);
+	const TPoseEstimate& dragged = r.plain;
 	ASSERT_TRUE(dragged.ok);
 	std::size_t moverInliers = 0;
 	for (std::size_t i = firstMover; i < obs.size(); i++) moverInliers += dragged.inlier[i];
 	EXPECT_GT(moverInliers, (obs.size() - firstMover) / 2) << "the mover's matches should pass one by one";
 	EXPECT_GT(translationError(dragged.cameraInWorld, truth), 0.006) << "the mover should drag the plain solve";
 
-	CGeometricDynamicCheck::TStats st;
-	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, certain, K, truth, &st);
+	const TPoseEstimate& e = r.checked;
+	const CGeometricDynamicCheck::TStats& st = r.stats;
 	ASSERT_TRUE(e.ok);
 	// As good as a solve that knew which matches are static.
 	const std::vector<TPoseObservation> staticOnly(obs.begin(), obs.begin() + static_cast<std::ptrdiff_t>(firstMover));
@@ -287,9 +312,10 @@ TEST(GeometricCheck, AFarWallIsNotTakenForTheMoverWhileANearerGroupFitsWorse)
 	// both tests and was left out instead, and the pose followed the person, 34-80 mm off. The
 	// group the others explain worst is the candidate; when its move is too small to count, the
 	// others are tested again without it, but a group is judged only by a majority of the inliers,
-	// so the wall (130 of 290, the near group 60 more) stays. Here: walls 3.6-4 m away, one whose map points share a 2 cm error along the
-	// view, and a near group whose map points are 3.6 mm off; left out in turn, the near group
-	// misses by 13 mm, the wall by 20 mm, and moverShift lies between the two.
+	// so the wall (130 of 290, the near group 60 more) stays. Here: walls 3.6-4 m away, one whose
+	// map points share a 2 cm error along the view, and a near group whose map points are 3.6 mm
+	// off; left out in turn, the near group misses by 13 mm, the wall by 20 mm, and moverShift
+	// lies between the two.
 	std::mt19937 rng(11);
 	const mrpt::poses::CPose3D truth(0.1, -0.05, 0.03, 0.02, 0.01, -0.01);
 	std::vector<TPoseObservation> obs;
@@ -299,36 +325,25 @@ TEST(GeometricCheck, AFarWallIsNotTakenForTheMoverWhileANearerGroupFitsWorse)
 	observeWindow(obs, truth, 40, 0, 640, 330, 480, 2.5, 3.2, Eigen::Vector3d::Zero(), rng);
 	const std::size_t firstNear = obs.size();
 	observeWindow(obs, truth, 60, 300, 420, 40, 300, 0.9, 1.0, Eigen::Vector3d(0.003, 0.0, 0.002), rng);
-	const std::vector<bool> certain(obs.size(), false);
 	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
-	const auto K = fr3Camera();
 
 	CGeometricDynamicCheck::TOptions opts;
 	opts.moverShift = 0.016;  // the near group's displacement (13 mm) under it, the wall's (20 mm) over
-	CGeometricDynamicCheck::TOptions noMovers = opts;
-	noMovers.movers = false;
-	const TPoseEstimate plain = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, certain, K, truth);
-	ASSERT_TRUE(plain.ok);
-	CGeometricDynamicCheck::TStats st;
-	const TPoseEstimate e = CGeometricDynamicCheck(opts).refine(optimizer, obs, certain, K, truth, &st);
-	ASSERT_TRUE(e.ok);
-	std::size_t wallFlagged = 0;
-	for (std::size_t i = 0; i < wallEnd; i++) wallFlagged += e.isMoving(i);
-	EXPECT_EQ(wallFlagged, 0u) << "the far wall was taken for the mover";
-	EXPECT_EQ(st.movingGroups, 0u);
+	const TPlainAndChecked r = solvePlainAndChecked(optimizer, obs, truth, opts);
+	ASSERT_TRUE(r.plain.ok);
+	ASSERT_TRUE(r.checked.ok);
+	EXPECT_EQ(countMoving(r.checked, 0, wallEnd), 0u) << "the far wall was taken for the mover";
+	EXPECT_EQ(r.stats.movingGroups, 0u);
 
 	// The control: the near group is the worst, so where its displacement counts it is the one
 	// that leaves, and the wall stays.
 	CGeometricDynamicCheck::TOptions counts = opts;
 	counts.moverShift = 0.010;
-	CGeometricDynamicCheck::TStats st2;
-	const TPoseEstimate e2 = CGeometricDynamicCheck(counts).refine(optimizer, obs, certain, K, truth, &st2);
-	ASSERT_TRUE(e2.ok);
-	EXPECT_GE(st2.movingGroups, 1u);
-	std::size_t nearFlagged = 0, otherFlagged = 0;
-	for (std::size_t i = 0; i < obs.size(); i++) (i >= firstNear ? nearFlagged : otherFlagged) += e2.isMoving(i);
-	EXPECT_GE(nearFlagged, 50u);
-	EXPECT_EQ(otherFlagged, 0u);
+	const TPlainAndChecked r2 = solvePlainAndChecked(optimizer, obs, truth, counts);
+	ASSERT_TRUE(r2.checked.ok);
+	EXPECT_GE(r2.stats.movingGroups, 1u);
+	EXPECT_GE(countMoving(r2.checked, firstNear, obs.size()), 50u);
+	EXPECT_EQ(countMoving(r2.checked, 0, firstNear), 0u);
 }
 
 TEST(GeometricCheck, TheMoverCheckWeighsTheMotionPriorAsThePoseSolveDoes)
@@ -343,21 +358,13 @@ TEST(GeometricCheck, TheMoverCheckWeighsTheMotionPriorAsThePoseSolveDoes)
 	observeWindow(obs, truth, 30, 290, 350, 210, 270, 4.0, 4.5, Eigen::Vector3d::Zero(), rng);
 	const std::size_t firstMover = obs.size();
 	observeWindow(obs, truth, 24, 250, 400, 200, 400, 1.0, 1.2, Eigen::Vector3d(0.02, 0.0, 0.0), rng);
-	const std::vector<bool> certain(obs.size(), false);
 	CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
 	optimizer.setPrior(CPoseOptimizer::TPosePrior{truth, 0.005, 1.0 * M_PI / 180.0});
-	const auto K = fr3Camera();
 
-	CGeometricDynamicCheck::TOptions noMovers;
-	noMovers.movers = false;
-	const TPoseEstimate dragged = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, certain, K, truth);
-	ASSERT_TRUE(dragged.ok);
-	CGeometricDynamicCheck::TStats st;
-	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, certain, K, truth, &st);
-	ASSERT_TRUE(e.ok);
-	std::size_t moverFlagged = 0, staticFlagged = 0;
-	for (std::size_t i = 0; i < obs.size(); i++) (i >= firstMover ? moverFlagged : staticFlagged) += e.isMoving(i);
-	EXPECT_GE(moverFlagged, (obs.size() - firstMover) * 8 / 10);
-	EXPECT_EQ(staticFlagged, 0u);
-	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.5 * translationError(dragged.cameraInWorld, truth));
+	const TPlainAndChecked r = solvePlainAndChecked(optimizer, obs, truth);
+	ASSERT_TRUE(r.plain.ok);
+	ASSERT_TRUE(r.checked.ok);
+	EXPECT_GE(countMoving(r.checked, firstMover, obs.size()), (obs.size() - firstMover) * 8 / 10);
+	EXPECT_EQ(countMoving(r.checked, 0, firstMover), 0u);
+	EXPECT_LT(translationError(r.checked.cameraInWorld, truth), 0.5 * translationError(r.plain.cameraInWorld, truth));
 }

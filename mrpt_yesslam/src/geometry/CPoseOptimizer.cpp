@@ -136,10 +136,13 @@ std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt
 	}
 	return c;
 }
-}  // namespace
 
-namespace
+// A prior that weighs anything (both sigmas positive), or none.
+const CPoseOptimizer::TPosePrior* usablePrior(const std::optional<CPoseOptimizer::TPosePrior>& p)
 {
+	return p && p->sigmaT > 0 && p->sigmaR > 0 ? &*p : nullptr;
+}
+
 // The prior as world-to-camera (rotation Rp, translation tp) and its information per axis.
 void priorFrame(const CPoseOptimizer::TPosePrior& p, Eigen::Matrix3d& Rp, Eigen::Vector3d& tp, Eigen::Matrix<double, 6, 1>& info)
 {
@@ -164,10 +167,11 @@ Eigen::Matrix<double, 6, 1> priorDeviationAt(const Eigen::Matrix3d& Rp, const Ei
 bool CPoseOptimizer::priorTerm(
 	const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation, Eigen::Matrix<double, 6, 1>& information) const
 {
-	if (!prior_ || !(prior_->sigmaT > 0) || !(prior_->sigmaR > 0)) return false;
+	const TPosePrior* p = usablePrior(prior_);
+	if (!p) return false;
 	Eigen::Matrix3d Rp;
 	Eigen::Vector3d tp;
-	priorFrame(*prior_, Rp, tp, information);
+	priorFrame(*p, Rp, tp, information);
 	const mrpt::poses::CPose3D Tcw = -cameraInWorld;
 	deviation = priorDeviationAt(Rp, tp, Tcw.getRotationMatrix().asEigen(), Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z()));
 	return true;
@@ -194,7 +198,7 @@ void CPoseOptimizer::solveRound(
 	Eigen::Matrix3d Rp = Eigen::Matrix3d::Identity();
 	Eigen::Vector3d tp = Eigen::Vector3d::Zero();
 	Vec6 priorInfo = Vec6::Zero();
-	if (prior_ && prior_->sigmaT > 0 && prior_->sigmaR > 0) priorFrame(*prior_, Rp, tp, priorInfo);
+	if (const TPosePrior* p = usablePrior(prior_)) priorFrame(*p, Rp, tp, priorInfo);
 	const bool hasPrior = priorInfo.squaredNorm() > 0;
 	const auto priorDeviation = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc) { return priorDeviationAt(Rp, tp, Rc, tc); };
 	const auto cost = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
