@@ -368,3 +368,42 @@ TEST(GeometricCheck, TheMoverCheckWeighsTheMotionPriorAsThePoseSolveDoes)
 	EXPECT_EQ(countMoving(r.checked, 0, firstMover), 0u);
 	EXPECT_LT(translationError(r.checked.cameraInWorld, truth), 0.5 * translationError(r.plain.cameraInWorld, truth));
 }
+
+TEST(GeometricCheck, AMoverFoundByAFailedCertainSolveStillLeavesThePlainOne)
+{
+	// A frame with a detected person's box (uncertain matches: background seen beside the person)
+	// and an undetected mover among the certain matches. The certain matches are solved first;
+	// their mover check leaves the mover out, too few certain inliers are left, and the frame is
+	// solved again from all matches. That second solve must judge its own movers afresh: when the
+	// first attempt's movers were still counted, the guard that keeps the majority in (at most half
+	// of the inliers leave) counted this mover twice and kept it, and the pose followed it.
+	std::mt19937 rng(13);
+	const mrpt::poses::CPose3D truth(0.15, 0.05, -0.02, 0.04, -0.02, 0.01);
+	std::vector<TPoseObservation> obs;
+	observeWindow(obs, truth, 26, 0, 640, 0, 480, 2.5, 4.0, Eigen::Vector3d::Zero(), rng);
+	const std::size_t firstMover = obs.size();
+	observeWindow(obs, truth, 18, 420, 540, 120, 280, 1.1, 1.3, Eigen::Vector3d(0.015, 0.0, 0.02), rng);
+	const std::size_t firstUncertain = obs.size();
+	observeWindow(obs, truth, 8, 60, 200, 100, 400, 2.8, 3.5, Eigen::Vector3d::Zero(), rng);
+	std::vector<bool> uncertain(obs.size(), false);
+	for (std::size_t i = firstUncertain; i < obs.size(); i++) uncertain[i] = true;
+	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
+	const CGeometricDynamicCheck::TOptions opts;
+	// The premise: enough certain matches to be solved first, too few once the mover leaves.
+	ASSERT_GE(firstUncertain, opts.minCertainInliers);
+	ASSERT_LT(firstMover, opts.minCertainInliers);
+
+	CGeometricDynamicCheck::TOptions noMovers = opts;
+	noMovers.movers = false;
+	const TPoseEstimate dragged = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, uncertain, fr3Camera(), truth);
+	ASSERT_TRUE(dragged.ok);
+	CGeometricDynamicCheck::TStats st;
+	const TPoseEstimate e = CGeometricDynamicCheck(opts).refine(optimizer, obs, uncertain, fr3Camera(), truth, &st);
+	ASSERT_TRUE(e.ok);
+	EXPECT_FALSE(st.applied) << "the certain-first solve should have failed (too few certain inliers without the mover)";
+	const std::size_t moverFlagged = countMoving(e, firstMover, firstUncertain);
+	EXPECT_GE(moverFlagged, (firstUncertain - firstMover) * 8 / 10) << "the plain solve kept the mover";
+	EXPECT_EQ(countMoving(e, 0, firstMover), 0u);
+	EXPECT_EQ(st.movingMatches, countMoving(e, 0, obs.size())) << "the stats count the failed attempt's movers too";
+	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.5 * translationError(dragged.cameraInWorld, truth));
+}

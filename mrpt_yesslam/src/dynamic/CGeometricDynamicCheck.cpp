@@ -108,6 +108,13 @@ TPoseEstimate CGeometricDynamicCheck::refine(
 	st.uncertain = uncertainIdx.size();
 	const auto plain = [&]
 	{
+		// A certain-first attempt that failed leaves nothing behind: the movers it found were
+		// judged among its own matches, and counting them again here tightened the guard that
+		// lets a mover leave (and counted it twice in the stats).
+		TStats fresh;
+		fresh.certain = st.certain;
+		fresh.uncertain = st.uncertain;
+		st = fresh;
 		const TPoseEstimate e = rejectMovingClusters(optimizer, obs, K, optimizer.refine(obs, K, guess), st);
 		if (stats) *stats = st;
 		return e;
@@ -278,6 +285,7 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 	constexpr std::size_t kMinGroup = 5;
 	// At most half of the inliers leave: what stays must be the majority.
 	const std::size_t initialInliers = e.numInliers;
+	std::size_t leftOut = 0;  // matches of this solve's movers (st may count a caller's too)
 	std::vector<bool> removed(n, false);
 	using Mat36 = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
 	using Vec6 = Eigen::Matrix<double, 6, 1>;
@@ -330,7 +338,7 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 		{
 			const auto& g = groups[gi];
 			// What judges the group must be the majority: with `also` out too, both count.
-			const std::size_t out = st.movingMatches + g.size() + (also < groups.size() ? groups[also].size() : 0);
+			const std::size_t out = leftOut + g.size() + (also < groups.size() ? groups[also].size() : 0);
 			if (g.size() < kMinGroup || 2 * out > initialInliers) return false;
 			Mat6 Ho = H - Hgs[gi];
 			Vec6 bo = bgs[gi] - b;
@@ -398,6 +406,7 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 		for (std::size_t i : groups[worstGroup]) removed[i] = true;
 		st.movingGroups++;
 		st.movingMatches += groups[worstGroup].size();
+		leftOut += groups[worstGroup].size();
 		std::vector<bool> start(n);
 		for (std::size_t i = 0; i < n; i++) start[i] = e.inlier[i] && !removed[i];
 		TPoseEstimate again = optimizer.refine(obs, K, e.cameraInWorld, &start);
