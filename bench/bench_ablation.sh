@@ -41,7 +41,7 @@ DEPARTURES=(
   "depth error growing with z^2.5 (z^2 instead)|[Camera]\ndepthNoiseExponent = 2"
   "fill against the neighbour, depth range cap|[DynamicMask]\nfillCompare = seed\nmaxDepthRange = 0"
   "masks held for missed detections|[DynamicMask]\nholdFrames = 0"
-  "geometric check (box and movers)|[GeometricCheck]\nenabled = false\nmovers = false"
+  "geometric check (mover check and its uncertain regions)|[GeometricCheck]\nenabled = false\nmovers = false"
   "mover check only|[GeometricCheck]\nmovers = false"
   "see-through culling|[Tracking]\nseeThroughFrames = 0"
   "weak solutions checked against the motion model|[Tracking]\nweakInliers = 0"

@@ -27,9 +27,14 @@ TEST(GeometricCheck, UncertainKeypointsAreUnmaskedOnesInADynamicBox)
 	person.box = {100, 100, 100, 200};	// grown by 10 %: x in [90, 210]
 	chair.dynamic = false;
 	chair.box = {400, 250, 100, 100};
-	CGeometricDynamicCheck check{CGeometricDynamicCheck::TOptions()};
+	CGeometricDynamicCheck::TOptions boxes;
+	boxes.boxes = "true";
+	CGeometricDynamicCheck check{boxes};
 	check.classify(f, {person, chair}, {640, 480});
 	EXPECT_EQ(f.uncertain, (std::vector<bool>{false, true, true, false, false}));
+	// "auto" (the default, which CYesSlamSystem resolves) is off for a check used directly.
+	CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).classify(f, {person, chair}, {640, 480});
+	EXPECT_EQ(f.uncertain, (std::vector<bool>(5, false)));
 	CGeometricDynamicCheck::TOptions off;
 	off.enabled = false;
 	CGeometricDynamicCheck(off).classify(f, {person, chair}, {640, 480});

@@ -16,7 +16,8 @@ bool depthGap(double a, double b) { return std::abs(a - b) > std::max(0.15, 0.1 
 COptionTable CGeometricDynamicCheck::TOptions::table()
 {
 	COptionTable t("GeometricCheck");
-	t.flag("enabled", enabled, "keypoints in a dynamic box but outside its mask join the pose only if they agree with the pose from the others");
+	t.flag("enabled", enabled, "the geometric check beside the mask: uncertain keypoints (where a mover was found; with boxes, inside a dynamic box) join the pose only if they agree with the pose from the others, and the mover check (false: every unmasked keypoint is trusted, as the paper)");
+	t.text("boxes", boxes, "keypoints inside a dynamic detection box (grown by boxMargin) but outside its mask are uncertain: they join a pose only where the certain ones' pose agrees, and never start a map point (false: the mask and the mover check judge them); auto: true for localisation in a loaded map (--localize-only: the map cannot cull what people left in it), false when mapping", {"auto", "true", "false"});
 	t.real("boxMargin", boxMargin, 0, 1, "a dynamic box grows by this share of its size on every side");
 	t.count("minCertainInliers", minCertainInliers, 4, 100000, "fewer inliers outside every dynamic box: the check stands aside for the frame");
 	t.count("minBlindedCertain", minBlindedCertain, 0, 100000, "a frame with too few certain matches and more uncertain ones gets a pose from at least this many certain ones when the uncertain ones agreeing with it bring minCertainInliers inliers; else it is lost (0: always lost)");
@@ -30,7 +31,7 @@ COptionTable CGeometricDynamicCheck::TOptions::table()
 void CGeometricDynamicCheck::classify(TFeatures& f, const std::vector<TDetection>& detections, const cv::Size& image) const
 {
 	f.uncertain.assign(f.keypoints.size(), false);
-	if (!opts_.enabled) return;
+	if (!opts_.enabled || !opts_.boxesOn()) return;
 	std::vector<cv::Rect2f> boxes;
 	for (const auto& d : detections)
 		if (d.dynamic)

@@ -100,6 +100,9 @@ std::string TYesSlamOptions::dump() const
 TYesSlamOptions TYesSlamOptions::effective() const
 {
 	TYesSlamOptions o = *this;
+	// The box part of the geometric check where it helps: a read-only map cannot cull what people
+	// left in it, while mapping it took away the background between people (CGeometricDynamicCheck.h).
+	if (o.geometric.boxes == "auto") o.geometric.boxes = o.system.localizeOnly ? "true" : "false";
 	if (o.system.dynamicFilter) return o;
 	// One switch for the baseline: the checks added beside the mask (issue 14) are dynamic handling
 	// too, and left on they made "--no-dynamic-filter" 7.9 mm where ORB-SLAM2 is 0.5 m off.
