@@ -42,7 +42,6 @@ DEPARTURES=(
   "fill against the neighbour, depth range cap|[DynamicMask]\nfillCompare = seed\nmaxDepthRange = 0"
   "masks held for missed detections|[DynamicMask]\nholdFrames = 0"
   "geometric check (mover check and its uncertain regions)|[GeometricCheck]\nenabled = false\nmovers = false"
-  "mover check only|[GeometricCheck]\nmovers = false"
   "see-through culling|[Tracking]\nseeThroughFrames = 0"
   "weak solutions checked against the motion model|[Tracking]\nweakInliers = 0"
   "lost frames interpolated|[Tracking]\nlostInterpolate = false"
