@@ -1,7 +1,47 @@
 #include "mrpt_yesslam/system/CFrameRecords.h"
 
+#include <mrpt/poses/Lie/SE.h>
+
+#include <algorithm>
+
 namespace mrpt_yesslam
 {
+namespace
+{
+// Each tracked pose's correction (final = correction + online) replaced by the mean of the
+// corrections of the tracked poses within `window` of it (one generation), in the tangent space
+// at its own.
+void smoothCorrections(
+	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<mrpt::poses::CPose3D>& online,
+	const std::vector<std::uint64_t>& generation, int window)
+{
+	const std::size_t n = out.size();
+	std::vector<mrpt::poses::CPose3D> corr(n);
+	for (std::size_t k = 0; k < n; k++)
+		if (tracked[k]) corr[k] = out[k].asPose() + (-online[k]);
+	std::vector<mrpt::poses::CPose3D> smoothed(n);
+	const auto w = static_cast<std::size_t>(std::max(0, window));
+	for (std::size_t k = 0; k < n; k++)
+	{
+		if (!tracked[k]) continue;
+		mrpt::math::CVectorFixedDouble<6> mean;
+		mean.setZero();
+		double m = 0;
+		for (std::size_t j = k >= w ? k - w : 0; j < n && j <= k + w; j++)
+		{
+			if (!tracked[j] || generation[j] != generation[k]) continue;
+			const auto d = mrpt::poses::Lie::SE<3>::log(corr[j] - corr[k]);
+			for (int i = 0; i < 6; i++) mean[i] += d[i];
+			m += 1;
+		}
+		for (int i = 0; i < 6; i++) mean[i] /= m;
+		smoothed[k] = corr[k] + mrpt::poses::Lie::SE<3>::exp(mean) + online[k];
+	}
+	for (std::size_t k = 0; k < n; k++)
+		if (tracked[k]) out[k] = TStampedPose::fromPose(out[k].t, smoothed[k]);
+}
+}  // namespace
+
 void CFrameRecords::add(const TRecord& record, const TFrameLogRow& row)
 {
 	std::lock_guard<std::mutex> lk(mtx_);
@@ -52,6 +92,8 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	const std::map<TKeyFrameId, mrpt::poses::CPose3D> keyFramePoses = poses();
 	TTrajectory out;
 	std::vector<bool> tracked;
+	std::vector<mrpt::poses::CPose3D> online;
+	std::vector<std::uint64_t> generation;
 	out.reserve(records.size());
 	for (const auto& r : records)
 	{
@@ -60,7 +102,17 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 		const auto it = r.anchor.refKf ? keyFramePoses.find(*r.anchor.refKf) : keyFramePoses.end();
 		out.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
 		tracked.push_back(r.tracked);
+		online.push_back(r.online);
+		generation.push_back(r.generation);
 	}
+	// A frame hangs from the keyframe it was tracked against, and consecutive frames often from
+	// different ones, which mapping moved differently since (above all in parallel mode, where a
+	// keyframe's local BA lands frames after it): the steps between such frames carry the
+	// difference, not the camera's motion. What mapping moved a frame by changes slowly along the
+	// path, so it is averaged over a few frames and applied to the pose tracking measured
+	// (trajectory_online.txt), whose steps are the camera's. Never across a loop correction or a
+	// global BA (a new generation: those frames were tracked in another map).
+	if (correctionWindow_ > 0) smoothCorrections(out, tracked, online, generation, correctionWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
 	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
 	// written while lost, which drifts away wherever the camera did not keep its last velocity.

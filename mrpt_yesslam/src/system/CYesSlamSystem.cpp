@@ -123,7 +123,7 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric, opts_.camera),
 	  inserter_(opts_.keyFrames),
 	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth, opts_.camera),
-	  records_(opts_.tracking.lostInterpolate),
+	  records_(opts_.tracking.lostInterpolate, opts_.tracking.correctionWindow),
 	  recent_(opts_.system.frameBuffer)
 {
 	tracker_.setMapReadOnly(opts_.system.localizeOnly);
@@ -435,6 +435,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe);
 	// a frame tracking did not see (before the map exists) keeps its absolute pose.
 	rec.anchor = tracker_.anchorOf(f->id).value_or(TAnchor{std::nullopt, f->pose});
+	rec.generation = map_.generation();	 // no correction lands while this frame holds the map-update lock
 
 	const auto t0 = SteadyClock::now();
 	std::shared_ptr<const TFrame> frame = f;

@@ -35,6 +35,7 @@ COptionTable CTracker::TOptions::table()
 	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
 	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
 	t.flag("lostInterpolate", lostInterpolate, "trajectory: lost frames between two tracked ones are placed between them by time once tracking resumes (false: the coasted pose written while lost)");
+	t.integer("correctionWindow", correctionWindow, 0, 1000, "trajectory: what mapping moved each tracked frame by since it was tracked (its keyframe's correction) is averaged over this many tracked frames either side and applied to the pose tracking measured (0: each frame follows its own keyframe alone, as ORB-SLAM2)");
 	t.count("lostVelocityFrames", lostVelocityFrames, 1, 1000, "lost frames continue the mean velocity of this many last tracked frames (1: the last one alone)");
 	t.integer("seeThroughFrames", seeThroughFrames, 0, 1000, "a map point with farther surfaces measured around it in this many consecutive frames has moved away: erased (0 = never)");
 	t.flag("depthMoment", depthMoment, "where the depth image was taken at another moment than the colour image (TUM folders: depth.txt's stamps), keypoint depth is moved to the colour image's moment with the motion model");

@@ -3,6 +3,7 @@
 // hangs in the map (so the trajectory follows every later correction, as ORB-SLAM2 saves
 // trajectories relative to reference keyframes), the pose it had online, and its frames.csv row.
 // Thread-safe: the trajectory may be read while frames are processed.
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -27,10 +28,17 @@ class CFrameRecords
 		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
 		bool tracked = false;
 		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)
+		/** The map's correction generation tracking saw (CSparseMap::generation): corrections are
+		 * smoothed only among frames of one generation. */
+		std::uint64_t generation = 0;
 	};
 
-	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking] lostInterpolate). */
-	explicit CFrameRecords(bool lostInterpolate) : lostInterpolate_(lostInterpolate) {}
+	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking]
+	 * lostInterpolate); `correctionWindow`: see trajectory() ([Tracking] correctionWindow). */
+	explicit CFrameRecords(bool lostInterpolate, int correctionWindow = 0)
+		: lostInterpolate_(lostInterpolate), correctionWindow_(correctionWindow)
+	{
+	}
 
 	/** Appends one frame. */
 	void add(const TRecord& record, const TFrameLogRow& row);
@@ -39,7 +47,10 @@ class CFrameRecords
 	void markKeyFrame(std::size_t frame, const std::optional<TAnchor>& anchor);
 	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` gives (see
 	 * CYesSlamSystem::trajectory): read after the records, so that every keyframe a record hangs
-	 * from is in them even while frames are being added. */
+	 * from is in them even while frames are being added. With a correctionWindow of W, each tracked
+	 * frame's correction (its anchored pose against its online one: what mapping moved its
+	 * keyframe by since) is the mean of those of the W tracked frames either side of it from the
+	 * same correction generation, applied to its online pose. */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
@@ -51,6 +62,7 @@ class CFrameRecords
 	std::vector<EPoseSource> poseSources() const;
 
 	bool lostInterpolate_;
+	int correctionWindow_;
 	mutable std::mutex mtx_;
 	std::vector<TRecord> records_;	//!< guarded by mtx_
 	std::vector<TFrameLogRow> rows_;  //!< guarded by mtx_

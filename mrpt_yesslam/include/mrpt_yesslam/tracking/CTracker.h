@@ -89,6 +89,9 @@ class CTracker
 		/** In the trajectory written, lost frames between two tracked ones are placed between them
 		 * (by time) once tracking resumes; the last lost frames of a run keep the coasted pose. */
 		bool lostInterpolate = true;
+		/** In the trajectory written, the correction mapping applied to each tracked frame since it
+		 * was tracked is averaged over this many tracked frames either side (CFrameRecords). */
+		int correctionWindow = 3;
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
 		 * frames has moved away and is erased (0 = never). */
 		int seeThroughFrames = 3;

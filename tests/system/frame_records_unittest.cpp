@@ -1,0 +1,84 @@
+// CFrameRecords: the trajectory written after the run. Each frame hangs from the keyframe it was
+// tracked against, and mapping moves keyframes differently; with [Tracking] correctionWindow the
+// correction is averaged over neighbouring frames of one correction generation and applied to the
+// pose tracking measured.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mrpt_yesslam/system/CFrameRecords.h"
+
+using namespace mrpt_yesslam;
+
+namespace
+{
+// 40 frames moving 3 mm a frame along x, tracked exactly (online = truth). Frames 0-19 were
+// tracked before a loop correction (generation 1), frames 20-39 after it (generation 2). Every
+// 10 frames two keyframes; frames hang from them alternately (the reference keyframe switching).
+// Mapping then moved the keyframes: those of generation 1 by the loop's 10 cm in y, and every
+// keyframe by another +-2 mm in y, alternately (what two local BAs left between neighbours).
+struct TScene
+{
+	CFrameRecords records;
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> finalKeyFrames;
+	std::vector<mrpt::poses::CPose3D> truth;
+	explicit TScene(int window) : records(false, window)
+	{
+		for (int k = 0; k < 40; k++) truth.emplace_back(0.003 * k, 0, 0, 0, 0, 0);
+		for (int s = 0; s < 4; s++)
+			for (int ab = 0; ab < 2; ab++)
+			{
+				const auto id = static_cast<TKeyFrameId>(2 * s + ab);
+				const mrpt::poses::CPose3D correction(0, (s < 2 ? 0.1 : 0.0) + (ab == 0 ? 0.002 : -0.002), 0, 0, 0, 0);
+				finalKeyFrames[id] = correction + truth[static_cast<std::size_t>(10 * s + 5 * ab)];
+			}
+		for (int k = 0; k < 40; k++)
+		{
+			CFrameRecords::TRecord r;
+			r.t = 0.033 * k;
+			r.tracked = r.hasPose = true;
+			r.online = truth[static_cast<std::size_t>(k)];
+			const int s = k / 10, ab = k % 2;
+			const auto id = static_cast<TKeyFrameId>(2 * s + ab);
+			// Anchored as tracking saw the keyframe then: at its uncorrected pose.
+			r.anchor = TAnchor{id, r.online - truth[static_cast<std::size_t>(10 * s + 5 * ab)]};
+			r.generation = k < 20 ? 1 : 2;
+			records.add(r, TFrameLogRow());
+		}
+	}
+	TTrajectory trajectory() const { return records.trajectory([this] { return finalKeyFrames; }); }
+};
+
+double stepError(const TTrajectory& t, std::size_t k)
+{
+	const auto est = t[k + 1].asPose() - t[k].asPose();
+	return std::hypot(est.x() - 0.003, est.y(), est.z());
+}
+}  // namespace
+
+TEST(FrameRecords, ConsecutiveFramesOnDifferentKeyFramesStepAsTheCameraDid)
+{
+	const TTrajectory plain = TScene(0).trajectory(), smooth = TScene(3).trajectory();
+	ASSERT_EQ(plain.size(), 40u);
+	ASSERT_EQ(smooth.size(), 40u);
+	double worstPlain = 0, worstSmooth = 0;
+	for (std::size_t k = 0; k + 1 < 40; k++)
+	{
+		if (k == 19) continue;	// the loop correction's step, below
+		worstPlain = std::max(worstPlain, stepError(plain, k));
+		worstSmooth = std::max(worstSmooth, stepError(smooth, k));
+	}
+	EXPECT_GT(worstPlain, 0.0039) << "each frame following its own keyframe steps by their corrections' difference";
+	EXPECT_LT(worstSmooth, 0.0012);
+	// The trajectory still follows what mapping moved the frames by, on average.
+	for (std::size_t k = 3; k < 37; k++) EXPECT_NEAR(smooth[k].ty, k < 20 ? 0.1 : 0.0, 0.001) << k;
+}
+
+TEST(FrameRecords, CorrectionsAreNotAveragedAcrossALoopCorrection)
+{
+	// Frames 19 and 20 were tracked in two different maps (before and after the loop's 10 cm): each
+	// keeps its own generation's correction.
+	const TTrajectory t = TScene(3).trajectory();
+	ASSERT_EQ(t.size(), 40u);
+	for (std::size_t k = 16; k < 24; k++) EXPECT_NEAR(t[k].ty, k < 20 ? 0.1 : 0.0, 0.0015) << k;
+}
