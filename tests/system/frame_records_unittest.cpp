@@ -12,11 +12,12 @@ using namespace mrpt_yesslam;
 
 namespace
 {
-// 40 frames moving 3 mm a frame along x, tracked exactly (online = truth). Frames 0-19 were
+// 40 frames moving 3 mm a frame along x and turning 0.01 rad a frame, tracked exactly (online = truth). Frames 0-19 were
 // tracked before a loop correction (generation 1), frames 20-39 after it (generation 2). Every
 // 10 frames two keyframes; frames hang from them alternately (the reference keyframe switching).
 // Mapping then moved the keyframes: those of generation 1 by the loop's 10 cm in y, and every
-// keyframe by another +-2 mm in y, alternately (what two local BAs left between neighbours).
+// keyframe by another +-2 mm in y and +-0.5 mrad in yaw, alternately (what two local BAs left
+// between neighbours). Corrections act in the world frame: final = correction + tracked.
 struct TScene
 {
 	CFrameRecords records;
@@ -24,12 +25,12 @@ struct TScene
 	std::vector<mrpt::poses::CPose3D> truth;
 	explicit TScene(int window) : records(false, window)
 	{
-		for (int k = 0; k < 40; k++) truth.emplace_back(0.003 * k, 0, 0, 0, 0, 0);
+		for (int k = 0; k < 40; k++) truth.emplace_back(0.003 * k, 0, 0, 0.01 * k, 0, 0);
 		for (int s = 0; s < 4; s++)
 			for (int ab = 0; ab < 2; ab++)
 			{
 				const auto id = static_cast<TKeyFrameId>(2 * s + ab);
-				const mrpt::poses::CPose3D correction(0, (s < 2 ? 0.1 : 0.0) + (ab == 0 ? 0.002 : -0.002), 0, 0, 0, 0);
+				const mrpt::poses::CPose3D correction(0, (s < 2 ? 0.1 : 0.0) + (ab == 0 ? 0.002 : -0.002), 0, ab == 0 ? 0.0005 : -0.0005, 0, 0);
 				finalKeyFrames[id] = correction + truth[static_cast<std::size_t>(10 * s + 5 * ab)];
 			}
 		for (int k = 0; k < 40; k++)
@@ -49,10 +50,14 @@ struct TScene
 	TTrajectory trajectory() const { return records.trajectory([this] { return finalKeyFrames; }); }
 };
 
+// How far the estimate's step from frame k to k+1 is from the true step (position, metres).
 double stepError(const TTrajectory& t, std::size_t k)
 {
-	const auto est = t[k + 1].asPose() - t[k].asPose();
-	return std::hypot(est.x() - 0.003, est.y(), est.z());
+	const mrpt::poses::CPose3D trueStep =
+		mrpt::poses::CPose3D(0.003 * static_cast<double>(k + 1), 0, 0, 0.01 * static_cast<double>(k + 1), 0, 0) -
+		mrpt::poses::CPose3D(0.003 * static_cast<double>(k), 0, 0, 0.01 * static_cast<double>(k), 0, 0);
+	const auto e = (t[k + 1].asPose() - t[k].asPose()) - trueStep;
+	return std::hypot(e.x(), e.y(), e.z());
 }
 }  // namespace
 
@@ -81,4 +86,39 @@ TEST(FrameRecords, CorrectionsAreNotAveragedAcrossALoopCorrection)
 	const TTrajectory t = TScene(3).trajectory();
 	ASSERT_EQ(t.size(), 40u);
 	for (std::size_t k = 16; k < 24; k++) EXPECT_NEAR(t[k].ty, k < 20 ? 0.1 : 0.0, 0.0015) << k;
+}
+
+TEST(FrameRecords, AFramePinnedToItsKeyFrameKeepsTheKeyFramesPose)
+{
+	// [System] keyFrameFramePose = keyframe: the frame a keyframe was made of is that keyframe's
+	// final pose, whatever its neighbours' corrections.
+	CFrameRecords records(false, 3);
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{
+		{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}, {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0.002, 0, 0)}};
+	for (int k = 0; k < 10; k++)
+	{
+		CFrameRecords::TRecord r;
+		r.t = 0.033 * k;
+		r.tracked = r.hasPose = true;
+		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+		r.anchor = TAnchor{TKeyFrameId(0), r.online};
+		records.add(r, TFrameLogRow());
+	}
+	TFrameLogRow row;
+	row.frame = 10;
+	CFrameRecords::TRecord r;
+	r.t = 0.33;
+	r.tracked = r.hasPose = true;
+	r.online = mrpt::poses::CPose3D(0.015, 0, 0, 0, 0, 0);
+	r.anchor = TAnchor{TKeyFrameId(0), r.online};
+	records.add(r, row);
+	records.markKeyFrame(10, TAnchor{TKeyFrameId(1), mrpt::poses::CPose3D()});
+	const TTrajectory t = records.trajectory([&] { return finals; });
+	ASSERT_EQ(t.size(), 11u);
+	const auto& k = finals.at(1);
+	EXPECT_NEAR(t[10].tx, k.x(), 1e-12);
+	EXPECT_NEAR(t[10].ty, k.y(), 1e-12);
+	EXPECT_NEAR((t[10].asPose() - k).asVectorVal().norm(), 0.0, 1e-9);
+	// Its neighbours are still averaged (their own keyframe moved 1 cm in y).
+	EXPECT_NEAR(t[5].ty, 0.01, 1e-9);
 }

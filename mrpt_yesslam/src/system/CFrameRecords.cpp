@@ -12,7 +12,7 @@ namespace
 // corrections of the tracked poses within `window` of it (one generation), in the tangent space
 // at its own.
 void smoothCorrections(
-	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<mrpt::poses::CPose3D>& online,
+	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& pinned, const std::vector<mrpt::poses::CPose3D>& online,
 	const std::vector<std::uint64_t>& generation, int window)
 {
 	const std::size_t n = out.size();
@@ -20,25 +20,40 @@ void smoothCorrections(
 	for (std::size_t k = 0; k < n; k++)
 		if (tracked[k]) corr[k] = out[k].asPose() + (-online[k]);
 	std::vector<mrpt::poses::CPose3D> smoothed(n);
-	const auto w = static_cast<std::size_t>(std::max(0, window));
 	for (std::size_t k = 0; k < n; k++)
 	{
-		if (!tracked[k]) continue;
+		if (!tracked[k] || pinned[k]) continue;
 		mrpt::math::CVectorFixedDouble<6> mean;
 		mean.setZero();
 		double m = 0;
-		for (std::size_t j = k >= w ? k - w : 0; j < n && j <= k + w; j++)
+		const auto add = [&](std::size_t j)
 		{
-			if (!tracked[j] || generation[j] != generation[k]) continue;
 			const auto d = mrpt::poses::Lie::SE<3>::log(corr[j] - corr[k]);
 			for (int i = 0; i < 6; i++) mean[i] += d[i];
 			m += 1;
-		}
+		};
+		add(k);
+		// The nearest `window` tracked frames on each side; generations only grow, so the first
+		// frame of another one ends the side.
+		int found = 0;
+		for (std::size_t j = k; j-- > 0 && found < window && generation[j] == generation[k];)
+			if (tracked[j])
+			{
+				add(j);
+				found++;
+			}
+		found = 0;
+		for (std::size_t j = k + 1; j < n && found < window && generation[j] == generation[k]; j++)
+			if (tracked[j])
+			{
+				add(j);
+				found++;
+			}
 		for (int i = 0; i < 6; i++) mean[i] /= m;
 		smoothed[k] = corr[k] + mrpt::poses::Lie::SE<3>::exp(mean) + online[k];
 	}
 	for (std::size_t k = 0; k < n; k++)
-		if (tracked[k]) out[k] = TStampedPose::fromPose(out[k].t, smoothed[k]);
+		if (tracked[k] && !pinned[k]) out[k] = TStampedPose::fromPose(out[k].t, smoothed[k]);
 }
 }  // namespace
 
@@ -56,7 +71,11 @@ void CFrameRecords::markKeyFrame(std::size_t frame, const std::optional<TAnchor>
 		if (rows_[i].frame == frame)
 		{
 			rows_[i].keyFrame = true;
-			if (anchor) records_[i].anchor = *anchor;
+			if (anchor)
+			{
+				records_[i].anchor = *anchor;
+				records_[i].pinned = true;
+			}
 			return;
 		}
 }
@@ -94,6 +113,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	std::vector<bool> tracked;
 	std::vector<mrpt::poses::CPose3D> online;
 	std::vector<std::uint64_t> generation;
+	std::vector<bool> pinned;
 	out.reserve(records.size());
 	for (const auto& r : records)
 	{
@@ -104,6 +124,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 		tracked.push_back(r.tracked);
 		online.push_back(r.online);
 		generation.push_back(r.generation);
+		pinned.push_back(r.pinned);
 	}
 	// A frame hangs from the keyframe it was tracked against, and consecutive frames often from
 	// different ones, which mapping moved differently since (above all in parallel mode, where a
@@ -112,7 +133,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	// path, so it is averaged over a few frames and applied to the pose tracking measured
 	// (trajectory_online.txt), whose steps are the camera's. Never across a loop correction or a
 	// global BA (a new generation: those frames were tracked in another map).
-	if (correctionWindow_ > 0) smoothCorrections(out, tracked, online, generation, correctionWindow_);
+	if (correctionWindow_ > 0) smoothCorrections(out, tracked, pinned, online, generation, correctionWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
 	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
 	// written while lost, which drifts away wherever the camera did not keep its last velocity.

@@ -108,6 +108,7 @@ TYesSlamOptions TYesSlamOptions::effective() const
 	// too, and left on they made "--no-dynamic-filter" 7.9 mm where ORB-SLAM2 is 0.5 m off.
 	o.geometric.enabled = false;  // uncertain keypoints, the certain-first solve, movers (markMovers too)
 	o.geometric.movers = false;
+	o.geometric.boxes = "false";
 	o.tracking.seeThroughFrames = 0;  // map points a person carried away are not culled
 	o.masker.holdFrames = 0;  // unused without a mask; zero so that config_used.ini says so
 	o.dense.dynamicExclusion = "none";	// people go into the dense map
@@ -482,7 +483,11 @@ TFrameReport CYesSlamSystem::processFrame(
 			if (kf->id == frame->id)
 			{
 				rep.keyFrame = true;
-				if (own) rec.anchor = onKf;
+				if (own)
+				{
+					rec.anchor = onKf;
+					rec.pinned = true;
+				}
 			}
 			else
 				records_.markKeyFrame(kf->id, own ? std::optional<TAnchor>(onKf) : std::nullopt);

@@ -31,6 +31,8 @@ class CFrameRecords
 		/** The map's correction generation tracking saw (CSparseMap::generation): corrections are
 		 * smoothed only among frames of one generation. */
 		std::uint64_t generation = 0;
+		/** The pose is its own keyframe's ([System] keyFrameFramePose = keyframe): never averaged. */
+		bool pinned = false;
 	};
 
 	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking]
@@ -43,14 +45,15 @@ class CFrameRecords
 	/** Appends one frame. */
 	void add(const TRecord& record, const TFrameLogRow& row);
 	/** Marks the row of frame `frame` (searched from the newest) as the one a keyframe was made
-	 * from; with `anchor`, its pose then hangs from that keyframe. */
+	 * from; with `anchor`, its pose is then that keyframe's (pinned). */
 	void markKeyFrame(std::size_t frame, const std::optional<TAnchor>& anchor);
 	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` gives (see
 	 * CYesSlamSystem::trajectory): read after the records, so that every keyframe a record hangs
 	 * from is in them even while frames are being added. With a correctionWindow of W, each tracked
 	 * frame's correction (its anchored pose against its online one: what mapping moved its
-	 * keyframe by since) is the mean of those of the W tracked frames either side of it from the
-	 * same correction generation, applied to its online pose. */
+	 * keyframe by since) is the mean of those of the W nearest tracked frames either side of it
+	 * from the same correction generation, applied to its online pose (a pinned frame keeps its
+	 * keyframe's pose). */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
