@@ -449,6 +449,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		// The frame of the first keyframe hangs from it like every later frame from its reference:
 		// left absolute, a correction that moves the first keyframe left it behind.
 		rec.anchor = {*lastKeyFrame_, mrpt::poses::CPose3D()};
+		rec.pinned = true;	// the map's first keyframe is this frame
 	}
 	else if (frame->tracked && !opts_.system.localizeOnly)
 	{
