@@ -122,3 +122,45 @@ TEST(FrameRecords, AFramePinnedToItsKeyFrameKeepsTheKeyFramesPose)
 	// Its neighbours are still averaged (their own keyframe moved 1 cm in y).
 	EXPECT_NEAR(t[5].ty, 0.01, 1e-9);
 }
+
+TEST(FrameRecords, FramesCoastedAtTheEndMoveWithTheLastTrackedOne)
+{
+	// A run that ends while lost: the coasted frames keep their step from the last tracked frame,
+	// not their keyframe's own, unaveraged correction (a jump of what the average took away).
+	TScene scene(3);
+	for (int k = 40; k < 43; k++)
+	{
+		CFrameRecords::TRecord r;
+		r.t = 0.033 * k;
+		r.hasPose = true;  // coasted
+		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0.01 * k, 0, 0);
+		r.anchor = TAnchor{TKeyFrameId(7), r.online - scene.truth[35]};
+		r.generation = 2;
+		scene.records.add(r, TFrameLogRow());
+	}
+	const TTrajectory t = scene.trajectory();
+	ASSERT_EQ(t.size(), 43u);
+	for (std::size_t k = 38; k < 42; k++) EXPECT_LT(stepError(t, k), 1e-9 + (k == 38 ? 0.0012 : 0.0)) << k;
+}
+
+TEST(FrameRecords, AFrameWhoseKeyFrameIsGoneLendsItsFallbackToNoNeighbour)
+{
+	// Every frame hangs from keyframe 0, which mapping moved 1 cm in y, except frame 5, whose
+	// keyframe the final map no longer has: its pose falls back to its relative pose, metres from
+	// the path. Its neighbours' corrections stay their own keyframe's.
+	CFrameRecords records(false, 3);
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}};
+	for (int k = 0; k < 11; k++)
+	{
+		CFrameRecords::TRecord r;
+		r.t = 0.033 * k;
+		r.tracked = r.hasPose = true;
+		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+		r.anchor = k == 5 ? TAnchor{TKeyFrameId(9), mrpt::poses::CPose3D(1, 2, 0, 0, 0, 0)} : TAnchor{TKeyFrameId(0), r.online};
+		records.add(r, TFrameLogRow());
+	}
+	const TTrajectory t = records.trajectory([&] { return finals; });
+	ASSERT_EQ(t.size(), 11u);
+	for (std::size_t k = 0; k < 11; k++)
+		if (k != 5) EXPECT_NEAR(t[k].ty, 0.01, 1e-9) << k;
+}

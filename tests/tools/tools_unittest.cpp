@@ -504,6 +504,9 @@ TEST(Tools, ShippedConfigsRunWithTheDocumentedDetectorDefault)
 		const std::string text((std::istreambuf_iterator<char>(used)), std::istreambuf_iterator<char>());
 		EXPECT_NE(text.find("backend = yolo"), std::string::npos) << cfg;
 		EXPECT_NE(text.find("share/mrpt_yesslam/models/yolo-fastest-1.1/yolo-fastest-1.1.cfg"), std::string::npos) << cfg;
+		// "auto" stays auto, its choice in a comment: the file re-run with --localize-only chooses again.
+		EXPECT_NE(text.find("\nboxes = auto\n"), std::string::npos) << cfg;
+		EXPECT_NE(text.find("boxes = auto chose false in this run"), std::string::npos) << cfg;
 	}
 }
 

@@ -3,26 +3,30 @@
 #include <mrpt/poses/Lie/SE.h>
 
 #include <algorithm>
+#include <optional>
 
 namespace mrpt_yesslam
 {
 namespace
 {
-// Each tracked pose's correction (final = correction + online) replaced by the mean of the
-// corrections of the tracked poses within `window` of it (one generation), in the tangent space
-// at its own.
+// Each averaged pose's correction (final = correction + online) replaced by the mean of the
+// corrections of the averaged poses within `window` of it (one generation), in the tangent space
+// at its own. `averaged`: tracked, not pinned to its own keyframe, and hanging from a keyframe the
+// map still has (a record whose keyframe went keeps its fallback and lends it to nobody).
+// A coasted pose after an averaged one keeps its step from it: moved with it, not left behind at
+// its own unaveraged correction (the frames a run ends on while lost).
 void smoothCorrections(
-	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& pinned, const std::vector<mrpt::poses::CPose3D>& online,
+	TTrajectory& out, const std::vector<bool>& averaged, const std::vector<bool>& tracked, const std::vector<mrpt::poses::CPose3D>& online,
 	const std::vector<std::uint64_t>& generation, int window)
 {
 	const std::size_t n = out.size();
 	std::vector<mrpt::poses::CPose3D> corr(n);
 	for (std::size_t k = 0; k < n; k++)
-		if (tracked[k]) corr[k] = out[k].asPose() + (-online[k]);
+		if (averaged[k]) corr[k] = out[k].asPose() + (-online[k]);
 	std::vector<mrpt::poses::CPose3D> smoothed(n);
 	for (std::size_t k = 0; k < n; k++)
 	{
-		if (!tracked[k] || pinned[k]) continue;
+		if (!averaged[k]) continue;
 		mrpt::math::CVectorFixedDouble<6> mean;
 		mean.setZero();
 		double m = 0;
@@ -33,27 +37,41 @@ void smoothCorrections(
 			m += 1;
 		};
 		add(k);
-		// The nearest `window` tracked frames on each side; generations only grow, so the first
+		// The nearest `window` averaged frames on each side; generations only grow, so the first
 		// frame of another one ends the side.
-		int found = 0;
-		for (std::size_t j = k; j-- > 0 && found < window && generation[j] == generation[k];)
-			if (tracked[j])
+		for (const int dir : {-1, 1})
+		{
+			int found = 0;
+			for (std::size_t j = k; found < window;)
 			{
-				add(j);
-				found++;
+				if (dir < 0 ? j == 0 : j + 1 >= n) break;
+				j = dir < 0 ? j - 1 : j + 1;
+				if (generation[j] != generation[k]) break;
+				if (averaged[j])
+				{
+					add(j);
+					found++;
+				}
 			}
-		found = 0;
-		for (std::size_t j = k + 1; j < n && found < window && generation[j] == generation[k]; j++)
-			if (tracked[j])
-			{
-				add(j);
-				found++;
-			}
+		}
 		for (int i = 0; i < 6; i++) mean[i] /= m;
 		smoothed[k] = corr[k] + mrpt::poses::Lie::SE<3>::exp(mean) + online[k];
 	}
+	std::optional<std::size_t> last;  // the latest averaged frame, for the coasted ones after it
+	mrpt::poses::CPose3D lastBefore;
 	for (std::size_t k = 0; k < n; k++)
-		if (tracked[k] && !pinned[k]) out[k] = TStampedPose::fromPose(out[k].t, smoothed[k]);
+	{
+		if (averaged[k])
+		{
+			last = k;
+			lastBefore = out[k].asPose();
+			out[k] = TStampedPose::fromPose(out[k].t, smoothed[k]);
+		}
+		else if (tracked[k])
+			last.reset();  // a pinned or keyframe-less tracked frame: coasting after it is its own
+		else if (last)
+			out[k] = TStampedPose::fromPose(out[k].t, out[*last].asPose() + (out[k].asPose() - lastBefore));
+	}
 }
 }  // namespace
 
@@ -71,11 +89,7 @@ void CFrameRecords::markKeyFrame(std::size_t frame, const std::optional<TAnchor>
 		if (rows_[i].frame == frame)
 		{
 			rows_[i].keyFrame = true;
-			if (anchor)
-			{
-				records_[i].anchor = *anchor;
-				records_[i].pinned = true;
-			}
+			if (anchor) records_[i].pinTo(*anchor);
 			return;
 		}
 }
@@ -113,7 +127,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	std::vector<bool> tracked;
 	std::vector<mrpt::poses::CPose3D> online;
 	std::vector<std::uint64_t> generation;
-	std::vector<bool> pinned;
+	std::vector<bool> averaged;
 	out.reserve(records.size());
 	for (const auto& r : records)
 	{
@@ -124,7 +138,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 		tracked.push_back(r.tracked);
 		online.push_back(r.online);
 		generation.push_back(r.generation);
-		pinned.push_back(r.pinned);
+		averaged.push_back(r.tracked && !r.pinned && (!r.anchor.refKf || it != keyFramePoses.end()));
 	}
 	// A frame hangs from the keyframe it was tracked against, and consecutive frames often from
 	// different ones, which mapping moved differently since (above all in parallel mode, where a
@@ -133,7 +147,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	// path, so it is averaged over a few frames and applied to the pose tracking measured
 	// (trajectory_online.txt), whose steps are the camera's. Never across a loop correction or a
 	// global BA (a new generation: those frames were tracked in another map).
-	if (correctionWindow_ > 0) smoothCorrections(out, tracked, pinned, online, generation, correctionWindow_);
+	if (correctionWindow_ > 0) smoothCorrections(out, averaged, tracked, online, generation, correctionWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
 	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
 	// written while lost, which drifts away wherever the camera did not keep its last velocity.

@@ -118,6 +118,7 @@ TYesSlamOptions TYesSlamOptions::effective() const
 
 CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	: opts_(opts.effective()),
+	  askedBoxes_(opts.geometric.boxes),
 	  builder_(
 		  createObjectDetector(opts_.detector), opts_.masker, opts_.orb, opts_.system.dynamicFilter, opts_.system.asyncDetection,
 		  opts_.geometric),
@@ -448,8 +449,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		rep.keyFrame = true;
 		// The frame of the first keyframe hangs from it like every later frame from its reference:
 		// left absolute, a correction that moves the first keyframe left it behind.
-		rec.anchor = {*lastKeyFrame_, mrpt::poses::CPose3D()};
-		rec.pinned = true;	// the map's first keyframe is this frame
+		rec.pinTo({*lastKeyFrame_, mrpt::poses::CPose3D()});  // the map's first keyframe is this frame
 	}
 	else if (frame->tracked && !opts_.system.localizeOnly)
 	{
@@ -484,11 +484,7 @@ TFrameReport CYesSlamSystem::processFrame(
 			if (kf->id == frame->id)
 			{
 				rep.keyFrame = true;
-				if (own)
-				{
-					rec.anchor = onKf;
-					rec.pinned = true;
-				}
+				if (own) rec.pinTo(onKf);
 			}
 			else
 				records_.markKeyFrame(kf->id, own ? std::optional<TAnchor>(onKf) : std::nullopt);
@@ -542,6 +538,14 @@ TFrameReport CYesSlamSystem::processFrame(
 	}
 	if (frameCallback_) frameCallback_(*frame);	 // outside the lock: it may ask for stats()
 	return rep;
+}
+
+std::string CYesSlamSystem::configUsed() const
+{
+	if (askedBoxes_ != "auto") return opts_.dump();
+	TYesSlamOptions o = opts_;
+	o.geometric.boxes = "auto";
+	return "; [GeometricCheck] boxes = auto chose " + opts_.geometric.boxes + " in this run (true only with --localize-only)\n" + o.dump();
 }
 
 TTrajectory CYesSlamSystem::trajectory() const

@@ -33,6 +33,12 @@ class CFrameRecords
 		std::uint64_t generation = 0;
 		/** The pose is its own keyframe's ([System] keyFrameFramePose = keyframe): never averaged. */
 		bool pinned = false;
+		/** Hangs the pose from `own`, the anchor on the keyframe made of this frame (pinned). */
+		void pinTo(const TAnchor& own)
+		{
+			anchor = own;
+			pinned = true;
+		}
 	};
 
 	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking]

@@ -218,6 +218,10 @@ class CYesSlamSystem
 	/** The loops accepted so far, oldest first. */
 	std::vector<TLoop> loops() const;
 	const TYesSlamOptions& options() const { return opts_; }
+	/** config_used.ini's text: options(), except that a value "auto" chose stays "auto", with the
+	 * choice in a comment (re-run with --localize-only, the file must choose again, not keep
+	 * the mapping run's choice). */
+	std::string configUsed() const;
 
    private:
 	/** Adds frame `f` as a keyframe (under the frame's shared map-update lock); its dense cloud and
@@ -235,6 +239,7 @@ class CYesSlamSystem
 	void collectMapping(bool wait);
 
 	TYesSlamOptions opts_;
+	std::string askedBoxes_;  //!< [GeometricCheck] boxes as given, before effective() resolved it
 	CFrameBuilder builder_;
 	CSparseMap map_;
 	CTracker tracker_;

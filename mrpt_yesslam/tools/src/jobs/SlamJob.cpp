@@ -213,7 +213,7 @@ void writeOutputs(
 		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted)" + frameNote);
 	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap), "keyframe poses (T_w_c)" + frameNote);
 	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
-	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.options().dump());
+	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.configUsed());
 	writeFileAtomically((d / "stats.json").string(), statsJson(stop));
 	sum.stats = sys.stats();
 
