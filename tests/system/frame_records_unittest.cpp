@@ -163,4 +163,39 @@ TEST(FrameRecords, AFrameWhoseKeyFrameIsGoneLendsItsFallbackToNoNeighbour)
 	ASSERT_EQ(t.size(), 11u);
 	for (std::size_t k = 0; k < 11; k++)
 		if (k != 5) EXPECT_NEAR(t[k].ty, 0.01, 1e-9) << k;
+	EXPECT_NEAR(t[5].tx, 1.0, 1e-12);  // it keeps its fallback
+	EXPECT_NEAR(t[5].ty, 2.0, 1e-12);
+}
+
+TEST(FrameRecords, FramesCoastedAfterAPinnedFrameKeepTheirOwnPoses)
+{
+	// Coasting after a frame pinned to its keyframe (it is that keyframe's pose, not averaged):
+	// the coasted frames hang from their own keyframe as recorded, not from an earlier frame's
+	// averaged correction.
+	CFrameRecords records(false, 3);
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{
+		{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}, {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0, 0, 0)}};
+	for (int k = 0; k < 9; k++)
+	{
+		CFrameRecords::TRecord r;
+		r.t = 0.033 * k;
+		r.tracked = k < 6;
+		r.hasPose = true;
+		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+		if (k < 5)
+			r.anchor = TAnchor{TKeyFrameId(0), r.online};
+		else if (k == 5)
+			r.pinTo(TAnchor{TKeyFrameId(1), mrpt::poses::CPose3D()});
+		else
+			r.anchor = TAnchor{TKeyFrameId(1), mrpt::poses::CPose3D(0.003 * (k - 5), 0, 0, 0, 0, 0)};
+		records.add(r, TFrameLogRow());
+	}
+	const TTrajectory t = records.trajectory([&] { return finals; });
+	ASSERT_EQ(t.size(), 9u);
+	EXPECT_NEAR(t[5].ty, -0.01, 1e-12);
+	for (std::size_t k = 6; k < 9; k++)
+	{
+		EXPECT_NEAR(t[k].tx, 0.015 + 0.003 * static_cast<double>(k - 5), 1e-12) << k;
+		EXPECT_NEAR(t[k].ty, -0.01, 1e-12) << k;
+	}
 }

@@ -493,7 +493,7 @@ TEST(System, AnUndetectedWalkerCannotDragTheCamera)
 TEST(System, TheBoxPartOfTheGeometricCheckIsOnWhereTheMapIsReadOnly)
 {
 	// [GeometricCheck] boxes = auto: on for localisation in a loaded map, off when mapping; an
-	// explicit value stays, and config_used.ini (the effective options) says which a run used.
+	// explicit value stays (config_used.ini keeps "auto" and says in a comment which a run used).
 	TYesSlamOptions o;
 	ASSERT_EQ(o.geometric.boxes, "auto");
 	EXPECT_EQ(o.effective().geometric.boxes, "false");
@@ -504,6 +504,20 @@ TEST(System, TheBoxPartOfTheGeometricCheckIsOnWhereTheMapIsReadOnly)
 	o.system.localizeOnly = false;
 	o.geometric.boxes = "true";
 	EXPECT_EQ(o.effective().geometric.boxes, "true");
+	// config_used.ini: "auto" stays auto with the choice said (a mapping run's file re-run with
+	// --localize-only chooses again); an explicit value and the baseline's forced false stay plain.
+	const auto used = [](const TYesSlamOptions& opts) { return CYesSlamSystem(opts).configUsed(); };
+	TYesSlamOptions m = walkingSystemOptions();
+	const std::string mapping = used(m);
+	EXPECT_NE(mapping.find("\nboxes = auto\n"), std::string::npos);
+	EXPECT_NE(mapping.find("boxes = auto chose false in this run"), std::string::npos);
+	m.geometric.boxes = "true";
+	EXPECT_NE(used(m).find("\nboxes = true\n"), std::string::npos);
+	m.geometric.boxes = "auto";
+	m.system.dynamicFilter = false;
+	const std::string baseline = used(m);
+	EXPECT_NE(baseline.find("\nboxes = false\n"), std::string::npos);
+	EXPECT_EQ(baseline.find("boxes = auto chose"), std::string::npos);
 }
 
 TEST(System, AStaticSequenceIsNotMadeWorseByTheMoverCheck)

@@ -10,19 +10,26 @@ namespace mrpt_yesslam
 namespace
 {
 // Each averaged pose's correction (final = correction + online) replaced by the mean of the
-// corrections of the averaged poses within `window` of it (one generation), in the tangent space
-// at its own. `averaged`: tracked, not pinned to its own keyframe, and hanging from a keyframe the
-// map still has (a record whose keyframe went keeps its fallback and lends it to nobody).
+// corrections of the lending poses within `window` of it (one generation), in the tangent space at
+// its own. A tracked pose lends when it hangs from a keyframe the map still has (`anchored`: a
+// record whose keyframe went keeps its fallback and lends it to nobody), and is averaged when it
+// also is not `pinned` to its own keyframe (it is that keyframe's, and lends that correction).
 // A coasted pose after an averaged one keeps its step from it: moved with it, not left behind at
 // its own unaveraged correction (the frames a run ends on while lost).
 void smoothCorrections(
-	TTrajectory& out, const std::vector<bool>& averaged, const std::vector<bool>& tracked, const std::vector<mrpt::poses::CPose3D>& online,
-	const std::vector<std::uint64_t>& generation, int window)
+	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
+	const std::vector<mrpt::poses::CPose3D>& online, const std::vector<std::uint64_t>& generation, int window)
 {
 	const std::size_t n = out.size();
+	std::vector<bool> lends(n), averaged(n);
+	for (std::size_t k = 0; k < n; k++)
+	{
+		lends[k] = tracked[k] && anchored[k];
+		averaged[k] = lends[k] && !pinned[k];
+	}
 	std::vector<mrpt::poses::CPose3D> corr(n);
 	for (std::size_t k = 0; k < n; k++)
-		if (averaged[k]) corr[k] = out[k].asPose() + (-online[k]);
+		if (lends[k]) corr[k] = out[k].asPose() + (-online[k]);
 	std::vector<mrpt::poses::CPose3D> smoothed(n);
 	for (std::size_t k = 0; k < n; k++)
 	{
@@ -37,7 +44,7 @@ void smoothCorrections(
 			m += 1;
 		};
 		add(k);
-		// The nearest `window` averaged frames on each side; generations only grow, so the first
+		// The nearest `window` lending frames on each side; generations only grow, so the first
 		// frame of another one ends the side.
 		for (const int dir : {-1, 1})
 		{
@@ -47,7 +54,7 @@ void smoothCorrections(
 				if (dir < 0 ? j == 0 : j + 1 >= n) break;
 				j = dir < 0 ? j - 1 : j + 1;
 				if (generation[j] != generation[k]) break;
-				if (averaged[j])
+				if (lends[j])
 				{
 					add(j);
 					found++;
@@ -69,8 +76,8 @@ void smoothCorrections(
 		}
 		else if (tracked[k])
 			last.reset();  // a pinned or keyframe-less tracked frame: coasting after it is its own
-		else if (last)
-			out[k] = TStampedPose::fromPose(out[k].t, out[*last].asPose() + (out[k].asPose() - lastBefore));
+		else if (last && anchored[k])  // a coasted pose on its fallback has no step to keep
+			out[k] = TStampedPose::fromPose(out[k].t, smoothed[*last] + (out[k].asPose() - lastBefore));
 	}
 }
 }  // namespace
@@ -127,7 +134,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	std::vector<bool> tracked;
 	std::vector<mrpt::poses::CPose3D> online;
 	std::vector<std::uint64_t> generation;
-	std::vector<bool> averaged;
+	std::vector<bool> anchored, pinned;
 	out.reserve(records.size());
 	for (const auto& r : records)
 	{
@@ -138,7 +145,8 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 		tracked.push_back(r.tracked);
 		online.push_back(r.online);
 		generation.push_back(r.generation);
-		averaged.push_back(r.tracked && !r.pinned && (!r.anchor.refKf || it != keyFramePoses.end()));
+		anchored.push_back(!r.anchor.refKf || it != keyFramePoses.end());
+		pinned.push_back(r.pinned);
 	}
 	// A frame hangs from the keyframe it was tracked against, and consecutive frames often from
 	// different ones, which mapping moved differently since (above all in parallel mode, where a
@@ -147,7 +155,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	// path, so it is averaged over a few frames and applied to the pose tracking measured
 	// (trajectory_online.txt), whose steps are the camera's. Never across a loop correction or a
 	// global BA (a new generation: those frames were tracked in another map).
-	if (correctionWindow_ > 0) smoothCorrections(out, averaged, tracked, online, generation, correctionWindow_);
+	if (correctionWindow_ > 0) smoothCorrections(out, tracked, anchored, pinned, online, generation, correctionWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
 	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
 	// written while lost, which drifts away wherever the camera did not keep its last velocity.

@@ -542,7 +542,8 @@ TFrameReport CYesSlamSystem::processFrame(
 
 std::string CYesSlamSystem::configUsed() const
 {
-	if (askedBoxes_ != "auto") return opts_.dump();
+	// Without the dynamic filter (the baseline) every mode has it off: the file says so plainly.
+	if (askedBoxes_ != "auto" || !opts_.system.dynamicFilter) return opts_.dump();
 	TYesSlamOptions o = opts_;
 	o.geometric.boxes = "auto";
 	return "; [GeometricCheck] boxes = auto chose " + opts_.geometric.boxes + " in this run (true only with --localize-only)\n" + o.dump();

@@ -59,7 +59,8 @@ class CFrameRecords
 	 * frame's correction (its anchored pose against its online one: what mapping moved its
 	 * keyframe by since) is the mean of those of the W nearest tracked frames either side of it
 	 * from the same correction generation, applied to its online pose (a pinned frame keeps its
-	 * keyframe's pose). */
+	 * keyframe's pose; a frame whose keyframe the poses lack keeps its fallback and is in no
+	 * neighbour's mean), and a coasted frame after an averaged one keeps its step from it. */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
