@@ -204,7 +204,9 @@ std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
 std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOptions& opts)
 {
 	namespace fs = std::filesystem;
-	const std::string path = std::string(YESSLAM_TEST_CACHE_DIR) + "/" + name;
+	// Named by the simulator's model too: a build folder's cache outlives the sources that made it,
+	// and a sequence of another model is not this one's.
+	const std::string path = std::string(YESSLAM_TEST_CACHE_DIR) + "/" + name + "-" + mrpt_yesslam::simulatorModelHash();
 	if (!fs::exists(path + "/meta.json"))
 	{
 		fs::create_directories(YESSLAM_TEST_CACHE_DIR);

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -54,13 +55,15 @@ struct Frame
 std::vector<Frame> loadFrames(const std::string& dir)
 {
 	const auto gt = readTumTrajectory(dir + "/groundtruth.txt");
+	// The k-th depth image goes with the k-th colour image (their stamps differ with --depth-offset).
+	const auto depthList = readTumFileList(dir + "/depth.txt");
 	std::vector<Frame> out;
 	for (const auto& e : readTumFileList(dir + "/rgb.txt"))
 	{
 		Frame f;
 		const std::string name = fs::path(e.file).filename().string();
 		f.rgb = cv::imread(dir + "/rgb/" + name, cv::IMREAD_COLOR);
-		cv::Mat d16 = cv::imread(dir + "/depth/" + name, cv::IMREAD_UNCHANGED);
+		cv::Mat d16 = cv::imread(dir + "/" + depthList.at(out.size()).file, cv::IMREAD_UNCHANGED);
 		d16.convertTo(f.depth, CV_32F, 1.0 / 5000);
 		f.inst = cv::imread(dir + "/labels/instance/" + name, cv::IMREAD_UNCHANGED);
 		f.cls = cv::imread(dir + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
@@ -490,7 +493,7 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	}
 	EXPECT_GT(tested, 2u);
 	EXPECT_GT(hi - lo, 0.0005) << "the offset drifts";
-	off.depthOffsetMs = -1;
+	off.depthOffsetMs = -2;	 // -1 is "the preset's"
 	expectInputError([&] { runSimulation(off); }, {"--depth-offset"});
 }
 
@@ -631,6 +634,24 @@ TEST(Simulator, TheCrowdPresetLooksLikeTheRealBonnCrowdFrames)
 	// The real sensor without --real-sensor (meta.json says so): its soft, low-texture images and
 	// the real frames' depth noise (the test above gives the Kinect model's figures).
 	EXPECT_NE(readText(d / "meta.json").find("\"real_sensor\": true"), std::string::npos);
+	// Its colour and depth images up to 16.7 ms apart, as the real slice's stamps (issue 39 item 6).
+	EXPECT_NE(readText(d / "meta.json").find("\"depth_offset_ms\": 16.7"), std::string::npos);
+	{
+		const auto stampsOf = [&](const char* list)
+		{
+			std::vector<double> t;
+			std::istringstream in(readText(d / list));
+			for (std::string line; std::getline(in, line);)
+				if (!line.empty() && line[0] != '#') t.push_back(std::stod(line));
+			return t;
+		};
+		const auto rgb = stampsOf("rgb.txt"), depth = stampsOf("depth.txt");
+		ASSERT_EQ(rgb.size(), depth.size());
+		double most = 0;
+		for (std::size_t k = 0; k < rgb.size(); k++) most = std::max(most, std::abs(depth[k] - rgb[k]));
+		EXPECT_GT(most, 0.005);
+		EXPECT_LE(most, 0.0168);
+	}
 	CSensorStatistics st;
 	for (const auto& f : loadFrames(d.path())) st.addFrame(f.rgb, f.depth);
 	const auto r = st.result();

@@ -22,6 +22,8 @@ struct TSimPreset
 	bool realSensor = false;
 	/** Walls without posters: the bare painted walls of a lab. */
 	bool bareWalls = false;
+	/** The colour/depth offset of the camera the preset copies (TSimOptions::depthOffsetMs). */
+	double depthOffsetMs = 0;
 };
 
 /** The presets, in the order --list-presets prints them. */
@@ -55,8 +57,9 @@ struct TSimOptions
 	bool realSensor = false;
 	/** Each depth image is taken up to this many ms before or after its colour image (0 = with
 	 * it): the offset drifts through [-ms, +ms] and back every 444 frames, 0.15 ms a frame at
-	 * 16.7 ms, as between the two free-running 30 Hz streams of the real Bonn Xtion. */
-	double depthOffsetMs = 0;
+	 * 16.7 ms, as between the two free-running 30 Hz streams of the real Bonn Xtion. -1 = the
+	 * preset's (16.7 for crowd, the real Bonn frames' own; else 0). */
+	double depthOffsetMs = -1;
 	/** Rolling shutter: the rows of colour and depth image are read top to bottom over this many
 	 * ms, each from the camera's pose and the people's positions at its own moment (the stamp is
 	 * the middle row's); 0 = global shutter; -1 = the sensor's: 28 with realSensor (Kinect and
