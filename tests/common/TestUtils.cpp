@@ -210,6 +210,17 @@ std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOpti
 	if (!fs::exists(path + "/meta.json"))
 	{
 		fs::create_directories(YESSLAM_TEST_CACHE_DIR);
+		// This sequence of another model (or of before models named the folders) is of no more use.
+		std::vector<fs::path> stale;
+		std::error_code listEc;
+		for (const auto& e : fs::directory_iterator(YESSLAM_TEST_CACHE_DIR, listEc))
+		{
+			const std::string n = e.path().filename().string(), hash = mrpt_yesslam::simulatorModelHash();
+			const bool otherModel = n.size() == name.size() + 1 + hash.size() && n.compare(0, name.size() + 1, name + "-") == 0 &&
+									n.find_first_not_of("0123456789abcdef", name.size() + 1) == std::string::npos;
+			if ((n == name || otherModel) && e.path().string() != path) stale.push_back(e.path());
+		}
+		for (const auto& p : stale) fs::remove_all(p, listEc);
 		const std::string tmp = path + ".tmp." + std::to_string(::getpid());
 		mrpt_yesslam::TSimOptions o = opts;
 		o.outDir = tmp;

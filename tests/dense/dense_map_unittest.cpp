@@ -824,3 +824,15 @@ TEST(DenseMap, NoSurfaceOfTheRealFramesIsFreeInMapBt)
 	EXPECT_GT(occupied, all / 2);
 	EXPECT_LT(free, all / 500);
 }
+
+TEST(DenseMapper, ScoringRefusesASequenceWhoseDepthWasTakenAtOtherMoments)
+{
+	// The labels are the colour image's; the crowd preset's depth images are taken up to 16.7 ms
+	// from them (its colour/depth offset): scored together they would mislabel what moves.
+	TSimOptions o;
+	o.preset = "crowd";
+	o.frames = 20;
+	o.writeRawlog = false;
+	const std::string seq = cachedSequence("dense_crowd_20", o);
+	expectInputError([&] { scoreSemanticMap(CSemanticOcTree(0.1), seq, mrpt::poses::CPose3D()); }, {"depth.txt", "--depth-offset 0"});
+}

@@ -15,7 +15,6 @@
 #include <set>
 #include <sstream>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/detection/CDetectionsFileDetector.h"

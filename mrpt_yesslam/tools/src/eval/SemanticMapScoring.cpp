@@ -8,6 +8,7 @@
 #include <set>
 #include <unordered_map>
 #include <unordered_set>
+#include <vector>
 
 #include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/io/Trajectory.h"
@@ -21,8 +22,29 @@ TSemanticMapScore scoreSemanticMap(
 	const CSemanticOcTree& tree, const std::string& simDir, const mrpt::poses::CPose3D& mapInGt, int frameStep, int pixelStep)
 {
 	const fs::path dir(simDir);
-	for (const char* f : {"objects.txt", "depth.txt", "groundtruth.txt", "calibration.txt"})
+	for (const char* f : {"objects.txt", "depth.txt", "rgb.txt", "groundtruth.txt", "calibration.txt"})
 		if (!fs::exists(dir / f)) throw InputError((dir / f).string(), "not found: scoring needs a yesslam-sim folder");
+	// The labels are the colour image's: a depth image taken at another moment (--depth-offset,
+	// the crowd preset) does not see what they label where things move.
+	{
+		const auto stamps = [&](const char* list)
+		{
+			std::vector<double> t;
+			for (const auto& line : splitLines(readTextFile((dir / list).string())))
+			{
+				const auto f = splitFields(line);
+				if (!f.empty() && f[0][0] != '#') t.push_back(std::stod(f[0]));
+			}
+			return t;
+		};
+		const auto rgb = stamps("rgb.txt"), depth = stamps("depth.txt");
+		for (std::size_t k = 0; k < rgb.size() && k < depth.size(); k++)
+			if (std::abs(rgb[k] - depth[k]) > 1e-3)
+				throw InputError(
+					(dir / "depth.txt").string(),
+					"its depth images were taken at other moments than their colour images and labels (yesslam-sim --depth-offset): "
+					"scoring needs them together; make the sequence with --depth-offset 0");
+	}
 	// Intrinsics: "fx fy cx cy width height depth_scale" on the first line that is not a comment.
 	double fx = 0, fy = 0, cx = 0, cy = 0, scale = 0;
 	for (const auto& line : splitLines(readTextFile((dir / "calibration.txt").string())))

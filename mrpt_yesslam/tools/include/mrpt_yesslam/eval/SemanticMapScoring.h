@@ -36,7 +36,8 @@ struct TSemanticMapScore
  * `mapInGt` = the pose of the map's world frame in the ground-truth world (the first keyframe's
  * ground-truth pose times the inverse of its estimated pose), and scores `tree`. A swept voxel
  * next to (26-neighbourhood) a static surface voxel is not counted (a person touching a desk).
- * Throws InputError for a folder that is not a yesslam-sim output. */
+ * Throws InputError for a folder that is not a yesslam-sim output, or whose depth images were not
+ * taken with their colour images (--depth-offset: the labels are the colour image's). */
 TSemanticMapScore scoreSemanticMap(
 	const CSemanticOcTree& tree, const std::string& simDir, const mrpt::poses::CPose3D& mapInGt, int frameStep = 3, int pixelStep = 4);
 }  // namespace mrpt_yesslam
