@@ -8,9 +8,9 @@
 #include <set>
 #include <unordered_map>
 #include <unordered_set>
-#include <vector>
 
 #include "mrpt_yesslam/util/TextParsing.h"
+#include "mrpt_yesslam/io/CTumFolderSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -27,19 +27,9 @@ TSemanticMapScore scoreSemanticMap(
 	// The labels are the colour image's: a depth image taken at another moment (--depth-offset,
 	// the crowd preset) does not see what they label where things move.
 	{
-		const auto stamps = [&](const char* list)
-		{
-			std::vector<double> t;
-			for (const auto& line : splitLines(readTextFile((dir / list).string())))
-			{
-				const auto f = splitFields(line);
-				if (!f.empty() && f[0][0] != '#') t.push_back(std::stod(f[0]));
-			}
-			return t;
-		};
-		const auto rgb = stamps("rgb.txt"), depth = stamps("depth.txt");
+		const auto rgb = readTumFileList((dir / "rgb.txt").string()), depth = readTumFileList((dir / "depth.txt").string());
 		for (std::size_t k = 0; k < rgb.size() && k < depth.size(); k++)
-			if (std::abs(rgb[k] - depth[k]) > 1e-3)
+			if (std::abs(rgb[k].t - depth[k].t) > 1e-3)
 				throw InputError(
 					(dir / "depth.txt").string(),
 					"its depth images were taken at other moments than their colour images and labels (yesslam-sim --depth-offset): "
