@@ -494,6 +494,12 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	EXPECT_GT(hi - lo, 0.0005) << "the offset drifts";
 	off.depthOffsetMs = -2;	 // -1 is "the preset's"
 	expectInputError([&] { runSimulation(off); }, {"--depth-offset"});
+	// Past half a frame (16.7 ms at 30 Hz) each depth image is nearer the next colour image, and
+	// every reader would pair it so: refused before anything is written.
+	off.depthOffsetMs = 20;
+	off.outDir = d / "too_far";
+	expectInputError([&] { runSimulation(off); }, {"--depth-offset 20.0 ms", "half a frame"});
+	EXPECT_FALSE(fs::exists(d / "too_far"));
 }
 
 TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)

@@ -10,6 +10,7 @@
 #include <set>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <filesystem>
@@ -299,6 +300,24 @@ TSimSummary runSimulation(
 	// Inputs first: a run that cannot start leaves no output folder behind.
 	if (!(o.depthOffsetMs == -1 || (o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100))) throw InputError("", "--depth-offset must be in [0, 100] ms (or -1: the preset's)");
 	const double depthOffsetMs = o.depthOffsetMs < 0 ? preset.depthOffsetMs : o.depthOffsetMs;
+	// Every reader pairs a depth image with the colour image nearest its stamp (TUM's associate.py,
+	// greedy): a depth image more than half a frame from its own colour image is nearer the next
+	// one and would be paired with it. Half a frame is the most a real pair of free-running streams
+	// is apart (the Bonn slice: -16.6 to +16.7 ms at 30 Hz), so 0.05 ms beyond it is let through.
+	if (depthOffsetMs > 0 && stamps.size() > 1)
+	{
+		double shortest = std::numeric_limits<double>::infinity();
+		for (std::size_t k = 1; k < stamps.size(); k++) shortest = std::min(shortest, stamps[k] - stamps[k - 1]);
+		const double limitMs = 500 * shortest + 0.05;
+		if (depthOffsetMs > limitMs)
+		{
+			char msg[200];
+			std::snprintf(
+				msg, sizeof(msg), "--depth-offset %.1f ms is more than half a frame (%.1f ms here): each depth image would be paired with the next colour image",
+				depthOffsetMs, limitMs);
+			throw InputError(o.trajectoryFile, msg);
+		}
+	}
 	if (!(o.readoutMs == -1 || (o.readoutMs >= 0 && o.readoutMs <= 100))) throw InputError("", "--readout must be in [0, 100] ms");
 	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
 	std::error_code ec;
