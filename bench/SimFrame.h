@@ -5,8 +5,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace yesslam_bench
 {
@@ -18,28 +20,36 @@ struct TSimFrame
 	cv::Mat cls;  //!< labels/class as stored (8 or 16 bit)
 };
 
-/** The depth image associations.txt pairs with colour image `name` (a sequence whose depth images
- * were taken at other moments, --depth-offset, names them by their own stamps); `name` itself
- * when the list does not say. */
-inline std::string simDepthName(const std::string& dir, const std::string& name)
+/** A yesslam-sim folder as the benches read it: associations.txt read once, which pairs each
+ * colour image with its depth image (a sequence whose depth images were taken at other moments,
+ * --depth-offset, names them by their own stamps). */
+class CSimFolder
 {
-	std::ifstream in(dir + "/associations.txt");
-	for (std::string line; std::getline(in, line);)
+   public:
+	explicit CSimFolder(std::string dir) : dir_(std::move(dir))
 	{
-		std::istringstream row(line);
-		std::string t0, rgb, t1, depth;
-		if (row >> t0 >> rgb >> t1 >> depth && rgb == "rgb/" + name) return depth.substr(depth.find('/') + 1);
+		std::ifstream in(dir_ + "/associations.txt");
+		for (std::string line; std::getline(in, line);)
+		{
+			std::istringstream row(line);
+			std::string t0, rgb, t1, depth;
+			if (row >> t0 >> rgb >> t1 >> depth) depthOf_[rgb.substr(rgb.find('/') + 1)] = depth.substr(depth.find('/') + 1);
+		}
 	}
-	return name;
-}
+	/** Frame `name` (the file name in rgb/ and labels/class/); its depth image is the one the list
+	 * pairs with it, or the same name where the list does not say. */
+	TSimFrame read(const std::string& name) const
+	{
+		const auto it = depthOf_.find(name);
+		TSimFrame f;
+		f.rgb = cv::imread(dir_ + "/rgb/" + name, cv::IMREAD_COLOR);
+		cv::imread(dir_ + "/depth/" + (it == depthOf_.end() ? name : it->second), cv::IMREAD_UNCHANGED).convertTo(f.depth, CV_32F, 1.0 / 5000);
+		f.cls = cv::imread(dir_ + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
+		return f;
+	}
 
-/** Reads frame `name` (the file name in rgb/ and labels/class/) of folder `dir`. */
-inline TSimFrame readSimFrame(const std::string& dir, const std::string& name)
-{
-	TSimFrame f;
-	f.rgb = cv::imread(dir + "/rgb/" + name, cv::IMREAD_COLOR);
-	cv::imread(dir + "/depth/" + simDepthName(dir, name), cv::IMREAD_UNCHANGED).convertTo(f.depth, CV_32F, 1.0 / 5000);
-	f.cls = cv::imread(dir + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
-	return f;
-}
+   private:
+	std::string dir_;
+	std::map<std::string, std::string> depthOf_;  //!< colour file name -> depth file name
+};
 }  // namespace yesslam_bench

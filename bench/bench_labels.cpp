@@ -50,6 +50,7 @@ int main(int argc, char** argv)
 	for (const auto& dir : dirs)
 	{
 		const auto list = readTumFileList(dir + "/rgb.txt");
+		const yesslam_bench::CSimFolder folder(dir);
 		CObjectDetector::TOptions dopt;
 		dopt.backend = "file";
 		dopt.file = dir + "/detections.txt";
@@ -72,7 +73,7 @@ int main(int argc, char** argv)
 			{
 				const auto& e = list[i];
 				const std::string name = e.file.substr(e.file.find('/') + 1);
-				const auto [rgb, depth, cls] = yesslam_bench::readSimFrame(dir, name);
+				const auto [rgb, depth, cls] = folder.read(name);
 				std::vector<TDetection> objects;
 				for (const auto& d : det->detect(rgb, e.t))
 					if (!d.dynamic) objects.push_back(d);

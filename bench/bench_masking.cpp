@@ -59,6 +59,7 @@ int main(int argc, char** argv)
 			continue;
 		}
 		auto list = readTumFileList(dir + "/rgb.txt");
+		const yesslam_bench::CSimFolder folder(dir);
 		if (maxFrames && list.size() > maxFrames) list.resize(maxFrames);
 		CObjectDetector::TOptions dopt;
 		dopt.backend = "file";
@@ -81,7 +82,7 @@ int main(int argc, char** argv)
 			for (const auto& e : list)
 			{
 				const std::string name = e.file.substr(e.file.find('/') + 1);
-				const auto [rgb, depth, cls] = yesslam_bench::readSimFrame(dir, name);
+				const auto [rgb, depth, cls] = folder.read(name);
 				const auto dets = det->detect(rgb, e.t);
 				const auto t0 = std::chrono::steady_clock::now();
 				const auto m = masker.compute(depth, dets);

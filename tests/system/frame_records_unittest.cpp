@@ -12,6 +12,19 @@ using namespace mrpt_yesslam;
 
 namespace
 {
+// Frame k of a 30 Hz run with the pose tracking measured for it (tracked) or coasted it on.
+CFrameRecords::TRecord record(int k, const mrpt::poses::CPose3D& online, bool tracked = true)
+{
+	CFrameRecords::TRecord r;
+	r.t = 0.033 * k;
+	r.tracked = tracked;
+	r.hasPose = true;
+	r.online = online;
+	return r;
+}
+// Frame k of a camera moving 3 mm a frame along x.
+mrpt::poses::CPose3D alongX(int k) { return mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0); }
+
 // 40 frames moving 3 mm a frame along x and turning 0.01 rad a frame, tracked exactly (online = truth). Frames 0-19 were
 // tracked before a loop correction (generation 1), frames 20-39 after it (generation 2). Every
 // 10 frames two keyframes; frames hang from them alternately (the reference keyframe switching).
@@ -35,10 +48,7 @@ struct TScene
 			}
 		for (int k = 0; k < 40; k++)
 		{
-			CFrameRecords::TRecord r;
-			r.t = 0.033 * k;
-			r.tracked = r.hasPose = true;
-			r.online = truth[static_cast<std::size_t>(k)];
+			CFrameRecords::TRecord r = record(k, truth[static_cast<std::size_t>(k)]);
 			const int s = k / 10, ab = k % 2;
 			const auto id = static_cast<TKeyFrameId>(2 * s + ab);
 			// Anchored as tracking saw the keyframe then: at its uncorrected pose.
@@ -97,19 +107,13 @@ TEST(FrameRecords, AFramePinnedToItsKeyFrameKeepsTheKeyFramesPose)
 		{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}, {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0.002, 0, 0)}};
 	for (int k = 0; k < 10; k++)
 	{
-		CFrameRecords::TRecord r;
-		r.t = 0.033 * k;
-		r.tracked = r.hasPose = true;
-		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+		CFrameRecords::TRecord r = record(k, alongX(k));
 		r.anchor = TAnchor{TKeyFrameId(0), r.online};
 		records.add(r, TFrameLogRow());
 	}
 	TFrameLogRow row;
 	row.frame = 10;
-	CFrameRecords::TRecord r;
-	r.t = 0.33;
-	r.tracked = r.hasPose = true;
-	r.online = mrpt::poses::CPose3D(0.015, 0, 0, 0, 0, 0);
+	CFrameRecords::TRecord r = record(10, mrpt::poses::CPose3D(0.015, 0, 0, 0, 0, 0));
 	r.anchor = TAnchor{TKeyFrameId(0), r.online};
 	records.add(r, row);
 	records.markKeyFrame(10, TAnchor{TKeyFrameId(1), mrpt::poses::CPose3D()});
@@ -130,10 +134,7 @@ TEST(FrameRecords, FramesCoastedAtTheEndMoveWithTheLastTrackedOne)
 	TScene scene(3);
 	for (int k = 40; k < 43; k++)
 	{
-		CFrameRecords::TRecord r;
-		r.t = 0.033 * k;
-		r.hasPose = true;  // coasted
-		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0.01 * k, 0, 0);
+		CFrameRecords::TRecord r = record(k, mrpt::poses::CPose3D(0.003 * k, 0, 0, 0.01 * k, 0, 0), false);	 // coasted
 		r.anchor = TAnchor{TKeyFrameId(7), r.online - scene.truth[35]};
 		r.generation = 2;
 		scene.records.add(r, TFrameLogRow());
@@ -152,17 +153,17 @@ TEST(FrameRecords, AFrameWhoseKeyFrameIsGoneLendsItsFallbackToNoNeighbour)
 	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}};
 	for (int k = 0; k < 11; k++)
 	{
-		CFrameRecords::TRecord r;
-		r.t = 0.033 * k;
-		r.tracked = r.hasPose = true;
-		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+		CFrameRecords::TRecord r = record(k, alongX(k));
 		r.anchor = k == 5 ? TAnchor{TKeyFrameId(9), mrpt::poses::CPose3D(1, 2, 0, 0, 0, 0)} : TAnchor{TKeyFrameId(0), r.online};
 		records.add(r, TFrameLogRow());
 	}
 	const TTrajectory t = records.trajectory([&] { return finals; });
 	ASSERT_EQ(t.size(), 11u);
 	for (std::size_t k = 0; k < 11; k++)
-		if (k != 5) EXPECT_NEAR(t[k].ty, 0.01, 1e-9) << k;
+	{
+		if (k == 5) continue;
+		EXPECT_NEAR(t[k].ty, 0.01, 1e-9) << k;
+	}
 	EXPECT_NEAR(t[5].tx, 1.0, 1e-12);  // it keeps its fallback
 	EXPECT_NEAR(t[5].ty, 2.0, 1e-12);
 }
@@ -177,11 +178,7 @@ TEST(FrameRecords, FramesCoastedAfterAPinnedFrameKeepTheirOwnPoses)
 		{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}, {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0, 0, 0)}};
 	for (int k = 0; k < 9; k++)
 	{
-		CFrameRecords::TRecord r;
-		r.t = 0.033 * k;
-		r.tracked = k < 6;
-		r.hasPose = true;
-		r.online = mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+		CFrameRecords::TRecord r = record(k, alongX(k), k < 6);
 		if (k < 5)
 			r.anchor = TAnchor{TKeyFrameId(0), r.online};
 		else if (k == 5)

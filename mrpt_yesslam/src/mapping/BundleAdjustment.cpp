@@ -39,10 +39,12 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 	{
 		std::size_t point;
 		TKeyFrameId kf;
-		TRgbdReprojectionCost cost;
 		bool hasDepth;
 	};
 	std::vector<Obs> all;
+	// all[j]'s cost is costs[j]; a deque grows in place (the problem points into it) and is
+	// declared before the problem, which refers to it to its end.
+	std::deque<CRgbdReprojectionCostAnalytic> costs;
 	for (std::size_t i = 0; i < w.points.size(); i++)
 		for (const auto& [k, kp] : w.observations[i])
 		{
@@ -62,25 +64,23 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			// 14.6 -> 11.5 mm; the simulator's presets within +-3 %, fr1 3.1 / 3.2 mm). Tracking
 			// keeps the level-0 model: scaled there too, the dev slice got worse (21.3 mm).
 			const double sigmaZ = useDepth ? o.depthNoise.sigma(z, sigma) : 0.0;
-			TRgbdReprojectionCost c(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(), K.fy(), K.cx(), K.cy());
-			all.push_back({i, k, c, useDepth});
+			costs.emplace_back(TRgbdReprojectionCost(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(), K.fy(), K.cx(), K.cy()));
+			all.push_back({i, k, useDepth});
 		}
 	st.observations = all.size();
 	// The costs in one block and one Huber loss per kind of observation, none owned by Ceres: a
 	// cost and a loss allocated per residual were a share of the set-up, repeated for every keyframe.
-	// Declared before the problem, which refers to them to its end.
 	// Huber corner at the chi-square 95% threshold, as ORB-SLAM2 (3 DoF: 7.815, 2 DoF: 5.991).
 	ceres::HuberLoss lossWithDepth(std::sqrt(7.815)), lossWithoutDepth(std::sqrt(5.991));
-	std::deque<CRgbdReprojectionCostAnalytic> costs;	 // grows in place: the problem points into it
 	ceres::Problem::Options po;
 	po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
 	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
 	ceres::Problem problem(po);
-	for (const auto& ob : all)
+	for (std::size_t j = 0; j < all.size(); j++)
 	{
-		costs.emplace_back(ob.cost);
+		const Obs& ob = all[j];
 		double* pp = poseParams.at(ob.kf);
-		problem.AddResidualBlock(&costs.back(), ob.hasDepth ? &lossWithDepth : &lossWithoutDepth, pp, pp + 3, X[ob.point].data());
+		problem.AddResidualBlock(&costs[j], ob.hasDepth ? &lossWithDepth : &lossWithoutDepth, pp, pp + 3, X[ob.point].data());
 	}
 	// A point that no keyframe of the window measured with depth is constrained only by its rays,
 	// and with a short baseline (a still camera: walking_static) not at all along them: Ceres then
@@ -154,11 +154,12 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 
 	// Observations that are still outliers after the solve are removed from the map (ORB-SLAM2).
 	std::vector<std::pair<TPointId, TKeyFrameId>> outliers;
-	for (const auto& o : all)
+	for (std::size_t j = 0; j < all.size(); j++)
 	{
+		const Obs& o = all[j];
 		const double* pp = poseParams.at(o.kf);
 		double r[3];
-		o.cost(pp, pp + 3, X[o.point].data(), r);
+		costs[j].cost()(pp, pp + 3, X[o.point].data(), r);
 		const double chi2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
 		if (chi2 > (o.hasDepth ? 7.815 : 5.991)) outliers.emplace_back(w.points[o.point], o.kf);
 	}

@@ -62,6 +62,8 @@ class CRgbdReprojectionCostAnalytic : public ceres::SizedCostFunction<3, 3, 3, 3
 {
    public:
 	explicit CRgbdReprojectionCostAnalytic(const TRgbdReprojectionCost& c) : c_(c) {}
+	/** The residual it differentiates (the outlier test after a solve evaluates it as before). */
+	const TRgbdReprojectionCost& cost() const { return c_; }
 	bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override
 	{
 		const double* w = parameters[0];
