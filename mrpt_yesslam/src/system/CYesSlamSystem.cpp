@@ -125,7 +125,7 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric, opts_.camera),
 	  inserter_(opts_.keyFrames),
 	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth, opts_.camera),
-	  records_(opts_.tracking.lostInterpolate, opts_.tracking.correctionWindow),
+	  records_(opts_.tracking.lostInterpolate, opts_.tracking.correctionWindow, opts_.tracking.smoothingWindow),
 	  recent_(opts_.system.frameBuffer)
 {
 	tracker_.setMapReadOnly(opts_.system.localizeOnly);

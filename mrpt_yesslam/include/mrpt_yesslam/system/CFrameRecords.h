@@ -42,9 +42,10 @@ class CFrameRecords
 	};
 
 	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking]
-	 * lostInterpolate); `correctionWindow`: see trajectory() ([Tracking] correctionWindow). */
-	explicit CFrameRecords(bool lostInterpolate, int correctionWindow = 0)
-		: lostInterpolate_(lostInterpolate), correctionWindow_(correctionWindow)
+	 * lostInterpolate); `correctionWindow` and `smoothingWindow`: see trajectory() ([Tracking]
+	 * correctionWindow, smoothingWindow). */
+	explicit CFrameRecords(bool lostInterpolate, int correctionWindow = 0, int smoothingWindow = 0)
+		: lostInterpolate_(lostInterpolate), correctionWindow_(correctionWindow), smoothingWindow_(smoothingWindow)
 	{
 	}
 
@@ -60,7 +61,10 @@ class CFrameRecords
 	 * keyframe by since) is the mean of those of the W nearest tracked frames either side of it
 	 * from the same correction generation, applied to its online pose (a pinned frame keeps its
 	 * keyframe's pose; a frame whose keyframe the poses lack keeps its fallback and is in no
-	 * neighbour's mean), and a coasted frame after an averaged one keeps its step from it. */
+	 * neighbour's mean), and a coasted frame after an averaged one keeps its step from it. With a
+	 * smoothingWindow of S, each such frame's pose is then the value at its stamp of a parabola
+	 * fitted in time through the poses of the nearest tracked frames, as many on each side and at
+	 * most S (same generation, same lending and pinning rules). */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
@@ -73,6 +77,7 @@ class CFrameRecords
 
 	bool lostInterpolate_;
 	int correctionWindow_;
+	int smoothingWindow_;
 	mutable std::mutex mtx_;
 	std::vector<TRecord> records_;	//!< guarded by mtx_
 	std::vector<TFrameLogRow> rows_;  //!< guarded by mtx_
