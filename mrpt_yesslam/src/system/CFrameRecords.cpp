@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 namespace mrpt_yesslam
@@ -134,10 +135,13 @@ void smoothMotion(
 			used.push_back(near[1 + before + i]);
 		}
 		// Least squares of p_j = a + b s_j + c s_j^2 (s_j the time from frame k): a = e0' (X'X)^-1 X' p.
+		// Times in whole microseconds, as the trajectory files and .oni recordings keep the stamps:
+		// a run replayed from its own recording gives the same poses to the last digit.
+		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(std::llround(out[j].t * 1e6) - std::llround(out[k].t * 1e6)); };
 		Eigen::Matrix3d XtX = Eigen::Matrix3d::Zero();
 		for (const std::size_t j : used)
 		{
-			const double sj = out[j].t - out[k].t;
+			const double sj = since(j);
 			const Eigen::Vector3d x(1, sj, sj * sj);
 			XtX += x * x.transpose();
 		}
@@ -149,7 +153,7 @@ void smoothMotion(
 		double a[3] = {0, 0, 0};
 		for (const std::size_t j : used)
 		{
-			const double sj = out[j].t - out[k].t;
+			const double sj = since(j);
 			const double w = row[0] + row[1] * sj + row[2] * sj * sj;
 			a[0] += w * (out[j].tx - out[k].tx);
 			a[1] += w * (out[j].ty - out[k].ty);
