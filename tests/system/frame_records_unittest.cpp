@@ -207,7 +207,8 @@ struct TNoisyRun
 {
 	std::vector<mrpt::poses::CPose3D> truth;
 	TTrajectory written;
-	explicit TNoisyRun(int window, int frames = 60, int newGenerationAt = -1)
+	// Frames [lostFrom, lostTo) are coasted (tracking lost them) on a path of their own.
+	explicit TNoisyRun(int window, int frames = 60, int newGenerationAt = -1, int lostFrom = -1, int lostTo = -1)
 	{
 		CFrameRecords records(false, 0, window);
 		for (int k = 0; k < frames; k++)
@@ -216,7 +217,7 @@ struct TNoisyRun
 			truth.emplace_back(0.2 * t - 0.3 * t * t, 0.05 * t, 0, 0.2 * t, 0, 0);
 			const double noise = (k % 2 ? 0.0015 : -0.0015) * (k % 3 ? 1.0 : 0.5);
 			const mrpt::poses::CPose3D measured(truth.back().x() + noise, truth.back().y() - noise, truth.back().z() + noise, 0.2 * t, 0, 0);
-			CFrameRecords::TRecord r = record(k, measured);
+			CFrameRecords::TRecord r = record(k, measured, k < lostFrom || k >= lostTo);
 			r.t = t;
 			r.anchor = TAnchor{TKeyFrameId(0), measured};
 			r.generation = newGenerationAt >= 0 && k >= newGenerationAt ? 2 : 1;
@@ -240,8 +241,9 @@ TEST(FrameRecords, TheWrittenPositionsAreFreedOfTheSingleFrameNoiseAndKeepTheCam
 	{
 		plainWorst = std::max(plainWorst, plain.positionError(k));
 		smoothWorst = std::max(smoothWorst, smooth.positionError(k));
-		// The orientation is the frame's own solve's.
-		EXPECT_NEAR((smooth.written[k].asPose().getRotationMatrix() - plain.written[k].asPose().getRotationMatrix()).norm(), 0.0, 1e-12) << k;
+		// The orientation is the frame's own solve's, to the bit.
+		EXPECT_EQ(smooth.written[k].qx, plain.written[k].qx) << k;
+		EXPECT_EQ(smooth.written[k].qw, plain.written[k].qw) << k;
 	}
 	EXPECT_GT(plainWorst, 0.0025);
 	// A parabola fits the camera's motion exactly: what is left is the noise, mostly averaged out
@@ -263,4 +265,35 @@ TEST(FrameRecords, TheSmoothingNeverReachesAcrossALoopCorrection)
 	EXPECT_GT(std::abs(whole.positionError(29) - plain.positionError(29)), 1e-4);
 	// Farther from the correction the fits have their frames again.
 	EXPECT_LT(split.positionError(40), 0.0006);
+}
+
+TEST(FrameRecords, TheSmoothingNeverReachesAcrossALoss)
+{
+	// Frames 25-34 were lost (coasted on a guess): the frames just before and after have no two
+	// tracked neighbours on that side and stay as solved, and so do the coasted ones, which keep
+	// their step from frame 24; farther from the gap the fits are whole again.
+	const TNoisyRun plain(0, 60, -1, 25, 35), gap(8, 60, -1, 25, 35);
+	for (const std::size_t k : {23u, 24u, 35u, 36u}) EXPECT_NEAR(gap.positionError(k), plain.positionError(k), 1e-12) << k;
+	EXPECT_LT(gap.positionError(15), 0.0006);
+	EXPECT_LT(gap.positionError(45), 0.0006);
+	for (std::size_t k = 25; k < 35; k++) EXPECT_EQ(gap.written[k].tx, plain.written[k].tx) << k;
+	// Without the loss the same frames are smoothed across where it was.
+	const TNoisyRun whole(8);
+	EXPECT_GT(std::abs(whole.positionError(24) - plain.positionError(24)), 1e-4);
+}
+
+TEST(FrameRecords, ARunWithoutStampsIsNotSmoothed)
+{
+	// A rawlog without stamps gives every frame the same one: no time to fit a motion in.
+	CFrameRecords records(false, 0, 8);
+	for (int k = 0; k < 30; k++)
+	{
+		CFrameRecords::TRecord r = record(k, mrpt::poses::CPose3D(0.003 * k + (k % 2 ? 0.001 : -0.001), 0, 0, 0, 0, 0));
+		r.t = 5.0;
+		r.anchor = TAnchor{TKeyFrameId(0), r.online};
+		records.add(r, TFrameLogRow());
+	}
+	const TTrajectory t = records.trajectory([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
+	ASSERT_EQ(t.size(), 30u);
+	for (int k = 0; k < 30; k++) EXPECT_NEAR(t[static_cast<std::size_t>(k)].tx, 0.003 * k + (k % 2 ? 0.001 : -0.001), 1e-15) << k;
 }

@@ -3,6 +3,7 @@
 #include <mrpt/poses/Lie/SE.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
@@ -13,8 +14,10 @@ namespace mrpt_yesslam
 namespace
 {
 // The frames whose poses a frame's fit uses: k itself, then the `window` nearest `lends` frames on
-// each side; generations only grow, so the first frame of another one ends a side.
-std::vector<std::size_t> neighbours(std::size_t k, const std::vector<bool>& lends, const std::vector<std::uint64_t>& generation, int window)
+// each side; generations only grow, so the first frame of another one ends a side, and so does
+// a frame `stop` flags (null: none).
+std::vector<std::size_t> neighbours(
+	std::size_t k, const std::vector<bool>& lends, const std::vector<std::uint64_t>& generation, int window, const std::vector<bool>* stop = nullptr)
 {
 	std::vector<std::size_t> out{k};
 	const std::size_t n = lends.size();
@@ -25,7 +28,7 @@ std::vector<std::size_t> neighbours(std::size_t k, const std::vector<bool>& lend
 		{
 			if (dir < 0 ? j == 0 : j + 1 >= n) break;
 			j = dir < 0 ? j - 1 : j + 1;
-			if (generation[j] != generation[k]) break;
+			if (generation[j] != generation[k] || (stop && (*stop)[j])) break;
 			if (lends[j])
 			{
 				out.push_back(j);
@@ -44,7 +47,8 @@ void replaceAveraged(
 	TTrajectory& out, const std::vector<mrpt::poses::CPose3D>& smoothed, const std::vector<bool>& averaged, const std::vector<bool>& tracked,
 	const std::vector<bool>& anchored)
 {
-	std::optional<std::size_t> last;
+	constexpr std::size_t none = static_cast<std::size_t>(-1);
+	std::size_t last = none;  // the latest averaged frame, for the coasted ones after it
 	mrpt::poses::CPose3D lastBefore;
 	for (std::size_t k = 0; k < out.size(); k++)
 	{
@@ -55,9 +59,9 @@ void replaceAveraged(
 			out[k] = TStampedPose::fromPose(out[k].t, smoothed[k]);
 		}
 		else if (tracked[k])
-			last.reset();
-		else if (last && anchored[k])
-			out[k] = TStampedPose::fromPose(out[k].t, smoothed[*last] + (out[k].asPose() - lastBefore));
+			last = none;
+		else if (last != none && anchored[k])
+			out[k] = TStampedPose::fromPose(out[k].t, smoothed[last] + (out[k].asPose() - lastBefore));
 	}
 }
 
@@ -90,40 +94,48 @@ void smoothCorrections(
 		for (const std::size_t j : near)
 		{
 			const auto d = mrpt::poses::Lie::SE<3>::log(corr[j] - corr[k]);
-			for (int i = 0; i < 6; i++) mean[i] += d[i] / static_cast<double>(near.size());
+			for (int i = 0; i < 6; i++) mean[i] += d[i];
 		}
+		for (int i = 0; i < 6; i++) mean[i] /= static_cast<double>(near.size());
 		smoothed[k] = corr[k] + mrpt::poses::Lie::SE<3>::exp(mean) + online[k];
 	}
 	replaceAveraged(out, smoothed, averaged, tracked, anchored);
 }
 
-// Each averaged pose's position replaced by the value at its stamp of a parabola fitted in time
-// through the positions of the lending frames around it (one generation): as many on each side,
-// up to `window` (a one-sided fit at a run's ends would extrapolate). A parabola, not a line: a
-// camera that speeds up or turns back keeps its corners (a line through a 3x-speed walking_xyz
-// sim's 7 frames cut them: 7.0 -> 9.5 mm). The orientation stays the frame's own: a single frame
-// fixes it well, and the real hand-held cameras turn back and forth faster than they move (a
-// parabola through the orientations too made the real Bonn slice's and the real fr1/xyz path's
-// rotation errors larger: RPE 0.587 -> 0.598 and 0.138 -> 0.178 deg). Lending and averaged frames
-// as in smoothCorrections.
+// Each averaged frame's position replaced by the value at its stamp of a parabola fitted in time
+// through the positions of the lending frames around it: as many on each side, up to `window` (a
+// one-sided fit at a run's ends would extrapolate). A parabola, not a line: a camera that speeds
+// up or turns back keeps its corners (a line through a 3x-speed walking_xyz sim's 7 frames cut
+// them: 7.0 -> 9.5 mm). A side ends at another generation, at a frame tracking lost (the camera
+// may have turned back unseen; a relocalised pose may jump against the drift before the loss) and
+// beyond twice the time the window spans at 30 Hz (frames a live run dropped). The orientation
+// stays the frame's own: a single frame fixes it well, and the real hand-held cameras turn back
+// and forth faster than they move (a parabola through the orientations too made the real Bonn
+// slice's and the real fr1/xyz path's rotation errors larger: RPE 0.587 -> 0.598 and 0.138 ->
+// 0.178 deg). A coasted frame after a smoothed one moves with it. Lending and averaged frames as
+// in smoothCorrections.
 void smoothMotion(
 	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
 	const std::vector<std::uint64_t>& generation, int window)
 {
 	const std::size_t n = out.size();
-	std::vector<bool> lends(n), averaged(n);
+	std::vector<bool> lends(n), untracked(n);
 	for (std::size_t k = 0; k < n; k++)
 	{
-		lends[k] = tracked[k] && anchored[k];
-		averaged[k] = lends[k] && !pinned[k];
+		lends[k] = tracked[k] && anchored[k] && std::isfinite(out[k].t);
+		untracked[k] = !tracked[k];
 	}
-	std::vector<mrpt::poses::CPose3D> smoothed(n);
+	const double span = window / 15.0;	// seconds: twice the window at 30 Hz
+	std::vector<std::optional<Eigen::Vector3d>> shift(n);
 	for (std::size_t k = 0; k < n; k++)
 	{
-		if (!averaged[k]) continue;
-		smoothed[k] = out[k].asPose();
+		if (!lends[k] || pinned[k]) continue;
+		// Times in whole microseconds, as the trajectory files and .oni recordings keep the stamps:
+		// a run replayed from its own recording gives the same poses to the last digit.
+		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(std::llround(out[j].t * 1e6) - std::llround(out[k].t * 1e6)); };
 		// neighbours() lists k, then the earlier frames nearest first, then the later ones.
-		const auto near = neighbours(k, lends, generation, window);
+		auto near = neighbours(k, lends, generation, window, &untracked);
+		near.erase(std::remove_if(near.begin() + 1, near.end(), [&](std::size_t j) { return std::abs(out[j].t - out[k].t) > span; }), near.end());
 		std::size_t before = 0;
 		while (1 + before < near.size() && near[1 + before] < k) before++;
 		const std::size_t after = near.size() - 1 - before, side = std::min(before, after);
@@ -135,35 +147,46 @@ void smoothMotion(
 			used.push_back(near[1 + before + i]);
 		}
 		// Least squares of p_j = a + b s_j + c s_j^2 (s_j the time from frame k): a = e0' (X'X)^-1 X' p.
-		// Times in whole microseconds, as the trajectory files and .oni recordings keep the stamps:
-		// a run replayed from its own recording gives the same poses to the last digit.
-		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(std::llround(out[j].t * 1e6) - std::llround(out[k].t * 1e6)); };
+		// It needs three different times (a rawlog without stamps gives every frame the same one).
 		Eigen::Matrix3d XtX = Eigen::Matrix3d::Zero();
+		std::vector<double> times;
 		for (const std::size_t j : used)
 		{
 			const double sj = since(j);
+			times.push_back(sj);
 			const Eigen::Vector3d x(1, sj, sj * sj);
 			XtX += x * x.transpose();
 		}
-		const Eigen::LDLT<Eigen::Matrix3d> ldlt(XtX);
-		if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) continue;
-		const Eigen::Vector3d row = ldlt.solve(Eigen::Vector3d::UnitX());	 // (X'X)^-1 e0 (symmetric)
+		std::sort(times.begin(), times.end());
+		if (std::unique(times.begin(), times.end()) - times.begin() < 3) continue;
+		const Eigen::Vector3d row = XtX.ldlt().solve(Eigen::Vector3d::UnitX());	 // (X'X)^-1 e0 (symmetric)
 		if (!row.allFinite()) continue;
 		// Relative to frame k's own position: the sums stay small whatever the map's extent.
-		double a[3] = {0, 0, 0};
+		Eigen::Vector3d a = Eigen::Vector3d::Zero();
 		for (const std::size_t j : used)
 		{
 			const double sj = since(j);
-			const double w = row[0] + row[1] * sj + row[2] * sj * sj;
-			a[0] += w * (out[j].tx - out[k].tx);
-			a[1] += w * (out[j].ty - out[k].ty);
-			a[2] += w * (out[j].tz - out[k].tz);
+			a += (row[0] + row[1] * sj + row[2] * sj * sj) * Eigen::Vector3d(out[j].tx - out[k].tx, out[j].ty - out[k].ty, out[j].tz - out[k].tz);
 		}
-		smoothed[k].x_incr(a[0]);
-		smoothed[k].y_incr(a[1]);
-		smoothed[k].z_incr(a[2]);
+		if (a.allFinite()) shift[k] = a;
 	}
-	replaceAveraged(out, smoothed, averaged, tracked, anchored);
+	// Shifted as a whole, so the orientations stay what they were to the bit. A coasted frame after
+	// a shifted one keeps its step from it: the same shift.
+	bool moving = false;  // the latest tracked frame was shifted by `last`
+	Eigen::Vector3d last = Eigen::Vector3d::Zero();
+	for (std::size_t k = 0; k < n; k++)
+	{
+		if (tracked[k])
+		{
+			moving = shift[k].has_value();
+			last = moving ? *shift[k] : Eigen::Vector3d::Zero();
+		}
+		if (!moving) continue;
+		if (!tracked[k] && !anchored[k]) continue;	// a coasted pose on its fallback has no step to keep
+		out[k].tx += last[0];
+		out[k].ty += last[1];
+		out[k].tz += last[2];
+	}
 }
 }  // namespace
 
@@ -245,10 +268,10 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	// around the camera's (the real Bonn slice stepped 4.4 mm a frame where the camera moved 3.0).
 	// A hand-held or robot camera's motion is smooth over a few frames, so the written position is the
 	// value at its stamp of a parabola fitted in time through the positions of the nearest tracked frames
-	// either side (local polynomial regression, a Savitzky-Golay smoother on the frames' own stamps:
-	// a fixed-interval smoother of the kind a batch estimator with a motion prior is; the online
-	// poses, which a robot used, stay as they were). Never across a loop correction or a global BA,
-	// and only after mapping's corrections were averaged above.
+	// either side (local polynomial regression, a Savitzky-Golay smoother on the frames' own stamps,
+	// in the spirit of a fixed-interval smoother; the online poses, which a robot used, stay as they
+	// were). Never across a loop correction, a global BA or a loss, and only after mapping's
+	// corrections were averaged above.
 	if (smoothingWindow_ > 0) smoothMotion(out, tracked, anchored, pinned, generation, smoothingWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
 	// keyframes' current poses, so later corrections carry over) rather than the coasted guess

@@ -62,9 +62,10 @@ class CFrameRecords
 	 * from the same correction generation, applied to its online pose (a pinned frame keeps its
 	 * keyframe's pose; a frame whose keyframe the poses lack keeps its fallback and is in no
 	 * neighbour's mean), and a coasted frame after an averaged one keeps its step from it. With a
-	 * smoothingWindow of S, each such frame's pose is then the value at its stamp of a parabola
-	 * fitted in time through the poses of the nearest tracked frames, as many on each side and at
-	 * most S (same generation, same lending and pinning rules). */
+	 * smoothingWindow of S, each such frame's position is then the value at its stamp of a
+	 * parabola fitted in time through the positions of the nearest tracked frames, as many on each
+	 * side and at most S, a side ending at another generation or a lost frame (same lending and
+	 * pinning rules; orientation its own; fewer than two on a side: left as solved). */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;

@@ -166,7 +166,9 @@ class CYesSlamSystem
 	/** A pose for every processed frame that has one (frames before the map was made or before
 	 * the first localisation in a loaded map have none and are left out, as ORB-SLAM2 does): its
 	 * reference keyframe's current (optimised) pose composed with the frame's pose relative to it,
-	 * as ORB-SLAM2 saves trajectories; lost frames between two tracked ones filled in between them
+	 * as ORB-SLAM2 saves trajectories, with mapping's corrections averaged over neighbouring frames
+	 * and the positions smoothed over them ([Tracking] correctionWindow, smoothingWindow:
+	 * CFrameRecords::trajectory); lost frames between two tracked ones filled in between them
 	 * ([Tracking] lostInterpolate). */
 	TTrajectory trajectory() const;
 	/** The pose each frame had when it was processed, in the map as it was then (tracked or

@@ -92,8 +92,8 @@ class CTracker
 		/** In the trajectory written, the correction mapping applied to each tracked frame since it
 		 * was tracked is averaged over this many tracked frames either side (CFrameRecords). */
 		int correctionWindow = 3;
-		/** In the trajectory written, each tracked frame's pose is a parabola fitted in time over up
-		 * to this many tracked frames either side (CFrameRecords; 0 = its own solve). */
+		/** In the trajectory written, each tracked frame's position is a parabola fitted in time over
+		 * up to this many tracked frames either side (CFrameRecords; 0 = its own solve). */
 		int smoothingWindow = 8;
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
 		 * frames has moved away and is erased (0 = never). */
