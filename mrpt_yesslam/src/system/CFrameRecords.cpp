@@ -122,7 +122,8 @@ void smoothMotion(
 	std::vector<bool> lends(n), untracked(n);
 	for (std::size_t k = 0; k < n; k++)
 	{
-		lends[k] = tracked[k] && anchored[k] && std::isfinite(out[k].t);
+		// Stamps in microseconds must fit a long long (seconds since 1970 do, by far).
+		lends[k] = tracked[k] && anchored[k] && std::isfinite(out[k].t) && std::abs(out[k].t) < 1e12;
 		untracked[k] = !tracked[k];
 	}
 	const double span = window / 15.0;	// seconds: twice the window at 30 Hz
