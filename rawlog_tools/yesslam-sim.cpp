@@ -54,7 +54,7 @@ int main(int argc, char** argv)
 				&o.realSensor);
 			cl.number(
 				"depth-offset", "MS",
-				"take each depth image up to MS milliseconds before or after its colour image, the offset drifting through that range and back every 15 s (0.15 ms a frame at 16.7, as between two free-running 30 Hz streams) (depth.txt gets the depth's own stamps; the real Bonn frames: 16.7); at most half a frame (16.7 at 30 Hz: beyond it a depth image is nearer the next colour image and is paired with it); -1 = the preset's: 16.7 for crowd (the double of those frames), else 0",
+				"take each depth image up to MS milliseconds before or after its colour image, the offset drifting through that range and back every 15 s (0.15 ms a frame at 16.7, as between two free-running 30 Hz streams) (depth.txt gets the depth's own stamps; the real Bonn frames: 16.7); at most half a frame (16.7 at 30 Hz; a replayed trajectory's median interval: beyond it a depth image is nearer the next colour image and is paired with it); -1 = the preset's: 16.7 for crowd (the double of those frames; held to half a frame on a faster replayed trajectory), else 0",
 				&o.depthOffsetMs);
 			cl.number(
 				"readout", "MS",

@@ -500,6 +500,23 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	off.outDir = d / "too_far";
 	expectInputError([&] { runSimulation(off); }, {"--depth-offset 20.0 ms", "half a frame"});
 	EXPECT_FALSE(fs::exists(d / "too_far"));
+	// The crowd preset's own 16.7 ms on a trajectory replayed at 100 Hz (motion-capture stamps) is
+	// held to half that frame interval instead: every depth image stays its colour image's.
+	std::string traj;
+	for (int k = 0; k < 5; k++) traj += std::to_string(100.0 + 0.01 * k) + " " + std::to_string(0.002 * k) + " 0 0 0 0 0 1\n";
+	writeText(d / "traj100hz.txt", traj);
+	TSimOptions replay = quick(d / "replay", "crowd", 5);
+	replay.trajectoryFile = d / "traj100hz.txt";
+	replay.noise = false;
+	replay.writeRawlog = false;
+	runSimulation(replay);
+	const fs::path replayDir = d / "replay";
+	const auto replayRgb = readTumFileList((replayDir / "rgb.txt").string()), replayDepth = readTumFileList((replayDir / "depth.txt").string());
+	ASSERT_EQ(replayDepth.size(), replayRgb.size());
+	double largest = 0;
+	for (std::size_t k = 0; k < replayRgb.size(); k++) largest = std::max(largest, std::abs(replayDepth[k].t - replayRgb[k].t));
+	EXPECT_LE(largest, 0.00501);
+	EXPECT_GT(largest, 0.001) << "offset, only less";
 }
 
 TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)

@@ -42,8 +42,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 		bool hasDepth;
 	};
 	std::vector<Obs> all;
-	// all[j]'s cost is costs[j]; a deque grows in place (the problem points into it) and is
-	// declared before the problem, which refers to it to its end.
+	// all[j]'s cost is costs[j]; declared before the problem, which refers to them to its end.
 	std::deque<CRgbdReprojectionCostAnalytic> costs;
 	for (std::size_t i = 0; i < w.points.size(); i++)
 		for (const auto& [k, kp] : w.observations[i])

@@ -108,12 +108,12 @@ void smoothCorrections(
 // up or turns back keeps its corners (a line through a 3x-speed walking_xyz sim's 7 frames cut
 // them: 7.0 -> 9.5 mm). A side ends at another generation, at a frame tracking lost (the camera
 // may have turned back unseen; a relocalised pose may jump against the drift before the loss) and
-// beyond twice the time the window spans at 30 Hz (frames a live run dropped). The orientation
-// stays the frame's own: a single frame fixes it well, and the real hand-held cameras turn back
-// and forth faster than they move (a parabola through the orientations too made the real Bonn
-// slice's and the real fr1/xyz path's rotation errors larger: RPE 0.587 -> 0.598 and 0.138 ->
-// 0.178 deg). A coasted frame after a smoothed one moves with it. Lending and averaged frames as
-// in smoothCorrections.
+// beyond window / 15 s, twice the time the window spans at 30 Hz (frames a live run dropped); so
+// the two tracked frames either side of a loss stay as solved, and the lost ones with them. The
+// orientation stays the frame's own: a single frame fixes it well, and the real hand-held cameras
+// turn back and forth faster than they move (a parabola through the orientations too made the real
+// Bonn slice's and the real fr1/xyz path's rotation errors larger: RPE 0.587 -> 0.598 and 0.138 ->
+// 0.178 deg). Lending and smoothed frames as the lending and averaged ones of smoothCorrections.
 void smoothMotion(
 	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
 	const std::vector<std::uint64_t>& generation, int window)
@@ -158,8 +158,9 @@ void smoothMotion(
 			const Eigen::Vector3d x(1, sj, sj * sj);
 			XtX += x * x.transpose();
 		}
+		// Frame k's moment inside the fitted times, not at their edge (repeated stamps).
 		std::sort(times.begin(), times.end());
-		if (std::unique(times.begin(), times.end()) - times.begin() < 3) continue;
+		if (std::unique(times.begin(), times.end()) - times.begin() < 3 || !(times.front() < 0 && times.back() > 0)) continue;
 		const Eigen::Vector3d row = XtX.ldlt().solve(Eigen::Vector3d::UnitX());	 // (X'X)^-1 e0 (symmetric)
 		if (!row.allFinite()) continue;
 		// Relative to frame k's own position: the sums stay small whatever the map's extent.
@@ -171,23 +172,15 @@ void smoothMotion(
 		}
 		if (a.allFinite()) shift[k] = a;
 	}
-	// Shifted as a whole, so the orientations stay what they were to the bit. A coasted frame after
-	// a shifted one keeps its step from it: the same shift.
-	bool moving = false;  // the latest tracked frame was shifted by `last`
-	Eigen::Vector3d last = Eigen::Vector3d::Zero();
+	// Applied after every fit (each fit reads the positions as solved), to the position alone, so
+	// the orientations stay what they were to the bit.
 	for (std::size_t k = 0; k < n; k++)
-	{
-		if (tracked[k])
+		if (shift[k])
 		{
-			moving = shift[k].has_value();
-			last = moving ? *shift[k] : Eigen::Vector3d::Zero();
+			out[k].tx += (*shift[k])[0];
+			out[k].ty += (*shift[k])[1];
+			out[k].tz += (*shift[k])[2];
 		}
-		if (!moving) continue;
-		if (!tracked[k] && !anchored[k]) continue;	// a coasted pose on its fallback has no step to keep
-		out[k].tx += last[0];
-		out[k].ty += last[1];
-		out[k].tz += last[2];
-	}
 }
 }  // namespace
 

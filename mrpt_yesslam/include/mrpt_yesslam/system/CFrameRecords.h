@@ -64,8 +64,8 @@ class CFrameRecords
 	 * neighbour's mean), and a coasted frame after an averaged one keeps its step from it. With a
 	 * smoothingWindow of S, each such frame's position is then the value at its stamp of a
 	 * parabola fitted in time through the positions of the nearest tracked frames, as many on each
-	 * side and at most S, a side ending at another generation or a lost frame (same lending and
-	 * pinning rules; orientation its own; fewer than two on a side: left as solved). */
+	 * side and at most S, a side ending at another generation, a lost frame or S / 15 s (same
+	 * lending and pinning rules; orientation its own; fewer than two on a side: left as solved). */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;

@@ -206,8 +206,9 @@ void writeOutputs(
 	const TTrajectory trajectory = toWorldFrame(sys.trajectory(), world.worldFromMap);
 	writeTumTrajectory(
 		(d / "trajectory.txt").string(), trajectory,
-		"camera pose (T_w_c) of every frame that has one; after the run: keyframes optimised, positions smoothed over "
-		"neighbouring frames ([Tracking] smoothingWindow), lost frames between tracked ones filled in (frames.csv column pose says which)" + frameNote);
+		std::string("camera pose (T_w_c) of every frame that has one; after the run: keyframes optimised, ") +
+			(sys.options().tracking.smoothingWindow > 0 ? "positions smoothed over neighbouring frames ([Tracking] smoothingWindow), " : "") +
+			"lost frames between tracked ones filled in (frames.csv column pose says which)" + frameNote);
 	writeTumTrajectory(
 		(d / "trajectory_online.txt").string(), toWorldFrame(sys.onlineTrajectory(), world.worldFromMap),
 		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted)" + frameNote);

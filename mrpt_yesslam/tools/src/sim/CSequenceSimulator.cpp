@@ -299,22 +299,30 @@ TSimSummary runSimulation(
 
 	// Inputs first: a run that cannot start leaves no output folder behind.
 	if (!(o.depthOffsetMs == -1 || (o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100))) throw InputError("", "--depth-offset must be in [0, 100] ms (or -1: the preset's)");
-	const double depthOffsetMs = o.depthOffsetMs < 0 ? preset.depthOffsetMs : o.depthOffsetMs;
+	double depthOffsetMs = o.depthOffsetMs < 0 ? preset.depthOffsetMs : o.depthOffsetMs;
 	// Every reader pairs a depth image with the colour image nearest its stamp (TUM's associate.py,
 	// greedy): a depth image more than half a frame from its own colour image is nearer the next
 	// one and would be paired with it. Half a frame is the most a real pair of free-running streams
 	// is apart (the Bonn slice: -16.6 to +16.7 ms at 30 Hz), so 0.05 ms beyond it is let through.
+	// A frame is the median interval (a replayed trajectory's stamps are not even); the preset's own
+	// offset is held to it, as the readout below is (a 100 Hz replay gets a faster camera's), a
+	// value asked for is refused.
 	if (depthOffsetMs > 0 && stamps.size() > 1)
 	{
-		double shortest = std::numeric_limits<double>::infinity();
-		for (std::size_t k = 1; k < stamps.size(); k++) shortest = std::min(shortest, stamps[k] - stamps[k - 1]);
-		const double limitMs = 500 * shortest + 0.05;
-		if (depthOffsetMs > limitMs)
+		std::vector<double> gaps;
+		for (std::size_t k = 1; k < stamps.size(); k++) gaps.push_back(stamps[k] - stamps[k - 1]);
+		std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
+		const double halfFrameMs = 500 * gaps[gaps.size() / 2];
+		if (!(halfFrameMs > 0))
+			throw InputError(o.trajectoryFile, "the frames' stamps do not increase (most repeat): a depth offset needs frame intervals; use --depth-offset 0");
+		if (o.depthOffsetMs < 0)
+			depthOffsetMs = std::min(depthOffsetMs, halfFrameMs);
+		else if (depthOffsetMs > halfFrameMs + 0.05)
 		{
 			char msg[200];
 			std::snprintf(
-				msg, sizeof(msg), "--depth-offset %.1f ms is more than half a frame (%.1f ms here): each depth image would be paired with the next colour image",
-				depthOffsetMs, limitMs);
+				msg, sizeof(msg), "--depth-offset %.1f ms is more than half a frame (%.2f ms here): each depth image would be paired with the next colour image",
+				depthOffsetMs, halfFrameMs);
 			throw InputError(o.trajectoryFile, msg);
 		}
 	}
