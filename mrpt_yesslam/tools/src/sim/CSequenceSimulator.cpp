@@ -315,15 +315,18 @@ TSimSummary runSimulation(
 		const double halfFrameMs = 500 * gaps[gaps.size() / 2];
 		if (!(halfFrameMs > 0))
 			throw InputError(o.trajectoryFile, "the frames' stamps do not increase (most repeat): a depth offset needs frame intervals; use --depth-offset 0");
-		if (o.depthOffsetMs < 0)
-			depthOffsetMs = std::min(depthOffsetMs, halfFrameMs);
-		else if (depthOffsetMs > halfFrameMs + 0.05)
+		if (depthOffsetMs > halfFrameMs + 0.05)	 // the preset's 16.7 at 30 Hz is within
 		{
-			char msg[200];
-			std::snprintf(
-				msg, sizeof(msg), "--depth-offset %.1f ms is more than half a frame (%.2f ms here): each depth image would be paired with the next colour image",
-				depthOffsetMs, halfFrameMs);
-			throw InputError(o.trajectoryFile, msg);
+			if (o.depthOffsetMs >= 0)
+			{
+				char msg[200];
+				std::snprintf(
+					msg, sizeof(msg),
+					"--depth-offset %.1f ms is more than half a frame (%.2f ms here): each depth image would be paired with the next colour image",
+					depthOffsetMs, halfFrameMs);
+				throw InputError(o.trajectoryFile, msg);
+			}
+			depthOffsetMs = halfFrameMs;
 		}
 	}
 	if (!(o.readoutMs == -1 || (o.readoutMs >= 0 && o.readoutMs <= 100))) throw InputError("", "--readout must be in [0, 100] ms");
