@@ -307,12 +307,19 @@ TSimSummary runSimulation(
 	// A frame is the median interval (a replayed trajectory's stamps are not even); the preset's own
 	// offset is held to it, as the readout below is (a 100 Hz replay gets a faster camera's), a
 	// value asked for is refused.
-	if (depthOffsetMs > 0 && stamps.size() > 1)
+	// The median interval between frames (seconds; 0 for a single frame): a frame, for the depth
+	// offset here and the readout below.
+	double medianInterval = 0;
+	if (stamps.size() > 1)
 	{
 		std::vector<double> gaps;
 		for (std::size_t k = 1; k < stamps.size(); k++) gaps.push_back(stamps[k] - stamps[k - 1]);
 		std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
-		const double halfFrameMs = 500 * gaps[gaps.size() / 2];
+		medianInterval = gaps[gaps.size() / 2];
+	}
+	if (depthOffsetMs > 0 && stamps.size() > 1)
+	{
+		const double halfFrameMs = 500 * medianInterval;
 		if (!(halfFrameMs > 0))
 			throw InputError(o.trajectoryFile, "the frames' stamps do not increase (most repeat): a depth offset needs frame intervals; use --depth-offset 0");
 		if (depthOffsetMs > halfFrameMs + 0.05)	 // the preset's 16.7 at 30 Hz is within
@@ -420,13 +427,7 @@ TSimSummary runSimulation(
 	// A sensor reads its rows within a frame period: a replayed trajectory's 100 Hz stamps get a
 	// shorter readout (the frame interval), as a faster camera has.
 	double readout = (o.readoutMs < 0 ? (realSensor ? 28.0 : 0.0) : o.readoutMs) * 1e-3;
-	if (stamps.size() > 1)
-	{
-		std::vector<double> gaps;
-		for (std::size_t k = 1; k < stamps.size(); k++) gaps.push_back(stamps[k] - stamps[k - 1]);
-		std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 2), gaps.end());
-		readout = std::min(readout, gaps[gaps.size() / 2]);
-	}
+	if (stamps.size() > 1) readout = std::min(readout, medianInterval);
 	// Within a frame the camera moves smoothly. A replayed motion-capture trajectory is not smooth at
 	// its 100 Hz samples (fr3_walking_xyz: rotation between samples 118 deg/s at the 90th percentile,
 	// 20 deg/s over 0.1 s): rows posed between those samples took the capture's noise for motion and
