@@ -189,6 +189,47 @@ TEST(BundleAdjustment, ACoarseKeypointsDepthCountsLessThanAFineOnes)
 	EXPECT_GT(s.positions[0].z, P.z + 0.001) << "the coarse depth still counts a little";
 }
 
+TEST(BundleAdjustment, BeyondFarDepthAKeypointsDepthIsNotAMeasurement)
+{
+	// [Camera] farDepth (ORB-SLAM2's close/far split): one point 4 m away seen from one place by two
+	// keyframes whose depths both read 12 cm too far (a far-depth bias, as a real structured-light
+	// sensor's). With every depth a measurement bundle adjustment pulls the point along its ray to
+	// the biased depth; with farDepth = 3 m the far depth is not in the cost and the point stays
+	// where its (unbiased) reprojections leave it. A point at 2 m is still pulled by its depth.
+	const mrpt::img::TCamera K = yesslam_test::fr3Camera();
+	const auto solve = [&](double z, double farDepth)
+	{
+		const mrpt::math::TPoint3D P(0.2, -0.1, z);
+		const double u = K.fx() * P.x / P.z + K.cx(), v = K.fy() * P.y / P.z + K.cy();
+		TBundleWindow w;
+		for (TKeyFrameId k : {0, 1})
+		{
+			auto f = std::make_shared<TFeatures>();
+			f->keypoints.push_back(cv::KeyPoint(static_cast<float>(u), static_cast<float>(v), 31.f, -1, 0, 0));
+			f->depth.push_back(static_cast<float>(P.z + 0.12));
+			f->dynamic.push_back(false);
+			f->descriptors = cv::Mat::zeros(1, 32, CV_8U);
+			w.keyFrames.push_back(k);
+			w.fixedKeyFrames.push_back(k);
+			w.poses[k] = mrpt::poses::CPose3D();
+			w.features[k] = f;
+			w.cameras[k] = K;
+		}
+		w.points = {0};
+		w.positions = {P};
+		w.observations = {{{0, 0}, {1, 0}}};
+		TBundleSolveOptions o;
+		o.iterations = 50;
+		o.depthNoise.farDepth = farDepth;
+		const TBundleSolution s = solveBundle(w, o);
+		EXPECT_EQ(s.positions.size(), 1u);
+		return s.positions.empty() ? 0.0 : s.positions[0].z - P.z;
+	};
+	EXPECT_GT(solve(4.0, 0.0), 0.08) << "every depth a measurement: pulled to the biased depth";
+	EXPECT_LT(std::abs(solve(4.0, 3.0)), 0.005) << "beyond farDepth: the reprojections alone";
+	EXPECT_GT(solve(2.0, 3.0), 0.08) << "a near depth is still a measurement";
+}
+
 TEST(BundleAdjustment, AKeyFrameTheWindowCannotPlaceKeepsItsPose)
 {
 	// Issue 27: a keyframe made from a frame tracked against the last frame's depth points alone

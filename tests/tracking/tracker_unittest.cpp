@@ -61,6 +61,32 @@ TEST(Tracker, RealFr1DeskFramesMatchMotionCapture)
 	EXPECT_LT(ate.stats.rmse, 0.01);
 }
 
+TEST(Tracker, BeyondFarDepthAKeypointEntersThePoseSolveWithoutItsDepth)
+{
+	// [Camera] farDepth: a keypoint whose depth reads beyond it is a monocular observation in the
+	// pose solve (no depth residual: sigmaZ 0), a nearer one keeps its depth; 0 keeps every depth.
+	TFrame f;
+	TLocalMapPoints pts;
+	std::vector<TMatch> m;
+	for (const double z : {1.0, 2.9, 3.1, 5.0})
+	{
+		f.features.keypoints.push_back(cv::KeyPoint(320.f, 240.f, 31.f));
+		f.features.depth.push_back(static_cast<float>(z));
+		pts.positions.push_back({0, 0, z});
+		m.push_back({m.size(), m.size(), 0});
+	}
+	TDepthNoise noise;
+	noise.farDepth = 3.0;
+	const auto obs = makePoseObservations(f, m, pts, 1.2, noise);
+	ASSERT_EQ(obs.size(), 4u);
+	EXPECT_DOUBLE_EQ(obs[0].sigmaZ, noise.sigma(1.0));
+	EXPECT_DOUBLE_EQ(obs[1].sigmaZ, noise.sigma(f.features.depth[1]));
+	EXPECT_EQ(obs[2].sigmaZ, 0.0);
+	EXPECT_EQ(obs[3].sigmaZ, 0.0);
+	noise.farDepth = 0;
+	for (const auto& o : makePoseObservations(f, m, pts, 1.2, noise)) EXPECT_GT(o.sigmaZ, 0.0);
+}
+
 TEST(Tracker, TheLocalMapIsSearchedWithTheViewChecksUnlessTheyAreOff)
 {
 	// Issue 27: [Tracking] viewChecks reaches the local-map search (the search itself is tested in

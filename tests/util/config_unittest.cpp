@@ -230,6 +230,11 @@ TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
 	o.loadFromFile(d / "z2.ini");
 	EXPECT_DOUBLE_EQ(o.camera.sigma(2.0), 0.016);  // the random disparity noise alone
 	EXPECT_FALSE(TDepthNoise::none().used());
+	writeText(d / "far.ini", "[Camera]\nfarDepth = 3\n");
+	o.loadFromFile(d / "far.ini");
+	EXPECT_TRUE(o.camera.measures(2.99));
+	EXPECT_FALSE(o.camera.measures(3.01));	// ORB-SLAM2's close/far split
+	EXPECT_FALSE(o.camera.measures(0));
 }
 
 TEST(Config, NegativeCountsAndOutOfRangeValuesAreErrors)

@@ -15,6 +15,10 @@ COptionTable TDepthNoise::table()
 		"depthNoiseExponent", depthNoiseExponent, 1, 4,
 		"how the depth error grows with z: 2 = structured light's random disparity noise alone, 2.5 = with the disparity distortion and far-depth bias that "
 		"grow faster (measured better on the real Xtion frames and the real-sensor sims, as good on the Kinect frames)");
+	t.real(
+		"farDepth", farDepth, 0, 20,
+		"beyond this depth (m) a keypoint's depth is not a measurement in the pose solve, bundle adjustment and the loop's relative pose: the point is "
+		"observed as by a monocular camera (ORB-SLAM2's close/far split); 0 = every depth");
 	return t;
 }
 }  // namespace mrpt_yesslam

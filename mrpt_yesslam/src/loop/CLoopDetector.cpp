@@ -250,7 +250,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		o.pixel = {kp.pt.x, kp.pt.y};
 		o.sigma = sigmaOf(kp);
 		o.depth = fa.depth[i];
-		o.sigmaZ = noise_.used() && o.depth > 0 ? noise_.sigma(o.depth) : 0.0;
+		o.sigmaZ = noise_.measures(o.depth) ? noise_.sigma(o.depth) : 0.0;
 		return o;
 	};
 	std::vector<Eigen::Vector3d> pa, pb;

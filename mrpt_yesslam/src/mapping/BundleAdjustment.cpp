@@ -53,7 +53,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			const bool hasDepth = z > 0;
 			const double sigma = std::pow(o.scaleFactor, std::max(0, key.octave));
 			const CPinholeCamera K(w.cameras.at(k));
-			const bool useDepth = hasDepth && o.depthNoise.used();
+			const bool useDepth = hasDepth && o.depthNoise.measures(z);
 			// The depth of a keypoint found at a coarse pyramid level is uncertain with its position:
 			// it is read where the keypoint is, known to sigma pixels, and on a slanted surface or
 			// near an edge the depth changes within that. ORB-SLAM2's RGB-D edges weigh their

@@ -60,7 +60,7 @@ std::vector<TPoseObservation> makePoseObservations(
 		o.pixel = {kp.pt.x, kp.pt.y};
 		o.sigma = std::pow(scaleFactor, std::max(0, kp.octave));
 		const double z = x.keypoint < f.features.depth.size() ? f.features.depth[x.keypoint] : 0.0;
-		if (depthNoise.used() && z > 0)
+		if (depthNoise.measures(z))
 		{
 			// The level-0 sigma, unlike bundle adjustment's (scaled with the pixel's): scaled here
 			// too, the Bonn slice got worse (21.3 mm against 17.2, when BA's was scaled), and again

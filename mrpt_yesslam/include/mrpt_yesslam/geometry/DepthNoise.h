@@ -28,6 +28,9 @@ struct TDepthNoise : public TTableOptions<TDepthNoise>
 	/** How sigma_z grows with the depth: 2 = the random disparity noise alone; more = with the
 	 * errors that grow faster with distance (see above). */
 	double depthNoiseExponent = 2.5;
+	/** Beyond this depth (m) a keypoint's depth is not a measurement: the point is observed as by
+	 * a monocular camera (ORB-SLAM2's close/far split at 40 stereo baselines); 0 = every depth. */
+	double farDepth = 0.0;
 
 	/** A model that uses no depth (depthNoise 0). */
 	static TDepthNoise none()
@@ -38,6 +41,8 @@ struct TDepthNoise : public TTableOptions<TDepthNoise>
 	}
 	/** Whether depth enters the cost at all. */
 	bool used() const { return depthNoise > 0; }
+	/** Whether a depth z read at a keypoint enters a cost as a measurement (a depth, used, not far). */
+	bool measures(double z) const { return used() && z > 0 && (farDepth <= 0 || z <= farDepth); }
 	/** The std (m) of a depth z read at a keypoint known to `pixelSigma` pixels (ORB: scaleFactor
 	 * ^ octave): on a slanted surface or near an edge the depth changes within that, so a coarse
 	 * keypoint's depth is as uncertain as its position (ORB-SLAM2 weighs the depth's virtual
