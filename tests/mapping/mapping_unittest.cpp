@@ -4,6 +4,8 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cmath>
 #include <random>
 #ifndef OUTLIER_PX
@@ -28,6 +30,34 @@ std::shared_ptr<TFrame> observe(std::size_t id, const mrpt::poses::CPose3D& Twc,
 double positionError(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
 {
 	return std::hypot(a.x() - b.x(), a.y() - b.y(), a.z() - b.z());
+}
+
+// One point P seen from one place (the origin) by two fixed keyframes, 0 and 1, with no baseline:
+// only the depths say how far it is. Keyframe k reads `depths[k]` at pyramid level `octaves[k]`;
+// the window starts the point at `start`.
+TBundleWindow onePointFromOnePlace(
+	const mrpt::img::TCamera& K, const mrpt::math::TPoint3D& P, const std::array<double, 2>& depths, const std::array<int, 2>& octaves,
+	const mrpt::math::TPoint3D& start)
+{
+	const double u = K.fx() * P.x / P.z + K.cx(), v = K.fy() * P.y / P.z + K.cy();
+	TBundleWindow w;
+	for (TKeyFrameId k : {0, 1})
+	{
+		auto f = std::make_shared<TFeatures>();
+		f->keypoints.push_back(cv::KeyPoint(static_cast<float>(u), static_cast<float>(v), 31.f, -1, 0, octaves[k]));
+		f->depth.push_back(static_cast<float>(depths[k]));
+		f->dynamic.push_back(false);
+		f->descriptors = cv::Mat::zeros(1, 32, CV_8U);
+		w.keyFrames.push_back(k);
+		w.fixedKeyFrames.push_back(k);
+		w.poses[k] = mrpt::poses::CPose3D();
+		w.features[k] = f;
+		w.cameras[k] = K;
+	}
+	w.points = {0};
+	w.positions = {start};
+	w.observations = {{{0, 0}, {1, 0}}};
+	return w;
 }
 }  // namespace
 
@@ -162,24 +192,7 @@ TEST(BundleAdjustment, ACoarseKeypointsDepthCountsLessThanAFineOnes)
 	// within 1 cm of the truth. Weighed alike, it settled half way (2.5 cm off).
 	const mrpt::img::TCamera K = yesslam_test::fr3Camera();
 	const mrpt::math::TPoint3D P(0.3, -0.2, 3.0);
-	const double u = K.fx() * P.x / P.z + K.cx(), v = K.fy() * P.y / P.z + K.cy();
-	TBundleWindow w;
-	for (TKeyFrameId k : {0, 1})
-	{
-		auto f = std::make_shared<TFeatures>();
-		f->keypoints.push_back(cv::KeyPoint(static_cast<float>(u), static_cast<float>(v), 31.f, -1, 0, k == 0 ? 0 : 5));
-		f->depth.push_back(k == 0 ? static_cast<float>(P.z) : static_cast<float>(P.z + 0.05));
-		f->dynamic.push_back(false);
-		f->descriptors = cv::Mat::zeros(1, 32, CV_8U);
-		w.keyFrames.push_back(k);
-		w.fixedKeyFrames.push_back(k);
-		w.poses[k] = mrpt::poses::CPose3D();
-		w.features[k] = f;
-		w.cameras[k] = K;
-	}
-	w.points = {0};
-	w.positions = {mrpt::math::TPoint3D(P.x, P.y, P.z + 0.03)};
-	w.observations = {{{0, 0}, {1, 0}}};
+	const TBundleWindow w = onePointFromOnePlace(K, P, {P.z, P.z + 0.05}, {0, 5}, {P.x, P.y, P.z + 0.03});
 	TBundleSolveOptions o;
 	o.iterations = 50;
 	const TBundleSolution s = solveBundle(w, o);
@@ -191,33 +204,17 @@ TEST(BundleAdjustment, ACoarseKeypointsDepthCountsLessThanAFineOnes)
 
 TEST(BundleAdjustment, BeyondFarDepthAKeypointsDepthIsNotAMeasurement)
 {
-	// [Camera] farDepth (ORB-SLAM2's close/far split): one point 4 m away seen from one place by two
-	// keyframes whose depths both read 12 cm too far (a far-depth bias, as a real structured-light
-	// sensor's). With every depth a measurement bundle adjustment pulls the point along its ray to
-	// the biased depth; with farDepth = 3 m the far depth is not in the cost and the point stays
-	// where its (unbiased) reprojections leave it. A point at 2 m is still pulled by its depth.
+	// [Camera] farDepth: one point 4 m away seen from one place by two keyframes whose depths both
+	// read 12 cm too far (a far-depth bias, as a real structured-light sensor's). With every depth
+	// a measurement bundle adjustment pulls the point along its ray to the biased depth; with
+	// farDepth = 3 m the far depths are not in the cost, and a point no keyframe of the window
+	// measures nearer keeps its position (as one without depth: no baseline places it along its
+	// rays). A point at 2 m is still pulled by its depth.
 	const mrpt::img::TCamera K = yesslam_test::fr3Camera();
 	const auto solve = [&](double z, double farDepth)
 	{
 		const mrpt::math::TPoint3D P(0.2, -0.1, z);
-		const double u = K.fx() * P.x / P.z + K.cx(), v = K.fy() * P.y / P.z + K.cy();
-		TBundleWindow w;
-		for (TKeyFrameId k : {0, 1})
-		{
-			auto f = std::make_shared<TFeatures>();
-			f->keypoints.push_back(cv::KeyPoint(static_cast<float>(u), static_cast<float>(v), 31.f, -1, 0, 0));
-			f->depth.push_back(static_cast<float>(P.z + 0.12));
-			f->dynamic.push_back(false);
-			f->descriptors = cv::Mat::zeros(1, 32, CV_8U);
-			w.keyFrames.push_back(k);
-			w.fixedKeyFrames.push_back(k);
-			w.poses[k] = mrpt::poses::CPose3D();
-			w.features[k] = f;
-			w.cameras[k] = K;
-		}
-		w.points = {0};
-		w.positions = {P};
-		w.observations = {{{0, 0}, {1, 0}}};
+		const TBundleWindow w = onePointFromOnePlace(K, P, {z + 0.12, z + 0.12}, {0, 0}, P);
 		TBundleSolveOptions o;
 		o.iterations = 50;
 		o.depthNoise.farDepth = farDepth;
@@ -226,7 +223,7 @@ TEST(BundleAdjustment, BeyondFarDepthAKeypointsDepthIsNotAMeasurement)
 		return s.positions.empty() ? 0.0 : s.positions[0].z - P.z;
 	};
 	EXPECT_GT(solve(4.0, 0.0), 0.08) << "every depth a measurement: pulled to the biased depth";
-	EXPECT_LT(std::abs(solve(4.0, 3.0)), 0.005) << "beyond farDepth: the reprojections alone";
+	EXPECT_LT(std::abs(solve(4.0, 3.0)), 0.005) << "beyond farDepth: the biased depths do not move it";
 	EXPECT_GT(solve(2.0, 3.0), 0.08) << "a near depth is still a measurement";
 }
 

@@ -63,8 +63,8 @@ TEST(Tracker, RealFr1DeskFramesMatchMotionCapture)
 
 TEST(Tracker, BeyondFarDepthAKeypointEntersThePoseSolveWithoutItsDepth)
 {
-	// [Camera] farDepth: a keypoint whose depth reads beyond it is a monocular observation in the
-	// pose solve (no depth residual: sigmaZ 0), a nearer one keeps its depth; 0 keeps every depth.
+	// [Camera] farDepth: a keypoint whose depth reads beyond it enters the pose solve by its pixel
+	// alone (no depth residual: sigmaZ 0), a nearer one with its depth; 0 keeps every depth.
 	TFrame f;
 	TLocalMapPoints pts;
 	std::vector<TMatch> m;
@@ -83,6 +83,9 @@ TEST(Tracker, BeyondFarDepthAKeypointEntersThePoseSolveWithoutItsDepth)
 	EXPECT_DOUBLE_EQ(obs[1].sigmaZ, noise.sigma(f.features.depth[1]));
 	EXPECT_EQ(obs[2].sigmaZ, 0.0);
 	EXPECT_EQ(obs[3].sigmaZ, 0.0);
+	// The depth itself stays known (the mover check sizes and groups keypoints by it).
+	EXPECT_DOUBLE_EQ(obs[2].depth, f.features.depth[2]);
+	EXPECT_DOUBLE_EQ(obs[3].depth, 5.0);
 	noise.farDepth = 0;
 	for (const auto& o : makePoseObservations(f, m, pts, 1.2, noise)) EXPECT_GT(o.sigmaZ, 0.0);
 }

@@ -235,6 +235,10 @@ TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
 	EXPECT_TRUE(o.camera.measures(2.99));
 	EXPECT_FALSE(o.camera.measures(3.01));	// ORB-SLAM2's close/far split
 	EXPECT_FALSE(o.camera.measures(0));
+	o.camera.farDepth = 0;
+	EXPECT_TRUE(o.camera.measures(12.0));  // 0: every depth
+	writeText(d / "far_bad.ini", "[Camera]\nfarDepth = -1\n");
+	EXPECT_THROW(o.loadFromFile(d / "far_bad.ini"), std::exception);
 }
 
 TEST(Config, NegativeCountsAndOutOfRangeValuesAreErrors)

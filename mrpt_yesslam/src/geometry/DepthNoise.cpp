@@ -17,8 +17,9 @@ COptionTable TDepthNoise::table()
 		"grow faster (measured better on the real Xtion frames and the real-sensor sims, as good on the Kinect frames)");
 	t.real(
 		"farDepth", farDepth, 0, 20,
-		"beyond this depth (m) a keypoint's depth is not a measurement in the pose solve, bundle adjustment and the loop's relative pose: the point is "
-		"observed as by a monocular camera (ORB-SLAM2's close/far split); 0 = every depth");
+		"beyond this depth (m) a keypoint's depth is not a measurement in the pose solve, bundle adjustment and the loop's final pose solve: the "
+		"keypoint counts by its pixel alone, and in bundle adjustment a point no keyframe measures nearer keeps its position; 0 = every depth "
+		"(measured: off by default, docs/benchmarks.md)");
 	return t;
 }
 }  // namespace mrpt_yesslam

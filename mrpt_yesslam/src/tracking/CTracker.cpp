@@ -60,13 +60,15 @@ std::vector<TPoseObservation> makePoseObservations(
 		o.pixel = {kp.pt.x, kp.pt.y};
 		o.sigma = std::pow(scaleFactor, std::max(0, kp.octave));
 		const double z = x.keypoint < f.features.depth.size() ? f.features.depth[x.keypoint] : 0.0;
-		if (depthNoise.measures(z))
+		if (depthNoise.used() && z > 0)
 		{
+			// The depth stays known beyond [Camera] farDepth (the mover check sizes and groups
+			// keypoints by it); only its residual leaves the solve there (sigmaZ 0).
+			o.depth = z;
 			// The level-0 sigma, unlike bundle adjustment's (scaled with the pixel's): scaled here
 			// too, the Bonn slice got worse (21.3 mm against 17.2, when BA's was scaled), and again
 			// when measured with the one model (docs/benchmarks.md, "One depth-noise model").
-			o.depth = z;
-			o.sigmaZ = depthNoise.sigma(z);
+			if (depthNoise.measures(z)) o.sigmaZ = depthNoise.sigma(z);
 		}
 		obs.push_back(o);
 	}

@@ -28,8 +28,11 @@ struct TDepthNoise : public TTableOptions<TDepthNoise>
 	/** How sigma_z grows with the depth: 2 = the random disparity noise alone; more = with the
 	 * errors that grow faster with distance (see above). */
 	double depthNoiseExponent = 2.5;
-	/** Beyond this depth (m) a keypoint's depth is not a measurement: the point is observed as by
-	 * a monocular camera (ORB-SLAM2's close/far split at 40 stereo baselines); 0 = every depth. */
+	/** Beyond this depth (m) a keypoint's depth is not a measurement in the pose solve, bundle
+	 * adjustment and the loop's final pose solve: the keypoint counts by its pixel alone, and in BA
+	 * a point no keyframe of the window measures nearer keeps its position (as one without depth).
+	 * The far end of structured light is where its depth is least trusted (ORB-SLAM2 makes points
+	 * only from depths within 40 baselines, [KeyFrames] closeDepth here); 0 = every depth. */
 	double farDepth = 0.0;
 
 	/** A model that uses no depth (depthNoise 0). */

@@ -30,7 +30,9 @@ struct TBundleStats
 struct TBundleSolveOptions
 {
 	double scaleFactor = 1.2;  //!< ORB pyramid: pixel sigma = scale ^ octave
-	/** The sensor's depth noise: an observation's sigma_z = depthNoise.sigma(z, scale^octave). */
+	/** The sensor's depth noise: an observation's sigma_z = depthNoise.sigma(z, scale^octave); a
+	 * depth beyond its farDepth is no residual, and a point no keyframe of the window measures
+	 * nearer keeps its position (as a point without depth does). */
 	TDepthNoise depthNoise;
 	int iterations = 10;
 	/** A keyframe with fewer observations of points that another keyframe of the window also

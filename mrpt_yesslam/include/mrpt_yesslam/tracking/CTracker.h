@@ -249,7 +249,8 @@ class CTracker
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; where
- * `depthNoise` is used, the keypoint's depth too, with its level-0 sigma: see CTracker.cpp). */
+ * `depthNoise` is used, the keypoint's depth too, with its level-0 sigma: see CTracker.cpp; a depth
+ * beyond its farDepth is kept but carries no residual, sigmaZ 0). */
 std::vector<TPoseObservation> makePoseObservations(
 	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, const TDepthNoise& depthNoise = TDepthNoise::none());
 }  // namespace mrpt_yesslam
