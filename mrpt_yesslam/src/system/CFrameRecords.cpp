@@ -127,13 +127,16 @@ void smoothMotion(
 		untracked[k] = !tracked[k];
 	}
 	const double span = window / 15.0;	// seconds: twice the window at 30 Hz
+	// Times in whole microseconds, as the trajectory files and .oni recordings keep the stamps: a
+	// run replayed from its own recording gives the same poses to the last digit. Rounded once.
+	std::vector<long long> us(n, 0);
+	for (std::size_t k = 0; k < n; k++)
+		if (lends[k]) us[k] = std::llround(out[k].t * 1e6);
 	std::vector<std::optional<Eigen::Vector3d>> shift(n);
 	for (std::size_t k = 0; k < n; k++)
 	{
 		if (!lends[k] || pinned[k]) continue;
-		// Times in whole microseconds, as the trajectory files and .oni recordings keep the stamps:
-		// a run replayed from its own recording gives the same poses to the last digit.
-		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(std::llround(out[j].t * 1e6) - std::llround(out[k].t * 1e6)); };
+		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(us[j] - us[k]); };
 		// neighbours() lists k, then the earlier frames nearest first, then the later ones.
 		auto near = neighbours(k, lends, generation, window, &untracked);
 		near.erase(std::remove_if(near.begin() + 1, near.end(), [&](std::size_t j) { return std::abs(out[j].t - out[k].t) > span; }), near.end());
@@ -150,7 +153,7 @@ void smoothMotion(
 		// Least squares of p_j = a + b s_j + c s_j^2 (s_j the time from frame k): a = e0' (X'X)^-1 X' p.
 		// It needs three different times (a rawlog without stamps gives every frame the same one).
 		Eigen::Matrix3d XtX = Eigen::Matrix3d::Zero();
-		std::vector<double> times;
+		std::vector<double> times;	// s_j, in the order of `used`
 		for (const std::size_t j : used)
 		{
 			const double sj = since(j);
@@ -158,16 +161,18 @@ void smoothMotion(
 			const Eigen::Vector3d x(1, sj, sj * sj);
 			XtX += x * x.transpose();
 		}
+		std::vector<double> sorted = times;
 		// Frame k's moment inside the fitted times, not at their edge (repeated stamps).
-		std::sort(times.begin(), times.end());
-		if (std::unique(times.begin(), times.end()) - times.begin() < 3 || !(times.front() < 0 && times.back() > 0)) continue;
+		std::sort(sorted.begin(), sorted.end());
+		if (std::unique(sorted.begin(), sorted.end()) - sorted.begin() < 3 || !(sorted.front() < 0 && sorted.back() > 0)) continue;
 		const Eigen::Vector3d row = XtX.ldlt().solve(Eigen::Vector3d::UnitX());	 // (X'X)^-1 e0 (symmetric)
 		if (!row.allFinite()) continue;
 		// Relative to frame k's own position: the sums stay small whatever the map's extent.
 		Eigen::Vector3d a = Eigen::Vector3d::Zero();
-		for (const std::size_t j : used)
+		for (std::size_t i = 0; i < used.size(); i++)
 		{
-			const double sj = since(j);
+			const std::size_t j = used[i];
+			const double sj = times[i];
 			a += (row[0] + row[1] * sj + row[2] * sj * sj) * Eigen::Vector3d(out[j].tx - out[k].tx, out[j].ty - out[k].ty, out[j].tz - out[k].tz);
 		}
 		if (a.allFinite()) shift[k] = a;
