@@ -2,6 +2,7 @@
 // on yesslam-sim tours that turn a full circle round the room and come back to their start.
 // Images for the database test: TUM fr1/desk (CC BY 4.0) in ../shared/data.
 #include <gtest/gtest.h>
+#include <mrpt/poses/Lie/SO.h>
 
 #include <sstream>
 
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <mutex>
 #include <set>
@@ -65,24 +67,54 @@ TSlamJobSummary run(const std::string& seq, const std::string& out, bool loopClo
 }
 }  // namespace
 
-// A copy of `seq` without frames [from, to): the camera is "kidnapped" across that stretch.
-void writeWithGap(const std::string& seq, const std::string& out, std::size_t from, std::size_t to)
+// A copy of `seq` without frames [from, to): the camera is "kidnapped" across that stretch. With
+// `closeGap`, every stamp after the cut moves back by the cut's duration: the frame after it comes
+// one frame interval after the one before (a jump within a frame, as a relocalisation makes one).
+void writeWithGap(const std::string& seq, const std::string& out, std::size_t from, std::size_t to, bool closeGap = false)
 {
 	fs::create_directories(out);
 	fs::create_directory_symlink(fs::absolute(seq + "/rgb"), out + "/rgb");
 	fs::create_directory_symlink(fs::absolute(seq + "/depth"), out + "/depth");
-	for (const char* f : {"calibration.txt", "groundtruth.txt"}) fs::copy_file(seq + "/" + f, out + "/" + f);
+	fs::copy_file(seq + "/calibration.txt", out + "/calibration.txt");
 	std::set<std::string> dropped;
+	std::vector<double> stamps;
 	std::ifstream rgb(seq + "/rgb.txt");
 	std::size_t index = 0;
 	for (std::string line; std::getline(rgb, line);)
-		if (!line.empty() && line[0] != '#' && index++ >= from && index <= to) dropped.insert(line.substr(0, line.find(' ')));
-	for (const char* f : {"rgb.txt", "depth.txt", "associations.txt", "detections.txt"})
+		if (!line.empty() && line[0] != '#')
+		{
+			stamps.push_back(std::stod(line));
+			if (index++ >= from && index <= to) dropped.insert(line.substr(0, line.find(' ')));
+		}
+	const double cutEnd = stamps.at(to), shift = closeGap ? stamps.at(to) - stamps.at(from) : 0.0;
+	const auto moved = [&](const std::string& token)
+	{
+		const double t = std::stod(token);
+		if (shift == 0 || t < cutEnd - 1e-7) return token;
+		char buf[64];
+		std::snprintf(buf, sizeof(buf), "%.6f", t - shift);
+		return std::string(buf);
+	};
+	for (const char* f : {"rgb.txt", "depth.txt", "associations.txt", "detections.txt", "groundtruth.txt"})
 	{
 		std::ifstream in(seq + "/" + f);
 		std::ofstream o(out + "/" + f);
 		for (std::string line; std::getline(in, line);)
-			if (line.empty() || line[0] == '#' || !dropped.count(line.substr(0, line.find(' ')))) o << line << "\n";
+		{
+			if (line.empty() || line[0] == '#')
+			{
+				o << line << "\n";
+				continue;
+			}
+			std::istringstream words(line);
+			std::vector<std::string> w{std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()};
+			const double t = std::stod(w.at(0));
+			if (dropped.count(w[0]) || (t > stamps.at(from) - 1e-7 && t < cutEnd - 1e-7)) continue;
+			w[0] = moved(w[0]);
+			if (std::string(f) == "associations.txt" && w.size() > 2) w[2] = moved(w[2]);
+			for (std::size_t k = 0; k < w.size(); k++) o << (k ? " " : "") << w[k];
+			o << "\n";
+		}
 	}
 }
 
@@ -361,6 +393,46 @@ TEST(LoopClosing, AKeyFrameCulledBetweenDetectionAndCorrectionCannotTakeTheLoop)
 	const TSlamStats st = sys.stats();
 	ASSERT_EQ(st.loopCorrections, hooked) << "every detected loop is corrected and counted";
 	for (const auto& r : st.loopRecords) EXPECT_GT(r.correction.groupKeyFrames, 0u);
+}
+
+// A relocalisation is no step of the camera. The tour is cut from frame 100 to the turn's end
+// (frame 384), where the camera sees its start again: the frame after the cut is relocalised
+// while the one before it was tracked, 90 degrees away. That jump is where the camera was carried,
+// not its velocity; before, setLastFrame took it as one: the next frame was predicted another
+// jump away (found again only by brute-force matching, if at all) and its rolling shutter
+// "undone" along it. The frames after the relocalisation are tracked as any others.
+TEST(Relocalisation, ARelocalisationIsNoStepOfTheCamera)
+{
+	TempDir d("reloc_step");
+	writeWithGap(tour("static_tour"), d / "seq", 100, 384, true);
+	TYesSlamOptions o;
+	o.detector.backend = "auto";
+	o.system.parallel = false;
+	o.loop.detection.enabled = false;
+	o.tracking.rollingShutter = 0.028;	// what a real camera's frames get (the sim's shutter is global)
+	CYesSlamSystem sys(o);
+	auto src = openInputSource(d / "seq", o.input);
+	std::vector<TFrameReport> reps;
+	std::optional<mrpt::poses::CPose3D> afterReloc;	 // the shutter's motion right after it
+	while (auto obs = src->next())
+	{
+		reps.push_back(sys.processFrame(*obs));
+		if (reps.back().relocalised && !afterReloc) afterReloc = sys.tracker().motionOver(0.028);
+	}
+	ASSERT_EQ(reps.size(), 196u);
+	std::size_t reloc = 0;
+	while (reloc < reps.size() && !reps[reloc].relocalised) reloc++;
+	ASSERT_LT(reloc, reps.size()) << "the test needs a relocalisation";
+	ASSERT_TRUE(reps[reloc - 1].tracked) << "the test needs the frame before it tracked";
+	// The tour turns a full turn in 12.8 s: under a degree in 28 ms. The jump was 90 degrees.
+	ASSERT_TRUE(afterReloc.has_value()) << "the velocity measured before the jump stays";
+	EXPECT_LT(mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log(afterReloc->getRotationMatrix()).norm()), 2.0);
+	EXPECT_LT(afterReloc->norm(), 0.01);
+	for (std::size_t k = reloc + 1; k < std::min(reps.size(), reloc + 6); k++)
+	{
+		EXPECT_TRUE(reps[k].tracked) << "frame " << k;
+		EXPECT_FALSE(reps[k].relocalised) << "frame " << k;
+	}
 }
 
 TEST(Relocalisation, AKidnappedCameraIsFoundAgainByPlaceRecognition)

@@ -110,7 +110,17 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 	// The frame track() saw: both poses of the velocity are from the map as tracking read it (a
 	// correction landing since, on the mapping stage, is in neither); its anchor carries it over.
 	const bool fromTrack = tracked_ && tracked_->frameId == f->id;
-	if (last_ && last_->tracked && f->tracked)
+	const bool relocalised = relocalisedFrame_ && *relocalisedFrame_ == f->id;
+	if (last_ && last_->tracked && f->tracked && relocalised)
+	{
+		// The step onto a relocalised frame is a jump from where tracking had drifted (or where the
+		// camera was carried), not the camera's motion: the velocity measured before it stays, for
+		// the next prediction and the rolling shutter, and is not averaged with the jump (a 90-degree
+		// jump within a frame made the next frame's prediction 30 degrees off and lost it). The motion
+		// prior waits for lostVelocityFrames steps after it.
+		smoothMotions_ = 0;
+	}
+	else if (last_ && last_->tracked && f->tracked)
 	{
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		velocityInterval_ = f->timestamp - last_->timestamp;
@@ -121,9 +131,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 			smoothMotions_ = 0;
 		}
 		recentMotion_.push_back({mrpt::poses::Lie::SE<3>::log(*velocity_), velocityInterval_});
-		// The step onto a relocalised frame is a jump from where tracking had drifted, not the
-		// camera's motion: the motion prior waits for lostVelocityFrames steps after it.
-		smoothMotions_ = relocalisedFrame_ && *relocalisedFrame_ == f->id ? 0 : smoothMotions_ + 1;
+		smoothMotions_++;
 		while (recentMotion_.size() > opts_.lostVelocityFrames) recentMotion_.pop_front();
 	}
 	else if (!f->tracked)

@@ -191,6 +191,8 @@ class CYesSlamSystem
 	/** Run statistics so far. */
 	TSlamStats stats() const;
 	const CSparseMap& map() const { return map_; }
+	/** The frame tracker (read only: its velocity, reference keyframe, last frame's anchor). */
+	const CTracker& tracker() const { return tracker_; }
 	/** The map for a stage that corrects it from outside the system (tests inject a loop
 	 * correction between frames with it); the system's own stages need no such access. */
 	CSparseMap& mutableMap() { return map_; }
