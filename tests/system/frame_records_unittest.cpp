@@ -207,8 +207,9 @@ struct TNoisyRun
 {
 	std::vector<mrpt::poses::CPose3D> truth;
 	TTrajectory written;
-	// Frames [lostFrom, lostTo) are coasted (tracking lost them) on a path of their own.
-	explicit TNoisyRun(int window, int frames = 60, int newGenerationAt = -1, int lostFrom = -1, int lostTo = -1)
+	// Frames [lostFrom, lostTo) are coasted (tracking lost them) on a path of their own. Frame
+	// `relocalisedAt` was relocalised: the frames before it had drifted 3 cm.
+	explicit TNoisyRun(int window, int frames = 60, int newGenerationAt = -1, int lostFrom = -1, int lostTo = -1, int relocalisedAt = -1)
 	{
 		CFrameRecords records(false, 0, window);
 		for (int k = 0; k < frames; k++)
@@ -216,12 +217,15 @@ struct TNoisyRun
 			const double t = k / 30.0;
 			truth.emplace_back(0.2 * t - 0.3 * t * t, 0.05 * t, 0, 0.2 * t, 0, 0);
 			const double noise = (k % 2 ? 0.0015 : -0.0015) * (k % 3 ? 1.0 : 0.5);
-			const mrpt::poses::CPose3D measured(truth.back().x() + noise, truth.back().y() - noise, truth.back().z() + noise, 0.2 * t, 0, 0);
+			const double drift = k < relocalisedAt ? -0.03 : 0.0;
+			const mrpt::poses::CPose3D measured(truth.back().x() + noise + drift, truth.back().y() - noise, truth.back().z() + noise, 0.2 * t, 0, 0);
 			CFrameRecords::TRecord r = record(k, measured, k < lostFrom || k >= lostTo);
 			r.t = t;
 			r.anchor = TAnchor{TKeyFrameId(0), measured};
 			r.generation = newGenerationAt >= 0 && k >= newGenerationAt ? 2 : 1;
-			records.add(r, TFrameLogRow());
+			TFrameLogRow row;
+			row.relocalised = k == relocalisedAt;
+			records.add(r, row);
 		}
 		written = records.trajectory([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
 	}
@@ -280,6 +284,18 @@ TEST(FrameRecords, TheSmoothingNeverReachesAcrossALoss)
 	// Without the loss the same frames are smoothed across where it was.
 	const TNoisyRun whole(8);
 	EXPECT_GT(std::abs(whole.positionError(24) - plain.positionError(24)), 1e-4);
+}
+
+TEST(FrameRecords, TheSmoothingNeverReachesAcrossARelocalisation)
+{
+	// Frame 30 was relocalised: the frames before it had drifted 3 cm, the jump onto it is that
+	// drift, not a motion. The fits either side end there, as at a loop correction: frames 29 and
+	// 30 have no two neighbours on that side and stay as solved (a fit through the jump pulled
+	// them 1 cm towards each other before), and so do the corrections' averages.
+	const TNoisyRun plain(0, 60, -1, -1, -1, 30), reloc(8, 60, -1, -1, -1, 30);
+	for (const std::size_t k : {28u, 29u, 30u, 31u}) EXPECT_NEAR(reloc.positionError(k), plain.positionError(k), 1e-12) << k;
+	EXPECT_NEAR(reloc.positionError(15), 0.03, 0.0006);  // the drift, smoothed
+	EXPECT_LT(reloc.positionError(45), 0.0006);
 }
 
 TEST(FrameRecords, ARunWithoutStampsIsNotSmoothed)

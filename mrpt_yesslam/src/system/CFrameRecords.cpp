@@ -14,10 +14,11 @@ namespace mrpt_yesslam
 namespace
 {
 // The frames whose poses a frame's fit uses: k itself, then the `window` nearest `lends` frames on
-// each side; generations only grow, so the first frame of another one ends a side, and so does
-// a frame `stop` flags (null: none).
+// each side; stretches (CFrameRecords::trajectory: a generation of the map, up to a relocalisation)
+// only grow, so the first frame of another one ends a side, and so does a frame `stop` flags (null:
+// none).
 std::vector<std::size_t> neighbours(
-	std::size_t k, const std::vector<bool>& lends, const std::vector<std::uint64_t>& generation, int window, const std::vector<bool>* stop = nullptr)
+	std::size_t k, const std::vector<bool>& lends, const std::vector<std::uint64_t>& stretch, int window, const std::vector<bool>* stop = nullptr)
 {
 	std::vector<std::size_t> out{k};
 	const std::size_t n = lends.size();
@@ -28,7 +29,7 @@ std::vector<std::size_t> neighbours(
 		{
 			if (dir < 0 ? j == 0 : j + 1 >= n) break;
 			j = dir < 0 ? j - 1 : j + 1;
-			if (generation[j] != generation[k] || (stop && (*stop)[j])) break;
+			if (stretch[j] != stretch[k] || (stop && (*stop)[j])) break;
 			if (lends[j])
 			{
 				out.push_back(j);
@@ -66,13 +67,13 @@ void replaceAveraged(
 }
 
 // Each averaged pose's correction (final = correction + online) replaced by the mean of the
-// corrections of the lending poses within `window` of it (one generation), in the tangent space at
+// corrections of the lending poses within `window` of it (one stretch), in the tangent space at
 // its own. A tracked pose lends when it hangs from a keyframe the map still has (`anchored`: a
 // record whose keyframe went keeps its fallback and lends it to nobody), and is averaged when it
 // also is not `pinned` to its own keyframe (it is that keyframe's, and lends that correction).
 void smoothCorrections(
 	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
-	const std::vector<mrpt::poses::CPose3D>& online, const std::vector<std::uint64_t>& generation, int window)
+	const std::vector<mrpt::poses::CPose3D>& online, const std::vector<std::uint64_t>& stretch, int window)
 {
 	const std::size_t n = out.size();
 	std::vector<bool> lends(n), averaged(n);
@@ -90,7 +91,7 @@ void smoothCorrections(
 		if (!averaged[k]) continue;
 		mrpt::math::CVectorFixedDouble<6> mean;
 		mean.setZero();
-		const auto near = neighbours(k, lends, generation, window);
+		const auto near = neighbours(k, lends, stretch, window);
 		for (const std::size_t j : near)
 		{
 			const auto d = mrpt::poses::Lie::SE<3>::log(corr[j] - corr[k]);
@@ -106,7 +107,7 @@ void smoothCorrections(
 // through the positions of the lending frames around it: as many on each side, up to `window` (a
 // one-sided fit at a run's ends would extrapolate). A parabola, not a line: a camera that speeds
 // up or turns back keeps its corners (a line through a 3x-speed walking_xyz sim's 7 frames cut
-// them: 7.0 -> 9.5 mm). A side ends at another generation, at a frame tracking lost (the camera
+// them: 7.0 -> 9.5 mm). A side ends at another stretch, at a frame tracking lost (the camera
 // may have turned back unseen; a relocalised pose may jump against the drift before the loss) and
 // beyond window / 15 s, twice the time the window spans at 30 Hz (frames a live run dropped); so
 // the two tracked frames either side of a loss stay as solved, and the lost ones with them. The
@@ -116,7 +117,7 @@ void smoothCorrections(
 // 0.178 deg). Lending and smoothed frames as the lending and averaged ones of smoothCorrections.
 void smoothMotion(
 	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
-	const std::vector<std::uint64_t>& generation, int window)
+	const std::vector<std::uint64_t>& stretch, int window)
 {
 	const std::size_t n = out.size();
 	std::vector<bool> lends(n), untracked(n);
@@ -138,7 +139,7 @@ void smoothMotion(
 		if (!lends[k] || pinned[k]) continue;
 		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(us[j] - us[k]); };
 		// neighbours() lists k, then the earlier frames nearest first, then the later ones.
-		auto near = neighbours(k, lends, generation, window, &untracked);
+		auto near = neighbours(k, lends, stretch, window, &untracked);
 		near.erase(std::remove_if(near.begin() + 1, near.end(), [&](std::size_t j) { return std::abs(out[j].t - out[k].t) > span; }), near.end());
 		std::size_t before = 0;
 		while (1 + before < near.size() && near[1 + before] < k) before++;
@@ -232,9 +233,11 @@ std::vector<EPoseSource> CFrameRecords::poseSources() const
 TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
 {
 	std::vector<TRecord> records;
+	std::vector<bool> relocalised;
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
 		records = records_;
+		for (const auto& row : rows_) relocalised.push_back(row.relocalised);
 	}
 	const std::map<TKeyFrameId, mrpt::poses::CPose3D> keyFramePoses = poses();
 	TTrajectory out;
@@ -242,10 +245,18 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	std::vector<mrpt::poses::CPose3D> online;
 	std::vector<std::uint64_t> generation;
 	std::vector<bool> anchored, pinned;
+	// The stretches the averaging and the smoothing stay within: a loop correction or a global BA
+	// (a new generation) ends one, and so does a relocalised frame: the step onto it is where
+	// tracking had drifted, not the camera's motion (a fit through it spread the jump over the
+	// frames either side).
+	std::vector<std::uint64_t> stretch;
 	out.reserve(records.size());
-	for (const auto& r : records)
+	for (std::size_t i = 0; i < records.size(); i++)
 	{
+		const TRecord& r = records[i];
 		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
+		const bool newStretch = !generation.empty() && (r.generation != generation.back() || (i < relocalised.size() && relocalised[i]));
+		stretch.push_back(stretch.empty() ? 0 : stretch.back() + (newStretch ? 1 : 0));
 		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.
 		const auto it = r.anchor.refKf ? keyFramePoses.find(*r.anchor.refKf) : keyFramePoses.end();
 		out.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
@@ -261,17 +272,17 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	// difference, not the camera's motion. What mapping moved a frame by changes slowly along the
 	// path, so it is averaged over a few frames and applied to the pose tracking measured
 	// (trajectory_online.txt), whose steps are the camera's. Never across a loop correction or a
-	// global BA (a new generation: those frames were tracked in another map).
-	if (correctionWindow_ > 0) smoothCorrections(out, tracked, anchored, pinned, online, generation, correctionWindow_);
+	// global BA (a new generation: those frames were tracked in another map), or a relocalisation.
+	if (correctionWindow_ > 0) smoothCorrections(out, tracked, anchored, pinned, online, stretch, correctionWindow_);
 	// Each tracked pose is a solve of its own frame's keypoints: their noise makes the path zig-zag
 	// around the camera's (the real Bonn slice stepped 4.4 mm a frame where the camera moved 3.0).
 	// A hand-held or robot camera's motion is smooth over a few frames, so the written position is the
 	// value at its stamp of a parabola fitted in time through the positions of the nearest tracked frames
 	// either side (local polynomial regression, a Savitzky-Golay smoother on the frames' own stamps,
 	// in the spirit of a fixed-interval smoother; the online poses, which a robot used, stay as they
-	// were). Never across a loop correction, a global BA or a loss, and only after mapping's
+	// were). Never across a loop correction, a global BA, a relocalisation or a loss, and only after mapping's
 	// corrections were averaged above.
-	if (smoothingWindow_ > 0) smoothMotion(out, tracked, anchored, pinned, generation, smoothingWindow_);
+	if (smoothingWindow_ > 0) smoothMotion(out, tracked, anchored, pinned, stretch, smoothingWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
 	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
 	// written while lost, which drifts away wherever the camera did not keep its last velocity.
