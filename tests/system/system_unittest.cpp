@@ -402,6 +402,46 @@ TEST(System, AFailedStageSettlesEveryStageBeforeTheErrorReachesTheCaller)
 	EXPECT_GE(entered.load(), 4);
 }
 
+// The same for the loop stage's own queue: when a keyframe's loop task fails, the tasks queued
+// behind it still run on the stage; the error must not reach the caller (who then writes the
+// outputs) before they are done. Before, collecting all of them dropped those after the failed one
+// from the queue that settling waits on (issue 40 d, found by a review).
+TEST(System, AFailedLoopTaskLeavesNoLaterOneRunningWhenTheErrorComes)
+{
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = walkingSequence() + "/detections.txt";
+	o.system.parallel = true;
+	ASSERT_TRUE(o.loop.detection.enabled);
+	CYesSlamSystem sys(o);
+	std::atomic<int> entered{0}, left{0};
+	std::atomic<bool> release{false};
+	sys.setLoopTaskHook(
+		[&](TKeyFrameId)
+		{
+			const int n = ++entered;
+			struct TLeave
+			{
+				std::atomic<int>& n;
+				~TLeave() { n++; }
+			} leave{left};
+			if (n == 1)
+			{
+				// The first task holds the stage until the run is over, then fails: every later
+				// keyframe's task is queued behind it by then.
+				for (int i = 0; i < 6000 && !release; i++) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+				throw std::runtime_error("disk full");
+			}
+			std::this_thread::sleep_for(std::chrono::milliseconds(100));
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	while (auto obs = src->next()) sys.processFrame(*obs);
+	release = true;
+	EXPECT_THROW(sys.waitForMapping(), std::runtime_error);
+	EXPECT_EQ(entered.load(), left.load()) << "a loop task still ran when the error came";
+	EXPECT_GE(entered.load(), 3) << "the test needs tasks queued behind the failing one";
+}
+
 TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
 {
 	TYesSlamOptions o;

@@ -42,8 +42,16 @@ bool CLoopClosing::submit(TKeyFrameId kf)
 	}
 	// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local mapping
 	// goes on with the next keyframes meanwhile instead of waiting for them.
-	std::lock_guard<std::mutex> lk(loopTasksMtx_);
-	loopTasks_.push_back(loopStage_->submit([this, kf] { closeLoops(kf); }));
+	try
+	{
+		std::lock_guard<std::mutex> lk(loopTasksMtx_);
+		loopTasks_.push_back(loopStage_->submit([this, kf] { closeLoops(kf); }));
+	}
+	catch (...)
+	{
+		map_.unpinKeyFrame(kf);	 // never queued: nothing would release it
+		throw;
+	}
 	return true;
 }
 
@@ -51,6 +59,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 {
 	// `kf` was pinned when it was submitted; the matched keyframe is pinned once known.
 	std::vector<TKeyFrameId> pinned{kf};
+	pinned.reserve(2);	// the matched one's push_back cannot fail once it is pinned
 	struct TUnpin  // however closeLoops ends
 	{
 		CSparseMap& map;
@@ -60,6 +69,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 			for (const auto id : ids) map.unpinKeyFrame(id);
 		}
 	} unpin{map_, pinned};
+	if (taskHook_) taskHook_(kf);
 	auto t0 = SteadyClock::now();
 	std::optional<TLoop> loop = detector_->detect(kf);
 	const double loopMs = msSince(t0);
@@ -177,7 +187,18 @@ void CLoopClosing::collect(bool wait)
 			}
 		}
 		if (ready.empty()) return;
-		collectTasks(ready, true, "loop closing");
+		try
+		{
+			collectTasks(ready, true, "loop closing");
+		}
+		catch (...)
+		{
+			// The tasks after the failed one may still run: back at the queue's front, so that
+			// settle() waits for them before the error path writes the outputs (issue 40 d).
+			std::lock_guard<std::mutex> lk(loopTasksMtx_);
+			for (auto it = ready.rbegin(); it != ready.rend(); ++it) loopTasks_.push_front(std::move(*it));
+			throw;
+		}
 	}
 }
 

@@ -76,6 +76,9 @@ class CLoopClosing
 	 * correction, on the stage's thread, without the map-update lock: where local mapping's culling
 	 * and a BA may land in a run. Set before the first keyframe. */
 	void setHook(std::function<void(const TLoop&)> hook) { hook_ = std::move(hook); }
+	/** Test only: `hook` runs as each keyframe's detection task starts (on the stage's thread in
+	 * parallel mode; what it throws is a loop-closing failure). Set before the first keyframe. */
+	void setTaskHook(std::function<void(TKeyFrameId)> hook) { taskHook_ = std::move(hook); }
 	/** What the stage did so far (a copy). */
 	TLoopStageStats stats() const;
 	/** The loops accepted so far, oldest first. */
@@ -94,6 +97,7 @@ class CLoopClosing
 	CWriterFirstMutex& mapUpdate_;
 	std::function<void(const TLoop&)> callback_;
 	std::function<void(const TLoop&)> hook_;  //!< setHook
+	std::function<void(TKeyFrameId)> taskHook_;	 //!< setTaskHook
 	mutable std::mutex statsMtx_;
 	TLoopStageStats stats_;	 //!< guarded by statsMtx_
 	std::vector<TLoop> loops_;	//!< guarded by statsMtx_

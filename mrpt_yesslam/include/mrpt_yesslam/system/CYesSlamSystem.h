@@ -208,6 +208,11 @@ class CYesSlamSystem
 	{
 		if (loopClosing_) loopClosing_->setHook(std::move(hook));
 	}
+	/** Test only: `hook` runs as each keyframe's loop-detection task starts (CLoopClosing::setTaskHook). */
+	void setLoopTaskHook(std::function<void(TKeyFrameId)> hook)
+	{
+		if (loopClosing_) loopClosing_->setTaskHook(std::move(hook));
+	}
 	/** Starts from a saved map (call before the first frame): its keyframes' words go into the
 	 * place-recognition database and the first frames are placed in it by relocalisation, so the
 	 * trajectory is in the saved map's frame. Throws InputError naming the file (see loadMapFile). */
