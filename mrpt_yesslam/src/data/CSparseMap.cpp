@@ -132,6 +132,13 @@ TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& id
 	return s_->pointsOfKeyFrames(ids);
 }
 
+TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids, TKeyFrameId posed, mrpt::poses::CPose3D& pose) const
+{
+	ReadLock lk(mtx_);
+	pose = s_->pose(posed);
+	return s_->pointsOfKeyFrames(ids);
+}
+
 std::vector<TKeyFrameId> CSparseMap::localKeyFrames(
 	const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours) const
 {

@@ -388,13 +388,18 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		loop.relative = e.cameraInWorld;
 		loop.ransacInliers = e.numInliers;
 	}
-	loop.correctedPose = b.pose + loop.relative;
+	if (verifyHook_) verifyHook_();
 
 	// 5. The place's map points (the candidate and its covisible keyframes) projected with the
-	// corrected pose must find enough of the current keyframe's keypoints.
+	// corrected pose must find enough of the current keyframe's keypoints. The candidate's pose is
+	// read with the points, under one lock: detection runs beside local mapping and the global BA,
+	// and a pose read at the start (b's) with points read after a BA moved the place would put
+	// that move into the loop's relative pose (a review's finding).
 	std::vector<TKeyFrameId> place{candidate};
 	for (const auto n : map_.covisible(candidate, 10)) place.push_back(n);
-	const TLocalMapPoints pts = map_.pointsOfKeyFrames(place);
+	mrpt::poses::CPose3D placePose;
+	const TLocalMapPoints pts = map_.pointsOfKeyFrames(place, candidate, placePose);
+	loop.correctedPose = placePose + loop.relative;
 	TFrame f;
 	f.camera = a.camera;
 	f.features = fa;
@@ -422,7 +427,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		if (e.ok && e.numInliers >= std::max(opts_.minInliers, opts_.minProjectionMatches))
 		{
 			loop.correctedPose = e.cameraInWorld;
-			loop.relative = (-b.pose) + loop.correctedPose;
+			loop.relative = (-placePose) + loop.correctedPose;
 			agrees = e.inlier;
 		}
 	}

@@ -138,6 +138,9 @@ class CSparseMap
 		const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours = 10) const;
 	/** The good points the keyframes `ids` observe, each once. */
 	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids) const;
+	/** The same, with the pose of keyframe `posed` read under the same lock: a pose and points of
+	 * one state of the map (the loop's verification measures against both). */
+	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids, TKeyFrameId posed, mrpt::poses::CPose3D& pose) const;
 	/** Points of one keyframe with their keypoint index (relocalisation). */
 	TLocalMapPoints keyFramePoints(TKeyFrameId id, std::vector<std::size_t>* keypoints = nullptr) const;
 	/** Number of good points keyframe `id` observes that at least `minObservations` keyframes see. */

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 // Loop detection (paper section 2.4, eq. 18-23, with ORB-SLAM2's LoopClosing::DetectLoop and
 // ComputeSim3 where the paper is silent). For each new keyframe:
 // 1. candidates: keyframes of the database sharing words with it, except those covisible with it
@@ -129,8 +130,12 @@ class CLoopDetector
 	 * enough for a loop whatever their timestamps say (another day's clock, or a recording that
 	 * restarts its clock). */
 	void setSessionStart(TKeyFrameId id) { sessionStart_ = id; }
+	/** Test only: `hook` runs in verify() after the pair's measurements were fitted and before the
+	 * place's map points are read: where a BA or a correction landing meanwhile moves the place. */
+	void setVerifyHook(std::function<void()> hook) { verifyHook_ = std::move(hook); }
 
    private:
+	std::function<void()> verifyHook_;  //!< setVerifyHook
 	struct TGroup
 	{
 		std::set<TKeyFrameId> members;
