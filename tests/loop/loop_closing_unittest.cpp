@@ -67,9 +67,10 @@ TSlamJobSummary run(const std::string& seq, const std::string& out, bool loopClo
 }
 }  // namespace
 
-// A copy of `seq` without frames [from, to): the camera is "kidnapped" across that stretch. With
-// `closeGap`, every stamp after the cut moves back by the cut's duration: the frame after it comes
-// one frame interval after the one before (a jump within a frame, as a relocalisation makes one).
+// A copy of `seq` without frames [from, to) (and the ground truth's rows between them): the camera
+// is "kidnapped" across that stretch. With `closeGap`, every stamp after the cut moves back by the
+// cut's duration: the frame after it comes one frame interval after the one before (a jump within
+// a frame, as a relocalisation makes one). `to` must be a frame of `seq`.
 void writeWithGap(const std::string& seq, const std::string& out, std::size_t from, std::size_t to, bool closeGap = false)
 {
 	fs::create_directories(out);

@@ -291,7 +291,7 @@ TEST(FrameRecords, TheSmoothingNeverReachesAcrossARelocalisation)
 	// Frame 30 was relocalised: the frames before it had drifted 3 cm, the jump onto it is that
 	// drift, not a motion. The fits either side end there, as at a loop correction: frames 29 and
 	// 30 have no two neighbours on that side and stay as solved (a fit through the jump pulled
-	// them 1 cm towards each other before), and so do the corrections' averages.
+	// them 1 cm towards each other before). The corrections' averaging ends at the same stretches.
 	const TNoisyRun plain(0, 60, -1, -1, -1, 30), reloc(8, 60, -1, -1, -1, 30);
 	for (const std::size_t k : {28u, 29u, 30u, 31u}) EXPECT_NEAR(reloc.positionError(k), plain.positionError(k), 1e-12) << k;
 	EXPECT_NEAR(reloc.positionError(15), 0.03, 0.0006);  // the drift, smoothed

@@ -429,17 +429,47 @@ TEST(System, AFailedLoopTaskLeavesNoLaterOneRunningWhenTheErrorComes)
 			{
 				// The first task holds the stage until the run is over, then fails: every later
 				// keyframe's task is queued behind it by then.
-				for (int i = 0; i < 6000 && !release; i++) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+				while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(10));  // ctest's timeout bounds it
 				throw std::runtime_error("disk full");
 			}
 			std::this_thread::sleep_for(std::chrono::milliseconds(100));
 		});
 	auto src = openInputSource(walkingSequence(), o.input);
-	while (auto obs = src->next()) sys.processFrame(*obs);
+	while (auto obs = src->next()) ASSERT_NO_THROW(sys.processFrame(*obs)) << "the failing task is held until the run is over";
 	release = true;
 	EXPECT_THROW(sys.waitForMapping(), std::runtime_error);
 	EXPECT_EQ(entered.load(), left.load()) << "a loop task still ran when the error came";
 	EXPECT_GE(entered.load(), 3) << "the test needs tasks queued behind the failing one";
+}
+
+// A keyframe waiting in the mapping queue is already in the map, covisible with the ones being
+// mapped: culling around them must not erase it before its own local mapping (its words, its new
+// points, its loop detection) is done. Here each keyframe's mapping ends slowly, with everything
+// culling may take around it culled (thresholds at zero): the keyframes queued meanwhile survive
+// until they are mapped themselves. Before, a queued keyframe was erased under it.
+TEST(System, AKeyFrameWaitingForItsMappingIsNeverCulled)
+{
+	TYesSlamOptions o;
+	o.detector.backend = "file";
+	o.detector.file = walkingSequence() + "/detections.txt";
+	o.system.parallel = true;
+	CYesSlamSystem sys(o);
+	std::size_t mapped = 0, culled = 0;
+	std::vector<TKeyFrameId> erasedBeforeMapped;
+	sys.setKeyFrameCallback(
+		[&](TKeyFrameId k)
+		{
+			mapped++;
+			if (sys.map().keyFrame(k).bad) erasedBeforeMapped.push_back(k);
+			std::this_thread::sleep_for(std::chrono::milliseconds(300));	// the next keyframes queue up
+			culled += sys.mutableMap().cullRedundantKeyFrames(k, 0.0, 1, 10.0).size();
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	while (auto obs = src->next()) sys.processFrame(*obs);
+	sys.waitForMapping();
+	EXPECT_GE(mapped, 4u);
+	EXPECT_GT(culled, 0u) << "the cull erased nothing: it proves nothing";
+	EXPECT_TRUE(erasedBeforeMapped.empty()) << erasedBeforeMapped.size() << " keyframes were culled while they waited for their mapping";
 }
 
 TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)

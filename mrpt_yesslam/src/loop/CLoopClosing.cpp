@@ -42,14 +42,16 @@ bool CLoopClosing::submit(TKeyFrameId kf)
 	}
 	// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local mapping
 	// goes on with the next keyframes meanwhile instead of waiting for them.
+	std::lock_guard<std::mutex> lk(loopTasksMtx_);
+	loopTasks_.emplace_back();	// the slot first: once the task is queued, its future has a place
 	try
 	{
-		std::lock_guard<std::mutex> lk(loopTasksMtx_);
-		loopTasks_.push_back(loopStage_->submit([this, kf] { closeLoops(kf); }));
+		loopTasks_.back() = loopStage_->submit([this, kf] { closeLoops(kf); });
 	}
 	catch (...)
 	{
-		map_.unpinKeyFrame(kf);	 // never queued: nothing would release it
+		loopTasks_.pop_back();
+		map_.unpinKeyFrame(kf);	 // never queued: nothing else would release it
 		throw;
 	}
 	return true;
@@ -58,8 +60,17 @@ bool CLoopClosing::submit(TKeyFrameId kf)
 void CLoopClosing::closeLoops(TKeyFrameId kf)
 {
 	// `kf` was pinned when it was submitted; the matched keyframe is pinned once known.
-	std::vector<TKeyFrameId> pinned{kf};
-	pinned.reserve(2);	// the matched one's push_back cannot fail once it is pinned
+	std::vector<TKeyFrameId> pinned;
+	try
+	{
+		pinned.reserve(2);	// then neither push_back below can fail
+	}
+	catch (...)
+	{
+		map_.unpinKeyFrame(kf);
+		throw;
+	}
+	pinned.push_back(kf);
 	struct TUnpin  // however closeLoops ends
 	{
 		CSparseMap& map;

@@ -240,6 +240,12 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
+	struct TUnpin  // insertKeyFrame's pin, however this ends
+	{
+		CSparseMap& map;
+		TKeyFrameId id;
+		~TUnpin() { map.unpinKeyFrame(id); }
+	} unpin{map_, kf};
 	const TStageClock clock;
 	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
 	// detection find it; culled keyframes leave the database with the map. The words and the
@@ -324,6 +330,11 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 TKeyFrameId CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
 {
 	const TKeyFrameId kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
+	// Pinned until its own local mapping is done (mapKeyFrame unpins): in parallel mode it is in the
+	// map, covisible, while it waits in the mapping queue, and culling around an earlier keyframe
+	// must not erase it before its words, points and loop detection were made (ORB-SLAM2 cannot:
+	// its local mapping inserts a keyframe into the map itself; a review's finding).
+	map_.pinKeyFrame(kf);
 	tracker_.setReferenceKeyFrame(kf, f->id);  // the frame tracked last is anchored to it when it is that frame
 	inserter_.keyFrameInserted(f->id);
 	lastKeyFrameFrame_ = f->id;

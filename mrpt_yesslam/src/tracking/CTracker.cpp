@@ -119,6 +119,11 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		// jump within a frame made the next frame's prediction 30 degrees off and lost it). The motion
 		// prior waits for lostVelocityFrames steps after it.
 		smoothMotions_ = 0;
+		if (f->timestamp < last_->timestamp)  // and a clock that went back: the motions before are of another
+		{
+			recentMotion_.clear();
+			velocity_.reset();
+		}
 	}
 	else if (last_ && last_->tracked && f->tracked)
 	{

@@ -77,7 +77,8 @@ class CLoopClosing
 	 * and a BA may land in a run. Set before the first keyframe. */
 	void setHook(std::function<void(const TLoop&)> hook) { hook_ = std::move(hook); }
 	/** Test only: `hook` runs as each keyframe's detection task starts (on the stage's thread in
-	 * parallel mode; what it throws is a loop-closing failure). Set before the first keyframe. */
+	 * parallel mode, where what it throws is a loop-closing failure; sequentially it reaches the
+	 * caller of submit() as it is). Set before the first keyframe. */
 	void setTaskHook(std::function<void(TKeyFrameId)> hook) { taskHook_ = std::move(hook); }
 	/** What the stage did so far (a copy). */
 	TLoopStageStats stats() const;
