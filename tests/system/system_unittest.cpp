@@ -38,13 +38,14 @@ const std::string& walkingSequence()
 	return path;
 }
 
-// The system itself on the walking sequence: sequential (deterministic), its detections.txt.
-TYesSlamOptions walkingSystemOptions()
+// The system itself on the walking sequence: sequential (deterministic) unless `parallel`, its
+// detections.txt.
+TYesSlamOptions walkingSystemOptions(bool parallel = false)
 {
 	TYesSlamOptions o;
 	o.detector.backend = "file";
 	o.detector.file = walkingSequence() + "/detections.txt";
-	o.system.parallel = false;
+	o.system.parallel = parallel;
 	return o;
 }
 
@@ -357,10 +358,7 @@ TEST(System, FrameBufferShorterThanTheIntervalIsRefused)
 // queued or mapped while it fails; when the error reaches the caller, no stage is still working.
 TEST(System, AFailedStageSettlesEveryStageBeforeTheErrorReachesTheCaller)
 {
-	TYesSlamOptions o;
-	o.detector.backend = "file";
-	o.detector.file = walkingSequence() + "/detections.txt";
-	o.system.parallel = true;
+	const TYesSlamOptions o = walkingSystemOptions(true);
 	CYesSlamSystem sys(o);
 	std::atomic<int> entered{0}, left{0};
 	sys.setKeyFrameCallback(
@@ -408,10 +406,7 @@ TEST(System, AFailedStageSettlesEveryStageBeforeTheErrorReachesTheCaller)
 // from the queue that settling waits on (issue 40 d, found by a review).
 TEST(System, AFailedLoopTaskLeavesNoLaterOneRunningWhenTheErrorComes)
 {
-	TYesSlamOptions o;
-	o.detector.backend = "file";
-	o.detector.file = walkingSequence() + "/detections.txt";
-	o.system.parallel = true;
+	const TYesSlamOptions o = walkingSystemOptions(true);
 	ASSERT_TRUE(o.loop.detection.enabled);
 	CYesSlamSystem sys(o);
 	std::atomic<int> entered{0}, left{0};
@@ -449,10 +444,7 @@ TEST(System, AFailedLoopTaskLeavesNoLaterOneRunningWhenTheErrorComes)
 // until they are mapped themselves. Before, a queued keyframe was erased under it.
 TEST(System, AKeyFrameWaitingForItsMappingIsNeverCulled)
 {
-	TYesSlamOptions o;
-	o.detector.backend = "file";
-	o.detector.file = walkingSequence() + "/detections.txt";
-	o.system.parallel = true;
+	const TYesSlamOptions o = walkingSystemOptions(true);
 	CYesSlamSystem sys(o);
 	std::size_t mapped = 0, culled = 0;
 	std::vector<TKeyFrameId> erasedBeforeMapped;
@@ -474,10 +466,7 @@ TEST(System, AKeyFrameWaitingForItsMappingIsNeverCulled)
 
 TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
 {
-	TYesSlamOptions o;
-	o.detector.backend = "file";
-	o.detector.file = walkingSequence() + "/detections.txt";
-	o.system.parallel = true;
+	const TYesSlamOptions o = walkingSystemOptions(true);
 	CYesSlamSystem sys(o);
 	std::atomic<std::size_t> mapped{0};
 	// A consumer that takes its time: keyframes queue up behind it, none may be skipped.
