@@ -243,7 +243,7 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	TTrajectory out;
 	std::vector<bool> tracked;
 	std::vector<mrpt::poses::CPose3D> online;
-	std::vector<std::uint64_t> generation;
+	std::uint64_t generation = 0;  // the previous record's
 	std::vector<bool> anchored, pinned;
 	// The stretches the averaging and the smoothing stay within: a loop correction or a global BA
 	// (a new generation) ends one, and so does a relocalised frame: the step onto it is where
@@ -255,14 +255,14 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 	{
 		const TRecord& r = records[i];
 		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
-		const bool newStretch = !generation.empty() && (r.generation != generation.back() || (i < relocalised.size() && relocalised[i]));
+		const bool newStretch = !stretch.empty() && (r.generation != generation || (i < relocalised.size() && relocalised[i]));
 		stretch.push_back(stretch.empty() ? 0 : stretch.back() + (newStretch ? 1 : 0));
+		generation = r.generation;
 		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.
 		const auto it = r.anchor.refKf ? keyFramePoses.find(*r.anchor.refKf) : keyFramePoses.end();
 		out.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
 		tracked.push_back(r.tracked);
 		online.push_back(r.online);
-		generation.push_back(r.generation);
 		anchored.push_back(!r.anchor.refKf || it != keyFramePoses.end());
 		pinned.push_back(r.pinned);
 	}

@@ -1,5 +1,4 @@
 #pragma once
-#include <functional>
 // Loop detection (paper section 2.4, eq. 18-23, with ORB-SLAM2's LoopClosing::DetectLoop and
 // ComputeSim3 where the paper is silent). For each new keyframe:
 // 1. candidates: keyframes of the database sharing words with it, except those covisible with it
@@ -20,6 +19,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>

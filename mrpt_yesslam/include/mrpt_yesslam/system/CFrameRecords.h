@@ -59,13 +59,14 @@ class CFrameRecords
 	 * from is in them even while frames are being added. With a correctionWindow of W, each tracked
 	 * frame's correction (its anchored pose against its online one: what mapping moved its
 	 * keyframe by since) is the mean of those of the W nearest tracked frames either side of it
-	 * from the same correction generation and not across a relocalised frame, applied to its online pose (a pinned frame keeps its
-	 * keyframe's pose; a frame whose keyframe the poses lack keeps its fallback and is in no
-	 * neighbour's mean), and a coasted frame after an averaged one keeps its step from it. With a
-	 * smoothingWindow of S, each such frame's position is then the value at its stamp of a
-	 * parabola fitted in time through the positions of the nearest tracked frames, as many on each
-	 * side and at most S, a side ending at another generation, a relocalised frame, a lost frame or S / 15 s (same
-	 * lending and pinning rules; orientation its own; fewer than two on a side: left as solved). */
+	 * from the same correction generation and not across a relocalised frame, applied to its
+	 * online pose (a pinned frame keeps its keyframe's pose; a frame whose keyframe the poses lack
+	 * keeps its fallback and is in no neighbour's mean), and a coasted frame after an averaged one
+	 * keeps its step from it. With a smoothingWindow of S, each such frame's position is then the
+	 * value at its stamp of a parabola fitted in time through the positions of the nearest tracked
+	 * frames, as many on each side and at most S, a side ending at another generation, a
+	 * relocalised frame, a lost frame or S / 15 s (same lending and pinning rules; orientation its
+	 * own; fewer than two on a side: left as solved). */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
