@@ -208,13 +208,35 @@ mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
 	// sim.ini: the error grew from 5.4 to 7.8 mm over the last tracked frame of a camera standing
 	// still, and five frames coasting on that step ended 56 mm off), while a smooth camera path
 	// keeps its velocity in a short mean.
-	// Per frame (the next frame's interval is not known yet): a step over a dropped frame's double
-	// interval weighs as one, as it did before the motions carried their time.
+	// Per frame interval: a step over a dropped frame (two intervals) counts as two of them.
+	const double typical = frameInterval();
 	mrpt::math::CVectorFixedDouble<6> v;
 	v.setZero();
 	for (const auto& m : recentMotion_)
-		for (int k = 0; k < 6; k++) v[k] += m.twist[k] / static_cast<double>(recentMotion_.size());
+	{
+		const double intervals = intervalsIn(m.seconds, typical);
+		for (int k = 0; k < 6; k++) v[k] += m.twist[k] / intervals / static_cast<double>(recentMotion_.size());
+	}
 	return v;
+}
+
+double CTracker::frameInterval() const
+{
+	// The median, not the mean: a step over a dropped frame is one of the few, and a mean would
+	// take it for a slower sensor.
+	std::vector<double> s;
+	for (const auto& m : recentMotion_)
+		if (m.seconds > 0) s.push_back(m.seconds);
+	if (s.empty()) return velocityInterval_ > 0 ? velocityInterval_ : 0.0;
+	std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());
+	return s[s.size() / 2];
+}
+
+double CTracker::intervalsIn(double seconds, double typical)
+{
+	// Whole intervals: a sensor runs at a fixed rate and its stamps jitter by a few ms (the host's
+	// reception time), which must not scale a motion; a dropped frame is a whole interval.
+	return typical > 0 && seconds > 0 ? std::max(1.0, std::round(seconds / typical)) : 1.0;
 }
 
 mrpt::poses::CPose3D CTracker::lastFramePose() const
@@ -450,7 +472,18 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	f.tracked = false;
 	f.numInliers = 0;
 	f.mapPoints.assign(f.size(), -1);
-	const mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
+	mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
+	// Over the frame intervals since the last frame, against those the last step took: live input
+	// and the TUM recordings drop frames (fr3 sequences: steps of two and three intervals), and a
+	// frame after three dropped ones was predicted a step away from the last frame where the camera
+	// had moved four (a fast turn then leaves the search radius: found again only by brute force).
+	// A coasted velocity (lost frames) is per frame as it is.
+	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp && velocityInterval_ > 0)
+	{
+		const double typical = frameInterval(), now = intervalsIn(f.timestamp - last_->timestamp, typical),
+					 then = intervalsIn(velocityInterval_, typical);
+		if (now != then) predicted = lastPose + scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), now / then);
+	}
 	f.pose = predicted;
 	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak
 	// solution must agree with. After a loss the coasted prediction still stands for a few frames
@@ -487,10 +520,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp &&
 		smoothMotions_ >= opts_.lostVelocityFrames && !recentMotion_.empty())
 	{
-		double span = 0;
-		for (const auto& m : recentMotion_) span += std::max(0.0, m.seconds);
-		const double typical = span / static_cast<double>(recentMotion_.size());
-		const double steps = typical > 0 ? std::max(1.0, std::round((f.timestamp - last_->timestamp) / typical)) : 1.0;
+		const double steps = intervalsIn(f.timestamp - last_->timestamp, frameInterval());
 		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), steps), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
 	}
 
@@ -565,7 +595,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	if (guess && plausible(*guess, e.numInliers, scratch))
 		f.pose = *guess;
 	else if (lostRun_ == 0 && !recentMotion_.empty())
-		f.pose = lastPose + scaledTwist(meanRecentMotion(), 1.0);
+		f.pose = lastPose + scaledTwist(meanRecentMotion(), intervalsIn(f.timestamp - last_->timestamp, frameInterval()));
 	else
 		f.pose = predicted;
 	return r;

@@ -177,8 +177,12 @@ class CTracker
 	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
 	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
 	TLocalMapPoints lastFramePoints(const mrpt::poses::CPose3D& lastPose) const;
-	/** The last tracked frames' mean motion over one frame (SE(3) log): what a lost frame coasts on. */
+	/** The last tracked frames' mean motion over one frame interval (SE(3) log): what a lost frame coasts on. */
 	mrpt::math::CVectorFixedDouble<6> meanRecentMotion() const;
+	/** The sensor's frame interval as the last tracked steps measured it (their median); 0 if unknown. */
+	double frameInterval() const;
+	/** How many whole frame intervals of `typical` seconds `seconds` holds (at least 1; 1 if unknown). */
+	static double intervalsIn(double seconds, double typical);
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
