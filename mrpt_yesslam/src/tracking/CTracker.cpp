@@ -570,8 +570,11 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	}
 	// 3. The local map did not confirm it (the view has left the mapped part faster than keyframes
 	// came): keep the last-frame pose when it had enough support; the new keyframe that the system
-	// then inserts restores the map around it.
-	if (guess && e.numInliers >= opts_.minTrackedInliers && plausible(*guess, e.numInliers, r))
+	// then inserts restores the map around it. Its evidence against the motion model is the map
+	// points it matched (`seeds`), not the last frame's temporary depth points: a person moving
+	// beside the camera, whom no detector reported, fills the last frame with such points, and
+	// they agree with each other on the person's motion.
+	if (guess && e.numInliers >= opts_.minTrackedInliers && plausible(*guess, seeds.size(), r))
 	{
 		f.pose = *guess;
 		f.tracked = true;
@@ -592,7 +595,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// Lost: the first lost frame already coasts on the mean motion (see meanRecentMotion); a
 	// refused solution is no pose to keep.
 	TResult scratch;
-	if (guess && plausible(*guess, e.numInliers, scratch))
+	if (guess && plausible(*guess, seeds.size(), scratch))
 		f.pose = *guess;
 	else if (lostRun_ == 0 && !recentMotion_.empty())
 		f.pose = lastPose + scaledTwist(meanRecentMotion(), intervalsIn(f.timestamp - last_->timestamp, frameInterval()));
