@@ -6,6 +6,7 @@
 
 #include <sstream>
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
@@ -301,6 +302,46 @@ TEST(LoopClosing, AGlobalBundleWriteBackWaitsForTheCorrectionBeingWrittenAndIsTh
 	const TBundleStats st = gba.get();
 	EXPECT_FALSE(st.applied) << "a global BA of the map before the correction was written over it";
 	EXPECT_LT((map.keyFramePose(2).asVectorVal() - corrected.asVectorVal()).norm(), 1e-9) << "the correction stands";
+}
+
+// Issue 40 (review): a correction from outside the system (CYesSlamSystem::correctMap: an external
+// pose graph, a global alignment) that lands while a global BA solves makes the solve stale: it is
+// dropped (the generation check), and before, the loop it was to refine never had its global BA.
+// Now it runs again. The hook lands the correction (every keyframe where it is: the map's generation
+// moves all the same) in the first global BA of the tour's loops, sequentially and in parallel.
+TEST(LoopClosing, AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgain)
+{
+	const std::string seq = tour("static_tour", 2.5, 240);
+	for (const bool parallel : {false, true})
+	{
+		TYesSlamOptions o;
+		o.detector.backend = "auto";
+		o.system.parallel = parallel;
+		o.loop.detection.enabled = true;
+		o.dense.enabled = false;
+		CYesSlamSystem sys(o);
+		std::atomic<int> solves{0};
+		sys.setGlobalBundleHook(
+			[&]
+			{
+				if (solves++ > 0) return;
+				std::map<TKeyFrameId, mrpt::poses::CPose3D> same;
+				for (const auto& k : sys.map().keyFramePoses())
+					if (!k.bad) same[k.id] = k.pose;
+				sys.correctMap(same);
+			});
+		auto src = openInputSource(seq, o.input);
+		while (auto obs = src->next()) sys.processFrame(*obs);
+		sys.waitForMapping();
+		const TSlamStats st = sys.stats();
+		SCOPED_TRACE(parallel ? "parallel" : "sequential");
+		ASSERT_GE(st.loopCorrections, 1u) << "the test needs a loop";
+		EXPECT_EQ(st.globalBundleCancelled, 1u) << "the outside correction made the first global BA stale";
+		EXPECT_EQ(st.globalBundleApplied, st.globalBundleRuns - 1) << "every other one was written back";
+		EXPECT_GE(st.globalBundleApplied, 1u);
+		// Sequentially each corrected loop has its own global BA, and the stale one ran once more.
+		if (!parallel) EXPECT_EQ(st.globalBundleRuns, st.loopCorrections + 1);
+	}
 }
 
 TEST(LoopClosing, ACorrectionWhileTrackingContinuesLosesNothing)

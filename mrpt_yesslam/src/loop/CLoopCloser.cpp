@@ -110,6 +110,7 @@ TBundleStats CLoopCloser::globalBundleAdjust(CWriterFirstMutex* writeLock)
 {
 	const TBundleWindow w = map_.globalBundleWindow();
 	if (w.keyFrames.empty() || w.points.empty()) return {};
+	if (gbaHook_) gbaHook_();
 	TBundleSolveOptions so;
 	so.scaleFactor = scaleFactor_;
 	so.depthNoise = depthNoise_;

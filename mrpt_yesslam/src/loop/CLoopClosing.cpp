@@ -145,41 +145,52 @@ void CLoopClosing::runGlobalBundle()
 void CLoopClosing::requestGlobalBundle()
 {
 	if (!globalBundle_) return;
-	if (!gbaStage_)
-	{
-		runGlobalBundle();
-		return;
-	}
-	std::lock_guard<std::mutex> lk(gbaMtx_);
+	std::unique_lock<std::mutex> lk(gbaMtx_);
 	gbaPending_ = true;
 	if (gbaRunning_) return;
 	gbaRunning_ = true;
-	gbaTasks_.push_back(gbaStage_->submit(
-		[this]
+	if (!gbaStage_)
+	{
+		lk.unlock();
+		runPendingGlobalBundles();
+		return;
+	}
+	gbaTasks_.push_back(gbaStage_->submit([this] { runPendingGlobalBundles(); }));
+}
+
+void CLoopClosing::runPendingGlobalBundles()
+{
+	for (;;)
+	{
 		{
-			for (;;)
+			std::lock_guard<std::mutex> l(gbaMtx_);
+			if (!gbaPending_)
 			{
-				{
-					std::lock_guard<std::mutex> l(gbaMtx_);
-					if (!gbaPending_)
-					{
-						gbaRunning_ = false;
-						return;
-					}
-					gbaPending_ = false;
-				}
-				try
-				{
-					runGlobalBundle();
-				}
-				catch (...)
-				{
-					std::lock_guard<std::mutex> l(gbaMtx_);
-					gbaRunning_ = gbaPending_ = false;
-					throw;
-				}
+				gbaRunning_ = false;
+				return;
 			}
-		}));
+			gbaPending_ = false;
+		}
+		try
+		{
+			runGlobalBundle();
+		}
+		catch (...)
+		{
+			std::lock_guard<std::mutex> l(gbaMtx_);
+			gbaRunning_ = gbaPending_ = false;
+			throw;
+		}
+	}
+}
+
+void CLoopClosing::mapCorrectedOutside()
+{
+	// Under the map-update lock, which the running BA's write-back waits for: it cannot have ended
+	// (and cleared gbaRunning_) between the correction and this. A loop's own correction needs none
+	// of this: its closeLoops asks for a global BA after it.
+	std::lock_guard<std::mutex> lk(gbaMtx_);
+	if (gbaRunning_) gbaPending_ = true;
 }
 
 void CLoopClosing::collect(bool wait)

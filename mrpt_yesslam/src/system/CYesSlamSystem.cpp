@@ -577,6 +577,9 @@ void CYesSlamSystem::correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D
 {
 	std::unique_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
 	map_.applyCorrection(poses);
+	// A global BA solving now is of the map before this: it will be dropped, and runs again for
+	// the loop it refines.
+	if (loopClosing_) loopClosing_->mapCorrectedOutside();
 }
 
 void CYesSlamSystem::loadMap(const std::string& path)

@@ -12,6 +12,7 @@
 // 4. global bundle adjustment of every keyframe and point (the caller runs it, in the background
 //    in parallel mode); keyframes and points created meanwhile follow their ancestors, and a result
 //    computed before another correction is dropped.
+#include <functional>
 #include <memory>
 
 #include "mrpt_yesslam/geometry/DepthNoise.h"
@@ -66,8 +67,12 @@ class CLoopCloser
 	 * that it never lands between a loop correction's reading of the poses and its writing. */
 	TBundleStats globalBundleAdjust(CWriterFirstMutex* writeLock = nullptr);
 	const TOptions& options() const { return opts_; }
+	/** Test only: `hook` runs in each global BA after its window was read, before the solve (where
+	 * a correction from elsewhere makes the solve stale). Set before the first keyframe. */
+	void setGlobalBundleHook(std::function<void()> hook) { gbaHook_ = std::move(hook); }
 
    private:
+	std::function<void()> gbaHook_;	 //!< setGlobalBundleHook
 	TOptions opts_;
 	CSparseMap& map_;
 	double scaleFactor_;

@@ -80,6 +80,12 @@ class CLoopClosing
 	 * parallel mode, where what it throws is a loop-closing failure; sequentially it reaches the
 	 * caller of submit() as it is). Set before the first keyframe. */
 	void setTaskHook(std::function<void(TKeyFrameId)> hook) { taskHook_ = std::move(hook); }
+	/** Test only: `hook` runs in each global BA before its solve (CLoopCloser::setGlobalBundleHook). */
+	void setGlobalBundleHook(std::function<void()> hook) { closer_->setGlobalBundleHook(std::move(hook)); }
+	/** The map was corrected from outside the stage (CYesSlamSystem::correctMap), with the map-update
+	 * lock held: a global BA solving now solves the map from before and will be dropped, so it is
+	 * asked for again (a newer loop asks for its own). */
+	void mapCorrectedOutside();
 	/** What the stage did so far (a copy). */
 	TLoopStageStats stats() const;
 	/** The loops accepted so far, oldest first. */
@@ -89,6 +95,8 @@ class CLoopClosing
 	/** Detection for `kf` and the correction of an accepted loop. */
 	void closeLoops(TKeyFrameId kf);
 	void requestGlobalBundle();
+	/** Runs global BAs while one is asked for (on the global-BA stage, or here in sequential mode). */
+	void runPendingGlobalBundles();
 	void runGlobalBundle();
 
 	std::unique_ptr<CLoopDetector> detector_;  //!< used on the loop-closing stage only
@@ -103,9 +111,9 @@ class CLoopClosing
 	TLoopStageStats stats_;	 //!< guarded by statsMtx_
 	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
 
-	// Global BA (parallel mode): requested after corrections, collected by waitForGlobalBundle.
+	// Global BA: requested after corrections, collected by waitForGlobalBundle (parallel mode).
 	std::mutex gbaMtx_;
-	bool gbaPending_ = false, gbaRunning_ = false;
+	bool gbaPending_ = false, gbaRunning_ = false;	//!< guarded by gbaMtx_
 	std::deque<std::future<void>> gbaTasks_;  //!< guarded by gbaMtx_
 	std::unique_ptr<CWorkerPool> gbaStage_;	 //!< outlives the loop stage, which feeds it
 	// Detection and correction (parallel mode): fed by the mapping stage, collected by collect().

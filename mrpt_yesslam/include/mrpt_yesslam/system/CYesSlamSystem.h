@@ -198,7 +198,8 @@ class CYesSlamSystem
 	CSparseMap& mutableMap() { return map_; }
 	/** Moves keyframes to `poses` (with their points and the frames hanging from them) as a loop
 	 * correction does, under the map-update lock: for a correction from outside the system (an
-	 * external pose graph, a global alignment) while frames are being processed on another thread. */
+	 * external pose graph, a global alignment) while frames are being processed on another thread.
+	 * A global BA it makes stale (solving the map from before it) runs again. */
 	void correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses);
 	/** Test only: `hook` runs inside every frame's tracking, with the map-update lock held (the
 	 * interleaving tests put a correction there). */
@@ -212,6 +213,11 @@ class CYesSlamSystem
 	void setLoopTaskHook(std::function<void(TKeyFrameId)> hook)
 	{
 		if (loopClosing_) loopClosing_->setTaskHook(std::move(hook));
+	}
+	/** Test only: `hook` runs in each global BA before its solve (CLoopCloser::setGlobalBundleHook). */
+	void setGlobalBundleHook(std::function<void()> hook)
+	{
+		if (loopClosing_) loopClosing_->setGlobalBundleHook(std::move(hook));
 	}
 	/** Starts from a saved map (call before the first frame): its keyframes' words go into the
 	 * place-recognition database and the first frames are placed in it by relocalisation, so the
