@@ -437,6 +437,47 @@ TEST(System, AFailedLoopTaskLeavesNoLaterOneRunningWhenTheErrorComes)
 	EXPECT_GE(entered.load(), 3) << "the test needs tasks queued behind the failing one";
 }
 
+// Issue 40 (review): in sequential mode a keyframe is mapped inside the frame that made it, and a
+// failure there ended processFrame before the frame was recorded: the run's outputs lacked the
+// frame whose pose tracking had just given (in parallel mode the failure comes with a later frame,
+// after this one was recorded). The third keyframe's mapping fails here; the frame that made it
+// is in the frame log and the trajectory, and the error still reaches the caller.
+TEST(System, AFrameWhoseInlineMappingFailsIsStillRecorded)
+{
+	const TYesSlamOptions o = walkingSystemOptions();
+	ASSERT_FALSE(o.system.parallel);
+	CYesSlamSystem sys(o);
+	std::size_t keyFrames = 0;
+	sys.setKeyFrameCallback(
+		[&](TKeyFrameId)
+		{
+			if (++keyFrames == 3) throw std::runtime_error("disk full");
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t given = 0;
+	bool failed = false;
+	while (auto obs = src->next())
+	{
+		given++;
+		try
+		{
+			sys.processFrame(*obs);
+		}
+		catch (const std::runtime_error& e)
+		{
+			EXPECT_NE(std::string(e.what()).find("disk full"), std::string::npos) << e.what();
+			failed = true;
+			break;
+		}
+	}
+	ASSERT_TRUE(failed) << "the test needs the mapping to fail";
+	const auto log = sys.frameLog();
+	ASSERT_EQ(log.size(), given) << "the frame whose mapping failed is missing";
+	EXPECT_TRUE(log.back().tracked);
+	EXPECT_EQ(sys.stats().frames, given);
+	EXPECT_EQ(sys.trajectory().size(), given);
+}
+
 // A keyframe waiting in the mapping queue is already in the map, covisible with the ones being
 // mapped: culling around them must not erase it before its own local mapping (its words, its new
 // points, its loop detection) is done. Here each keyframe's mapping ends slowly, with everything

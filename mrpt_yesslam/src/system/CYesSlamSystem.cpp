@@ -502,7 +502,17 @@ TFrameReport CYesSlamSystem::processFrame(
 		}
 	}
 	frameLock.unlock();
-	for (const auto& [kf, kfFrame] : newKeyFrames) dispatchKeyFrame(kf, kfFrame);
+	// Sequential mode maps here, and a failure there ends the run: the frame is recorded first (its
+	// pose was tracked), as a failure of the mapping stage is reported after the frame that met it.
+	std::exception_ptr mappingFailure;
+	try
+	{
+		for (const auto& [kf, kfFrame] : newKeyFrames) dispatchKeyFrame(kf, kfFrame);
+	}
+	catch (...)
+	{
+		mappingFailure = std::current_exception();
+	}
 	ms["keyframe"] = msSince(t0);
 	{
 		// After the sequential mode's local mapping, as before the protocol: the frame's anchor
@@ -546,6 +556,11 @@ TFrameReport CYesSlamSystem::processFrame(
 		if (rep.poseRefused) stats_.refusedPoses++;
 		stats_.movingPointsErased += rep.movingPointsErased;
 		for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
+	}
+	if (mappingFailure)
+	{
+		settle();  // after the stages stopped changing the map (issue 40 d)
+		std::rethrow_exception(mappingFailure);
 	}
 	if (frameCallback_) frameCallback_(*frame);	 // outside the lock: it may ask for stats()
 	return rep;
