@@ -340,7 +340,7 @@ TEST(LoopClosing, AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgain)
 		EXPECT_EQ(st.globalBundleApplied, st.globalBundleRuns - 1) << "every other one was written back";
 		EXPECT_GE(st.globalBundleApplied, 1u);
 		// Sequentially each corrected loop has its own global BA, and the stale one ran once more.
-		if (!parallel) EXPECT_EQ(st.globalBundleRuns, st.loopCorrections + 1);
+		if (!parallel) { EXPECT_EQ(st.globalBundleRuns, st.loopCorrections + 1); }
 	}
 }
 

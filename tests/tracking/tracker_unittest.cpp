@@ -492,6 +492,45 @@ TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 	EXPECT_GE(afterOff * 10, beforeOff * 9) << "without the checks they stay";
 }
 
+// Issue 40 (review): the mover check's regions (where it last saw something move; keypoints there
+// are uncertain for a few frames) aged only on frames the local map confirmed. After a loss they
+// were as fresh as before it, though the mover had gone on walking. The board walks away as above;
+// (2 cm a frame, which the check finds moving), then six frames show nothing (lost): the regions from before the loss are gone after them.
+TEST(Tracker, MoverRegionsAgeWhileTrackingIsLost)
+{
+	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
+	const auto frames = deskFrames();
+	ASSERT_EQ(frames.size(), 9u);
+	const auto poseAt = [&](double t)
+	{
+		const TStampedPose* best = &gt.front();
+		for (const auto& p : gt)
+			if (std::abs(p.t - t) < std::abs(best->t - t)) best = &p;
+		return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(best->tx, best->ty, best->tz, mrpt::math::CQuaternionDouble(best->qw, best->qx, best->qy, best->qz)));
+	};
+	const mrpt::poses::CPose3D Tw0 = poseAt(observationTime(*frames[0]));
+	cv::Mat texture(60, 40, CV_8UC3);
+	cv::RNG rng(5);
+	rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
+	cv::resize(texture, texture, {160, 240}, 0, 0, cv::INTER_NEAREST);
+	CYesSlamSystem sys(realOptions());
+	std::size_t withRegions = 0;
+	for (std::size_t k = 0; k < frames.size(); k++)
+	{
+		cv::Mat bgr = frames[k]->intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY), depth = depthInMetres(*frames[k]);
+		const double t = observationTime(*frames[k]);
+		const double offset = k < 4 ? 0.0 : 0.02 * static_cast<double>(k - 3);	// walks away along x
+		paintBoard(bgr, depth, frames[k]->cameraParamsIntensity, poseAt(t) - Tw0, texture, 0.05 + offset, 0.0, 0.55, 0.14, 0.22);
+		EXPECT_TRUE(sys.processFrame(bgr, depth, t, frames[k]->cameraParamsIntensity).tracked) << k;
+		if (!sys.tracker().moverRegions().empty()) withRegions++;
+	}
+	ASSERT_FALSE(sys.tracker().moverRegions().empty()) << "the test needs the walking board found moving (" << withRegions << " frames had regions)";
+	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
+	const double t8 = observationTime(*frames[8]), dt = t8 - observationTime(*frames[7]);
+	for (int k = 1; k <= 6; k++) EXPECT_FALSE(sys.processFrame(black, noDepth, t8 + k * dt, frames[8]->cameraParamsIntensity).tracked);
+	EXPECT_TRUE(sys.tracker().moverRegions().empty()) << sys.tracker().moverRegions().size() << " regions from before the loss are still held";
+}
+
 TEST(Tracker, AVelocityMeasuredAcrossALoopCorrectionHoldsNoneOfIt)
 {
 	// A correction moves the map between two tracked frames. The next frame is tracked in the

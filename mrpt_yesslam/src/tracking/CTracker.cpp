@@ -157,6 +157,10 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		recentMotion_.clear();
 		smoothMotions_ = 0;
 	}
+	// Every frame ages the mover regions, also one the local map did not confirm (lost, or kept by
+	// step 3): a region is where the mover was a few frames ago, and a loss does not keep the
+	// mover there (after six lost frames a region from before still made keypoints uncertain).
+	if (moversFrame_ != f->id) ageMovers();
 	last_ = f;
 	if (fromTrack && map_.generation() != tracked_->generation)
 	{
@@ -395,7 +399,7 @@ std::vector<TPointId> CTracker::seenThrough(
 	return out;
 }
 
-void CTracker::updateMovers(TFrame& f, const std::vector<std::size_t>& moving)
+void CTracker::ageMovers()
 {
 	// Kept a few frames after the check last saw the mover move (the masker's holdFrames idea):
 	// its keypoints are uncertain meanwhile, so they are not in the groups the check tests.
@@ -403,8 +407,14 @@ void CTracker::updateMovers(TFrame& f, const std::vector<std::size_t>& moving)
 	std::vector<CGeometricDynamicCheck::TMoverRegion> next;
 	for (auto r : movers_)
 		if (++r.age <= kHoldFrames) next.push_back(r);
-	for (const auto& r : check_.moverRegions(f.features, moving)) next.push_back(r);
 	movers_ = std::move(next);
+}
+
+void CTracker::updateMovers(TFrame& f, const std::vector<std::size_t>& moving)
+{
+	ageMovers();
+	moversFrame_ = f.id;
+	for (const auto& r : check_.moverRegions(f.features, moving)) movers_.push_back(r);
 	check_.markMovers(f.features, movers_);
 }
 

@@ -154,6 +154,9 @@ class CTracker
 	 * ([Tracking] lostVelocityFrames of them): the pose of the camera then in the camera's frame
 	 * now; none without a velocity (the start, or lost). */
 	std::optional<mrpt::poses::CPose3D> motionOver(double seconds) const;
+	/** Where the mover check found motion lately (image regions, kept a few frames): keypoints there
+	 * are uncertain. */
+	const std::vector<CGeometricDynamicCheck::TMoverRegion>& moverRegions() const { return movers_; }
 	/** Test only: `hook` runs in track() after the last frame's pose was read, before matching. */
 	void setHook(std::function<void()> hook) { hook_ = std::move(hook); }
 	/** Relocalisation by place recognition (ORB-SLAM2's: BoW candidates of the keyframe database,
@@ -201,6 +204,8 @@ class CTracker
 		const std::vector<TPointId>& found) const;
 	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
 	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
+	/** One frame older: drops the regions the check has not seen move for a few frames. */
+	void ageMovers();
 	/** Matches the local map around the keyframes that see `seeds` (the points the frame already
 	 * matched; none: around the reference keyframe), searching `radius` pixels around each
 	 * projection from `guess`, and refines; on success fills the frame and the keyframe sharing
@@ -246,6 +251,7 @@ class CTracker
 	std::optional<TKeyFrameId> refKf_;
 	/** Movers the geometric check found in recent frames (their keypoints start uncertain). */
 	std::vector<CGeometricDynamicCheck::TMoverRegion> movers_;
+	std::optional<std::size_t> moversFrame_;  //!< the frame updateMovers aged the regions for last
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<const CBowDatabase> database_;
 	bool readOnly_ = false;	 //!< see setMapReadOnly
