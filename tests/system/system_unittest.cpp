@@ -478,6 +478,50 @@ TEST(System, AFrameWhoseInlineMappingFailsIsStillRecorded)
 	EXPECT_EQ(sys.trajectory().size(), given);
 }
 
+// Issue 40 (review): the keyframe and loop callbacks run on the mapping and loop stages; setting
+// one while those run wrote the std::function another thread was reading (ThreadSanitizer: a data
+// race; a torn function object can crash). A viewer attaches and detaches while a run goes on, so
+// the setters swap the callback atomically and a call runs the one set when it started. Another
+// thread attaches and detaches callbacks here, as fast as it can, while the stages call them; the
+// TSan suite runs it.
+TEST(System, CallbacksMayBeReplacedWhileTheStagesRun)
+{
+	const TYesSlamOptions o = walkingSystemOptions(true);
+	CYesSlamSystem sys(o);
+	std::atomic<bool> done{false};
+	std::atomic<std::size_t> calls{0};
+	std::thread viewer(
+		[&]
+		{
+			for (std::size_t k = 0; !done; k++)
+			{
+				auto counter = std::make_shared<std::size_t>(0);  // owned by the callback: copied whole or not at all
+				sys.setKeyFrameCallback(
+					[&calls, counter](TKeyFrameId)
+					{
+						(*counter)++;
+						calls++;
+					});
+				sys.setLoopCallback([counter](const TLoop&) { (*counter)++; });
+				if (k % 2) sys.setKeyFrameCallback({});	 // detached: no call, no crash
+				std::this_thread::yield();
+			}
+		});
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t frames = 0;
+	while (auto obs = src->next())
+	{
+		sys.processFrame(*obs);
+		frames++;
+	}
+	sys.waitForMapping();
+	done = true;
+	viewer.join();
+	EXPECT_GT(frames, 0u);
+	EXPECT_GT(sys.stats().keyFrames, 1u);
+	EXPECT_LE(calls.load(), sys.stats().keyFrames) << "a keyframe's mapping calls one callback once";
+}
+
 // A keyframe waiting in the mapping queue is already in the map, covisible with the ones being
 // mapped: culling around them must not erase it before its own local mapping (its words, its new
 // points, its loop detection) is done. Here each keyframe's mapping ends slowly, with everything

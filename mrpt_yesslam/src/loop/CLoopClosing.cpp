@@ -118,7 +118,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 	}
 	if (!loop) return;
 	requestGlobalBundle();
-	if (callback_) callback_(*loop);
+	callback_(*loop);
 }
 
 void CLoopClosing::runGlobalBundle()

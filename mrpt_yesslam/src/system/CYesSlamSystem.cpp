@@ -268,7 +268,7 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	}
 	// The loop stage pins the keyframe until its loop is done; one culled already has none to close.
 	if (loopClosing_) loopClosing_->submit(kf);
-	if (keyFrameCallback_) keyFrameCallback_(kf);
+	keyFrameCallback_(kf);
 }
 
 void CYesSlamSystem::collectMapping(bool wait)
@@ -562,7 +562,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		settle();  // after the stages stopped changing the map (issue 40 d)
 		std::rethrow_exception(mappingFailure);
 	}
-	if (frameCallback_) frameCallback_(*frame);	 // outside the lock: it may ask for stats()
+	frameCallback_(*frame);	 // outside the lock: it may ask for stats()
 	return rep;
 }
 

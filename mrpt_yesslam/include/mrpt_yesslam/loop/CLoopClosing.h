@@ -17,6 +17,7 @@
 
 #include "mrpt_yesslam/loop/CLoopCloser.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
+#include "mrpt_yesslam/util/CCallbackSlot.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
 #include "mrpt_yesslam/util/CWriterFirstMutex.h"
 
@@ -71,7 +72,7 @@ class CLoopClosing
 	/** Keyframes before `id` belong to an earlier session (a loaded map). */
 	void setSessionStart(TKeyFrameId id);
 	/** Called after each corrected loop, on the stage's thread; what it throws is a loop-closing failure. */
-	void setCallback(std::function<void(const TLoop&)> cb) { callback_ = std::move(cb); }
+	void setCallback(std::function<void(const TLoop&)> cb) { callback_.set(std::move(cb)); }
 	/** Test only: `hook` runs between a loop's detection (its two keyframes pinned) and its
 	 * correction, on the stage's thread, without the map-update lock: where local mapping's culling
 	 * and a BA may land in a run. Set before the first keyframe. */
@@ -104,7 +105,7 @@ class CLoopClosing
 	const bool globalBundle_;
 	CSparseMap& map_;
 	CWriterFirstMutex& mapUpdate_;
-	std::function<void(const TLoop&)> callback_;
+	CCallbackSlot<const TLoop&> callback_;
 	std::function<void(const TLoop&)> hook_;  //!< setHook
 	std::function<void(TKeyFrameId)> taskHook_;	 //!< setTaskHook
 	mutable std::mutex statsMtx_;

@@ -39,6 +39,7 @@
 #include "mrpt_yesslam/system/CFrameRecords.h"
 #include "mrpt_yesslam/system/TSlamStats.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
+#include "mrpt_yesslam/util/CCallbackSlot.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
 #include "mrpt_yesslam/util/CWriterFirstMutex.h"
 #include "mrpt_yesslam/util/OptionTable.h"
@@ -149,8 +150,9 @@ class CYesSlamSystem
 	 * the outputs); processFrame() afterwards fails. */
 	void releaseDetectorModel() { builder_.releaseDetectorModel(); }
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
-	 * consumers of new keyframes); what it throws is reported as a mapping failure. */
-	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_ = std::move(cb); }
+	 * consumers of new keyframes); what it throws is reported as a mapping failure. May be set or
+	 * replaced from any thread at any time, as the other two callbacks. */
+	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_.set(std::move(cb)); }
 	/** Called after each accepted loop has been corrected (on the loop-closing stage in parallel
 	 * mode, while local mapping goes on), with the loop; what it throws is reported as a
 	 * loop-closing failure. */
@@ -161,7 +163,7 @@ class CYesSlamSystem
 	/** Called on the caller's thread at the end of each processFrame with the frame as tracking left
 	 * it (features with their dynamic and uncertain flags, the map point of each inlier, the pose):
 	 * for viewers and for benchmarks that score the frame against labels. */
-	void setFrameCallback(std::function<void(const TFrame&)> cb) { frameCallback_ = std::move(cb); }
+	void setFrameCallback(std::function<void(const TFrame&)> cb) { frameCallback_.set(std::move(cb)); }
 
 	/** A pose for every processed frame that has one (frames before the map was made or before
 	 * the first localisation in a loaded map have none and are left out, as ORB-SLAM2 does): its
@@ -263,8 +265,8 @@ class CYesSlamSystem
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<CBowDatabase> bowDatabase_;
 	std::unique_ptr<CDenseSemanticMapper> dense_;  //!< keyframe clouds on the dense stage
-	std::function<void(TKeyFrameId)> keyFrameCallback_;
-	std::function<void(const TFrame&)> frameCallback_;
+	CCallbackSlot<TKeyFrameId> keyFrameCallback_;
+	CCallbackSlot<const TFrame&> frameCallback_;
 
 	CFrameRecords records_;	 //!< every frame's pose record and frames.csv row (thread-safe)
 	CRecentFrames recent_;	//!< what Algorithm 1 may still choose from
