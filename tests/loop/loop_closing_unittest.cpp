@@ -307,41 +307,53 @@ TEST(LoopClosing, AGlobalBundleWriteBackWaitsForTheCorrectionBeingWrittenAndIsTh
 // Issue 40 (review): a correction from outside the system (CYesSlamSystem::correctMap: an external
 // pose graph, a global alignment) that lands while a global BA solves makes the solve stale: it is
 // dropped (the generation check), and before, the loop it was to refine never had its global BA.
-// Now it runs again. The hook lands the correction (every keyframe where it is: the map's generation
-// moves all the same) in the first global BA of the tour's loops, sequentially and in parallel.
+// Now a stale global BA runs again. The hook lands the correction (every keyframe where it is: the
+// map's generation moves all the same) in the first global BA of the tour's loops.
+namespace
+{
+TSlamStats runWithAnOutsideCorrectionInTheFirstGlobalBundle(bool parallel)
+{
+	TYesSlamOptions o;
+	o.detector.backend = "auto";
+	o.system.parallel = parallel;
+	o.loop.detection.enabled = true;
+	o.dense.enabled = false;
+	CYesSlamSystem sys(o);
+	std::atomic<int> solves{0};
+	sys.setGlobalBundleHook(
+		[&]
+		{
+			if (solves++ > 0) return;
+			std::map<TKeyFrameId, mrpt::poses::CPose3D> same;
+			for (const auto& k : sys.map().keyFramePoses())
+				if (!k.bad) same[k.id] = k.pose;
+			sys.correctMap(same);
+		});
+	auto src = openInputSource(tour("static_tour", 2.5, 240), o.input);
+	while (auto obs = src->next()) sys.processFrame(*obs);
+	sys.waitForMapping();
+	return sys.stats();
+}
+}  // namespace
+
 TEST(LoopClosing, AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgain)
 {
-	const std::string seq = tour("static_tour", 2.5, 240);
-	for (const bool parallel : {false, true})
-	{
-		TYesSlamOptions o;
-		o.detector.backend = "auto";
-		o.system.parallel = parallel;
-		o.loop.detection.enabled = true;
-		o.dense.enabled = false;
-		CYesSlamSystem sys(o);
-		std::atomic<int> solves{0};
-		sys.setGlobalBundleHook(
-			[&]
-			{
-				if (solves++ > 0) return;
-				std::map<TKeyFrameId, mrpt::poses::CPose3D> same;
-				for (const auto& k : sys.map().keyFramePoses())
-					if (!k.bad) same[k.id] = k.pose;
-				sys.correctMap(same);
-			});
-		auto src = openInputSource(seq, o.input);
-		while (auto obs = src->next()) sys.processFrame(*obs);
-		sys.waitForMapping();
-		const TSlamStats st = sys.stats();
-		SCOPED_TRACE(parallel ? "parallel" : "sequential");
-		ASSERT_GE(st.loopCorrections, 1u) << "the test needs a loop";
-		EXPECT_EQ(st.globalBundleCancelled, 1u) << "the outside correction made the first global BA stale";
-		EXPECT_EQ(st.globalBundleApplied, st.globalBundleRuns - 1) << "every other one was written back";
-		EXPECT_GE(st.globalBundleApplied, 1u);
-		// Sequentially each corrected loop has its own global BA, and the stale one ran once more.
-		if (!parallel) { EXPECT_EQ(st.globalBundleRuns, st.loopCorrections + 1); }
-	}
+	const TSlamStats st = runWithAnOutsideCorrectionInTheFirstGlobalBundle(false);
+	ASSERT_GE(st.loopCorrections, 1u) << "the test needs a loop";
+	EXPECT_EQ(st.globalBundleCancelled, 1u) << "the outside correction made the first global BA stale";
+	// Each corrected loop has its own global BA, and the stale one ran once more.
+	EXPECT_EQ(st.globalBundleRuns, st.loopCorrections + 1);
+	EXPECT_EQ(st.globalBundleApplied, st.loopCorrections);
+}
+
+// The same on the global-BA stage, the correction from its thread (the TSan suite runs it). A
+// later loop's correction may also land in a global BA there, so only the first is counted on.
+TEST(LoopClosing, AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgainInParallel)
+{
+	const TSlamStats st = runWithAnOutsideCorrectionInTheFirstGlobalBundle(true);
+	ASSERT_GE(st.loopCorrections, 1u) << "the test needs a loop";
+	EXPECT_GE(st.globalBundleCancelled, 1u);
+	EXPECT_GE(st.globalBundleApplied, 1u) << "the stale global BA never ran again";
 }
 
 TEST(LoopClosing, ACorrectionWhileTrackingContinuesLosesNothing)

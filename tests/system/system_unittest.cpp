@@ -482,31 +482,34 @@ TEST(System, AFrameWhoseInlineMappingFailsIsStillRecorded)
 // one while those run wrote the std::function another thread was reading (ThreadSanitizer: a data
 // race; a torn function object can crash). A viewer attaches and detaches while a run goes on, so
 // the setters swap the callback atomically and a call runs the one set when it started. Another
-// thread attaches and detaches callbacks here, as fast as it can, while the stages call them; the
-// TSan suite runs it.
+// thread replaces the keyframe and frame callbacks here, as fast as it can, while the mapping stage
+// and the frame thread call them (the loop callback too, though this sequence closes no loop);
+// the TSan suite runs it. Every keyframe's mapping and every frame calls exactly one of them.
 TEST(System, CallbacksMayBeReplacedWhileTheStagesRun)
 {
 	const TYesSlamOptions o = walkingSystemOptions(true);
 	CYesSlamSystem sys(o);
-	std::atomic<bool> done{false};
-	std::atomic<std::size_t> calls{0};
+	std::atomic<bool> done{false}, attached{false};
+	std::atomic<std::size_t> keyFrameCalls{0}, frameCalls{0};
 	std::thread viewer(
 		[&]
 		{
-			for (std::size_t k = 0; !done; k++)
+			while (!done)
 			{
-				auto counter = std::make_shared<std::size_t>(0);  // owned by the callback: copied whole or not at all
+				auto seen = std::make_shared<std::size_t>(0);	 // owned by the callbacks (CCallbackSlot)
 				sys.setKeyFrameCallback(
-					[&calls, counter](TKeyFrameId)
+					[&keyFrameCalls, seen](TKeyFrameId)
 					{
-						(*counter)++;
-						calls++;
+						(*seen)++;
+						keyFrameCalls++;
 					});
-				sys.setLoopCallback([counter](const TLoop&) { (*counter)++; });
-				if (k % 2) sys.setKeyFrameCallback({});	 // detached: no call, no crash
+				sys.setFrameCallback([&frameCalls](const TFrame&) { frameCalls++; });
+				sys.setLoopCallback([seen](const TLoop&) { (*seen)++; });
+				attached = true;
 				std::this_thread::yield();
 			}
 		});
+	while (!attached) std::this_thread::yield();
 	auto src = openInputSource(walkingSequence(), o.input);
 	std::size_t frames = 0;
 	while (auto obs = src->next())
@@ -517,9 +520,10 @@ TEST(System, CallbacksMayBeReplacedWhileTheStagesRun)
 	sys.waitForMapping();
 	done = true;
 	viewer.join();
-	EXPECT_GT(frames, 0u);
 	EXPECT_GT(sys.stats().keyFrames, 1u);
-	EXPECT_LE(calls.load(), sys.stats().keyFrames) << "a keyframe's mapping calls one callback once";
+	EXPECT_GT(keyFrameCalls.load(), 0u);
+	EXPECT_LE(keyFrameCalls.load(), sys.stats().keyFrames) << "a keyframe's mapping calls one callback once";
+	EXPECT_EQ(frameCalls.load(), frames) << "every frame called the frame callback set then";
 }
 
 // A keyframe waiting in the mapping queue is already in the map, covisible with the ones being

@@ -121,7 +121,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 	callback_(*loop);
 }
 
-void CLoopClosing::runGlobalBundle()
+bool CLoopClosing::runGlobalBundle()
 {
 	const auto t0 = SteadyClock::now();
 	const TBundleStats st = closer_->globalBundleAdjust(&mapUpdate_);	// write-back exclusive
@@ -140,6 +140,7 @@ void CLoopClosing::runGlobalBundle()
 	if (st.applied) stats_.globalBundleApplied++;
 	if (st.cancelled) stats_.globalBundleCancelled++;
 	stats_.stageMs["global_ba"].push_back(ms);
+	return st.cancelled || (!st.applied && st.keyFrames > 0);	// an empty map has nothing to apply
 }
 
 void CLoopClosing::requestGlobalBundle()
@@ -171,9 +172,10 @@ void CLoopClosing::runPendingGlobalBundles()
 			}
 			gbaPending_ = false;
 		}
+		bool stale = false;
 		try
 		{
-			runGlobalBundle();
+			stale = runGlobalBundle();
 		}
 		catch (...)
 		{
@@ -181,16 +183,15 @@ void CLoopClosing::runPendingGlobalBundles()
 			gbaRunning_ = gbaPending_ = false;
 			throw;
 		}
+		// A correction landed while it solved (a loop's, which asks for its own global BA anyway,
+		// or one from outside, CYesSlamSystem::correctMap, which asks for none): the map it was
+		// for still needs one. Only a correction makes a solve stale, so this ends.
+		if (stale)
+		{
+			std::lock_guard<std::mutex> l(gbaMtx_);
+			gbaPending_ = true;
+		}
 	}
-}
-
-void CLoopClosing::mapCorrectedOutside()
-{
-	// Under the map-update lock, which the running BA's write-back waits for: it cannot have ended
-	// (and cleared gbaRunning_) between the correction and this. A loop's own correction needs none
-	// of this: its closeLoops asks for a global BA after it.
-	std::lock_guard<std::mutex> lk(gbaMtx_);
-	if (gbaRunning_) gbaPending_ = true;
 }
 
 void CLoopClosing::collect(bool wait)

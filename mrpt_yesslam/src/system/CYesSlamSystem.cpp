@@ -514,54 +514,67 @@ TFrameReport CYesSlamSystem::processFrame(
 		mappingFailure = std::current_exception();
 	}
 	ms["keyframe"] = msSince(t0);
+	const auto record = [&]
 	{
-		// After the sequential mode's local mapping, as before the protocol: the frame's anchor
-		// then keeps the tracked pose through that BA; a correction since tracking (a loop the
-		// inline mapping closed, or another thread's) shows as a new generation (setLastFrame).
-		std::shared_lock<CWriterFirstMutex> relock(mapUpdateMtx_);
-		tracker_.setLastFrame(frame);
-	}
+		{
+			// After the sequential mode's local mapping, as before the protocol: the frame's anchor
+			// then keeps the tracked pose through that BA; a correction since tracking (a loop the
+			// inline mapping closed, or another thread's) shows as a new generation (setLastFrame).
+			std::shared_lock<CWriterFirstMutex> relock(mapUpdateMtx_);
+			tracker_.setLastFrame(frame);
+		}
 
-	rep.tracked = frame->tracked;
-	rep.inliers = frame->numInliers;
-	TFrameLogRow row;
-	row.frame = frame->id;
-	row.timestamp = frame->timestamp;
-	row.tracked = rep.tracked;
-	row.keyFrame = rep.keyFrame;
-	row.relocalised = rep.relocalised;
-	row.features = rep.features;
-	row.staticFeatures = rep.staticFeatures;
-	row.detections = rep.detections;
-	row.inliers = rep.inliers;
-	row.keyFramesInMap = map_.numKeyFrames();
-	row.mapPoints = map_.numPoints();
-	const auto stage = [&ms](const char* k) { const auto it = ms.find(k); return it == ms.end() ? 0.f : static_cast<float>(it->second); };
-	row.detectMs = stage("detect");
-	row.detectWaitMs = stage("detect_wait");
-	row.maskMs = stage("mask");
-	row.orbMs = stage("orb");
-	row.trackMs = stage("track");
-	row.keyFrameMs = stage("keyframe");
-	records_.add(rec, row);
+		rep.tracked = frame->tracked;
+		rep.inliers = frame->numInliers;
+		TFrameLogRow row;
+		row.frame = frame->id;
+		row.timestamp = frame->timestamp;
+		row.tracked = rep.tracked;
+		row.keyFrame = rep.keyFrame;
+		row.relocalised = rep.relocalised;
+		row.features = rep.features;
+		row.staticFeatures = rep.staticFeatures;
+		row.detections = rep.detections;
+		row.inliers = rep.inliers;
+		row.keyFramesInMap = map_.numKeyFrames();
+		row.mapPoints = map_.numPoints();
+		const auto stage = [&ms](const char* k) { const auto it = ms.find(k); return it == ms.end() ? 0.f : static_cast<float>(it->second); };
+		row.detectMs = stage("detect");
+		row.detectWaitMs = stage("detect_wait");
+		row.maskMs = stage("mask");
+		row.orbMs = stage("orb");
+		row.trackMs = stage("track");
+		row.keyFrameMs = stage("keyframe");
+		records_.add(rec, row);
 
-	{
-		std::lock_guard<std::mutex> sl(statsMtx_);
-		stats_.frames++;
-		if (frame->tracked)
-			stats_.trackedFrames++;
-		else
-			stats_.lostFrames++;
-		if (rep.relocalised) stats_.relocalisations++;
-		if (rep.poseRefused) stats_.refusedPoses++;
-		stats_.movingPointsErased += rep.movingPointsErased;
-		for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
-	}
+		{
+			std::lock_guard<std::mutex> sl(statsMtx_);
+			stats_.frames++;
+			if (frame->tracked)
+				stats_.trackedFrames++;
+			else
+				stats_.lostFrames++;
+			if (rep.relocalised) stats_.relocalisations++;
+			if (rep.poseRefused) stats_.refusedPoses++;
+			stats_.movingPointsErased += rep.movingPointsErased;
+			for (const auto& [k, v] : ms) stats_.stageMs[k].push_back(v);
+		}
+	};
 	if (mappingFailure)
 	{
+		// Recorded if it can be; the mapping's error is the one the caller gets either way, after
+		// the stages settled. No frame callback for it: the run ends here.
+		try
+		{
+			record();
+		}
+		catch (...)
+		{
+		}
 		settle();  // after the stages stopped changing the map (issue 40 d)
 		std::rethrow_exception(mappingFailure);
 	}
+	record();
 	frameCallback_(*frame);	 // outside the lock: it may ask for stats()
 	return rep;
 }
@@ -591,10 +604,7 @@ TTrajectory CYesSlamSystem::onlineTrajectory() const { return records_.online();
 void CYesSlamSystem::correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses)
 {
 	std::unique_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
-	map_.applyCorrection(poses);
-	// A global BA solving now is of the map before this: it will be dropped, and runs again for
-	// the loop it refines.
-	if (loopClosing_) loopClosing_->mapCorrectedOutside();
+	map_.applyCorrection(poses);  // a global BA solving now is dropped and runs again (CLoopClosing)
 }
 
 void CYesSlamSystem::loadMap(const std::string& path)

@@ -227,13 +227,15 @@ mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
 double CTracker::frameInterval() const
 {
 	// The median, not the mean: a step over a dropped frame is one of the few, and a mean would
-	// take it for a slower sensor.
+	// take it for a slower sensor. The lower median: of two steps (just after a loss), one over a
+	// dropped frame, the shorter is the sensor's (drops only lengthen intervals).
 	std::vector<double> s;
 	for (const auto& m : recentMotion_)
 		if (m.seconds > 0) s.push_back(m.seconds);
 	if (s.empty()) return velocityInterval_ > 0 ? velocityInterval_ : 0.0;
-	std::nth_element(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(s.size() / 2), s.end());
-	return s[s.size() / 2];
+	const auto mid = s.begin() + static_cast<std::ptrdiff_t>((s.size() - 1) / 2);
+	std::nth_element(s.begin(), mid, s.end());
+	return *mid;
 }
 
 double CTracker::intervalsIn(double seconds, double typical)

@@ -83,10 +83,6 @@ class CLoopClosing
 	void setTaskHook(std::function<void(TKeyFrameId)> hook) { taskHook_ = std::move(hook); }
 	/** Test only: `hook` runs in each global BA before its solve (CLoopCloser::setGlobalBundleHook). */
 	void setGlobalBundleHook(std::function<void()> hook) { closer_->setGlobalBundleHook(std::move(hook)); }
-	/** The map was corrected from outside the stage (CYesSlamSystem::correctMap), with the map-update
-	 * lock held: a global BA solving now solves the map from before and will be dropped, so it is
-	 * asked for again (a newer loop asks for its own). */
-	void mapCorrectedOutside();
 	/** What the stage did so far (a copy). */
 	TLoopStageStats stats() const;
 	/** The loops accepted so far, oldest first. */
@@ -96,9 +92,11 @@ class CLoopClosing
 	/** Detection for `kf` and the correction of an accepted loop. */
 	void closeLoops(TKeyFrameId kf);
 	void requestGlobalBundle();
-	/** Runs global BAs while one is asked for (on the global-BA stage, or here in sequential mode). */
+	/** Runs global BAs while one is asked for (on the global-BA stage, or here in sequential mode);
+	 * one whose result a correction made stale runs again. */
 	void runPendingGlobalBundles();
-	void runGlobalBundle();
+	/** One global BA; true when a correction made its result stale (dropped). */
+	bool runGlobalBundle();
 
 	std::unique_ptr<CLoopDetector> detector_;  //!< used on the loop-closing stage only
 	std::unique_ptr<CLoopCloser> closer_;  //!< corrections on the loop-closing stage, global BA on its own

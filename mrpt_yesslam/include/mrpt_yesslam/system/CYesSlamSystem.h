@@ -151,7 +151,8 @@ class CYesSlamSystem
 	void releaseDetectorModel() { builder_.releaseDetectorModel(); }
 	/** Called on the mapping stage after each keyframe's local mapping, with the keyframe's id (for
 	 * consumers of new keyframes); what it throws is reported as a mapping failure. May be set or
-	 * replaced from any thread at any time, as the other two callbacks. */
+	 * replaced from any thread at any time, as the other two callbacks; a call already running
+	 * then still finishes (util/CCallbackSlot.h: what a callback uses, it owns). */
 	void setKeyFrameCallback(std::function<void(TKeyFrameId)> cb) { keyFrameCallback_.set(std::move(cb)); }
 	/** Called after each accepted loop has been corrected (on the loop-closing stage in parallel
 	 * mode, while local mapping goes on), with the loop; what it throws is reported as a

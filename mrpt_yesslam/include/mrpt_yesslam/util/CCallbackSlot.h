@@ -8,7 +8,9 @@ namespace mrpt_yesslam
 {
 /** A callback that may be set from any thread while a stage calls it (a viewer attached to a
  * running system, or detached from it): set() swaps the new one in at once; a call runs the one
- * that was set when it started, whole, even if it is replaced meanwhile. */
+ * that was set when it started, whole, even if it is replaced meanwhile. So a call may still be
+ * running when set() returns: a callback owns what it uses (captures shared_ptrs, not a viewer's
+ * `this`), or its owner waits for the stages (CYesSlamSystem::waitForMapping) before going away. */
 template <typename... Args>
 class CCallbackSlot
 {
