@@ -420,6 +420,40 @@ void paintBoard(cv::Mat& bgr, cv::Mat& depth, const mrpt::img::TCamera& K, const
 			bgr.at<cv::Vec3b>(v, u) = texture.at<cv::Vec3b>(static_cast<int>(Y / h * texture.rows), static_cast<int>(X / w * texture.cols));
 		}
 }
+
+// The 9 real desk frames with a board standing 0.55 m in front of the first camera (0.14 x 0.22 m,
+// centred at x = 0.05 in that camera's frame), painted at each frame's ground-truth pose.
+struct TDeskWithBoard
+{
+	static constexpr double z0 = 0.55, w = 0.14, h = 0.22, cx = 0.05, cy = 0.0;
+	std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> frames = deskFrames();
+	TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
+	cv::Mat texture = cv::Mat(60, 40, CV_8UC3);  // not braces: cv::Mat's initializer-list constructor
+	mrpt::poses::CPose3D Tw0;
+
+	TDeskWithBoard()
+	{
+		cv::RNG rng(5);
+		rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
+		cv::resize(texture, texture, {160, 240}, 0, 0, cv::INTER_NEAREST);	// 4x4-pixel blocks: corners ORB finds
+		Tw0 = poseAt(observationTime(*frames.at(0)));
+	}
+	mrpt::poses::CPose3D poseAt(double t) const
+	{
+		const TStampedPose* best = &gt.front();
+		for (const auto& p : gt)
+			if (std::abs(p.t - t) < std::abs(best->t - t)) best = &p;
+		return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(best->tx, best->ty, best->tz, mrpt::math::CQuaternionDouble(best->qw, best->qx, best->qy, best->qz)));
+	}
+	/** Frame k's colour and depth with the board moved `offset` m along x from its place. */
+	std::pair<cv::Mat, cv::Mat> frame(std::size_t k, double offset) const
+	{
+		cv::Mat bgr = frames[k]->intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY), depth = depthInMetres(*frames[k]);
+		paintBoard(bgr, depth, frames[k]->cameraParamsIntensity, poseAt(observationTime(*frames[k])) - Tw0, texture, cx + offset, cy, z0, w, h);
+		return {bgr, depth};
+	}
+	bool onBoard(const mrpt::math::TPoint3D& p) const { return std::abs(p.z - z0) < 0.05 && std::abs(p.x - cx) < w / 2 + 0.02 && std::abs(p.y - cy) < h / 2 + 0.02; }
+};
 }  // namespace
 
 // Issue 14: map points on a person who stood still and then walks away must not stay in the map
@@ -429,24 +463,9 @@ void paintBoard(cv::Mat& bgr, cv::Mat& depth, const mrpt::img::TCamera& K, const
 // the points are erased. With both the see-through test and the mover check off they stay.
 TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 {
-	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
-	const auto frames = deskFrames();
+	const TDeskWithBoard scene;
+	const auto& frames = scene.frames;
 	ASSERT_EQ(frames.size(), 9u);
-	const auto poseAt = [&](double t)
-	{
-		const TStampedPose* best = &gt.front();
-		for (const auto& p : gt)
-			if (std::abs(p.t - t) < std::abs(best->t - t)) best = &p;
-		return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(best->tx, best->ty, best->tz, mrpt::math::CQuaternionDouble(best->qw, best->qx, best->qy, best->qz)));
-	};
-	const mrpt::poses::CPose3D Tw0 = poseAt(observationTime(*frames[0]));
-	cv::Mat texture(60, 40, CV_8UC3);
-	cv::RNG rng(5);
-	rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
-	cv::resize(texture, texture, {160, 240}, 0, 0, cv::INTER_NEAREST);	// 4x4-pixel blocks: corners ORB finds
-	constexpr double z0 = 0.55, w = 0.14, h = 0.22, cx = 0.05, cy = 0.0;
-	const auto onBoard = [&](const mrpt::math::TPoint3D& p) { return std::abs(p.z - z0) < 0.05 && std::abs(p.x - cx) < w / 2 + 0.02 && std::abs(p.y - cy) < h / 2 + 0.02; };
-
 	const auto run = [&](bool checks, std::size_t& before)
 	{
 		TYesSlamOptions o = realOptions();
@@ -472,14 +491,11 @@ TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 		};
 		for (std::size_t k = 0; k < frames.size(); k++)
 		{
-			cv::Mat bgr = frames[k]->intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY), depth = depthInMetres(*frames[k]);
-			const double t = observationTime(*frames[k]);
-			const double offset = k < 4 ? 0.0 : 0.15 * static_cast<double>(k - 3);	// walks away along x
-			paintBoard(bgr, depth, frames[k]->cameraParamsIntensity, poseAt(t) - Tw0, texture, cx + offset, cy, z0, w, h);
-			EXPECT_TRUE(sys.processFrame(bgr, depth, t, frames[k]->cameraParamsIntensity).tracked) << k;
+			const auto [bgr, depth] = scene.frame(k, k < 4 ? 0.0 : 0.15 * static_cast<double>(k - 3));	// walks away along x
+			EXPECT_TRUE(sys.processFrame(bgr, depth, observationTime(*frames[k]), frames[k]->cameraParamsIntensity).tracked) << k;
 			if (k == 3)
 				for (const auto& p : sys.map().points())
-					if (onBoard(p.position)) still.insert(p.id);
+					if (scene.onBoard(p.position)) still.insert(p.id);
 		}
 		before = still.size();
 		return stillLeft();
@@ -494,34 +510,20 @@ TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 
 // Issue 40 (review): the mover check's regions (where it last saw something move; keypoints there
 // are uncertain for a few frames) aged only on frames the local map confirmed. After a loss they
-// were as fresh as before it, though the mover had gone on walking. The board walks away as above;
-// (2 cm a frame, which the check finds moving), then six frames show nothing (lost): the regions from before the loss are gone after them.
+// were as fresh as before it, though the mover had gone on walking. The board walks away as above
+// (2 cm a frame, which the check finds moving), then six frames show nothing (lost): the regions
+// from before the loss are gone after them.
 TEST(Tracker, MoverRegionsAgeWhileTrackingIsLost)
 {
-	const TTrajectory gt = readTumTrajectory(sharedFile("data/tum_fr1_desk_9frames/groundtruth.txt"));
-	const auto frames = deskFrames();
+	const TDeskWithBoard scene;
+	const auto& frames = scene.frames;
 	ASSERT_EQ(frames.size(), 9u);
-	const auto poseAt = [&](double t)
-	{
-		const TStampedPose* best = &gt.front();
-		for (const auto& p : gt)
-			if (std::abs(p.t - t) < std::abs(best->t - t)) best = &p;
-		return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(best->tx, best->ty, best->tz, mrpt::math::CQuaternionDouble(best->qw, best->qx, best->qy, best->qz)));
-	};
-	const mrpt::poses::CPose3D Tw0 = poseAt(observationTime(*frames[0]));
-	cv::Mat texture(60, 40, CV_8UC3);
-	cv::RNG rng(5);
-	rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
-	cv::resize(texture, texture, {160, 240}, 0, 0, cv::INTER_NEAREST);
 	CYesSlamSystem sys(realOptions());
 	std::size_t withRegions = 0;
 	for (std::size_t k = 0; k < frames.size(); k++)
 	{
-		cv::Mat bgr = frames[k]->intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY), depth = depthInMetres(*frames[k]);
-		const double t = observationTime(*frames[k]);
-		const double offset = k < 4 ? 0.0 : 0.02 * static_cast<double>(k - 3);	// walks away along x
-		paintBoard(bgr, depth, frames[k]->cameraParamsIntensity, poseAt(t) - Tw0, texture, 0.05 + offset, 0.0, 0.55, 0.14, 0.22);
-		EXPECT_TRUE(sys.processFrame(bgr, depth, t, frames[k]->cameraParamsIntensity).tracked) << k;
+		const auto [bgr, depth] = scene.frame(k, k < 4 ? 0.0 : 0.02 * static_cast<double>(k - 3));	 // walks away along x
+		EXPECT_TRUE(sys.processFrame(bgr, depth, observationTime(*frames[k]), frames[k]->cameraParamsIntensity).tracked) << k;
 		if (!sys.tracker().moverRegions().empty()) withRegions++;
 	}
 	ASSERT_FALSE(sys.tracker().moverRegions().empty()) << "the test needs the walking board found moving (" << withRegions << " frames had regions)";
