@@ -496,7 +496,7 @@ TEST(System, CallbacksMayBeReplacedWhileTheStagesRun)
 		{
 			while (!done)
 			{
-				auto seen = std::make_shared<std::size_t>(0);	 // owned by the callbacks (CCallbackSlot)
+				auto seen = std::make_shared<std::atomic<std::size_t>>(0);	// owned by the callbacks (CCallbackSlot)
 				sys.setKeyFrameCallback(
 					[&keyFrameCalls, seen](TKeyFrameId)
 					{
@@ -509,6 +509,16 @@ TEST(System, CallbacksMayBeReplacedWhileTheStagesRun)
 				std::this_thread::yield();
 			}
 		});
+	struct TJoin  // however the test ends
+	{
+		std::atomic<bool>& done;
+		std::thread& t;
+		~TJoin()
+		{
+			done = true;
+			if (t.joinable()) t.join();
+		}
+	} join{done, viewer};
 	while (!attached) std::this_thread::yield();
 	auto src = openInputSource(walkingSequence(), o.input);
 	std::size_t frames = 0;

@@ -156,7 +156,17 @@ void CLoopClosing::requestGlobalBundle()
 		runPendingGlobalBundles();
 		return;
 	}
-	gbaTasks_.push_back(gbaStage_->submit([this] { runPendingGlobalBundles(); }));
+	gbaTasks_.emplace_back();  // the slot first: once the task is queued, its future has a place
+	try
+	{
+		gbaTasks_.back() = gbaStage_->submit([this] { runPendingGlobalBundles(); });
+	}
+	catch (...)
+	{
+		gbaTasks_.pop_back();
+		gbaRunning_ = gbaPending_ = false;	// never queued: the next request starts one
+		throw;
+	}
 }
 
 void CLoopClosing::runPendingGlobalBundles()
@@ -188,6 +198,11 @@ void CLoopClosing::runPendingGlobalBundles()
 		// for still needs one. Only a correction makes a solve stale, so this ends.
 		if (stale)
 		{
+			// A loop's correction is written in steps under the exclusive lock: the next solve reads
+			// the map once it is whole.
+			{
+				std::shared_lock<CWriterFirstMutex> whole(mapUpdate_);
+			}
 			std::lock_guard<std::mutex> l(gbaMtx_);
 			gbaPending_ = true;
 		}
