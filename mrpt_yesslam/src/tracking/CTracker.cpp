@@ -161,6 +161,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 	// step 3): a region is where the mover was a few frames ago, and a loss does not keep the
 	// mover there (after six lost frames a region from before still made keypoints uncertain).
 	if (moversFrame_ != f->id) ageMovers();
+	frameInterval_ = measuredFrameInterval();  // the motions and their times change only here
 	last_ = f;
 	if (fromTrack && map_.generation() != tracked_->generation)
 	{
@@ -213,18 +214,17 @@ mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
 	// still, and five frames coasting on that step ended 56 mm off), while a smooth camera path
 	// keeps its velocity in a short mean.
 	// Per frame interval: a step over a dropped frame (two intervals) counts as two of them.
-	const double typical = frameInterval();
 	mrpt::math::CVectorFixedDouble<6> v;
 	v.setZero();
 	for (const auto& m : recentMotion_)
 	{
-		const double intervals = intervalsIn(m.seconds, typical);
+		const double intervals = intervalsIn(m.seconds, frameInterval_);
 		for (int k = 0; k < 6; k++) v[k] += m.twist[k] / intervals / static_cast<double>(recentMotion_.size());
 	}
 	return v;
 }
 
-double CTracker::frameInterval() const
+double CTracker::measuredFrameInterval() const
 {
 	// The median, not the mean: a step over a dropped frame is one of the few, and a mean would
 	// take it for a slower sensor. The lower median: of two steps (just after a loss), one over a
@@ -485,6 +485,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	f.numInliers = 0;
 	f.mapPoints.assign(f.size(), -1);
 	mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
+	const double sinceLast = last_ && f.timestamp > last_->timestamp ? intervalsIn(f.timestamp - last_->timestamp, frameInterval_) : 1.0;
 	// Over the frame intervals since the last frame, against those the last step took: live input
 	// and the TUM recordings drop frames (fr3 sequences: steps of two and three intervals), and a
 	// frame after three dropped ones was predicted a step away from the last frame where the camera
@@ -492,9 +493,8 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// A coasted velocity (lost frames) is per frame as it is.
 	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp && velocityInterval_ > 0)
 	{
-		const double typical = frameInterval(), now = intervalsIn(f.timestamp - last_->timestamp, typical),
-					 then = intervalsIn(velocityInterval_, typical);
-		if (now != then) predicted = lastPose + scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), now / then);
+		const double then = intervalsIn(velocityInterval_, frameInterval_);
+		if (sinceLast != then) predicted = lastPose + scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), sinceLast / then);
 	}
 	f.pose = predicted;
 	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak
@@ -525,15 +525,14 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	}
 	check_.markMovers(f.features, movers_);
 	// The mean step of the last tracked frames (not the last step alone, whose noise a prior would
-	// pass on), taken as many times as this frame's interval holds their mean interval: a dropped
+	// pass on), taken as many times as this frame's interval holds the sensor's frame interval: a dropped
 	// frame does not leave the prior a step behind, and a stamp a microsecond off (a recording
 	// played through OpenNI2) changes nothing. Once lostVelocityFrames steps were measured since a
 	// loss or a relocalisation (ORB-SLAM2 skips its motion model for two frames after one).
 	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp &&
 		smoothMotions_ >= opts_.lostVelocityFrames && !recentMotion_.empty())
 	{
-		const double steps = intervalsIn(f.timestamp - last_->timestamp, frameInterval());
-		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), steps), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
+		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), sinceLast), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
 	}
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).
@@ -610,7 +609,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	if (guess && plausible(*guess, seeds.size(), scratch))
 		f.pose = *guess;
 	else if (lostRun_ == 0 && !recentMotion_.empty())
-		f.pose = lastPose + scaledTwist(meanRecentMotion(), intervalsIn(f.timestamp - last_->timestamp, frameInterval()));
+		f.pose = lastPose + scaledTwist(meanRecentMotion(), sinceLast);
 	else
 		f.pose = predicted;
 	return r;

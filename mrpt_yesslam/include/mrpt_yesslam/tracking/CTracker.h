@@ -183,7 +183,7 @@ class CTracker
 	/** The last tracked frames' mean motion over one frame interval (SE(3) log): what a lost frame coasts on. */
 	mrpt::math::CVectorFixedDouble<6> meanRecentMotion() const;
 	/** The sensor's frame interval as the last tracked steps measured it (their median); 0 if unknown. */
-	double frameInterval() const;
+	double measuredFrameInterval() const;
 	/** How many whole frame intervals of `typical` seconds `seconds` holds (at least 1; 1 if unknown). */
 	static double intervalsIn(double seconds, double typical);
 	/** The last frame's pose from its reference keyframe's current pose. */
@@ -243,6 +243,7 @@ class CTracker
 	/** Motions of the last tracked frames, oldest first (lostVelocityFrames of them); emptied when
 	 * tracking is lost, so that motions from before a loss never mix with those after it. */
 	std::deque<TMotion> recentMotion_;
+	double frameInterval_ = 0;	//!< measuredFrameInterval(), kept by setLastFrame (the only place the motions change)
 	/** Steps measured since the last loss or relocalisation (the motion prior needs
 	 * lostVelocityFrames of them). */
 	std::size_t smoothMotions_ = 0;
