@@ -11,6 +11,7 @@
 #include <functional>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
@@ -252,6 +253,58 @@ TEST(SparseMap, AKeyFrameTheLoopStageHoldsIsNotCulledUntilReleased)
 	for (const auto id : held) EXPECT_FALSE(map.pinKeyFrame(id)) << "a culled keyframe cannot be pinned";
 	EXPECT_FALSE(map.pinKeyFrame(99));
 	expectGraphMatchesObservations(map);
+}
+
+TEST(SparseMap, APinAStageOwnsIsUndoneHoweverTheStageEnds)
+{
+	// The loop stage (the current and the matched keyframe) and local mapping (a keyframe from its
+	// insertion to the end of its own mapping) hold pins across work that may throw or return early;
+	// a pin left behind keeps its keyframe from culling for the rest of the run.
+	std::mt19937 rng(4);
+	CSparseMap map;
+	sixViewsOfOneWall(map, rng);
+	const auto pins = [&](TKeyFrameId id) { return map.keyFrame(id).pinned; };
+	{
+		const CSparseMap::TPin p = map.pinned(1);
+		ASSERT_TRUE(p);
+		EXPECT_EQ(pins(1), 1);
+	}
+	EXPECT_EQ(pins(1), 0) << "a scope's end";
+	try
+	{
+		const CSparseMap::TPin p = map.pinned(2);
+		throw std::runtime_error("the stage failed");
+	}
+	catch (const std::runtime_error&)
+	{
+	}
+	EXPECT_EQ(pins(2), 0) << "an exception";
+	// Handed on with the keyframe (queued for another stage), adopted there.
+	{
+		CSparseMap::TPin p = map.pinned(3);
+		p.release();
+	}
+	EXPECT_EQ(pins(3), 1) << "a released pin is the next stage's";
+	{
+		const CSparseMap::TPin adopted = map.adoptPin(3);
+	}
+	EXPECT_EQ(pins(3), 0) << "the adopting stage undoes it";
+	// Moved: one owner, one undo.
+	{
+		CSparseMap::TPin a = map.pinned(4);
+		CSparseMap::TPin b = std::move(a);
+		EXPECT_FALSE(a);
+		EXPECT_TRUE(b);
+		CSparseMap::TPin c = map.pinned(5);
+		c = std::move(b);  // c's own pin (keyframe 5) is undone, keyframe 4's taken over
+		EXPECT_EQ(pins(5), 0);
+		EXPECT_EQ(pins(4), 1);
+	}
+	EXPECT_EQ(pins(4), 0);
+	EXPECT_FALSE(map.pinned(99)) << "an unknown keyframe";
+	const auto culled = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+	ASSERT_FALSE(culled.empty());
+	EXPECT_FALSE(map.pinned(culled.front())) << "a culled keyframe";
 }
 
 TEST(SparseMap, RecentPointsListHoldsOnlyYoungPoints)

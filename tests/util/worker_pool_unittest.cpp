@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -65,6 +66,49 @@ TEST(WorkerPool, BoundedQueueHoldsTheProducerBack)
 	producer.join();
 	EXPECT_TRUE(submitted);
 	first.get();
+}
+
+TEST(WorkerPool, SubmitIntoKeepsEveryQueuedTasksFutureAndQueuesNothingItCannotKeep)
+{
+	// The stages keep their tasks' futures in a deque they wait on in order (mapping, dense, loop,
+	// global BA, prefetching, PNG writing); a future lost after its task was queued leaves a task
+	// running that nobody waits for.
+	CWorkerPool pool(1);
+	std::deque<std::future<int>> futures;
+	for (int i = 0; i < 5; i++) pool.submitInto(futures, [i] { return i * 10; });
+	ASSERT_EQ(futures.size(), 5u);
+	for (int i = 0; i < 5; i++)
+	{
+		EXPECT_EQ(futures.front().get(), i * 10) << "futures in submission order";
+		futures.pop_front();
+	}
+
+	// A record with no room for another future: the task must not be queued.
+	struct TFullRecord
+	{
+		std::deque<std::future<void>> d;
+		void emplace_back() { throw std::length_error("no room"); }
+		std::future<void>& back() { return d.back(); }
+		void pop_back() { d.pop_back(); }
+	} full;
+	std::atomic<bool> ran{false};
+	EXPECT_THROW(pool.submitInto(full, [&ran] { ran = true; }), std::length_error);
+	pool.waitIdle();
+	EXPECT_FALSE(ran) << "a task ran whose future had nowhere to go";
+
+	// A task that cannot be queued (its callable fails to move into the queue): the record is as it
+	// was, the futures already in it still good.
+	struct TUnmovable
+	{
+		explicit TUnmovable(int) {}
+		TUnmovable(TUnmovable&&) { throw std::runtime_error("cannot move"); }
+		void operator()() const {}
+	};
+	std::deque<std::future<void>> record;
+	pool.submitInto(record, [] {});
+	EXPECT_THROW(pool.submitInto(record, TUnmovable(0)), std::runtime_error);
+	ASSERT_EQ(record.size(), 1u) << "the failed task left a slot behind";
+	EXPECT_NO_THROW(record.front().get());
 }
 
 TEST(WorkerPool, PngWriterWritesTheSameBytesAndReportsErrors)

@@ -79,6 +79,25 @@ void CSparseMap::unpinKeyFrame(TKeyFrameId id)
 	if (it != s_->keyFrames.end() && it->second->pinned > 0) it->second->pinned--;
 }
 
+CSparseMap::TPin& CSparseMap::TPin::operator=(TPin&& o) noexcept
+{
+	if (this != &o)
+	{
+		if (map_) map_->unpinKeyFrame(id_);
+		map_ = o.map_;
+		id_ = o.id_;
+		o.map_ = nullptr;
+	}
+	return *this;
+}
+
+CSparseMap::TPin::~TPin()
+{
+	if (map_) map_->unpinKeyFrame(id_);
+}
+
+CSparseMap::TPin CSparseMap::pinned(TKeyFrameId id) { return pinKeyFrame(id) ? TPin(this, id) : TPin(); }
+
 TKeyFrameId CSparseMap::goodAncestor(TKeyFrameId id) const
 {
 	ReadLock lk(mtx_);

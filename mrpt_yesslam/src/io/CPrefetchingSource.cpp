@@ -31,7 +31,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr CPrefetchingSource::readOne()
 
 void CPrefetchingSource::readAhead()
 {
-	ahead_.push_back(reader_.submit([this] { return readOne(); }));
+	reader_.submitInto(ahead_, [this] { return readOne(); });
 }
 
 mrpt::obs::CObservation3DRangeScan::Ptr CPrefetchingSource::next()

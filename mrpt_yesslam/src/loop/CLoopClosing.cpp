@@ -33,63 +33,37 @@ CLoopClosing::~CLoopClosing()
 bool CLoopClosing::submit(TKeyFrameId kf)
 {
 	// Pinned from here to its correction, so that culling on the next keyframes (local mapping,
-	// while this stage works) cannot erase it under the loop (issue 40 b); closeLoops unpins.
-	if (!map_.pinKeyFrame(kf)) return false;  // culled already
+	// while this stage works) cannot erase it under the loop (issue 40 b); closeLoops adopts the pin.
+	CSparseMap::TPin pin = map_.pinned(kf);
+	if (!pin) return false;	 // culled already
 	if (!loopStage_)
 	{
+		pin.release();
 		closeLoops(kf);
 		return true;
 	}
 	// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local mapping
 	// goes on with the next keyframes meanwhile instead of waiting for them.
 	std::lock_guard<std::mutex> lk(loopTasksMtx_);
-	loopTasks_.emplace_back();	// the slot first: once the task is queued, its future has a place
-	try
-	{
-		loopTasks_.back() = loopStage_->submit([this, kf] { closeLoops(kf); });
-	}
-	catch (...)
-	{
-		loopTasks_.pop_back();
-		map_.unpinKeyFrame(kf);	 // never queued: nothing else would release it
-		throw;
-	}
+	loopStage_->submitInto(loopTasks_, [this, kf] { closeLoops(kf); });	 // if it throws, `pin` is undone
+	pin.release();
 	return true;
 }
 
 void CLoopClosing::closeLoops(TKeyFrameId kf)
 {
-	// `kf` was pinned when it was submitted; the matched keyframe is pinned once known.
-	std::vector<TKeyFrameId> pinned;
-	try
-	{
-		pinned.reserve(2);	// then neither push_back below can fail
-	}
-	catch (...)
-	{
-		map_.unpinKeyFrame(kf);
-		throw;
-	}
-	pinned.push_back(kf);
-	struct TUnpin  // however closeLoops ends
-	{
-		CSparseMap& map;
-		const std::vector<TKeyFrameId>& ids;
-		~TUnpin()
-		{
-			for (const auto id : ids) map.unpinKeyFrame(id);
-		}
-	} unpin{map_, pinned};
+	// `kf` was pinned when it was submitted; the matched keyframe is pinned once known. Both pins
+	// are undone however closeLoops ends.
+	const CSparseMap::TPin kfPin = map_.adoptPin(kf);
+	CSparseMap::TPin matchedPin;
 	if (taskHook_) taskHook_(kf);
 	auto t0 = SteadyClock::now();
 	std::optional<TLoop> loop = detector_->detect(kf);
 	const double loopMs = msSince(t0);
 	if (loop)
 	{
-		if (map_.pinKeyFrame(loop->matched))
-			pinned.push_back(loop->matched);
-		else
-			loop.reset();  // culled during detection (it was not in the current one's local window)
+		matchedPin = map_.pinned(loop->matched);
+		if (!matchedPin) loop.reset();	// culled during detection (it was not in the current one's local window)
 	}
 	if (loop && hook_) hook_(*loop);
 	std::optional<double> correctMs;
@@ -156,14 +130,12 @@ void CLoopClosing::requestGlobalBundle()
 		runPendingGlobalBundles();
 		return;
 	}
-	gbaTasks_.emplace_back();  // the slot first: once the task is queued, its future has a place
 	try
 	{
-		gbaTasks_.back() = gbaStage_->submit([this] { runPendingGlobalBundles(); });
+		gbaStage_->submitInto(gbaTasks_, [this] { runPendingGlobalBundles(); });
 	}
 	catch (...)
 	{
-		gbaTasks_.pop_back();
 		gbaRunning_ = gbaPending_ = false;	// never queued: the next request starts one
 		throw;
 	}

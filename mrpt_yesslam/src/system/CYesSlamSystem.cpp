@@ -240,12 +240,7 @@ void CYesSlamSystem::addWords(TKeyFrameId kf)
 
 void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 {
-	struct TUnpin  // insertKeyFrame's pin, however this ends
-	{
-		CSparseMap& map;
-		TKeyFrameId id;
-		~TUnpin() { map.unpinKeyFrame(id); }
-	} unpin{map_, kf};
+	const CSparseMap::TPin pin = map_.adoptPin(kf);  // insertKeyFrame's, undone however this ends
 	const TStageClock clock;
 	// The keyframe's words first (ORB-SLAM2's ProcessNewKeyFrame), so that relocalisation and loop
 	// detection find it; culled keyframes leave the database with the map. The words and the
@@ -349,21 +344,26 @@ TKeyFrameId CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& 
 
 void CYesSlamSystem::dispatchKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
 {
+	// insertKeyFrame's pin goes with the keyframe to mapKeyFrame, which adopts it; should the keyframe
+	// never get there (a stage could not queue it), it is undone here: nothing else would.
+	CSparseMap::TPin pin = map_.adoptPin(kf);
 	if (dense_)
 	{
 		// The frame (with its images) travels to the dense stage; the cloud is kept in keyframe
 		// coordinates, so the order against local mapping does not matter.
 		if (denseStage_)
-			denseTasks_.push_back(denseStage_->submit([this, kf, f] { denseKeyFrame(kf, f); }));
+			denseStage_->submitInto(denseTasks_, [this, kf, f] { denseKeyFrame(kf, f); });
 		else
 			denseKeyFrame(kf, f);
 	}
 	if (mappingStage_)
 	{
 		// Every keyframe in order, as in sequential mode; a full queue holds tracking back.
-		mappingTasks_.push_back(mappingStage_->submit([this, kf] { mapKeyFrame(kf); }));
+		mappingStage_->submitInto(mappingTasks_, [this, kf] { mapKeyFrame(kf); });
+		pin.release();
 		return;
 	}
+	pin.release();
 	mapKeyFrame(kf);
 }
 

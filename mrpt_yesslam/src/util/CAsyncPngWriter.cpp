@@ -25,14 +25,14 @@ void CAsyncPngWriter::write(const std::string& path, const cv::Mat& img, std::fu
 		pending_.pop_front();
 		done.get();
 	}
-	pending_.push_back(pool_.submit(
+	pool_.submitInto(pending_,
 		[this, path, img, after = std::move(after), compression]
 		{
 			const auto t0 = std::chrono::steady_clock::now();
 			writePngAtomically(path, img, compression);
 			if (after) after();
 			busyNs_ += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
-		}));
+		});
 }
 
 void CAsyncPngWriter::finish()

@@ -112,6 +112,33 @@ class CSparseMap
 	bool pinKeyFrame(TKeyFrameId id);
 	/** Undoes one pinKeyFrame. */
 	void unpinKeyFrame(TKeyFrameId id);
+	/** One pinKeyFrame owned by a stage and undone when the owner goes, however its work on the
+	 * keyframe ends (an exception, an early return); moved, it moves the pin. */
+	class TPin
+	{
+	   public:
+		TPin() = default;
+		TPin(TPin&& o) noexcept : map_(o.map_), id_(o.id_) { o.map_ = nullptr; }
+		TPin& operator=(TPin&& o) noexcept;
+		TPin(const TPin&) = delete;
+		TPin& operator=(const TPin&) = delete;
+		~TPin();
+		/** Whether it holds a pin (pinned() gives an empty one for an unknown or bad keyframe). */
+		explicit operator bool() const { return map_ != nullptr; }
+		/** Hands the pin on without undoing it: whoever takes it over adopts it (adoptPin). */
+		void release() noexcept { map_ = nullptr; }
+
+	   private:
+		friend class CSparseMap;
+		TPin(CSparseMap* map, TKeyFrameId id) : map_(map), id_(id) {}
+		CSparseMap* map_ = nullptr;
+		TKeyFrameId id_ = 0;
+	};
+	/** Pins keyframe `id` (pinKeyFrame) and returns the pin; an empty one when it is unknown or
+	 * already bad. */
+	TPin pinned(TKeyFrameId id);
+	/** Takes over a pin another stage made with pinKeyFrame and handed on with the keyframe. */
+	TPin adoptPin(TKeyFrameId id) noexcept { return TPin(this, id); }
 	/** The nearest keyframe up the spanning tree from `id` (itself included) that is not bad. */
 	TKeyFrameId goodAncestor(TKeyFrameId id) const;
 	/** Number of map points that are not bad. */

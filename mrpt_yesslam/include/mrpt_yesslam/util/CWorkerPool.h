@@ -44,6 +44,26 @@ class CWorkerPool
 		return future;
 	}
 
+	/** Queues `f()` and puts its future at the back of `futures`, the caller's record of its tasks
+	 * in flight (a std::deque of futures it waits on in order). The slot is made before the task is
+	 * queued, so a queued task never loses its future (a push_back after submit could throw with the
+	 * task already running, and nobody would wait for it); if queueing fails, `futures` is as it was
+	 * and the error is rethrown: the task never runs. */
+	template <typename Futures, typename F>
+	void submitInto(Futures& futures, F&& f)
+	{
+		futures.emplace_back();
+		try
+		{
+			futures.back() = submit(std::forward<F>(f));
+		}
+		catch (...)
+		{
+			futures.pop_back();
+			throw;
+		}
+	}
+
 	/** Returns once the queue is empty and no task is running. */
 	void waitIdle();
 	/** Tasks waiting to start. */
