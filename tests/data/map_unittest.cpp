@@ -259,17 +259,21 @@ TEST(SparseMap, APinAStageOwnsIsUndoneHoweverTheStageEnds)
 {
 	// The loop stage (the current and the matched keyframe) and local mapping (a keyframe from its
 	// insertion to the end of its own mapping) hold pins across work that may throw or return early;
-	// a pin left behind keeps its keyframe from culling for the rest of the run.
+	// a pin left behind keeps its keyframe from culling for the rest of the run. Each keyframe holds
+	// one pin of another stage throughout, so that a pin undone twice shows (the count never goes
+	// below zero).
 	std::mt19937 rng(4);
 	CSparseMap map;
 	sixViewsOfOneWall(map, rng);
+	for (TKeyFrameId id = 1; id <= 5; id++) ASSERT_TRUE(map.pinKeyFrame(id));
 	const auto pins = [&](TKeyFrameId id) { return map.keyFrame(id).pinned; };
 	{
 		const CSparseMap::TPin p = map.pinned(1);
 		ASSERT_TRUE(p);
-		EXPECT_EQ(pins(1), 1);
+		EXPECT_EQ(p.id(), 1u);
+		EXPECT_EQ(pins(1), 2);
 	}
-	EXPECT_EQ(pins(1), 0) << "a scope's end";
+	EXPECT_EQ(pins(1), 1) << "a scope's end";
 	try
 	{
 		const CSparseMap::TPin p = map.pinned(2);
@@ -278,17 +282,17 @@ TEST(SparseMap, APinAStageOwnsIsUndoneHoweverTheStageEnds)
 	catch (const std::runtime_error&)
 	{
 	}
-	EXPECT_EQ(pins(2), 0) << "an exception";
+	EXPECT_EQ(pins(2), 1) << "an exception";
 	// Handed on with the keyframe (queued for another stage), adopted there.
 	{
 		CSparseMap::TPin p = map.pinned(3);
 		p.release();
 	}
-	EXPECT_EQ(pins(3), 1) << "a released pin is the next stage's";
+	EXPECT_EQ(pins(3), 2) << "a released pin is the next stage's";
 	{
 		const CSparseMap::TPin adopted = map.adoptPin(3);
 	}
-	EXPECT_EQ(pins(3), 0) << "the adopting stage undoes it";
+	EXPECT_EQ(pins(3), 1) << "the adopting stage undoes it";
 	// Moved: one owner, one undo.
 	{
 		CSparseMap::TPin a = map.pinned(4);
@@ -297,13 +301,15 @@ TEST(SparseMap, APinAStageOwnsIsUndoneHoweverTheStageEnds)
 		EXPECT_TRUE(b);
 		CSparseMap::TPin c = map.pinned(5);
 		c = std::move(b);  // c's own pin (keyframe 5) is undone, keyframe 4's taken over
-		EXPECT_EQ(pins(5), 0);
-		EXPECT_EQ(pins(4), 1);
+		EXPECT_EQ(pins(5), 1);
+		EXPECT_EQ(pins(4), 2);
 	}
-	EXPECT_EQ(pins(4), 0);
+	EXPECT_EQ(pins(4), 1);
+	for (TKeyFrameId id = 1; id <= 5; id++) EXPECT_EQ(pins(id), 1) << "keyframe " << id;
 	EXPECT_FALSE(map.pinned(99)) << "an unknown keyframe";
+	for (TKeyFrameId id = 1; id <= 5; id++) map.unpinKeyFrame(id);
 	const auto culled = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
-	ASSERT_FALSE(culled.empty());
+	ASSERT_FALSE(culled.empty()) << "with the pins undone, culling goes on as before";
 	EXPECT_FALSE(map.pinned(culled.front())) << "a culled keyframe";
 }
 

@@ -322,14 +322,15 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 	return motionToKeyFrame(f, map_.keyFrame(*ref));
 }
 
-TKeyFrameId CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
+CSparseMap::TPin CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
 {
 	const TKeyFrameId kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
 	// Pinned until its own local mapping is done (mapKeyFrame unpins): in parallel mode it is in the
 	// map, covisible, while it waits in the mapping queue, and culling around an earlier keyframe
 	// must not erase it before its words, points and loop detection were made (ORB-SLAM2 cannot:
-	// its local mapping inserts a keyframe into the map itself; a review's finding).
-	map_.pinKeyFrame(kf);
+	// its local mapping inserts a keyframe into the map itself; a review's finding). Owned by the
+	// caller until then: a frame that fails before its keyframes are dispatched undoes it.
+	CSparseMap::TPin pin = map_.pinned(kf);
 	tracker_.setReferenceKeyFrame(kf, f->id);  // the frame tracked last is anchored to it when it is that frame
 	inserter_.keyFrameInserted(f->id);
 	lastKeyFrameFrame_ = f->id;
@@ -339,14 +340,14 @@ TKeyFrameId CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& 
 		stats_.keyFrames++;
 		if (forced) stats_.forcedKeyFrames++;
 	}
-	return kf;
+	return pin;
 }
 
-void CYesSlamSystem::dispatchKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f)
+void CYesSlamSystem::dispatchKeyFrame(CSparseMap::TPin pin, const std::shared_ptr<const TFrame>& f)
 {
-	// insertKeyFrame's pin goes with the keyframe to mapKeyFrame, which adopts it; should the keyframe
-	// never get there (a stage could not queue it), it is undone here: nothing else would.
-	CSparseMap::TPin pin = map_.adoptPin(kf);
+	// The pin goes with the keyframe to mapKeyFrame, which adopts it; should the keyframe never get
+	// there (a stage could not queue it), it is undone as this returns.
+	const TKeyFrameId kf = pin.id();
 	if (dense_)
 	{
 		// The frame (with its images) travels to the dense stage; the cloud is kept in keyframe
@@ -415,7 +416,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	// Shared over the frame's tracking and keyframe insertion (mapUpdateMtx_): no correction lands
 	// inside them; the keyframes it makes are mapped after the lock is released.
 	std::shared_lock<CWriterFirstMutex> frameLock(mapUpdateMtx_);
-	std::vector<std::pair<TKeyFrameId, std::shared_ptr<const TFrame>>> newKeyFrames;
+	std::vector<std::pair<CSparseMap::TPin, std::shared_ptr<const TFrame>>> newKeyFrames;  // pinned until dispatched
 	if (map_.numKeyFrames() == 0 && !opts_.system.localizeOnly)
 	{
 		std::size_t usable = 0;
@@ -507,7 +508,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	std::exception_ptr mappingFailure;
 	try
 	{
-		for (const auto& [kf, kfFrame] : newKeyFrames) dispatchKeyFrame(kf, kfFrame);
+		for (auto& [pin, kfFrame] : newKeyFrames) dispatchKeyFrame(std::move(pin), kfFrame);
 	}
 	catch (...)
 	{

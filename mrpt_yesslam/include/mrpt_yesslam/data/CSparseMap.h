@@ -125,6 +125,8 @@ class CSparseMap
 		~TPin();
 		/** Whether it holds a pin (pinned() gives an empty one for an unknown or bad keyframe). */
 		explicit operator bool() const { return map_ != nullptr; }
+		/** The keyframe it pins (meaningful while it holds one). */
+		TKeyFrameId id() const { return id_; }
 		/** Hands the pin on without undoing it: whoever takes it over adopts it (adoptPin). */
 		void release() noexcept { map_ = nullptr; }
 

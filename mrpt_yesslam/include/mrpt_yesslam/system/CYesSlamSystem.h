@@ -243,10 +243,12 @@ class CYesSlamSystem
 
    private:
 	/** Adds frame `f` as a keyframe (under the frame's shared map-update lock); its dense cloud and
-	 * local mapping follow in dispatchKeyFrame, after the lock is released. */
-	TKeyFrameId insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced);
-	/** The dense stage and local mapping of a new keyframe: queued in parallel mode, run here otherwise. */
-	void dispatchKeyFrame(TKeyFrameId kf, const std::shared_ptr<const TFrame>& f);
+	 * local mapping follow in dispatchKeyFrame, after the lock is released. Returns the keyframe
+	 * pinned against culling until its own local mapping is done. */
+	CSparseMap::TPin insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced);
+	/** The dense stage and local mapping of a new keyframe (`pin`'s): queued in parallel mode, run
+	 * here otherwise; the pin goes with it to mapKeyFrame. */
+	void dispatchKeyFrame(CSparseMap::TPin pin, const std::shared_ptr<const TFrame>& f);
 	double motionToReference(const TFrame& f) const;
 	/** Computes keyframe `kf`'s words and puts them in the place-recognition database (no-op
 	 * without a vocabulary or for a bad keyframe). */

@@ -92,7 +92,7 @@ class CRecorder
 			pending_.front().get();
 			pending_.pop_front();
 		}
-		pending_.push_back(pool_.submit([this, f] { writer_.write(*f); }));
+		pool_.submitInto(pending_, [this, f] { writer_.write(*f); });
 	}
 	// Waits for the queued writes and renames the file into place; returns the frames written.
 	std::size_t finish()
