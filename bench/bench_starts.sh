@@ -46,6 +46,7 @@ for s in $(seq 0 "$STEP" $((FRAMES - LEN))); do
     { echo "bench: evaluating the run at $s failed, see $run.eval" >&2; exit 1; }
   ate=$(awk '$1 == "ate_rmse:" {print 1000 * $2}' "$run.eval")
   [ -n "$ate" ] || { echo "bench: no ATE in $run.eval" >&2; exit 1; }
+  [ -s "$run/errors.csv" ] || { echo "bench: the evaluation wrote no $run/errors.csv" >&2; exit 1; }
   # errors.csv is in stamp order: the first two rows are the window's first two frames.
   stats=$(awk -F, 'NR > 1 {e[++n] = 1000 * $2} END {
       if (n < 2) exit 1

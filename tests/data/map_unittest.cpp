@@ -308,9 +308,20 @@ TEST(SparseMap, APinAStageOwnsIsUndoneHoweverTheStageEnds)
 	for (TKeyFrameId id = 1; id <= 5; id++) EXPECT_EQ(pins(id), 1) << "keyframe " << id;
 	EXPECT_FALSE(map.pinned(99)) << "an unknown keyframe";
 	for (TKeyFrameId id = 1; id <= 5; id++) map.unpinKeyFrame(id);
-	const auto culled = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
-	ASSERT_FALSE(culled.empty()) << "with the pins undone, culling goes on as before";
-	EXPECT_FALSE(map.pinned(culled.front())) << "a culled keyframe";
+	// A keyframe added pinned (as the system adds one while the mapping stage may be culling) holds
+	// its pin from the moment it is in the map, not from a second call a culling could precede.
+	std::mt19937 rng2(9);
+	{
+		const CSparseMap::TPin added = map.addPinnedKeyFrame(observeWorld(6, mrpt::poses::CPose3D(0.035, 0, 0, 0, 0, 0), wall(80), range(0, 80), rng2, 0), 10.0);
+		ASSERT_TRUE(added);
+		EXPECT_EQ(added.id(), 6u);
+		EXPECT_EQ(pins(6), 1);
+		const auto culled = map.cullRedundantKeyFrames(5, 0.9, 3, 10.0);
+		ASSERT_FALSE(culled.empty()) << "with the pins undone, culling goes on as before";
+		EXPECT_EQ(std::count(culled.begin(), culled.end(), TKeyFrameId(6)), 0) << "the pinned new keyframe was culled";
+		EXPECT_FALSE(map.pinned(culled.front())) << "a culled keyframe";
+	}
+	EXPECT_EQ(pins(6), 0);
 }
 
 TEST(SparseMap, RecentPointsListHoldsOnlyYoungPoints)

@@ -27,6 +27,14 @@ TKeyFrameId CSparseMap::addKeyFrame(const std::shared_ptr<const TFrame>& frame, 
 	return s_->addKeyFrame(*frame, maxDepth, newPoints);
 }
 
+CSparseMap::TPin CSparseMap::addPinnedKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth)
+{
+	WriteLock lk(mtx_);
+	const TKeyFrameId id = s_->addKeyFrame(*frame, maxDepth, nullptr);
+	s_->keyFrames.at(id)->pinned++;
+	return TPin(this, id);
+}
+
 bool CSparseMap::setKeyFrameBow(TKeyFrameId id, std::shared_ptr<const TBow> bow)
 {
 	WriteLock lk(mtx_);

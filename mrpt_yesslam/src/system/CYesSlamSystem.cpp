@@ -324,13 +324,14 @@ double CYesSlamSystem::motionToReference(const TFrame& f) const
 
 CSparseMap::TPin CYesSlamSystem::insertKeyFrame(const std::shared_ptr<const TFrame>& f, bool forced)
 {
-	const TKeyFrameId kf = map_.addKeyFrame(f, opts_.tracking.maxDepth);
 	// Pinned until its own local mapping is done (mapKeyFrame unpins): in parallel mode it is in the
 	// map, covisible, while it waits in the mapping queue, and culling around an earlier keyframe
 	// must not erase it before its words, points and loop detection were made (ORB-SLAM2 cannot:
-	// its local mapping inserts a keyframe into the map itself; a review's finding). Owned by the
-	// caller until then: a frame that fails before its keyframes are dispatched undoes it.
-	CSparseMap::TPin pin = map_.pinned(kf);
+	// its local mapping inserts a keyframe into the map itself; a review's finding). Pinned as it is
+	// added (the mapping stage may be culling right then), and owned by the caller until then: a
+	// frame that fails before its keyframes are dispatched undoes it.
+	CSparseMap::TPin pin = map_.addPinnedKeyFrame(f, opts_.tracking.maxDepth);
+	const TKeyFrameId kf = pin.id();
 	tracker_.setReferenceKeyFrame(kf, f->id);  // the frame tracked last is anchored to it when it is that frame
 	inserter_.keyFrameInserted(f->id);
 	lastKeyFrameFrame_ = f->id;

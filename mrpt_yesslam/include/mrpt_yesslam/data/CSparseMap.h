@@ -141,6 +141,9 @@ class CSparseMap
 	TPin pinned(TKeyFrameId id);
 	/** Takes over a pin another stage made with pinKeyFrame and handed on with the keyframe. */
 	TPin adoptPin(TKeyFrameId id) noexcept { return TPin(this, id); }
+	/** addKeyFrame and a pin on the new keyframe in one step (one lock): a stage culling meanwhile
+	 * cannot erase it before its owner holds it. */
+	TPin addPinnedKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth);
 	/** The nearest keyframe up the spanning tree from `id` (itself included) that is not bad. */
 	TKeyFrameId goodAncestor(TKeyFrameId id) const;
 	/** Number of map points that are not bad. */
