@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <tuple>
 
 #include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/jobs/SlamJob.h"
@@ -39,13 +40,16 @@ int main(int argc, char** argv)
 				"status line: capture fps, processed fps, dropped frames, tracking state). --record keeps every frame.\n"
 				"Every output is in a z-up world frame (x forward, y left, z up; levelled by the floor, which is at z = 0,\n"
 				"when one is seen; the file headers state it and T_world_map), or with --world-frame optical in the first\n"
-				"keyframe's camera frame. OUTDIR receives trajectory.txt (TUM format, a pose for every frame that has one, after the run's\n"
-				"optimisation, lost frames filled in), trajectory_online.txt (each frame's pose as the run had it then,\n"
-				"what a robot had; its ATE is printed as online_ate_rmse), keyframes.txt, map.3Dscene\n"
+				"keyframe's camera frame. OUTDIR receives trajectory.txt (TUM format, a pose for every frame that has one: the pose\n"
+				"tracking measured against its reference keyframe, carried by that keyframe's final pose, as ORB-SLAM2 saves it),\n"
+				"trajectory_online.txt (each frame's pose as the run had it then, what a robot had; its ATE is printed as\n"
+				"online_ate_rmse), trajectory_smoothed.txt (trajectory.txt smoothed after the run over up to 8 LATER frames\n"
+				"too, lost frames filled in: [Output]; smoothed_ate_rmse), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
 				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), frames.csv (per frame: tracking\n"
 				"state, inliers, map size, stage times, and where its pose comes from: tracked, coasted, interpolated, none), config_used.ini, and with ground\n"
-				"truth (--gt, or groundtruth.txt found beside the input) eval.json; ATE and RPE are printed.\n"
+				"truth (--gt, or groundtruth.txt found beside the input) eval.json, eval_online.json and eval_smoothed.json;\n"
+				"ATE and RPE are printed.\n"
 				"The dense semantic map (unless --no-dense-map): dense_cloud.ply (colour, fused class label and its\n"
 				"probability per point), map.ot (semantic OctoMap: occupancy, colour, label) and map.bt (occupancy only,\n"
 				"for octovis and navigation stacks); map.3Dscene then also holds the octree coloured by label. People\n"
@@ -200,6 +204,9 @@ int main(int argc, char** argv)
 							o.slam.system.localizeOnly ? ", localisation only" : "");
 			std::printf("frames:          %zu\n", st.frames);
 			std::printf(
+				"rolling shutter: %s\n", s.readout.source == "none" ? "none (readout not known: no correction)"
+									   : (formatNumber(1000 * s.readout.seconds) + " ms readout, from " + s.readout.source).c_str());
+			std::printf(
 				"tracked:         %zu (%.1f%%), relocalisations %zu, weak poses refused %zu\n", st.trackedFrames,
 				st.frames ? 100.0 * static_cast<double>(st.trackedFrames) / static_cast<double>(st.frames) : 0.0, st.relocalisations, st.refusedPoses);
 			std::printf("fps:             %.2f (%.1f s)\n", s.seconds > 0 ? static_cast<double>(st.frames) / s.seconds : 0.0, s.seconds);
@@ -232,7 +239,7 @@ int main(int argc, char** argv)
 					"                 %s\n", s.dense.priorMerged ? "the octree continues the loaded map's (what this run saw replaces it)"
 															  : "note: the loaded map has no octree at this resolution: the octree holds this run only");
 			std::printf(
-				"outputs:         %s/{trajectory.txt,trajectory_online.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
+				"outputs:         %s/{trajectory.txt,trajectory_online.txt,trajectory_smoothed.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
 				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
 			if (!o.saveMap.empty() && s.mapFiles.saveError.empty() && s.mapFiles.savedBytes > 0)
 				std::printf("map saved:       %s (%s, %zu points, %.1f MB)\n", o.saveMap.c_str(), countOf(st.keyFramesInMap, "keyframe").c_str(), st.mapPoints, s.mapFiles.savedBytes / 1e6);
@@ -241,13 +248,15 @@ int main(int argc, char** argv)
 				std::printf("ground truth:    %s (%s)\n", s.groundTruth.c_str(), describeGroundTruthFormat(s.groundTruthFormat).c_str());
 				std::fputs(formatEvalKeyValues(s.eval).c_str(), stdout);
 				if (!s.eval.hasRpe) std::fprintf(stderr, "yesslam: note: no RPE (%s)\n", s.eval.rpeProblem.c_str());
-				// What a robot had while it moved (trajectory_online.txt), beside the file smoothed after the run.
-				if (s.evaluatedOnline)
+				// What a robot had while it moved (trajectory_online.txt), and the file smoothed after the run.
+				const std::tuple<const char*, bool, const TEvalReport*> others[] = {
+					{"online", s.evaluatedOnline, &s.evalOnline}, {"smoothed", s.evaluatedSmoothed, &s.evalSmoothed}};
+				for (const auto& [prefix, done, e] : others)
 				{
-					std::printf("online_ate_rmse: %.9f\n", s.evalOnline.ate.stats.rmse);
-					if (s.evalOnline.hasRpe)
-						std::printf(
-							"online_rpe_trans_rmse: %.9f\nonline_rpe_rot_rmse_deg: %.9f\n", s.evalOnline.rpe.trans.rmse, s.evalOnline.rpe.rotDeg.rmse);
+					if (!done) continue;
+					std::printf("%s_ate_rmse: %.9f\n%s_jitter_median: %.9f\n", prefix, e->ate.stats.rmse, prefix, e->jitter.median);
+					if (e->hasRpe)
+						std::printf("%s_rpe_trans_rmse: %.9f\n%s_rpe_rot_rmse_deg: %.9f\n", prefix, e->rpe.trans.rmse, prefix, e->rpe.rotDeg.rmse);
 				}
 			}
 			else if (!s.evalProblem.empty())

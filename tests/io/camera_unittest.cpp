@@ -96,6 +96,30 @@ TEST(Camera, TheReadoutIsKnownForTheCamerasThatHaveOneAndNotAssumedForOthers)
 	expectInputError([&] { readCameraFile(d / "three.txt"); }, {"three.txt", "line 3", "has 2"});
 }
 
+TEST(Camera, ACameraFileMayNameItsSensorAndEveryReadoutSaysWhereItCameFrom)
+{
+	// Issue 70 item 2: the readout line may name the sensor ("readout kinect1", "xtion", "global")
+	// instead of a number; every known readout says where it came from.
+	TempDir d("named_readout");
+	writeText(d / "k.txt", "517.3 516.5 318.6 255.3\n0.2624 -0.9531 -0.0054 0.0026 1.1633\nreadout kinect1\n");
+	const auto k = readCameraFile(d / "k.txt");
+	EXPECT_DOUBLE_EQ(k.readout, 0.028);
+	EXPECT_DOUBLE_EQ(k.intrinsics.dist[0], 0.2624);
+	EXPECT_NE(k.readoutSource.find("k.txt"), std::string::npos) << k.readoutSource;
+	writeText(d / "x.txt", "535.4 539.2 320.1 247.6\nXtion\n");
+	EXPECT_DOUBLE_EQ(readCameraFile(d / "x.txt").readout, 0.028);
+	writeText(d / "g.txt", "535.4 539.2 320.1 247.6\nreadout global\n");
+	EXPECT_DOUBLE_EQ(readCameraFile(d / "g.txt").readout, 0.0);
+	writeText(d / "s.txt", "535.4 539.2 320.1 247.6\nreadout 0.0165\n");
+	EXPECT_DOUBLE_EQ(readCameraFile(d / "s.txt").readout, 0.0165);
+	writeText(d / "bad.txt", "535.4 539.2 320.1 247.6\nreadout kinect9\n");
+	expectInputError([&] { readCameraFile(d / "bad.txt"); }, {"bad.txt", "line 2", "kinect9", "xtion"});
+	writeText(d / "nothing.txt", "535.4 539.2 320.1 247.6\n");
+	EXPECT_TRUE(readCameraFile(d / "nothing.txt").readoutSource.empty());
+	EXPECT_NE(resolveTumCamera("", sharedFile("data/bonn_crowd_dev")).readoutSource.find("Bonn"), std::string::npos);
+	EXPECT_NE(resolveTumCamera("fr1", d.path()).readoutSource.find("fr1"), std::string::npos);
+}
+
 TEST(Camera, ASimulatedSequenceStatesItsRollingShutterAndARecordingDoesNot)
 {
 	// [Tracking] rollingShutter = -1 (auto): a yesslam-sim sequence's readout from its meta.json

@@ -1,7 +1,7 @@
-// CFrameRecords: the trajectory written after the run. Each frame hangs from the keyframe it was
-// tracked against, and mapping moves keyframes differently; with [Tracking] correctionWindow the
-// correction is averaged over neighbouring frames of one correction generation and applied to the
-// pose tracking measured.
+// CFrameRecords: the trajectories written after the run. Each frame hangs from the keyframe it was
+// tracked against (trajectory.txt: carried by its final pose); mapping moves keyframes differently,
+// and in trajectory_smoothed.txt ([Output] correctionWindow) the correction is averaged over
+// neighbouring frames of one correction generation and applied to the pose tracking measured.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -57,7 +57,7 @@ struct TScene
 			records.add(r, TFrameLogRow());
 		}
 	}
-	TTrajectory trajectory() const { return records.trajectory([this] { return finalKeyFrames; }); }
+	TTrajectory trajectory() const { return records.smoothed([this] { return finalKeyFrames; }); }
 };
 
 // How far the estimate's step from frame k to k+1 is from the true step (position, metres).
@@ -117,7 +117,7 @@ TEST(FrameRecords, AFramePinnedToItsKeyFrameKeepsTheKeyFramesPose)
 	r.anchor = TAnchor{TKeyFrameId(0), r.online};
 	records.add(r, row);
 	records.markKeyFrame(10, TAnchor{TKeyFrameId(1), mrpt::poses::CPose3D()});
-	const TTrajectory t = records.trajectory([&] { return finals; });
+	const TTrajectory t = records.smoothed([&] { return finals; });
 	ASSERT_EQ(t.size(), 11u);
 	const auto& k = finals.at(1);
 	EXPECT_NEAR(t[10].tx, k.x(), 1e-12);
@@ -157,7 +157,7 @@ TEST(FrameRecords, AFrameWhoseKeyFrameIsGoneLendsItsFallbackToNoNeighbour)
 		r.anchor = k == 5 ? TAnchor{TKeyFrameId(9), mrpt::poses::CPose3D(1, 2, 0, 0, 0, 0)} : TAnchor{TKeyFrameId(0), r.online};
 		records.add(r, TFrameLogRow());
 	}
-	const TTrajectory t = records.trajectory([&] { return finals; });
+	const TTrajectory t = records.smoothed([&] { return finals; });
 	ASSERT_EQ(t.size(), 11u);
 	for (std::size_t k = 0; k < 11; k++)
 	{
@@ -187,7 +187,7 @@ TEST(FrameRecords, FramesCoastedAfterAPinnedFrameKeepTheirOwnPoses)
 			r.anchor = TAnchor{TKeyFrameId(1), mrpt::poses::CPose3D(0.003 * (k - 5), 0, 0, 0, 0, 0)};
 		records.add(r, TFrameLogRow());
 	}
-	const TTrajectory t = records.trajectory([&] { return finals; });
+	const TTrajectory t = records.smoothed([&] { return finals; });
 	ASSERT_EQ(t.size(), 9u);
 	EXPECT_NEAR(t[5].ty, -0.01, 1e-12);
 	for (std::size_t k = 6; k < 9; k++)
@@ -227,7 +227,7 @@ struct TNoisyRun
 			row.relocalised = k == relocalisedAt;
 			records.add(r, row);
 		}
-		written = records.trajectory([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
+		written = records.smoothed([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
 	}
 	double positionError(std::size_t k) const
 	{
@@ -309,7 +309,37 @@ TEST(FrameRecords, ARunWithoutStampsIsNotSmoothed)
 		r.anchor = TAnchor{TKeyFrameId(0), r.online};
 		records.add(r, TFrameLogRow());
 	}
-	const TTrajectory t = records.trajectory([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
+	const TTrajectory t = records.smoothed([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
 	ASSERT_EQ(t.size(), 30u);
 	for (int k = 0; k < 30; k++) EXPECT_NEAR(t[static_cast<std::size_t>(k)].tx, 0.003 * k + (k % 2 ? 0.001 : -0.001), 1e-15) << k;
+}
+
+TEST(FrameRecords, TheKeyFrameCarriedTrajectoryUsesNoLaterFrame)
+{
+	// trajectory.txt (issue 62): each frame's pose is the one tracking measured relative to its
+	// keyframe, carried by that keyframe's final pose, whatever the smoothing options: adding
+	// later frames changes no earlier pose, lost frames keep their coasted pose. smoothed() (the
+	// same records) moves them.
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{{0, mrpt::poses::CPose3D(0, 0.01, 0, 0.002, 0, 0)}};
+	CFrameRecords records(true, 3, 8);
+	std::vector<TTrajectory> soFar;
+	for (int k = 0; k < 40; k++)
+	{
+		const mrpt::poses::CPose3D measured(0.003 * k + (k % 2 ? 0.0015 : -0.0015), 0, 0, 0, 0, 0);
+		CFrameRecords::TRecord r = record(k, measured, k < 20 || k >= 25);
+		r.anchor = TAnchor{TKeyFrameId(0), measured};
+		records.add(r, TFrameLogRow());
+		soFar.push_back(records.trajectory([&] { return finals; }));
+	}
+	const TTrajectory all = soFar.back(), smooth = records.smoothed([&] { return finals; });
+	ASSERT_EQ(all.size(), 40u);
+	double moved = 0;
+	for (std::size_t k = 0; k < 40; k++)
+	{
+		const mrpt::poses::CPose3D want = finals.at(0) + mrpt::poses::CPose3D(0.003 * static_cast<double>(k) + (k % 2 ? 0.0015 : -0.0015), 0, 0, 0, 0, 0);
+		EXPECT_LT((all[k].asPose().asVectorVal() - want.asVectorVal()).norm(), 1e-12) << k;
+		EXPECT_EQ(soFar[k][k].tx, all[k].tx) << "frame " << k << " changed once later frames came";
+		moved += std::abs(smooth[k].tx - all[k].tx);
+	}
+	EXPECT_GT(moved, 0.01) << "the smoothed trajectory evens out the zig-zag and fills in the lost frames";
 }

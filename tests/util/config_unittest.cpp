@@ -124,6 +124,10 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	check("LoopClosing", CLoopCloser::TOptions::configKeys(), loop, CLoopCloser::TOptions());
 	TYesSlamOptions::TSystem sys;
 	check("System", TYesSlamOptions::TSystem::configKeys(), sys, TYesSlamOptions::TSystem());
+	COnlinePoseFilter::TOptions online;
+	check("OnlinePose", COnlinePoseFilter::TOptions::configKeys(), online, COnlinePoseFilter::TOptions());
+	TYesSlamOptions::TOutput output;
+	check("Output", TYesSlamOptions::TOutput::configKeys(), output, TYesSlamOptions::TOutput());
 }
 
 TEST(Config, ShippedSequenceConfigsHaveOnlyKnownKeys)
@@ -193,6 +197,38 @@ TEST(Config, EveryKeyInAFileReachesItsOption)
 			checked++;
 		}
 	EXPECT_GT(checked, 80u);
+}
+
+TEST(Config, TheSmoothingKeysAreOutputOptionsAndTheirOldPlaceSaysSo)
+{
+	// Issue 62: the after-the-run smoothing shapes trajectory_smoothed.txt only ([Output]); a
+	// configuration that set it under [Tracking] gets an error naming the file, the key and its
+	// new section, not a warning that leaves it at the default.
+	TempDir d("cfg-output");
+	for (const std::string key : {"smoothingWindow", "correctionWindow", "lostInterpolate"})
+	{
+		SCOPED_TRACE(key);
+		writeText(d / "old.ini", "[Tracking]\n" + key + " = 0\n");
+		try
+		{
+			TYesSlamOptions o;
+			o.loadFromFile(d / "old.ini");
+			ADD_FAILURE() << "loaded";
+		}
+		catch (const InputError& e)
+		{
+			const std::string m = e.what();
+			EXPECT_NE(m.find("old.ini"), std::string::npos) << m;
+			EXPECT_NE(m.find("[Output] " + key), std::string::npos) << m;
+		}
+	}
+	writeText(d / "new.ini", "[Output]\nsmoothingWindow = 4\ncorrectionWindow = 0\nlostInterpolate = false\n");
+	TYesSlamOptions o;
+	o.loadFromFile(d / "new.ini");
+	EXPECT_EQ(o.output.smoothingWindow, 4);
+	EXPECT_EQ(o.output.correctionWindow, 0);
+	EXPECT_FALSE(o.output.lostInterpolate);
+	EXPECT_NE(o.dump().find("[Output]"), std::string::npos);
 }
 
 TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)

@@ -66,15 +66,15 @@ std::optional<double> statedReadout(const std::string& inputPath)
 	return ms * 1e-3;
 }
 
-std::optional<double> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts)
+std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts)
 {
 	if (isOpenNI2Input(inputPath)) return std::nullopt;
-	if (const auto stated = statedReadout(inputPath)) return stated;
+	if (const auto stated = statedReadout(inputPath)) return TReadout{*stated, "the sequence's meta.json (yesslam-sim)"};
 	std::error_code ec;
 	if (!fs::is_directory(inputPath, ec)) return std::nullopt;
 	try
 	{
-		if (const double r = resolveTumCamera(opts.camera, inputPath).readout; r >= 0) return r;
+		if (const TRgbdCamera c = resolveTumCamera(opts.camera, inputPath); c.readout >= 0) return TReadout{c.readout, c.readoutSource};
 	}
 	catch (const InputError&)
 	{

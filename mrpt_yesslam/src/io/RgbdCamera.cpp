@@ -34,8 +34,11 @@ constexpr double kPrimeSenseReadout = 0.028;
 TRgbdCamera withReadout(TRgbdCamera c)
 {
 	c.readout = kPrimeSenseReadout;
+	c.readoutSource = "the " + c.name + " camera preset (Kinect v1)";
 	return c;
 }
+
+constexpr const char* kSensorNames = "kinect1, kinect, xtion, primesense (0.028 s) or global (0)";
 
 std::string lower(std::string s)
 {
@@ -65,6 +68,16 @@ TRgbdCamera tumCameraByName(const std::string& nameIn)
 		return withReadout(makeCamera("fr3", 535.4, 539.2, 320.1, 247.6, d));
 	}
 	throw InputError("", "unknown camera name '" + nameIn + "' (known: fr1, fr2, fr3, or give a camera file)");
+}
+
+std::optional<double> sensorReadout(const std::string& name)
+{
+	const std::string n = lower(name);
+	// Kinect v1 and Xtion are PrimeSense designs; an Astra (Orbbec's own) has no published
+	// readout we know of: a measured number belongs in its camera file.
+	if (n == "kinect1" || n == "kinect" || n == "xtion" || n == "primesense") return kPrimeSenseReadout;
+	if (n == "global") return 0.0;
+	return std::nullopt;
 }
 
 bool isBonnDatasetPath(const std::string& path)
@@ -105,13 +118,31 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 {
 	const auto lines = splitLines(text);
 	std::vector<std::vector<double>> rows;
+	std::optional<double> namedReadout;
 	for (std::size_t i = 0; i < lines.size(); i++)
 	{
 		if (isCommentOrBlank(lines[i])) continue;
-		std::vector<double> row;
-		for (const auto& f : splitFields(lines[i]))
+		auto fields = splitFields(lines[i]);
+		// A readout line in words: "[readout] NAME" or "readout SECONDS" (issue 70).
+		const bool worded = !fields.empty() && lower(fields[0]) == "readout";
+		if (worded) fields.erase(fields.begin());
+		double v;
+		if (fields.size() == 1 && !parseFiniteDouble(fields[0], v))
 		{
-			double v;
+			if (!rows.empty() && !namedReadout)
+			{
+				namedReadout = sensorReadout(fields[0]);
+				if (!namedReadout)
+					throw InputError(path, "line " + std::to_string(i + 1) + ": unknown sensor '" + fields[0] + "' for the readout (known: " + kSensorNames + "; or seconds)");
+				rows.push_back({*namedReadout});
+				continue;
+			}
+		}
+		if (worded && fields.size() != 1)
+			throw InputError(path, "line " + std::to_string(i + 1) + ": 'readout' takes one value: seconds or a sensor (" + kSensorNames + ")");
+		std::vector<double> row;
+		for (const auto& f : fields)
+		{
 			if (!parseFiniteDouble(f, v))
 				throw InputError(path, "line " + std::to_string(i + 1) + ": '" + f + "' is not a finite number");
 			row.push_back(v);
@@ -163,6 +194,7 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 	TRgbdCamera c = makeCamera(path, r[0], r[1], r[2], r[3], dist, w, h, ds);
 	c.sizeGiven = r.size() >= 6;
 	c.readout = readout;
+	if (readout >= 0) c.readoutSource = "the camera file " + path;
 	return c;
 }
 
@@ -190,7 +222,11 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 		TRgbdCamera c = readCameraFile(calib.string());
 		// The TUM sequences' Kinect v1 (a freiburg name in the path) and the Bonn RGB-D Dynamic
 		// dataset's ASUS Xtion (its folders are rgbd_bonn_*).
-		if (c.readout < 0 && (isBonnDatasetPath(folder) || !tumCameraNameFromPath(folder).empty())) c.readout = kPrimeSenseReadout;
+		if (c.readout < 0 && (isBonnDatasetPath(folder) || !tumCameraNameFromPath(folder).empty()))
+		{
+			c.readout = kPrimeSenseReadout;
+			c.readoutSource = std::string("the folder's name (") + (isBonnDatasetPath(folder) ? "Bonn RGB-D Dynamic: ASUS Xtion" : "TUM freiburg: Kinect v1") + ")";
+		}
 		return c;
 	}
 	const std::string n = tumCameraNameFromPath(folder);
@@ -199,6 +235,8 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 			folder,
 			"cannot tell the camera: no calibration.txt and no freiburg1/2/3 in the folder name; pass a camera name "
 			"(fr1, fr2, fr3) or a camera file");
-	return tumCameraByName(n);
+	TRgbdCamera c = tumCameraByName(n);
+	c.readoutSource = "the folder's name (TUM freiburg: Kinect v1)";
+	return c;
 }
 }  // namespace mrpt_yesslam

@@ -230,7 +230,7 @@ std::vector<EPoseSource> CFrameRecords::poseSources() const
 	return out;
 }
 
-TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
+CFrameRecords::TCarried CFrameRecords::carried(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
 {
 	std::vector<TRecord> records;
 	std::vector<bool> relocalised;
@@ -240,54 +240,57 @@ TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, 
 		for (const auto& row : rows_) relocalised.push_back(row.relocalised);
 	}
 	const std::map<TKeyFrameId, mrpt::poses::CPose3D> keyFramePoses = poses();
-	TTrajectory out;
-	std::vector<bool> tracked;
-	std::vector<mrpt::poses::CPose3D> online;
+	TCarried c;
 	std::uint64_t generation = 0;  // the previous record's
-	std::vector<bool> anchored, pinned;
-	// The stretches the averaging and the smoothing stay within: a loop correction or a global BA
-	// (a new generation) ends one, and so does a relocalised frame: the step onto it is where
-	// tracking had drifted, not the camera's motion (a fit through it spread the jump over the
-	// frames either side).
-	std::vector<std::uint64_t> stretch;
-	out.reserve(records.size());
+	// The stretches smoothed() stays within: a loop correction or a global BA (a new generation)
+	// ends one, and so does a relocalised frame: the step onto it is where tracking had drifted,
+	// not the camera's motion (a fit through it spread the jump over the frames either side).
+	c.poses.reserve(records.size());
 	for (std::size_t i = 0; i < records.size(); i++)
 	{
 		const TRecord& r = records[i];
 		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
-		const bool newStretch = !stretch.empty() && (r.generation != generation || (i < relocalised.size() && relocalised[i]));
-		stretch.push_back(stretch.empty() ? 0 : stretch.back() + (newStretch ? 1 : 0));
+		const bool newStretch = !c.stretch.empty() && (r.generation != generation || (i < relocalised.size() && relocalised[i]));
+		c.stretch.push_back(c.stretch.empty() ? 0 : c.stretch.back() + (newStretch ? 1 : 0));
 		generation = r.generation;
 		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.
 		const auto it = r.anchor.refKf ? keyFramePoses.find(*r.anchor.refKf) : keyFramePoses.end();
-		out.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
-		tracked.push_back(r.tracked);
-		online.push_back(r.online);
-		anchored.push_back(!r.anchor.refKf || it != keyFramePoses.end());
-		pinned.push_back(r.pinned);
+		c.poses.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
+		c.tracked.push_back(r.tracked);
+		c.online.push_back(r.online);
+		c.anchored.push_back(!r.anchor.refKf || it != keyFramePoses.end());
+		c.pinned.push_back(r.pinned);
 	}
+	return c;
+}
+
+TTrajectory CFrameRecords::trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
+{
+	return carried(poses).poses;
+}
+
+TTrajectory CFrameRecords::smoothed(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
+{
+	TCarried c = carried(poses);
+	TTrajectory& out = c.poses;
 	// A frame hangs from the keyframe it was tracked against, and consecutive frames often from
 	// different ones, which mapping moved differently since (above all in parallel mode, where a
 	// keyframe's local BA lands frames after it): the steps between such frames carry the
 	// difference, not the camera's motion. What mapping moved a frame by changes slowly along the
-	// path, so it is averaged over a few frames and applied to the pose tracking measured
-	// (trajectory_online.txt), whose steps are the camera's. Never across a loop correction or a
-	// global BA (a new generation: those frames were tracked in another map), or a relocalisation.
-	if (correctionWindow_ > 0) smoothCorrections(out, tracked, anchored, pinned, online, stretch, correctionWindow_);
-	// Each tracked pose is a solve of its own frame's keypoints: their noise makes the path zig-zag
-	// around the camera's (the real Bonn slice stepped 4.4 mm a frame where the camera moved 3.0).
-	// A hand-held or robot camera's motion is smooth over a few frames, so the written position is the
-	// value at its stamp of a parabola fitted in time through the positions of the nearest tracked frames
-	// either side (local polynomial regression, a Savitzky-Golay smoother on the frames' own stamps,
-	// in the spirit of a fixed-interval smoother; the online poses, which a robot used, stay as they
-	// were). Never across a loop correction, a global BA, a relocalisation or a loss, and only after mapping's
-	// corrections were averaged above.
-	if (smoothingWindow_ > 0) smoothMotion(out, tracked, anchored, pinned, stretch, smoothingWindow_);
+	// path, so it is averaged over a few frames either side and applied to the pose tracking
+	// measured. Never across a loop correction or a global BA (a new generation: those frames were
+	// tracked in another map), or a relocalisation.
+	if (correctionWindow_ > 0) smoothCorrections(out, c.tracked, c.anchored, c.pinned, c.online, c.stretch, correctionWindow_);
+	// Each tracked pose is a solve of its own frame's keypoints, whose noise makes the path zig-zag
+	// around the camera's; a camera's motion is smooth over a few frames, so the position is the
+	// value at its stamp of a parabola fitted in time through the nearest tracked frames either
+	// side (a Savitzky-Golay smoother on the frames' own stamps, in the spirit of a fixed-interval
+	// smoother). Never across a loop correction, a global BA, a relocalisation or a loss.
+	if (smoothingWindow_ > 0) smoothMotion(out, c.tracked, c.anchored, c.pinned, c.stretch, smoothingWindow_);
 	// Lost frames a relocalisation ended: between the two tracked poses around them (from the
-	// keyframes' current poses, so later corrections carry over) rather than the coasted guess
-	// written while lost, which drifts away wherever the camera did not keep its last velocity.
-	// poseSources() names them; online() keeps what the robot had.
-	if (lostInterpolate_) interpolateUntracked(out, tracked);
+	// keyframes' current poses, so later corrections carry over) rather than the coasted guess,
+	// which drifts away wherever the camera did not keep its last velocity. poseSources() names them.
+	if (lostInterpolate_) interpolateUntracked(out, c.tracked);
 	return out;
 }
 

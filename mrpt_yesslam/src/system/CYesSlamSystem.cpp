@@ -42,6 +42,15 @@ COptionTable TYesSlamOptions::TSystem::table()
 	return t;
 }
 
+COptionTable TYesSlamOptions::TOutput::table()
+{
+	COptionTable t("Output");
+	t.flag("lostInterpolate", lostInterpolate, "trajectory_smoothed.txt: lost frames between two tracked ones are placed between them by time once tracking resumes (trajectory.txt keeps the coasted pose)");
+	t.integer("correctionWindow", correctionWindow, 0, 1000, "trajectory_smoothed.txt: what mapping moved each tracked frame by since it was tracked (its keyframe's correction) is averaged over this many tracked frames either side and applied to the pose tracking measured (0: off)");
+	t.integer("smoothingWindow", smoothingWindow, 0, 1000, "trajectory_smoothed.txt: each tracked frame's position is the value at its stamp of a parabola fitted in time through up to this many tracked frames either side, as many on each side (a side ends at a loop correction, a relocalisation, a lost frame or this many fifteenths of a second), so it uses up to this many LATER frames; orientation its own (0: off)");
+	return t;
+}
+
 void TYesSlamOptions::loadFromFile(const std::string& path)
 {
 	// What MRPT would ignore without a word also warns: a broken section line, keys before any
@@ -61,6 +70,11 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	for (const auto& [section, key] : {std::pair<const char*, const char*>{"Tracking", "depthNoise"}, {"LocalMapping", "depthNoise"}, {"LoopClosing", "refineDepthNoise"}})
 		if (cfg->sectionExists(section) && !cfg->read_string(section, key, "").empty())
 			throw InputError(path, std::string("[") + section + "] " + key + " is now [Camera] depthNoise: one depth-noise model for every stage");
+	// The after-the-run smoothing shapes trajectory_smoothed.txt only since issue 62: ignored with a
+	// warning, a configuration that turned it off would silently measure something else.
+	for (const char* key : {"lostInterpolate", "correctionWindow", "smoothingWindow"})
+		if (cfg->sectionExists("Tracking") && !cfg->read_string("Tracking", key, "").empty())
+			throw InputError(path, std::string("[Tracking] ") + key + " is now [Output] " + key + ": it shapes trajectory_smoothed.txt only (trajectory.txt is never smoothed)");
 	load("Camera", camera, TDepthNoise::configKeys());
 	load("Input", input, CInputSource::TOptions::configKeys());
 	load("Detector", detector, CObjectDetector::TOptions::configKeys());
@@ -68,11 +82,13 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	load("GeometricCheck", geometric, CGeometricDynamicCheck::TOptions::configKeys());
 	load("ORB", orb, COrbExtractor::TOptions::configKeys());
 	load("Tracking", tracking, CTracker::TOptions::configKeys());
+	load("OnlinePose", onlinePose, COnlinePoseFilter::TOptions::configKeys());
 	load("KeyFrames", keyFrames, CKeyFrameInserter::TOptions::configKeys());
 	load("LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
 	load("LoopClosing", loop, CLoopCloser::TOptions::configKeys());
 	load("DenseMapping", dense, CDenseSemanticMapper::TOptions::configKeys());
 	load("System", system, TSystem::configKeys());
+	load("Output", output, TOutput::configKeys());
 	std::vector<std::string> sections;
 	cfg->getAllSections(sections);
 	std::string list;
@@ -89,7 +105,7 @@ std::string TYesSlamOptions::dump() const
 {
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
-			 &camera, &input, &detector, &masker, &geometric, &orb, &tracking, &keyFrames, &mapping, &loop, &dense, &system})
+			 &camera, &input, &detector, &masker, &geometric, &orb, &tracking, &onlinePose, &keyFrames, &mapping, &loop, &dense, &system, &output})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";
@@ -125,7 +141,8 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric, opts_.camera),
 	  inserter_(opts_.keyFrames),
 	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth, opts_.camera),
-	  records_(opts_.tracking.lostInterpolate, opts_.tracking.correctionWindow, opts_.tracking.smoothingWindow),
+	  records_(opts_.output.lostInterpolate, opts_.output.correctionWindow, opts_.output.smoothingWindow),
+	  onlineFilter_(opts_.onlinePose),
 	  recent_(opts_.system.frameBuffer)
 {
 	tracker_.setMapReadOnly(opts_.system.localizeOnly);
@@ -446,11 +463,17 @@ TFrameReport CYesSlamSystem::processFrame(
 	rec.tracked = f->tracked;
 	everTracked_ = everTracked_ || f->tracked;
 	rec.hasPose = everTracked_;
-	rec.online = f->pose;
+	rec.generation = map_.generation();	 // no correction lands while this frame holds the map-update lock
+	// What a robot gets: the tracked position filtered with the frames before it only; restarted
+	// where the map jumped under the pose (a correction, a relocalisation).
+	rec.online = onlineFilter_.update(f->timestamp, f->pose, f->tracked, rep.relocalised || rec.generation != lastGeneration_);
+	lastGeneration_ = rec.generation;
+	f->onlinePose = rec.online;
+	rep.pose = rec.online;
+	rep.hasPose = rec.hasPose;
 	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe);
 	// a frame tracking did not see (before the map exists) keeps its absolute pose.
 	rec.anchor = tracker_.anchorOf(f->id).value_or(TAnchor{std::nullopt, f->pose});
-	rec.generation = map_.generation();	 // no correction lands while this frame holds the map-update lock
 
 	const auto t0 = SteadyClock::now();
 	std::shared_ptr<const TFrame> frame = f;
@@ -590,15 +613,24 @@ std::string CYesSlamSystem::configUsed() const
 	return "; [GeometricCheck] boxes = auto chose " + opts_.geometric.boxes + " in this run (true only with --localize-only)\n" + o.dump();
 }
 
+namespace
+{
+std::map<TKeyFrameId, mrpt::poses::CPose3D> keyFramePoseMap(const CSparseMap& map)
+{
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
+	for (const auto& k : map.keyFramePoses()) poses[k.id] = k.pose;
+	return poses;
+}
+}  // namespace
+
 TTrajectory CYesSlamSystem::trajectory() const
 {
-	return records_.trajectory(
-		[this]
-		{
-			std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;
-			for (const auto& k : map_.keyFramePoses()) poses[k.id] = k.pose;
-			return poses;
-		});
+	return records_.trajectory([this] { return keyFramePoseMap(map_); });
+}
+
+TTrajectory CYesSlamSystem::smoothedTrajectory() const
+{
+	return records_.smoothed([this] { return keyFramePoseMap(map_); });
 }
 
 TTrajectory CYesSlamSystem::onlineTrajectory() const { return records_.online(); }

@@ -37,6 +37,9 @@ struct TFrame
 	/** Map point matched to each keypoint by tracking (inliers only); -1 = none. */
 	std::vector<TPointId> mapPoints;
 	mrpt::poses::CPose3D pose;	//!< T_w_c, camera (z forward) in the world
+	/** The pose reported for this frame (onlineTrajectory, TFrameReport): `pose` with its position
+	 * filtered causally ([OnlinePose]); tracking itself goes on from `pose`. */
+	mrpt::poses::CPose3D onlinePose;
 	bool tracked = false;  //!< false: the pose is a motion-model guess (tracking lost)
 	std::size_t numInliers = 0;	 //!< static map points that supported the pose
 	std::shared_ptr<const TFrameImages> images;	 //!< null unless the builder keeps images (dense mapping)

@@ -69,9 +69,15 @@ std::string findGroundTruthFor(const std::string& inputPath);
  * None for anything else (recorded cameras say nothing about it). */
 std::optional<double> statedReadout(const std::string& inputPath);
 
+/** A rolling-shutter readout and where it came from, in words. */
+struct TReadout
+{
+	double seconds = 0;
+	std::string source;
+};
 /** The rolling-shutter readout of an input's camera where it is known: what the input states
  * (statedReadout), else a TUM folder's camera (TUM presets and Bonn folders 0.028 s, a camera
  * file's readout line). None for rawlogs, OpenNI2 devices and cameras of unknown readout, and for
  * a folder whose camera cannot be found (opening it says why). */
-std::optional<double> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts);
+std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts);
 }  // namespace mrpt_yesslam

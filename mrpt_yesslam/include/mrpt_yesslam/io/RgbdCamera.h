@@ -2,6 +2,7 @@
 // RGB-D camera models: the published TUM Kinect calibrations, and a plain camera file.
 #include <mrpt/img/TCamera.h>
 
+#include <optional>
 #include <string>
 
 namespace mrpt_yesslam
@@ -19,7 +20,15 @@ struct TRgbdCamera
 	 * (the TUM presets and Bonn folders: Kinect v1 and Xtion, 0.028; a camera file's readout
 	 * line); -1 = not known, and the run does not correct for it unless [Tracking] rollingShutter says. */
 	double readout = -1;
+	/** Where `readout` came from, in words (a camera file, a preset, the folder's name); empty when
+	 * it is not known. */
+	std::string readoutSource;
 };
+
+/** The readout of a named sensor, as a camera file's readout line may give it: "kinect1",
+ * "kinect", "xtion", "primesense" (PrimeSense designs: 0.028 s, Kerl et al. ICCV 2015) or
+ * "global" (0); none for another name. */
+std::optional<double> sensorReadout(const std::string& name);
 
 /** The TUM calibration for "fr1"/"freiburg1", "fr2"/"freiburg2", "fr3"/"freiburg3" (TUM's
  * published values; fr1 and fr2 with their distortion, fr3 images are already undistorted).
@@ -35,8 +44,9 @@ std::string tumCameraNameFromPath(const std::string& folder);
 bool isBonnDatasetPath(const std::string& path);
 
 /** Reads a camera file: '#' comments, then "fx fy cx cy [width height [depth_scale]]" on one
- * line, optionally "k1 k2 p1 p2 [k3]" on the next (TUM's d0..d4), and optionally a line of one
- * number: the colour camera's rolling-shutter readout in seconds (0 = global shutter). Throws InputError. */
+ * line, optionally "k1 k2 p1 p2 [k3]" on the next (TUM's d0..d4), and optionally a readout line:
+ * the colour camera's rolling-shutter readout in seconds (0 = global shutter) or a sensor's name
+ * (sensorReadout), either alone or after the word "readout". Throws InputError. */
 TRgbdCamera readCameraFile(const std::string& path);
 
 /** Parses the text of a camera file; `nameForErrors` is used in messages and as the camera name. */

@@ -41,9 +41,9 @@ class CFrameRecords
 		}
 	};
 
-	/** `lostInterpolate`: lost frames between tracked ones are placed between them ([Tracking]
-	 * lostInterpolate); `correctionWindow` and `smoothingWindow`: see trajectory() ([Tracking]
-	 * correctionWindow, smoothingWindow). */
+	/** How smoothed() differs from trajectory() ([Output] lostInterpolate, correctionWindow,
+	 * smoothingWindow): `lostInterpolate`, lost frames between tracked ones are placed between
+	 * them; `correctionWindow` and `smoothingWindow`: see smoothed(). */
 	explicit CFrameRecords(bool lostInterpolate, int correctionWindow = 0, int smoothingWindow = 0)
 		: lostInterpolate_(lostInterpolate), correctionWindow_(correctionWindow), smoothingWindow_(smoothingWindow)
 	{
@@ -54,27 +54,46 @@ class CFrameRecords
 	/** Marks the row of frame `frame` (searched from the newest) as the one a keyframe was made
 	 * from; with `anchor`, its pose is then that keyframe's (pinned). */
 	void markKeyFrame(std::size_t frame, const std::optional<TAnchor>& anchor);
-	/** A pose for every frame that has one, from the keyframes' poses `keyFramePoses` gives (see
-	 * CYesSlamSystem::trajectory): read after the records, so that every keyframe a record hangs
-	 * from is in them even while frames are being added. With a correctionWindow of W, each tracked
-	 * frame's correction (its anchored pose against its online one: what mapping moved its
-	 * keyframe by since) is the mean of those of the W nearest tracked frames either side of it
-	 * from the same correction generation and not across a relocalised frame, applied to its
-	 * online pose (a pinned frame keeps its keyframe's pose; a frame whose keyframe the poses lack
-	 * keeps its fallback and is in no neighbour's mean), and a coasted frame after an averaged one
-	 * keeps its step from it. With a smoothingWindow of S, each such frame's position is then the
-	 * value at its stamp of a parabola fitted in time through the positions of the nearest tracked
-	 * frames, as many on each side and at most S, a side ending at another generation, a
-	 * relocalised frame, a lost frame or S / 15 s (same lending and pinning rules; orientation its
-	 * own; fewer than two on a side: left as solved). */
+	/** A pose for every frame that has one: the pose tracking measured relative to the keyframe it
+	 * hangs from, carried by that keyframe's pose as `keyFramePoses` gives it (ORB-SLAM2's
+	 * SaveTrajectoryTUM: the map's refinement reaches the frame, no later frame changes it; a
+	 * frame whose keyframe the poses lack keeps its fallback; lost frames their coasted pose).
+	 * `keyFramePoses` is read after the records, so that every keyframe a record hangs from is in
+	 * it even while frames are being added. */
 	TTrajectory trajectory(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
+	/** trajectory(), then smoothed over later frames as well as earlier ones (after the run only).
+	 * With a correctionWindow of W, each tracked frame's correction (its carried pose against its
+	 * online one: what mapping moved its keyframe by since) is the mean of those of the W nearest
+	 * tracked frames either side of it from the same correction generation and not across a
+	 * relocalised frame, applied to its online pose (a pinned frame keeps its keyframe's pose; a
+	 * frame whose keyframe the poses lack keeps its fallback and is in no neighbour's mean), and a
+	 * coasted frame after an averaged one keeps its step from it. With a smoothingWindow of S, each
+	 * such frame's position is then the value at its stamp of a parabola fitted in time through the
+	 * positions of the nearest tracked frames, as many on each side and at most S, a side ending at
+	 * another generation, a relocalised frame, a lost frame or S / 15 s (same lending and pinning
+	 * rules; orientation its own; fewer than two on a side: left as solved). With lostInterpolate,
+	 * lost frames between tracked ones are placed between them. */
+	TTrajectory smoothed(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
+
+   private:
+	/** trajectory() with what smoothed() needs to know of each of its poses. */
+	struct TCarried
+	{
+		TTrajectory poses;
+		std::vector<bool> tracked, anchored, pinned;
+		std::vector<mrpt::poses::CPose3D> online;
+		std::vector<std::uint64_t> stretch;
+	};
+	TCarried carried(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;
+
+   public:
 	/** The poses the frames had when processed (see CYesSlamSystem::onlineTrajectory). */
 	TTrajectory online() const;
-	/** The rows, with where trajectory() takes each pose from. */
+	/** The rows, with where each pose comes from (EPoseSource). */
 	std::vector<TFrameLogRow> frameLog() const;
 
    private:
-	/** Where trajectory() takes each record's pose from. */
+	/** Where each record's pose comes from (Interpolated: lost, and filled in by smoothed()). */
 	std::vector<EPoseSource> poseSources() const;
 
 	bool lostInterpolate_;

@@ -38,6 +38,7 @@
 #include "mrpt_yesslam/system/CFrameBuilder.h"
 #include "mrpt_yesslam/system/CFrameRecords.h"
 #include "mrpt_yesslam/system/TSlamStats.h"
+#include "mrpt_yesslam/tracking/COnlinePoseFilter.h"
 #include "mrpt_yesslam/tracking/CTracker.h"
 #include "mrpt_yesslam/util/CCallbackSlot.h"
 #include "mrpt_yesslam/util/CWorkerPool.h"
@@ -75,6 +76,23 @@ struct TYesSlamOptions
 		COptionTable table();
 	};
 
+	/** Section [Output]: how trajectory_smoothed.txt (CYesSlamSystem::smoothedTrajectory) is made
+	 * from the keyframe-carried poses after the run; trajectory.txt and trajectory_online.txt never
+	 * use a later frame. */
+	struct TOutput : public TTableOptions<TOutput>
+	{
+		/** Lost frames between two tracked ones are placed between them, by time. */
+		bool lostInterpolate = true;
+		/** What mapping moved each tracked frame by since it was tracked is averaged over this many
+		 * tracked frames either side and applied to the pose tracking measured (0 = off). */
+		int correctionWindow = 3;
+		/** Each tracked frame's position is the value at its stamp of a parabola fitted in time
+		 * through up to this many tracked frames either side (0 = off). */
+		int smoothingWindow = 8;
+
+		COptionTable table();
+	};
+
 	TDepthNoise camera;	 //!< section [Camera]: the depth sensor's noise, for every stage
 	CInputSource::TOptions input;
 	CObjectDetector::TOptions detector;
@@ -82,11 +100,13 @@ struct TYesSlamOptions
 	CGeometricDynamicCheck::TOptions geometric;	//!< section [GeometricCheck]
 	COrbExtractor::TOptions orb;
 	CTracker::TOptions tracking;
+	COnlinePoseFilter::TOptions onlinePose;	//!< section [OnlinePose]
 	CKeyFrameInserter::TOptions keyFrames;
 	CLocalMapper::TOptions mapping;
 	CLoopCloser::TOptions loop;	 //!< section [LoopClosing]
 	CDenseSemanticMapper::TOptions dense;  //!< section [DenseMapping]
 	TSystem system;
+	TOutput output;
 
 	/** Loads every section from a config file (unknown keys warn on stderr; wrong types throw). */
 	void loadFromFile(const std::string& path);
@@ -106,6 +126,10 @@ struct TFrameReport
 	bool poseRefused = false;  //!< a weak solution far from the motion model was not taken ([Tracking] weakInliers)
 	std::size_t movingPointsErased = 0;	 //!< map points this frame found moving (erased)
 	std::size_t features = 0, staticFeatures = 0, detections = 0, dynamicDetections = 0, inliers = 0;
+	/** The frame's online pose (T_w_c in the map's frame, as onlineTrajectory() records it); set
+	 * when hasPose (a frame before the map was made has none). */
+	mrpt::poses::CPose3D pose;
+	bool hasPose = false;
 };
 
 
@@ -167,13 +191,15 @@ class CYesSlamSystem
 	void setFrameCallback(std::function<void(const TFrame&)> cb) { frameCallback_.set(std::move(cb)); }
 
 	/** A pose for every processed frame that has one (frames before the map was made or before
-	 * the first localisation in a loaded map have none and are left out, as ORB-SLAM2 does): its
-	 * reference keyframe's current (optimised) pose composed with the frame's pose relative to it,
-	 * as ORB-SLAM2 saves trajectories, with mapping's corrections averaged over neighbouring frames
-	 * and the positions smoothed over them ([Tracking] correctionWindow, smoothingWindow:
-	 * CFrameRecords::trajectory); lost frames between two tracked ones filled in between them
-	 * ([Tracking] lostInterpolate). */
+	 * the first localisation in a loaded map have none and are left out, as ORB-SLAM2 does): the
+	 * pose tracking measured relative to its reference keyframe, carried by that keyframe's
+	 * current (optimised) pose, as ORB-SLAM2 saves trajectories (trajectory.txt). No later frame
+	 * changes a frame's pose; lost frames keep their coasted pose. */
 	TTrajectory trajectory() const;
+	/** trajectory() smoothed after the run with later frames as well as earlier ones ([Output]
+	 * correctionWindow, smoothingWindow, lostInterpolate: CFrameRecords::smoothed), as
+	 * trajectory_smoothed.txt: not what a robot could have had while it moved. */
+	TTrajectory smoothedTrajectory() const;
 	/** The pose each frame had when it was processed, in the map as it was then (tracked or
 	 * coasted; frames without a pose left out): what a robot had while it moved, never corrected
 	 * by later optimisation or filled in after the fact. */
@@ -272,6 +298,8 @@ class CYesSlamSystem
 	CCallbackSlot<const TFrame&> frameCallback_;
 
 	CFrameRecords records_;	 //!< every frame's pose record and frames.csv row (thread-safe)
+	COnlinePoseFilter onlineFilter_;  //!< the online pose from the tracked ones (frame thread only)
+	std::uint64_t lastGeneration_ = 0;	//!< the map's correction generation the previous frame saw
 	CRecentFrames recent_;	//!< what Algorithm 1 may still choose from
 	std::size_t nextFrameId_ = 0;
 	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)

@@ -12,13 +12,14 @@
 
 namespace mrpt_yesslam
 {
-/** Where a frame's pose in trajectory.txt comes from (frames.csv column `pose`). */
+/** Where a frame's pose comes from (frames.csv column `pose`): how the run had it, and for a lost frame
+ * whether trajectory_smoothed.txt fills it in. */
 enum class EPoseSource
 {
 	None,  //!< no pose at all: before the map was made, or before the first localisation in a loaded map
 	Tracked,  //!< tracked online (a robot had it while it moved)
 	Coasted,  //!< lost: the motion model's guess, as a robot had it while it moved
-	Interpolated  //!< lost, then filled in after the fact between the tracked poses around it
+	Interpolated  //!< lost; trajectory_smoothed.txt fills it in between the tracked poses around it (trajectory.txt: coasted)
 };
 /** "none", "tracked", "coasted" or "interpolated". */
 const char* poseSourceName(EPoseSource s);

@@ -86,15 +86,6 @@ class CTracker
 		double lostDamping = 0.9;  //!< per lost frame, the velocity is scaled by this (0 = hold at once)
 		/** Lost frames continue the mean motion of this many last tracked frames (1: the last one). */
 		std::size_t lostVelocityFrames = 3;
-		/** In the trajectory written, lost frames between two tracked ones are placed between them
-		 * (by time) once tracking resumes; the last lost frames of a run keep the coasted pose. */
-		bool lostInterpolate = true;
-		/** In the trajectory written, the correction mapping applied to each tracked frame since it
-		 * was tracked is averaged over this many tracked frames either side (CFrameRecords). */
-		int correctionWindow = 3;
-		/** In the trajectory written, each tracked frame's position is a parabola fitted in time over
-		 * up to this many tracked frames either side (CFrameRecords; 0 = its own solve). */
-		int smoothingWindow = 8;
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
 		 * frames has moved away and is erased (0 = never). */
 		int seeThroughFrames = 3;

@@ -194,6 +194,7 @@ void writeOutputs(
 			in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded, sum.typicalDepth);
 		head += buf;
 		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
+		head += "  \"rolling_shutter\": {\"readout_s\": " + formatNumber(sum.readout.seconds) + ", \"source\": \"" + jsonEscape(sum.readout.source) + "\"},\n";
 		return head + body.substr(body.find('\n') + 1);
 	};
 	// The small files first, so that a second Ctrl-C during the slow ones (the dense map's build,
@@ -206,15 +207,23 @@ void writeOutputs(
 	const TTrajectory trajectory = toWorldFrame(sys.trajectory(), world.worldFromMap);
 	writeTumTrajectory(
 		(d / "trajectory.txt").string(), trajectory,
-		std::string("camera pose (T_w_c) of every frame that has one; after the run: keyframes optimised, ") +
-			(sys.options().tracking.smoothingWindow > 0 ? "positions smoothed over neighbouring frames ([Tracking] smoothingWindow), " : "") +
-			"lost frames between tracked ones filled in (frames.csv column pose says which)" + frameNote);
+		"camera pose (T_w_c) of every frame that has one: the pose tracking measured relative to its reference keyframe, carried by that "
+		"keyframe's final pose (ORB-SLAM2's convention; no later frame used; lost frames as coasted)" + frameNote);
 	writeTumTrajectory(
 		(d / "trajectory_online.txt").string(), toWorldFrame(sys.onlineTrajectory(), world.worldFromMap),
-		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted)" + frameNote);
+		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted): what a robot had" + frameNote);
+	const auto& out = sys.options().output;
+	writeTumTrajectory(
+		(d / "trajectory_smoothed.txt").string(), toWorldFrame(sys.smoothedTrajectory(), world.worldFromMap),
+		"trajectory.txt smoothed after the run with up to " + std::to_string(std::max(out.correctionWindow, out.smoothingWindow)) +
+			" LATER frames as well as earlier ones ([Output] correctionWindow " + std::to_string(out.correctionWindow) + ", smoothingWindow " +
+			std::to_string(out.smoothingWindow) + ", lostInterpolate " + (out.lostInterpolate ? "true" : "false") +
+			"): not a pose a robot could have had" + frameNote);
 	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap), "keyframe poses (T_w_c)" + frameNote);
 	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
-	writeFileAtomically((d / "config_used.ini").string(), "; the configuration of this run\n" + sys.configUsed());
+	writeFileAtomically(
+		(d / "config_used.ini").string(), "; the configuration of this run\n; [Tracking] rollingShutter = " + formatNumber(sum.readout.seconds) +
+											 " s, from " + sum.readout.source + "\n" + sys.configUsed());
 	writeFileAtomically((d / "stats.json").string(), statsJson(stop));
 	sum.stats = sys.stats();
 
@@ -369,10 +378,21 @@ TSlamJobSummary runSlamJob(
 	// of unknown readout (rawlogs, OpenNI2 devices, other folders) is not corrected: a 28 ms
 	// correction on a global-shutter camera would shear every keypoint by the motion model.
 	// config_used.ini then records the value the run used.
-	if (opts.tracking.rollingShutter < 0)
+	if (opts.tracking.rollingShutter >= 0)
+		sum.readout = {opts.tracking.rollingShutter, "the configuration ([Tracking] rollingShutter)"};
+	else if (const auto known = knownReadout(o.input, opts.input))
+		sum.readout = *known;
+	else
 	{
-		opts.tracking.rollingShutter = knownReadout(o.input, opts.input).value_or(0.0);
+		sum.readout = {0.0, "none"};
+		// Issue 70: a Kinect v1 or Xtion-class camera run without its readout lost a third of the
+		// accuracy and nobody was told.
+		sum.warnings.push_back(
+			"the camera's rolling-shutter readout is not known for " + o.input +
+			": no correction (on a rolling-shutter camera such as a Kinect v1 or Xtion that costs about a third of the accuracy); give it as "
+			"a camera file's readout line (seconds, or kinect1 / xtion / global), --camera fr1|fr2|fr3, or [Tracking] rollingShutter");
 	}
+	opts.tracking.rollingShutter = sum.readout.seconds;
 	// An option that cannot apply is not recorded as applied (config_used.ini is what the run used).
 	if (!opts.input.camera.empty() && !fs::is_directory(o.input) && !isOpenNI2Input(o.input))
 	{
@@ -473,7 +493,7 @@ TSlamJobSummary runSlamJob(
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	// An evaluation or a dense map left by an earlier run in this folder must not pass for this
 	// run's (a --no-dense-map or localisation-only run writes none; one that writes them replaces them).
-	for (const char* f : {"eval.json", "eval_online.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt"}) fs::remove(fs::path(o.outDir) / f, ec);
+	for (const char* f : {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt"}) fs::remove(fs::path(o.outDir) / f, ec);
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
@@ -625,6 +645,9 @@ TSlamJobSummary runSlamJob(
 			sum.evalOnline = evaluateTrajectories(gt, sys.onlineTrajectory(), eo, sum.groundTruth, "trajectory_online.txt");
 			sum.evaluatedOnline = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval_online.json").string(), formatEvalJson(sum.evalOnline));
+			sum.evalSmoothed = evaluateTrajectories(gt, sys.smoothedTrajectory(), eo, sum.groundTruth, "trajectory_smoothed.txt");
+			sum.evaluatedSmoothed = true;
+			writeFileAtomically((fs::path(o.outDir) / "eval_smoothed.json").string(), formatEvalJson(sum.evalSmoothed));
 		}
 		catch (const std::exception& e)
 		{

@@ -82,15 +82,21 @@ struct TSlamJobSummary
 	std::vector<std::string> warnings;
 	/** The median over the frames of each frame's median depth, m (0: no depth at all). */
 	double typicalDepth = 0;
+	/** The rolling-shutter readout the run corrected for (0: none) and where it came from
+	 * ("none" when the camera's is not known). */
+	TReadout readout;
 	/** Outputs a second Ctrl-C skipped while saving (empty when all were written). */
 	std::vector<std::string> skippedOutputs;
 	std::string groundTruth;  //!< the file evaluated against, empty if none
 	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Tum;	 //!< what its poses were taken as
 	bool evaluated = false;
-	TEvalReport eval;  //!< of trajectory.txt (lost frames filled in after the fact)
+	TEvalReport eval;  //!< of trajectory.txt (each frame carried by its reference keyframe's final pose)
 	/** Of trajectory_online.txt: the poses the run had while it went (what a robot had). */
 	bool evaluatedOnline = false;
 	TEvalReport evalOnline;
+	/** Of trajectory_smoothed.txt (smoothed after the run with later frames too). */
+	bool evaluatedSmoothed = false;
+	TEvalReport evalSmoothed;
 	std::string evalProblem;  //!< why there is no evaluation although ground truth exists
 	std::string detector;  //!< the detector used, in words
 	double seconds = 0;	 //!< wall time of the frame loop
