@@ -20,6 +20,7 @@ CFrameRecords::TRecord record(int k, const mrpt::poses::CPose3D& online, bool tr
 	r.tracked = tracked;
 	r.hasPose = true;
 	r.online = online;
+	r.measured = online;
 	return r;
 }
 // Frame k of a camera moving 3 mm a frame along x.
@@ -342,4 +343,25 @@ TEST(FrameRecords, TheKeyFrameCarriedTrajectoryUsesNoLaterFrame)
 		moved += std::abs(smooth[k].tx - all[k].tx);
 	}
 	EXPECT_GT(moved, 0.01) << "the smoothed trajectory evens out the zig-zag and fills in the lost frames";
+}
+
+TEST(FrameRecords, TheSmoothedTrajectoryUsesTheMeasuredPosesNotTheFilteredOnes)
+{
+	// The online pose a robot got is filtered ([OnlinePose]); mapping's corrections are measured
+	// against the pose tracking solved, so the filter never reaches trajectory_smoothed.txt.
+	TScene plain(3), filtered(3);
+	CFrameRecords shifted(false, 3);
+	// The same records with their online poses moved 1 cm (what a filter's lag could do).
+	for (int k = 0; k < 40; k++)
+	{
+		CFrameRecords::TRecord r = record(k, filtered.truth[static_cast<std::size_t>(k)]);
+		const int s = k / 10, ab = k % 2;
+		r.anchor = TAnchor{static_cast<TKeyFrameId>(2 * s + ab), r.online - filtered.truth[static_cast<std::size_t>(10 * s + 5 * ab)]};
+		r.generation = k < 20 ? 1 : 2;
+		r.online = mrpt::poses::CPose3D(0.01, 0, 0, 0, 0, 0) + r.online;
+		shifted.add(r, TFrameLogRow());
+	}
+	const TTrajectory a = plain.trajectory(), b = shifted.smoothed([&] { return filtered.finalKeyFrames; });
+	ASSERT_EQ(a.size(), b.size());
+	for (std::size_t k = 0; k < a.size(); k++) EXPECT_NEAR((a[k].asPose().asVectorVal() - b[k].asPose().asVectorVal()).norm(), 0.0, 1e-12) << k;
 }

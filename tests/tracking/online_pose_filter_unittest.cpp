@@ -3,8 +3,10 @@
 // map or the camera jumped.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "mrpt_yesslam/tracking/COnlinePoseFilter.h"
 

@@ -257,7 +257,7 @@ CFrameRecords::TCarried CFrameRecords::carried(const std::function<std::map<TKey
 		const auto it = r.anchor.refKf ? keyFramePoses.find(*r.anchor.refKf) : keyFramePoses.end();
 		c.poses.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
 		c.tracked.push_back(r.tracked);
-		c.online.push_back(r.online);
+		c.online.push_back(r.measured);
 		c.anchored.push_back(!r.anchor.refKf || it != keyFramePoses.end());
 		c.pinned.push_back(r.pinned);
 	}

@@ -466,6 +466,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	rec.generation = map_.generation();	 // no correction lands while this frame holds the map-update lock
 	// What a robot gets: the tracked position filtered with the frames before it only; restarted
 	// where the map jumped under the pose (a correction, a relocalisation).
+	rec.measured = f->pose;
 	rec.online = onlineFilter_.update(f->timestamp, f->pose, f->tracked, rep.relocalised || rec.generation != lastGeneration_);
 	lastGeneration_ = rec.generation;
 	f->onlinePose = rec.online;

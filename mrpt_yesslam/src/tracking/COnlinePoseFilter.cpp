@@ -7,7 +7,7 @@ COptionTable COnlinePoseFilter::TOptions::table()
 	COptionTable t("OnlinePose");
 	t.real("positionSigma", positionSigma, 0, 1, "m: noise of a tracked position along each world axis; the online pose (trajectory_online.txt, the frame callback) is a causal constant-velocity Kalman filter of the tracked positions (0 = the tracked pose as solved)");
 	t.real("accelSigma", accelSigma, 0.001, 1000, "m/s^2: how fast the camera's velocity may change (the filter's process noise; larger follows faster, smooths less)");
-	t.real("gate", gate, 1, 1000, "a position this many standard deviations from the filter's prediction restarts it at the measurement (a jerk)");
+	t.real("gate", gate, 1, 1000, "a position whose distance from the filter's prediction, RMS over the three axes, exceeds this many standard deviations restarts the filter at the measurement (a jerk)");
 	t.real("maxGap", maxGap, 0.001, 100, "s: a longer time since the previous frame restarts the filter");
 	return t;
 }
@@ -48,7 +48,7 @@ mrpt::poses::CPose3D COnlinePoseFilter::update(double t, const mrpt::poses::CPos
 	const Eigen::Matrix2d P = F * s.P * F.transpose() + Q;
 	const double R = opts_.positionSigma * opts_.positionSigma, S = P(0, 0) + R;
 	const Eigen::Vector3d y = z - pPred;
-	// The three axes' innovations together against a chi-square-like gate.
+	// The innovation's RMS over the three axes, in standard deviations, against the gate.
 	if (y.squaredNorm() / S > 3 * opts_.gate * opts_.gate)
 	{
 		start(t, z);

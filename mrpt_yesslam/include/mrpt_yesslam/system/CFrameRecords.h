@@ -25,7 +25,9 @@ class CFrameRecords
 	{
 		double t = 0;
 		TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
-		mrpt::poses::CPose3D online;  //!< T_w_frame as computed when the frame was processed
+		mrpt::poses::CPose3D online;  //!< T_w_frame as reported when the frame was processed (filtered: [OnlinePose])
+		/** T_w_frame as tracking solved it (what mapping's corrections are measured against). */
+		mrpt::poses::CPose3D measured;
 		bool tracked = false;
 		bool hasPose = false;  //!< tracked, or lost after a tracked frame (coasted)
 		/** The map's correction generation tracking saw (CSparseMap::generation): corrections are
@@ -81,7 +83,7 @@ class CFrameRecords
 	{
 		TTrajectory poses;
 		std::vector<bool> tracked, anchored, pinned;
-		std::vector<mrpt::poses::CPose3D> online;
+		std::vector<mrpt::poses::CPose3D> online;  //!< each record's measured pose (not the filtered one)
 		std::vector<std::uint64_t> stretch;
 	};
 	TCarried carried(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& keyFramePoses) const;

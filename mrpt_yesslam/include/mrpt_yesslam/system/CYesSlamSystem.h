@@ -206,7 +206,8 @@ class CYesSlamSystem
 	TTrajectory onlineTrajectory() const;
 	/** Keyframe poses with their frames' timestamps. */
 	TTrajectory keyFrameTrajectory() const;
-	/** One row per processed frame, in order (frames.csv), with where trajectory() got its pose. */
+	/** One row per processed frame, in order (frames.csv), with where its pose comes from
+	 * (EPoseSource: an "interpolated" frame is coasted in trajectory(), filled in by smoothedTrajectory()). */
 	std::vector<TFrameLogRow> frameLog() const;
 	/** The dense semantic map from every keyframe's cloud at its current pose, in worldFrame()
 	 * (call after waitForMapping for the final map); throws std::logic_error with dense mapping off. */

@@ -26,7 +26,8 @@ class COnlinePoseFilter
 		double positionSigma = 0.003;
 		/** m/s^2: how fast the camera's velocity may change (the process noise). */
 		double accelSigma = 2.0;
-		/** A measurement whose innovation exceeds this many standard deviations restarts the filter. */
+		/** A measurement whose innovation, RMS over the three axes, exceeds this many standard
+		 * deviations restarts the filter. */
 		double gate = 5.0;
 		/** s: a longer time since the previous frame restarts the filter. */
 		double maxGap = 0.2;

@@ -194,7 +194,7 @@ void writeOutputs(
 			in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded, sum.typicalDepth);
 		head += buf;
 		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
-		head += "  \"rolling_shutter\": {\"readout_s\": " + formatNumber(sum.readout.seconds) + ", \"source\": \"" + jsonEscape(sum.readout.source) + "\"},\n";
+		head += "  \"rolling_shutter\": {\"readout_s\": " + formatNumber(sum.readout.seconds, 9) + ", \"source\": \"" + jsonEscape(sum.readout.source) + "\"},\n";
 		return head + body.substr(body.find('\n') + 1);
 	};
 	// The small files first, so that a second Ctrl-C during the slow ones (the dense map's build,
@@ -222,7 +222,7 @@ void writeOutputs(
 	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap), "keyframe poses (T_w_c)" + frameNote);
 	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
 	writeFileAtomically(
-		(d / "config_used.ini").string(), "; the configuration of this run\n; [Tracking] rollingShutter = " + formatNumber(sum.readout.seconds) +
+		(d / "config_used.ini").string(), "; the configuration of this run\n; [Tracking] rollingShutter = " + formatNumber(sum.readout.seconds, 9) +
 											 " s, from " + sum.readout.source + "\n" + sys.configUsed());
 	writeFileAtomically((d / "stats.json").string(), statsJson(stop));
 	sum.stats = sys.stats();
