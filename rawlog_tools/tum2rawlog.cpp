@@ -69,6 +69,7 @@ int main(int argc, char** argv)
 			std::printf("size:         %.2f MiB\n", static_cast<double>(sum.bytes) / (1024.0 * 1024.0));
 			if (!sum.imagesDir.empty()) std::printf("images:       %s\n", sum.imagesDir.c_str());
 			std::printf("ground truth: %s\n", sum.groundTruth.empty() ? "(none in the folder)" : sum.groundTruth.c_str());
+			std::printf("camera file: %s\n", sum.cameraFile.c_str());
 			if (sum.interrupted)
 			{
 				std::fprintf(stderr, "tum2rawlog: interrupted; the rawlog holds the %zu frames converted so far\n", sum.frames);

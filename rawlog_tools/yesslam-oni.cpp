@@ -53,6 +53,7 @@ int main(int argc, char** argv)
 			if (r.clippedPixels) std::printf("clipped:      %zu depth pixels beyond the 16-bit range stored as 0\n", r.clippedPixels);
 			std::printf("size:         %.2f MiB\n", static_cast<double>(r.bytes) / (1024.0 * 1024.0));
 			std::printf("ground truth: %s\n", r.groundTruth.empty() ? "(none found beside the input)" : r.groundTruth.c_str());
+			std::printf("camera file: %s\n", r.cameraFile.empty() ? "(none: no frame written)" : r.cameraFile.c_str());
 			std::printf("detections:   %s\n", !r.detections.empty() ? r.detections.c_str() : "(none beside the input)");
 			if (!r.detectionsNote.empty()) std::fprintf(stderr, "yesslam-oni: warning: %s\n", r.detectionsNote.c_str());
 			if (r.interrupted)

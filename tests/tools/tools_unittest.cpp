@@ -12,6 +12,7 @@
 #include <octomap/OcTree.h>
 
 #include "TestUtils.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
@@ -390,6 +391,46 @@ TEST(Tools, OutputsAreZUpLevelledByTheFloorAndOpticalKeepsTheFirstCamerasFrame)
 	EXPECT_NEAR(std::abs(first.qw), 1.0, 1e-9);
 	EXPECT_NEAR(std::hypot(first.tx, first.ty, first.tz), 0.0, 1e-9);
 	expectCleanFailure(runTool("yesslam", {"--input", seq, "--out", d / "x", "--world-frame", "enu"}), {"--world-frame", "enu"});
+}
+
+TEST(Tools, ARecordingKeepsTheCamerasReadoutAndItsReplayUsesIt)
+{
+	// Issue 62 item 5 / issue 70: a rawlog or an .oni holds no rolling-shutter readout (an .oni no
+	// distortion either): tum2rawlog, yesslam-oni and yesslam --record write the camera beside the
+	// recording (NAME_camera.txt), and a replay, through OpenNI2's file driver too, uses it. 9 real
+	// TUM fr1/desk frames (TUM RGB-D, CC BY 4.0): the folder's name says fr1, so 28 ms.
+	TempDir d("recording_camera");
+	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
+	const auto conv = runTool("tum2rawlog", {"--input", desk, "--output", d / "desk.rawlog", "--quiet"});
+	ASSERT_EQ(conv.exitCode, 0) << conv.err;
+	ASSERT_TRUE(fs::exists(d / "desk_camera.txt"));
+	const auto cam = mrpt_yesslam::readCameraFile(d / "desk_camera.txt");
+	EXPECT_DOUBLE_EQ(cam.readout, 0.028);
+	EXPECT_NEAR(cam.intrinsics.dist[0], 0.2624, 1e-9);
+	const auto slamArgs = [&](const std::string& input, const std::string& out)
+	{ return std::vector<std::string>{"--input", input, "--out", d / out, "--detector", "none", "--sequential", "--quiet", "--no-dense-map"}; };
+	const auto fromRawlog = runTool("yesslam", slamArgs(d / "desk.rawlog", "rawlog_run"));
+	ASSERT_EQ(fromRawlog.exitCode, 0) << fromRawlog.err;
+	EXPECT_NE(value(fromRawlog.out, "rolling shutter").find("28 ms readout, from the recording's camera file"), std::string::npos) << fromRawlog.out;
+	// The rawlog to an .oni: its camera file carries the rawlog's readout and distortion on.
+	const auto oni = runTool("yesslam-oni", {"--input", d / "desk.rawlog", "--output", d / "desk.oni", "--quiet"});
+	ASSERT_EQ(oni.exitCode, 0) << oni.err;
+	const auto oniCam = mrpt_yesslam::readCameraFile(d / "desk_camera.txt");
+	EXPECT_DOUBLE_EQ(oniCam.readout, 0.028);
+	const auto fromOni = runTool("yesslam", slamArgs("openni2:" + (d / "desk.oni"), "oni_run"));
+	ASSERT_EQ(fromOni.exitCode, 0) << fromOni.err;
+	EXPECT_NE(value(fromOni.out, "rolling shutter").find("28 ms readout, from the recording's camera file"), std::string::npos) << fromOni.out;
+	// yesslam --record keeps the readout the run used.
+	const auto rec = runTool("yesslam", [&] { auto a = slamArgs(desk, "rec_run"); a.push_back("--record"); a.push_back(d / "rec.rawlog"); return a; }());
+	ASSERT_EQ(rec.exitCode, 0) << rec.err;
+	ASSERT_TRUE(fs::exists(d / "rec_camera.txt"));
+	EXPECT_DOUBLE_EQ(mrpt_yesslam::readCameraFile(d / "rec_camera.txt").readout, 0.028);
+	const auto replay = runTool("yesslam", slamArgs(d / "rec.rawlog", "replay_run"));
+	ASSERT_EQ(replay.exitCode, 0) << replay.err;
+	EXPECT_NE(value(replay.out, "rolling shutter").find("28 ms readout"), std::string::npos) << replay.out;
+	EXPECT_EQ(readText(d / "replay_run/trajectory_online.txt").substr(readText(d / "replay_run/trajectory_online.txt").find("\n1")),
+			  readText(d / "rec_run/trajectory_online.txt").substr(readText(d / "rec_run/trajectory_online.txt").find("\n1")))
+		<< "a replay of the recording gives the run's poses";
 }
 
 TEST(Tools, SlamAppOnRealFramesAndItsErrors)

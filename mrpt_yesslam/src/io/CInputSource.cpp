@@ -68,9 +68,14 @@ std::optional<double> statedReadout(const std::string& inputPath)
 
 std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts)
 {
+	std::error_code ec;
+	// A recording (a rawlog, an .oni) with its camera file beside it (recordingCameraPath).
+	const std::string file = isOpenNI2Input(inputPath) ? (inputPath.size() > 8 ? inputPath.substr(8) : std::string()) : inputPath;
+	if (!file.empty() && fs::is_regular_file(file, ec))
+		if (const std::string side = recordingCameraPath(file); fs::is_regular_file(side, ec))
+			if (const TRgbdCamera c = readCameraFile(side); c.readout >= 0) return TReadout{c.readout, "the recording's camera file " + side};
 	if (isOpenNI2Input(inputPath)) return std::nullopt;
 	if (const auto stated = statedReadout(inputPath)) return TReadout{*stated, "the sequence's meta.json (yesslam-sim)"};
-	std::error_code ec;
 	if (!fs::is_directory(inputPath, ec)) return std::nullopt;
 	try
 	{

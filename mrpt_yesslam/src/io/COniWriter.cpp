@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
+#include "mrpt_yesslam/io/CTumFolderSource.h"
+#include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
@@ -314,6 +317,8 @@ TOniConversion convertToOni(
 		if (!fs::is_directory(outDir)) throw InputError(output, "cannot create its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	}
 	COniWriter w(output);
+	std::optional<TRgbdCamera> camera;	// the input's, from its first frame (a TUM folder: its camera model)
+	if (const auto* tum = dynamic_cast<const CTumFolderSource*>(src.get())) camera = tum->camera();
 	while (!(maxFrames && r.frames >= maxFrames))
 	{
 		if (cancel && cancel())
@@ -324,6 +329,17 @@ TOniConversion convertToOni(
 		auto obs = src->next();
 		if (!obs) break;
 		w.write(*obs);
+		if (!camera)
+		{
+			camera = TRgbdCamera();
+			camera->intrinsics = obs->cameraParamsIntensity;
+			camera->name = input;
+			if (const auto known = knownReadout(input, inputOptions))
+			{
+				camera->readout = known->seconds;
+				camera->readoutSource = known->source;
+			}
+		}
 		const double t = observationTime(*obs);
 		if (r.frames == 0) r.tFirst = t;
 		r.tLast = t;
@@ -339,6 +355,11 @@ TOniConversion convertToOni(
 	r.bytes = w.finish();
 	r.clippedPixels = w.clippedPixels();
 	r.depthIn100um = w.depthIn100um();
+	if (camera && r.frames > 0)
+	{
+		r.cameraFile = recordingCameraPath(output);
+		writeFileAtomically(r.cameraFile, formatCameraFile(*camera, "the camera of " + fs::path(output).filename().string() + " (yesslam-oni, from " + input + ")"));
+	}
 	const std::string gt = findGroundTruthFor(input);
 	if (!gt.empty())
 	{

@@ -230,9 +230,14 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 	if (dm.getResolutionX() != cm.getResolutionX() || dm.getResolutionY() != cm.getResolutionY())
 		throw InputError(file ? o.uri : kWhere, "depth (" + modeText(dm) + ") and colour (" + modeText(cm) + ") differ in size: depth must be registered to colour");
 
-	if (!o.camera.empty())
+	// A recording's own camera file (recordingCameraPath: its distortion and readout, which an
+	// .oni cannot hold) unless --camera names another.
+	std::string cameraSpec = o.camera;
+	if (cameraSpec.empty() && file)
+		if (const std::string side = recordingCameraPath(o.uri); fs::is_regular_file(side)) cameraSpec = side;
+	if (!cameraSpec.empty())
 	{
-		camera_ = fs::exists(o.camera) ? readCameraFile(o.camera) : tumCameraByName(o.camera);
+		camera_ = fs::exists(cameraSpec) ? readCameraFile(cameraSpec) : tumCameraByName(cameraSpec);
 		if (!camera_.sizeGiven)
 		{
 			// A camera file without a size: the stream's (as a TUM folder's first image gives it).
@@ -241,7 +246,7 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 			camera_.sizeGiven = true;
 		}
 		if (camera_.intrinsics.ncols != static_cast<uint32_t>(cm.getResolutionX()) || camera_.intrinsics.nrows != static_cast<uint32_t>(cm.getResolutionY()))
-			throw InputError(o.camera, "the camera is " + std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows) + ", the stream " + modeText(cm));
+			throw InputError(cameraSpec, "the camera is " + std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows) + ", the stream " + modeText(cm));
 	}
 	else
 	{

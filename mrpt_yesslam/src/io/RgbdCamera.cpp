@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <regex>
 
@@ -196,6 +197,31 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 	c.readout = readout;
 	if (readout >= 0) c.readoutSource = "the camera file " + path;
 	return c;
+}
+
+std::string recordingCameraPath(const std::string& recording)
+{
+	const std::filesystem::path p(recording);
+	return (p.parent_path() / (p.stem().string() + "_camera.txt")).string();
+}
+
+std::string formatCameraFile(const TRgbdCamera& c, const std::string& comment)
+{
+	std::string out;
+	for (const auto& line : splitLines(comment)) out += "# " + line + "\n";
+	const auto& K = c.intrinsics;
+	char b[256];
+	std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g %u %u\n", K.fx(), K.fy(), K.cx(), K.cy(), K.ncols, K.nrows);
+	out += b;
+	std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g %.9g\n", K.dist[0], K.dist[1], K.dist[2], K.dist[3], K.dist[4]);
+	out += b;
+	if (c.readout >= 0)
+	{
+		std::snprintf(b, sizeof b, "readout %.9g\n", c.readout);
+		out += "# the colour camera's rolling-shutter readout, seconds (" + (c.readoutSource.empty() ? std::string("as recorded") : "from " + c.readoutSource) + ")\n";
+		out += b;
+	}
+	return out;
 }
 
 TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)

@@ -74,6 +74,9 @@ TTumToRawlogSummary convertTumToRawlog(
 		if (progress) progress(sum.frames, total);
 	}
 	sum.bytes = writer.commit() + imageBytes;
+	// The camera goes with the recording: a replay of the rawlog keeps the readout (issue 62 item 5).
+	sum.cameraFile = recordingCameraPath(opts.output);
+	writeFileAtomically(sum.cameraFile, formatCameraFile(src.camera(), "the camera of " + out.filename().string() + " (tum2rawlog, from " + opts.folder + ")"));
 
 	const fs::path gt = fs::path(opts.folder) / "groundtruth.txt";
 	if (fs::is_regular_file(gt, ec))

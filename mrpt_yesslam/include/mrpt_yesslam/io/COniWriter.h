@@ -90,6 +90,9 @@ struct TOniConversion
 	double tFirst = 0, tLast = 0;
 	std::uintmax_t bytes = 0;
 	std::string groundTruth;  //!< the ground truth copied beside the output, empty if none
+	/** The camera file written beside the output (recordingCameraPath): the input's intrinsics,
+	 * distortion and readout, which an .oni cannot hold; `yesslam --input openni2:OUT.oni` reads it. */
+	std::string cameraFile;
 	/** The input's detections.txt copied beside the output (where `yesslam --input openni2:OUT.oni`
 	 * looks for it), empty if none; `detectionsNote` says why one was not copied. */
 	std::string detections, detectionsNote;

@@ -52,6 +52,14 @@ TRgbdCamera readCameraFile(const std::string& path);
 /** Parses the text of a camera file; `nameForErrors` is used in messages and as the camera name. */
 TRgbdCamera parseCameraFile(const std::string& text, const std::string& nameForErrors);
 
+/** The camera file that goes with a recording (a .rawlog or .oni): "<name>_camera.txt" beside it,
+ * written by tum2rawlog, yesslam-oni and yesslam --record, so that a replay has the camera's
+ * distortion (an .oni holds none) and its rolling-shutter readout (neither format holds one). */
+std::string recordingCameraPath(const std::string& recording);
+/** A camera file's text for `c` (readCameraFile reads it back): intrinsics with the size, the
+ * distortion, and the readout line when the readout is known; `comment` first, as '#' lines. */
+std::string formatCameraFile(const TRgbdCamera& c, const std::string& comment);
+
 /** Resolves a --camera argument for a TUM folder: a TUM name, or a camera file; when empty, the
  * folder's calibration.txt if present (in a folder with a freiburg or Bonn name, with the Kinect v1
  * and Xtion readout unless the file gives one), else the freiburg name in the folder path. */

@@ -28,6 +28,8 @@ struct TTumToRawlogSummary
 	std::string groundTruth;  //!< copy of groundtruth.txt beside the rawlog, empty if none
 	std::string imagesDir;	//!< external images folder, empty if inline
 	std::string camera;	 //!< camera model used
+	/** The camera file written beside the rawlog (recordingCameraPath: its readout goes with it). */
+	std::string cameraFile;
 	bool interrupted = false;  //!< stopped early by the cancel callback; the file holds what was done
 };
 

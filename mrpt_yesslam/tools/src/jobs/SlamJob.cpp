@@ -87,6 +87,7 @@ class CRecorder
 	void add(const mrpt::obs::CObservation3DRangeScan::Ptr& f)
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
+		if (!camera_) camera_ = f->cameraParamsIntensity;
 		while (!pending_.empty() && pending_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready)
 		{
 			pending_.front().get();
@@ -104,11 +105,18 @@ class CRecorder
 		if (n > 0) writer_.commit();
 		return n;
 	}
+	// The first frame's camera (none before a frame came).
+	std::optional<mrpt::img::TCamera> camera()
+	{
+		std::lock_guard<std::mutex> lk(mtx_);
+		return camera_;
+	}
 
    private:
 	CRawlogWriter writer_;
 	std::mutex mtx_;
 	std::deque<std::future<void>> pending_;
+	std::optional<mrpt::img::TCamera> camera_;
 	CWorkerPool pool_{1, 64};  //!< last: stopped before the writer it uses
 };
 
@@ -441,6 +449,7 @@ TSlamJobSummary runSlamJob(
 			// ("<name>_groundtruth.txt"), so the recording evaluates as its input did (issue 43).
 			// A failure here costs the copy (a warning), never the run's outputs.
 			const std::string gtIn = isOpenNI2Input(o.input) ? std::string() : findGroundTruthFor(o.input);
+			const auto camera = recorder->camera();
 			const TOutputTarget target = outputTarget(o.record);
 			const fs::path rec(o.record);
 			const fs::path gtOut = rec.parent_path() / (rec.stem().string() + "_groundtruth.txt");
@@ -449,6 +458,18 @@ TSlamJobSummary runSlamJob(
 			{
 				try
 				{
+					// The camera's readout goes with it too (a rawlog's frames hold no readout; issue 62 item 5).
+					if (camera)
+					{
+						TRgbdCamera c;
+						c.intrinsics = *camera;
+						if (sum.readout.source != "none")
+						{
+							c.readout = sum.readout.seconds;
+							c.readoutSource = sum.readout.source;
+						}
+						writeFileAtomically(recordingCameraPath(o.record), formatCameraFile(c, "the camera of " + rec.filename().string() + " (yesslam --record, from " + o.input + ")"));
+					}
 					if (!gtIn.empty())
 						writeFileAtomically(gtOut.string(), readTextFile(gtIn));
 					else if (fs::exists(gtOut, gec))
