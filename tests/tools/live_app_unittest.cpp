@@ -76,12 +76,12 @@ TEST(LiveApp, ARecordedRunReplaysToTheSameTrajectory)
 		"yesslam", {"--input", seq, "--out", d / "a", "--sequential", "--record", d / "rec/run.rawlog", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(first.exitCode, 0) << first.err;
 	EXPECT_NE(first.out.find("recorded:        60 frames"), std::string::npos) << first.out;
-	// The recording does not say that the simulated camera had a global shutter (a recorded camera
-	// is taken for a rolling-shutter Kinect or Xtion): the run says it.
-	std::ofstream(d / "global_shutter.ini") << "[Tracking]\nrollingShutter = 0\n";
+	// The camera's readout (the simulated sequence's own) went with the recording, in its camera
+	// file: the replay uses it without being told (issue 62 item 5).
+	EXPECT_TRUE(fs::exists(d / "rec/run_camera.txt"));
 	const auto again = runTool(
-		"yesslam", {"--input", d / "rec/run.rawlog", "--out", d / "b", "--sequential", "--gt", seq + "/groundtruth.txt", "--no-dense-map", "--quiet",
-					"--config", d / "global_shutter.ini"});
+		"yesslam", {"--input", d / "rec/run.rawlog", "--out", d / "b", "--sequential", "--gt", seq + "/groundtruth.txt", "--no-dense-map", "--quiet"});
+	EXPECT_NE(again.out.find("from the recording's camera file"), std::string::npos) << again.out;
 	ASSERT_EQ(again.exitCode, 0) << again.err;
 	const std::string ta = readText(d / "a/trajectory.txt"), tb = readText(d / "b/trajectory.txt");
 	EXPECT_FALSE(ta.empty());
@@ -220,6 +220,8 @@ TEST(LiveApp, AnOniAtANonAsciiOrLongPathPlaysThroughAShortLink)
 	fs::create_directories(longDir);
 	fs::copy_file(oni, umlaut);
 	fs::copy_file(oni, longPath);
+	// With the recording's camera file (its intrinsics and readout go with it; issue 62 item 5).
+	for (const std::string& path : {umlaut, longPath}) fs::copy_file(mrpt_yesslam::recordingCameraPath(oni), mrpt_yesslam::recordingCameraPath(path));
 	fs::create_directories(d / "tmp");
 	setenv("TMPDIR", (d / "tmp").c_str(), 1);  // where the links go (the tools inherit it)
 	// No detector: the copies have no detections.txt beside them.

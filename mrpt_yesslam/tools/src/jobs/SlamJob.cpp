@@ -444,12 +444,12 @@ TSlamJobSummary runSlamJob(
 			in.source.reset();
 			in.live = nullptr;
 			sum.input.recorded = recorder->finish();
+			const auto camera = recorder->camera();
 			recorder.reset();
 			// The input's ground truth goes with the recording, where findGroundTruthFor looks for it
 			// ("<name>_groundtruth.txt"), so the recording evaluates as its input did (issue 43).
 			// A failure here costs the copy (a warning), never the run's outputs.
 			const std::string gtIn = isOpenNI2Input(o.input) ? std::string() : findGroundTruthFor(o.input);
-			const auto camera = recorder->camera();
 			const TOutputTarget target = outputTarget(o.record);
 			const fs::path rec(o.record);
 			const fs::path gtOut = rec.parent_path() / (rec.stem().string() + "_groundtruth.txt");
