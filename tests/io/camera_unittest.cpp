@@ -6,6 +6,7 @@
 
 #include "TestUtils.h"
 #include "mrpt_yesslam/io/CInputSource.h"
+#include "mrpt_yesslam/io/COpenNI2Source.h"
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/util/Error.h"
 
@@ -118,6 +119,25 @@ TEST(Camera, ACameraFileMayNameItsSensorAndEveryReadoutSaysWhereItCameFrom)
 	EXPECT_TRUE(readCameraFile(d / "nothing.txt").readoutSource.empty());
 	EXPECT_NE(resolveTumCamera("", sharedFile("data/bonn_crowd_dev")).readoutSource.find("Bonn"), std::string::npos);
 	EXPECT_NE(resolveTumCamera("fr1", d.path()).readoutSource.find("fr1"), std::string::npos);
+}
+
+TEST(Camera, AnOpenNI2DeviceSaysItsReadoutByItsNameOrUsbIds)
+{
+	// Issue 70 item 3: PrimeSense designs (Kinect v1, Xtion, Carmine) read their rows over 28 ms;
+	// a device of another make has no readout we know of (the run then warns).
+	const auto dev = [](const std::string& vendor, const std::string& name, int vid)
+	{
+		TOpenNI2Device d;
+		d.vendor = vendor;
+		d.name = name;
+		d.usbVendorId = vid;
+		return d;
+	};
+	EXPECT_EQ(deviceReadout(dev("PrimeSense", "PS1080", 0x1d27)), std::optional<double>(0.028));
+	EXPECT_EQ(deviceReadout(dev("Microsoft", "Kinect", 0x045e)), std::optional<double>(0.028));
+	EXPECT_EQ(deviceReadout(dev("ASUS", "Xtion PRO LIVE", 0)), std::optional<double>(0.028)) << "by its name alone";
+	EXPECT_EQ(deviceReadout(dev("", "", 0x1d27)), std::optional<double>(0.028)) << "by its USB vendor alone";
+	EXPECT_FALSE(deviceReadout(dev("Orbbec", "Astra", 0x2bc5)).has_value());
 }
 
 TEST(Camera, ASimulatedSequenceStatesItsRollingShutterAndARecordingDoesNot)

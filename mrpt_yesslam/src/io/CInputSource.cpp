@@ -74,7 +74,23 @@ std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputS
 	if (!file.empty() && fs::is_regular_file(file, ec))
 		if (const std::string side = recordingCameraPath(file); fs::is_regular_file(side, ec))
 			if (const TRgbdCamera c = readCameraFile(side); c.readout >= 0) return TReadout{c.readout, "the recording's camera file " + side};
-	if (isOpenNI2Input(inputPath)) return std::nullopt;
+	if (isOpenNI2Input(inputPath))
+	{
+		// A camera: its readout from its name and USB ids (the one the URI names, else the first).
+		if (!file.empty() && fs::exists(file, ec)) return std::nullopt;	 // a recording without its camera file
+		try
+		{
+			const auto devices = listOpenNI2Devices();
+			for (const auto& d : devices)
+				if (file.empty() ? &d == &devices.front() : d.uri == file)
+					if (const auto r = deviceReadout(d))
+						return TReadout{*r, "the device's name (" + d.vendor + " " + d.name + ": a PrimeSense design)"};
+		}
+		catch (const InputError&)
+		{
+		}
+		return std::nullopt;
+	}
 	if (const auto stated = statedReadout(inputPath)) return TReadout{*stated, "the sequence's meta.json (yesslam-sim)"};
 	if (!fs::is_directory(inputPath, ec)) return std::nullopt;
 	try

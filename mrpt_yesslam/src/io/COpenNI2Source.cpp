@@ -169,6 +169,17 @@ std::vector<TOpenNI2Device> listOpenNI2Devices()
 	return out;
 }
 
+std::optional<double> deviceReadout(const TOpenNI2Device& d)
+{
+	std::string words = d.vendor + " " + d.name;
+	std::transform(words.begin(), words.end(), words.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	// USB vendors: PrimeSense 0x1d27 (Xtion, Carmine), Microsoft 0x045e (Kinect v1).
+	const bool primeSense = d.usbVendorId == 0x1d27 || d.usbVendorId == 0x045e;
+	for (const char* n : {"primesense", "xtion", "carmine", "kinect", "ps1080"})
+		if (primeSense || words.find(n) != std::string::npos) return sensorReadout("primesense");
+	return std::nullopt;
+}
+
 bool isOpenNI2Input(const std::string& input) { return input == "openni2" || input.rfind("openni2:", 0) == 0; }
 
 COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl>())

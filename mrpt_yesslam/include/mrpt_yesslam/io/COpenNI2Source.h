@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct TOpenNI2Device
 	std::string uri, name, vendor;
 	int usbVendorId = 0, usbProductId = 0;
 };
+
+/** The rolling-shutter readout of a device, from its name and USB ids, where known: PrimeSense
+ * designs (Kinect v1, ASUS Xtion, Carmine: 0.028 s, Kerl et al., ICCV 2015) say so; none for others
+ * (an Orbbec Astra has no published readout we know of). */
+std::optional<double> deviceReadout(const TOpenNI2Device& d);
 
 /** The OpenNI2 devices connected now (initialises OpenNI2; throws InputError if it cannot). */
 std::vector<TOpenNI2Device> listOpenNI2Devices();
