@@ -121,6 +121,25 @@ TEST(Camera, ACameraFileMayNameItsSensorAndEveryReadoutSaysWhereItCameFrom)
 	EXPECT_NE(resolveTumCamera("fr1", d.path()).readoutSource.find("fr1"), std::string::npos);
 }
 
+TEST(Camera, ARecordingsCameraFileReadsBack)
+{
+	// What tum2rawlog, yesslam-oni and --record write beside a recording (NAME_camera.txt) reads
+	// back as the camera it was written from, readout included; without a readout, none.
+	TRgbdCamera c = tumCameraByName("fr1");
+	EXPECT_EQ(recordingCameraPath("/data/run/desk.oni"), "/data/run/desk_camera.txt");
+	TempDir d("recording_camera_file");
+	writeText(d / "a_camera.txt", formatCameraFile(c, "the camera of a.rawlog\n(two lines)"));
+	const TRgbdCamera back = readCameraFile(d / "a_camera.txt");
+	EXPECT_NEAR(back.intrinsics.fx(), c.intrinsics.fx(), 1e-9);
+	EXPECT_NEAR(back.intrinsics.cy(), c.intrinsics.cy(), 1e-9);
+	EXPECT_EQ(back.intrinsics.ncols, c.intrinsics.ncols);
+	for (int i = 0; i < 5; i++) EXPECT_NEAR(back.intrinsics.dist[i], c.intrinsics.dist[i], 1e-9) << i;
+	EXPECT_DOUBLE_EQ(back.readout, 0.028);
+	c.readout = -1;
+	writeText(d / "b_camera.txt", formatCameraFile(c, "no readout"));
+	EXPECT_DOUBLE_EQ(readCameraFile(d / "b_camera.txt").readout, -1.0);
+}
+
 TEST(Camera, AnOpenNI2DeviceSaysItsReadoutByItsNameOrUsbIds)
 {
 	// Issue 70 item 3: PrimeSense designs (Kinect v1, Xtion, Carmine) read their rows over 28 ms;
