@@ -208,6 +208,7 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 	auto src = openInputSource(walkingSequence(), o.input);
 	std::size_t i = 0;
 	std::vector<mrpt::poses::CPose3D> coasted;
+	std::vector<TFrameReport> reports;
 	sys.setFrameCallback([&](const TFrame& f) { if (!f.tracked) coasted.push_back(f.pose); });
 	while (auto obs = src->next())
 	{
@@ -216,15 +217,31 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 		const cv::Mat black = cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_8UC3);
 		const cv::Mat noDepth = cv::Mat::zeros(black.size(), CV_32F);
 		if (i == 0)
-			for (double dt : {0.2, 0.1}) sys.processFrame(black, noDepth, t - dt, K);
+			for (double dt : {0.2, 0.1}) reports.push_back(sys.processFrame(black, noDepth, t - dt, K));
 		if (i >= 20 && i < 25)
-			sys.processFrame(black, noDepth, t, K);
+			reports.push_back(sys.processFrame(black, noDepth, t, K));
 		else
-			sys.processFrame(*obs);
+			reports.push_back(sys.processFrame(*obs));
 		i++;
 	}
 	const auto rows = sys.frameLog();
 	ASSERT_EQ(rows.size(), 62u);
+	// What processFrame reported is what the online trajectory recorded, frame for frame (issue 63
+	// item 1: a program on the library gets the pose trajectory_online.txt holds).
+	ASSERT_EQ(reports.size(), 62u);
+	{
+		const TTrajectory on = sys.onlineTrajectory();
+		std::size_t k = 0;
+		for (const auto& r : reports)
+		{
+			if (!r.pose) continue;
+			ASSERT_LT(k, on.size());
+			EXPECT_LT((r.pose->asVectorVal() - on[k].asPose().asVectorVal()).norm(), 1e-9) << "frame " << r.frameId;
+			k++;
+		}
+		EXPECT_EQ(k, on.size());
+		EXPECT_FALSE(reports[0].pose.has_value()) << "no map yet: no pose";
+	}
 	for (std::size_t k = 0; k < rows.size(); k++)
 	{
 		const EPoseSource want = k < 2 ? EPoseSource::None : (k >= 22 && k < 27) ? EPoseSource::Interpolated : EPoseSource::Tracked;

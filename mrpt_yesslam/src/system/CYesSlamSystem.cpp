@@ -470,8 +470,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	rec.online = onlineFilter_.update(f->timestamp, f->pose, f->tracked, rep.relocalised || rec.generation != lastGeneration_);
 	lastGeneration_ = rec.generation;
 	f->onlinePose = rec.online;
-	rep.pose = rec.online;
-	rep.hasPose = rec.hasPose;
+	if (rec.hasPose) rep.pose = rec.online;
 	// Anchored as tracking read the map (not after the mapping steps below moved the keyframe);
 	// a frame tracking did not see (before the map exists) keeps its absolute pose.
 	rec.anchor = tracker_.anchorOf(f->id).value_or(TAnchor{std::nullopt, f->pose});

@@ -126,10 +126,11 @@ struct TFrameReport
 	bool poseRefused = false;  //!< a weak solution far from the motion model was not taken ([Tracking] weakInliers)
 	std::size_t movingPointsErased = 0;	 //!< map points this frame found moving (erased)
 	std::size_t features = 0, staticFeatures = 0, detections = 0, dynamicDetections = 0, inliers = 0;
-	/** The frame's online pose (T_w_c in the map's frame, as onlineTrajectory() records it); set
-	 * when hasPose (a frame before the map was made has none). */
-	mrpt::poses::CPose3D pose;
-	bool hasPose = false;
+	/** The frame's online pose, T_w_c in the map's frame (fixed for the whole run: the first
+	 * keyframe's camera, or a loaded map's; worldFrame() gives the outputs' z-up frame once fixed),
+	 * exactly as onlineTrajectory() records it; empty for a frame before the map was made or before
+	 * the first localisation in a loaded map. `tracked` false with a pose: coasted (lost). */
+	std::optional<mrpt::poses::CPose3D> pose;
 };
 
 
