@@ -213,6 +213,12 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	for (const auto& r : on.stats.loopRecords)
 	{
 		EXPECT_GT(r.current, r.matched);
+		// Issue 64 item 3: the pair's stamps, as in the trajectories (the later keyframe is later).
+		EXPECT_GT(r.matchedStamp, 0.0);
+		EXPECT_GT(r.currentStamp, r.matchedStamp);
+		char stamps[96];
+		std::snprintf(stamps, sizeof stamps, "\"current_stamp\": %.6f, \"matched_stamp\": %.6f", r.currentStamp, r.matchedStamp);
+		EXPECT_NE(json.find(stamps), std::string::npos) << json;
 		EXPECT_GE(r.correction.groupKeyFrames, 1u);
 		EXPECT_GE(r.correction.graphEdges, r.correction.graphKeyFrames) << "a spanning tree and the loop edge at least";
 		largest = std::max(largest, r.correction.correctionMetres);

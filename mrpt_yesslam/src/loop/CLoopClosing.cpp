@@ -78,6 +78,17 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 		// no global BA, no callback.
 		if (correction.groupKeyFrames == 0) loop.reset();
 	}
+	// The pair's stamps, read from the map before the statistics' lock (no lock taken inside it).
+	TLoopRecord rec;
+	if (loop)
+	{
+		rec = {loop->current, loop->matched, 0, 0, loop->score, loop->ransacInliers, correction, *correctMs};
+		for (const auto& k : map_.keyFramePoses())
+		{
+			if (k.id == rec.current) rec.currentStamp = k.timestamp;
+			if (k.id == rec.matched) rec.matchedStamp = k.timestamp;
+		}
+	}
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.stageMs["loop_detect"].push_back(loopMs);
@@ -87,7 +98,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 			loops_.push_back(*loop);
 			stats_.loopCorrections++;
 			stats_.stageMs["loop_correct"].push_back(*correctMs);
-			stats_.loopRecords.push_back({loop->current, loop->matched, loop->score, loop->ransacInliers, correction, *correctMs});
+			stats_.loopRecords.push_back(rec);
 		}
 	}
 	if (!loop) return;

@@ -119,9 +119,9 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 		char rec[512];
 		std::snprintf(
 			rec, sizeof(rec),
-			"{\"current\": %zu, \"matched\": %zu, \"score\": %.4f, \"inliers\": %zu, \"group_keyframes\": %zu, \"fused\": %zu, "
+			"{\"current\": %zu, \"matched\": %zu, \"current_stamp\": %.6f, \"matched_stamp\": %.6f, \"score\": %.4f, \"inliers\": %zu, \"group_keyframes\": %zu, \"fused\": %zu, "
 			"\"loop_links\": %zu, \"graph_keyframes\": %zu, \"graph_edges\": %zu, \"correction_m\": %.6f, \"ms\": %.1f}",
-			r.current, r.matched, r.score, r.ransacInliers, r.correction.groupKeyFrames, r.correction.fused, r.correction.loopLinks,
+			r.current, r.matched, r.currentStamp, r.matchedStamp, r.score, r.ransacInliers, r.correction.groupKeyFrames, r.correction.fused, r.correction.loopLinks,
 			r.correction.graphKeyFrames, r.correction.graphEdges, r.correction.correctionMetres, r.correctMs);
 		o << (i ? ",\n    " : "\n    ") << rec;
 	}

@@ -28,6 +28,9 @@ namespace mrpt_yesslam
 struct TLoopRecord
 {
 	TKeyFrameId current = 0, matched = 0;
+	/** The two keyframes' stamps, seconds as in the trajectories (to check a loop against a
+	 * ground truth); 0 when the keyframe was gone. */
+	double currentStamp = 0, matchedStamp = 0;
 	double score = 0;  //!< S_Loop of the pair (eq. 23)
 	std::size_t ransacInliers = 0;
 	TLoopCorrection correction;	 //!< what the correction moved, fused and optimised
