@@ -5,6 +5,7 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/serialization/CArchive.h>
+#include <mrpt_yesslam/io/CInputSource.h>
 #include <mrpt_yesslam/io/RgbdObservation.h>
 #include <mrpt_yesslam/io/SceneExport.h>
 #include <mrpt_yesslam/io/WorldFrame.h>
@@ -30,6 +31,11 @@ int main(int argc, char** argv)
 		setShareDir(MRPT_YESSLAM_SHARE_DIR);
 		TYesSlamOptions opts;
 		if (argc == 4) opts.loadFromFile(argv[3]);
+		// The camera's rolling-shutter readout, as yesslam finds it (the rawlog's camera file, when
+		// tum2rawlog or yesslam --record wrote one beside it): left unknown, it is not corrected.
+		const TReadout readout = resolveReadout(opts.tracking.rollingShutter, argv[1], opts.input);
+		opts.tracking.rollingShutter = readout.seconds;
+		std::cout << "rawlog_slam: rolling-shutter readout " << readout.seconds << " s, from " << readout.source << "\n";
 		CYesSlamSystem slam(opts);
 		std::cout << "rawlog_slam: detector " << slam.detector()->description() << "; vocabulary "
 				  << (slam.vocabulary() ? "loaded" : "none (no loop closing)") << "\n";

@@ -46,6 +46,9 @@ cmake --build "$work/examples" -j "$(nproc)" > "$work/build.log" 2>&1 || { tail 
 out="$(cd "$work" && "$work/examples/rawlog_slam" "$work/fr1.rawlog" "$work/run")"
 echo "$out"
 grep -q "9 frames, 9 tracked" <<< "$out" || { echo "check_install: the example did not track all 9 frames" >&2; exit 1; }
+# The readout went with the rawlog (fr1.rawlog's camera file) and the library found it as the app does.
+grep -q "readout 0.028 s, from the recording's camera file" <<< "$out" \
+  || { echo "check_install: the example did not take the rawlog's rolling-shutter readout from its camera file" >&2; exit 1; }
 # The shipped model and vocabulary came from the moved install (through the package's share folder).
 grep -q "detector .*yolo-fastest" <<< "$out" && grep -q "vocabulary loaded" <<< "$out" \
   || { echo "check_install: the example did not find the installed model and vocabulary" >&2; exit 1; }

@@ -66,6 +66,13 @@ std::optional<double> statedReadout(const std::string& inputPath)
 	return ms * 1e-3;
 }
 
+TReadout resolveReadout(double configured, const std::string& inputPath, const CInputSource::TOptions& opts)
+{
+	if (configured >= 0) return {configured, "the configuration ([Tracking] rollingShutter)"};
+	if (auto known = knownReadout(inputPath, opts)) return *known;
+	return {0.0, "none"};
+}
+
 std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts)
 {
 	std::error_code ec;

@@ -80,4 +80,8 @@ struct TReadout
  * file's readout line). None for rawlogs, OpenNI2 devices and cameras of unknown readout, and for
  * a folder whose camera cannot be found (opening it says why). */
 std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts);
+/** The readout a run on `inputPath` corrects for, as yesslam decides it: `configured` ([Tracking]
+ * rollingShutter) when >= 0, else the input camera's (knownReadout), else none (0 s, source
+ * "none"). A program on the library sets [Tracking] rollingShutter from it to run as the app. */
+TReadout resolveReadout(double configured, const std::string& inputPath, const CInputSource::TOptions& opts);
 }  // namespace mrpt_yesslam

@@ -386,13 +386,9 @@ TSlamJobSummary runSlamJob(
 	// of unknown readout (rawlogs, OpenNI2 devices, other folders) is not corrected: a 28 ms
 	// correction on a global-shutter camera would shear every keypoint by the motion model.
 	// config_used.ini then records the value the run used.
-	if (opts.tracking.rollingShutter >= 0)
-		sum.readout = {opts.tracking.rollingShutter, "the configuration ([Tracking] rollingShutter)"};
-	else if (const auto known = knownReadout(o.input, opts.input))
-		sum.readout = *known;
-	else
+	sum.readout = resolveReadout(opts.tracking.rollingShutter, o.input, opts.input);
+	if (sum.readout.source == "none")
 	{
-		sum.readout = {0.0, "none"};
 		// Issue 70: a Kinect v1 or Xtion-class camera run without its readout lost a third of the
 		// accuracy and nobody was told.
 		sum.warnings.push_back(
