@@ -1131,3 +1131,51 @@ TEST(System, ARollingShutterReadoutIsNeverLongerThanAFrame)
 	const double stated = ateWithReadout(d / "seq", d / "stated", -1), assumed = ateWithReadout(d / "seq", d / "assumed", 0.028);
 	EXPECT_LT(assumed, 1.5 * stated + 0.001) << "ATE, m: " << assumed << " with 28 ms assumed, " << stated << " with the stated 10 ms";
 }
+
+// Issue 62 item 4: a camera jerked 8 cm sideways and panned 8 degrees within one frame (2.4 m/s, a
+// hand-held camera knocked, a robot over a bump) stays tracked, and the online pose, whose filter
+// restarts at such an innovation, is not dragged behind by it. A simulated static office (exact
+// truth), its camera path with the jerk from frame 40 on; System's refused weak poses are
+// Tracker.AWeakSolutionFarFromTheMotionModelIsNotTracked's. (Into a view mostly unseen, 20-40
+// degrees, relocalisation places the frame: measured, not tested here.)
+TEST(System, ACameraJerkedEightCentimetresAndEightDegreesStaysTracked)
+{
+	TSimOptions base;
+	base.preset = "static_office";
+	base.frames = 60;
+	const std::string plain = cachedSequence("system_static_office_60", base);
+	const TTrajectory gt = readTumTrajectory(plain + "/groundtruth.txt");
+	ASSERT_EQ(gt.size(), 60u);
+	// Composed in the camera's optical frame: x right (the step), y down (the pan is about it).
+	const mrpt::poses::CPose3D jerk(0.08, 0, 0, 0, mrpt::DEG2RAD(8.0), 0);
+	TTrajectory jerked = gt;
+	for (std::size_t k = 40; k < jerked.size(); k++) jerked[k] = TStampedPose::fromPose(gt[k].t, gt[k].asPose() + jerk);
+	TempDir d("jerk");
+	writeTumTrajectory(d / "jerk.txt", jerked, "static_office with a jerk at frame 40");
+	TSimOptions o = base;
+	o.trajectoryFile = d / "jerk.txt";
+	const std::string seq = cachedSequence("system_static_office_jerk_8cm_8deg", o);
+	TYesSlamOptions so;
+	so.detector.backend = "file";
+	so.detector.file = seq + "/detections.txt";
+	so.system.parallel = false;
+	so.dense.enabled = false;
+	CYesSlamSystem sys(so);
+	auto src = openInputSource(seq, so.input);
+	std::size_t n = 0;
+	while (auto obs = src->next())
+	{
+		EXPECT_TRUE(sys.processFrame(*obs).tracked) << "frame " << n;
+		n++;
+	}
+	ASSERT_EQ(n, 60u);
+	const TTrajectory truth = readTumTrajectory(seq + "/groundtruth.txt");
+	for (const auto& [name, traj] : {std::pair<const char*, TTrajectory>{"trajectory()", sys.trajectory()}, {"onlineTrajectory()", sys.onlineTrajectory()}})
+	{
+		const auto ate = computeAte(truth, traj, TEvalOptions());
+		EXPECT_EQ(ate.stats.n, 60u) << name;
+		// Measured: 2.5 mm RMSE for both, 4.9 and 5.2 mm at worst (trajectory_smoothed.txt, whose
+		// parabola reaches across the jerk: 8.5 mm, 34.6 at worst).
+		EXPECT_LT(ate.stats.max, 0.012) << name;
+	}
+}
