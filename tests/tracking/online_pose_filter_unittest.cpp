@@ -84,10 +84,12 @@ TEST(OnlinePoseFilter, TheOrientationIsTheSolvesAndJumpsRestartTheFilter)
 	const mrpt::poses::CPose3D jerked(0.30, 0.08, 0, 0.3, 0, 0);
 	out = f.update(1.0, jerked, true, false);
 	EXPECT_NEAR(out.y(), 0.08, 1e-12);
+	EXPECT_TRUE(f.jumped()) << "a jerk beyond the gate is said";
 	// The map jumped under the pose (a loop correction): the measurement as it is, then filtered again.
 	const mrpt::poses::CPose3D corrected(0.5, 0.5, 0, 0.3, 0, 0);
 	out = f.update(1.0 + 1 / 30.0, corrected, true, true);
 	EXPECT_EQ(out.x(), 0.5);
+	EXPECT_FALSE(f.jumped()) << "a map correction is no jerk of the camera";
 	// A lost frame reports its coasted pose, and the next tracked one starts again.
 	const mrpt::poses::CPose3D coasted(0.6, 0.5, 0, 0.3, 0, 0);
 	EXPECT_EQ(f.update(1.1, coasted, false, false).x(), 0.6);

@@ -244,13 +244,14 @@ CFrameRecords::TCarried CFrameRecords::carried(const std::function<std::map<TKey
 	std::uint64_t generation = 0;  // the previous record's
 	// The stretches smoothed() stays within: a loop correction or a global BA (a new generation)
 	// ends one, and so does a relocalised frame: the step onto it is where tracking had drifted,
-	// not the camera's motion (a fit through it spread the jump over the frames either side).
+	// not the camera's motion (a fit through it spread the jump over the frames either side); and
+	// a jerk, which a parabola through it would spread the same way.
 	c.poses.reserve(records.size());
 	for (std::size_t i = 0; i < records.size(); i++)
 	{
 		const TRecord& r = records[i];
 		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
-		const bool newStretch = !c.stretch.empty() && (r.generation != generation || (i < relocalised.size() && relocalised[i]));
+		const bool newStretch = !c.stretch.empty() && (r.generation != generation || (i < relocalised.size() && relocalised[i]) || r.jumped);
 		c.stretch.push_back(c.stretch.empty() ? 0 : c.stretch.back() + (newStretch ? 1 : 0));
 		generation = r.generation;
 		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.

@@ -468,6 +468,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	// where the map jumped under the pose (a correction, a relocalisation).
 	rec.measured = f->pose;
 	rec.online = onlineFilter_.update(f->timestamp, f->pose, f->tracked, rep.relocalised || rec.generation != lastGeneration_);
+	rec.jumped = onlineFilter_.jumped();
 	lastGeneration_ = rec.generation;
 	f->onlinePose = rec.online;
 	if (rec.hasPose) rep.pose = rec.online;

@@ -27,6 +27,7 @@ mrpt::poses::CPose3D COnlinePoseFilter::update(double t, const mrpt::poses::CPos
 {
 	const Eigen::Vector3d z(measured.x(), measured.y(), measured.z());
 	const double dt = state_ ? t - state_->t : 0.0;
+	jumped_ = false;
 	if (opts_.positionSigma <= 0 || !tracked)
 	{
 		state_.reset();
@@ -51,6 +52,7 @@ mrpt::poses::CPose3D COnlinePoseFilter::update(double t, const mrpt::poses::CPos
 	// The innovation's RMS over the three axes, in standard deviations, against the gate.
 	if (y.squaredNorm() / S > 3 * opts_.gate * opts_.gate)
 	{
+		jumped_ = true;
 		start(t, z);
 		return measured;
 	}

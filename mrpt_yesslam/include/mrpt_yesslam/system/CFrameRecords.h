@@ -33,6 +33,8 @@ class CFrameRecords
 		/** The map's correction generation tracking saw (CSparseMap::generation): corrections are
 		 * smoothed only among frames of one generation. */
 		std::uint64_t generation = 0;
+		/** The camera jerked at this frame (COnlinePoseFilter::jumped): smoothed() fits nothing across it. */
+		bool jumped = false;
 		/** The pose is its own keyframe's ([System] keyFrameFramePose = keyframe): never averaged. */
 		bool pinned = false;
 		/** Hangs the pose from `own`, the anchor on the keyframe made of this frame (pinned). */

@@ -41,6 +41,9 @@ class COnlinePoseFilter
 	 * position with the measured orientation while `tracked`; the measured pose itself (and a
 	 * restart) when not tracked, when `mapJumped` or after a gap or a rejected innovation. */
 	mrpt::poses::CPose3D update(double t, const mrpt::poses::CPose3D& measured, bool tracked, bool mapJumped);
+	/** Whether the last update() restarted the filter at a tracked measurement beyond its gate:
+	 * the camera jerked there (trajectory_smoothed.txt does not fit across such a frame). */
+	bool jumped() const { return jumped_; }
 	/** Forgets the state: the next tracked frame starts it again. */
 	void reset() { state_.reset(); }
 	const TOptions& options() const { return opts_; }
@@ -57,5 +60,6 @@ class COnlinePoseFilter
 
 	TOptions opts_;
 	std::optional<TState> state_;
+	bool jumped_ = false;
 };
 }  // namespace mrpt_yesslam
