@@ -154,9 +154,13 @@ TEST(Camera, AnOpenNI2DeviceSaysItsReadoutByItsNameOrUsbIds)
 	};
 	EXPECT_EQ(deviceReadout(dev("PrimeSense", "PS1080", 0x1d27)), std::optional<double>(0.028));
 	EXPECT_EQ(deviceReadout(dev("Microsoft", "Kinect", 0x045e)), std::optional<double>(0.028));
+	TOpenNI2Device unnamed = dev("", "", 0x045e);
+	unnamed.usbProductId = 0x02ae;
+	EXPECT_EQ(deviceReadout(unnamed), std::optional<double>(0.028)) << "the Kinect v1 camera's USB ids";
 	EXPECT_EQ(deviceReadout(dev("ASUS", "Xtion PRO LIVE", 0)), std::optional<double>(0.028)) << "by its name alone";
 	EXPECT_EQ(deviceReadout(dev("", "", 0x1d27)), std::optional<double>(0.028)) << "by its USB vendor alone";
 	EXPECT_FALSE(deviceReadout(dev("Orbbec", "Astra", 0x2bc5)).has_value());
+	EXPECT_FALSE(deviceReadout(dev("Microsoft", "Kinect V2", 0x045e)).has_value()) << "time of flight, another design";
 }
 
 TEST(Camera, ASimulatedSequenceStatesItsRollingShutterAndARecordingDoesNot)

@@ -410,11 +410,13 @@ TEST(Tools, ARecordingKeepsTheCamerasReadoutAndItsReplayUsesIt)
 	const auto slamArgs = [&](const std::string& input, const std::string& out)
 	{ return std::vector<std::string>{"--input", input, "--out", d / out, "--detector", "none", "--sequential", "--quiet", "--no-dense-map"}; };
 	// The rawlog to an .oni: its camera file carries the rawlog's readout and distortion on.
-	const auto oni = runTool("yesslam-oni", {"--input", d / "desk.rawlog", "--output", d / "desk.oni", "--quiet"});
+	const auto oni = runTool("yesslam-oni", {"--input", d / "desk.rawlog", "--output", d / "desk2.oni", "--quiet"});
 	ASSERT_EQ(oni.exitCode, 0) << oni.err;
-	const auto oniCam = mrpt_yesslam::readCameraFile(d / "desk_camera.txt");
+	EXPECT_NE(readText(d / "desk2_camera.txt").find("(yesslam-oni, from"), std::string::npos);
+	const auto oniCam = mrpt_yesslam::readCameraFile(d / "desk2_camera.txt");
 	EXPECT_DOUBLE_EQ(oniCam.readout, 0.028);
-	const auto fromOni = runTool("yesslam", slamArgs("openni2:" + (d / "desk.oni"), "oni_run"));
+	EXPECT_NEAR(oniCam.intrinsics.dist[0], 0.2624, 1e-9) << "the distortion an .oni cannot hold";
+	const auto fromOni = runTool("yesslam", slamArgs("openni2:" + (d / "desk2.oni"), "oni_run"));
 	ASSERT_EQ(fromOni.exitCode, 0) << fromOni.err;
 	EXPECT_NE(value(fromOni.out, "rolling shutter").find("28 ms readout, from the recording's camera file"), std::string::npos) << fromOni.out;
 	// yesslam --record keeps the readout the run used.

@@ -76,6 +76,18 @@ TReadout resolveReadout(double configured, const std::string& inputPath, const C
 std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts)
 {
 	std::error_code ec;
+	// --camera for OpenNI2 input is the camera the source uses (over a recording's camera file and
+	// the device's own field of view): its readout, when it gives one, is the run's.
+	if (isOpenNI2Input(inputPath) && !opts.camera.empty())
+		try
+		{
+			const TRgbdCamera c = fs::is_regular_file(opts.camera, ec) ? readCameraFile(opts.camera) : tumCameraByName(opts.camera);
+			if (c.readout >= 0) return TReadout{c.readout, c.readoutSource};
+		}
+		catch (const InputError&)
+		{
+			// Opening the source says what is wrong with it.
+		}
 	// A recording (a rawlog, an .oni) with its camera file beside it (recordingCameraPath).
 	const std::string file = isOpenNI2Input(inputPath) ? (inputPath.size() > 8 ? inputPath.substr(8) : std::string()) : inputPath;
 	if (!file.empty() && fs::is_regular_file(file, ec))

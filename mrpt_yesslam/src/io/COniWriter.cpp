@@ -318,7 +318,6 @@ TOniConversion convertToOni(
 	}
 	COniWriter w(output);
 	std::optional<TRgbdCamera> camera;	// the input's, from its first frame (a TUM folder: its camera model)
-	if (const auto* tum = dynamic_cast<const CTumFolderSource*>(src.get())) camera = tum->camera();
 	while (!(maxFrames && r.frames >= maxFrames))
 	{
 		if (cancel && cancel())
@@ -329,6 +328,9 @@ TOniConversion convertToOni(
 		auto obs = src->next();
 		if (!obs) break;
 		w.write(*obs);
+		// A TUM folder's camera model once its first frame was read (it gives the size a
+		// calibration without one lacks); a rawlog's from its frames.
+		if (const auto* tum = dynamic_cast<const CTumFolderSource*>(src.get()); tum && !camera) camera = tum->camera();
 		if (!camera)
 		{
 			camera = TRgbdCamera();

@@ -173,8 +173,12 @@ std::optional<double> deviceReadout(const TOpenNI2Device& d)
 {
 	std::string words = d.vendor + " " + d.name;
 	std::transform(words.begin(), words.end(), words.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	// USB vendors: PrimeSense 0x1d27 (Xtion, Carmine), Microsoft 0x045e (Kinect v1).
-	const bool primeSense = d.usbVendorId == 0x1d27 || d.usbVendorId == 0x045e;
+	// A Kinect v2 / Kinect for Xbox One (time of flight, libfreenect2's driver) is another design.
+	if (words.find("v2") != std::string::npos || words.find("one") != std::string::npos || (d.usbVendorId == 0x045e && d.usbProductId >= 0x02c4))
+		return std::nullopt;
+	// USB ids: PrimeSense 0x1d27 (Xtion, Carmine); Microsoft 0x045e with the Kinect v1 camera's
+	// products 0x02ae (Xbox 360) and 0x02bf (Kinect for Windows).
+	const bool primeSense = d.usbVendorId == 0x1d27 || (d.usbVendorId == 0x045e && (d.usbProductId == 0x02ae || d.usbProductId == 0x02bf));
 	for (const char* n : {"primesense", "xtion", "carmine", "kinect", "ps1080"})
 		if (primeSense || words.find(n) != std::string::npos) return sensorReadout("primesense");
 	return std::nullopt;

@@ -211,7 +211,11 @@ std::string formatCameraFile(const TRgbdCamera& c, const std::string& comment)
 	for (const auto& line : splitLines(comment)) out += "# " + line + "\n";
 	const auto& K = c.intrinsics;
 	char b[256];
-	std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g %u %u\n", K.fx(), K.fy(), K.cx(), K.cy(), K.ncols, K.nrows);
+	// The size only where it is known (a camera file without one takes the images').
+	if (c.sizeGiven && K.ncols > 0 && K.nrows > 0)
+		std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g %u %u\n", K.fx(), K.fy(), K.cx(), K.cy(), K.ncols, K.nrows);
+	else
+		std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g\n", K.fx(), K.fy(), K.cx(), K.cy());
 	out += b;
 	std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g %.9g\n", K.dist[0], K.dist[1], K.dist[2], K.dist[3], K.dist[4]);
 	out += b;

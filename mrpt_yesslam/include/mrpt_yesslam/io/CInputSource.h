@@ -75,10 +75,11 @@ struct TReadout
 	double seconds = 0;
 	std::string source;
 };
-/** The rolling-shutter readout of an input's camera where it is known: what the input states
- * (statedReadout), else a TUM folder's camera (TUM presets and Bonn folders 0.028 s, a camera
- * file's readout line). None for rawlogs, OpenNI2 devices and cameras of unknown readout, and for
- * a folder whose camera cannot be found (opening it says why). */
+/** The rolling-shutter readout of an input's camera where it is known: for OpenNI2 input the
+ * --camera ([Input] camera) it names, a recording's camera file (recordingCameraPath), what a
+ * simulated sequence states (statedReadout), a TUM folder's camera (TUM presets and Bonn folders
+ * 0.028 s, a camera file's readout line), an OpenNI2 device's design (deviceReadout). None for
+ * cameras of unknown readout and for a folder whose camera cannot be found (opening it says why). */
 std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputSource::TOptions& opts);
 /** The readout a run on `inputPath` corrects for, as yesslam decides it: `configured` ([Tracking]
  * rollingShutter) when >= 0, else the input camera's (knownReadout), else none (0 s, source

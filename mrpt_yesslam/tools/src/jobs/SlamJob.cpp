@@ -452,10 +452,9 @@ TSlamJobSummary runSlamJob(
 			std::error_code gec;
 			if (sum.input.recorded > 0 && !target.direct && fs::is_regular_file(target.path, gec))
 			{
-				try
-				{
-					// The camera's readout goes with it too (a rawlog's frames hold no readout; issue 62 item 5).
-					if (camera)
+				// The camera's readout goes with it too (a rawlog's frames hold no readout; issue 62 item 5).
+				if (camera)
+					try
 					{
 						TRgbdCamera c;
 						c.intrinsics = *camera;
@@ -466,6 +465,14 @@ TSlamJobSummary runSlamJob(
 						}
 						writeFileAtomically(recordingCameraPath(o.record), formatCameraFile(c, "the camera of " + rec.filename().string() + " (yesslam --record, from " + o.input + ")"));
 					}
+					catch (const std::exception& e)
+					{
+						std::error_code rec_ec;
+						fs::remove(recordingCameraPath(o.record), rec_ec);	// an earlier recording's would pass for this one's
+						sum.warnings.push_back("the camera file was not written beside the recording (a replay will not know its readout): " + exceptionSummary(e.what()));
+					}
+				try
+				{
 					if (!gtIn.empty())
 						writeFileAtomically(gtOut.string(), readTextFile(gtIn));
 					else if (fs::exists(gtOut, gec))
