@@ -104,7 +104,12 @@ int main(int argc, char** argv)
 				"gt-format", "auto|tum|bonn",
 				"what the ground truth's poses are: tum = the camera's; bonn = the Bonn RGB-D Dynamic dataset's motion-capture markers, converted to the camera with the dataset's transform; auto (default) = bonn when the file's folder or name says bonn (the dataset's rgbd_bonn_* folders), else tum",
 				&gtFormat);
-			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &camera);
+			cl.text(
+				"camera", "NAME|FILE",
+				"TUM folders and OpenNI2 input: fr1, fr2, fr3 or a camera file ('fx fy cx cy [w h [depth_scale]]', then 'k1 k2 p1 p2 k3', "
+				"then the rolling-shutter readout: seconds or a sensor, e.g. 'readout kinect1', xtion, global); a recording's NAME_camera.txt "
+				"beside it is used by default. The run says which readout it used (summary, stats.json)",
+				&camera);
 			cl.text(
 				"world-frame", "zup|optical",
 				"frame of every output ([System] worldFrame): zup = x forward, y left, z up, the floor at z = 0 when seen (default); optical = the first keyframe's camera (x right, y down, z forward); a loaded map keeps its own",
