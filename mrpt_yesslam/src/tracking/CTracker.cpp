@@ -26,8 +26,9 @@ COptionTable CTracker::TOptions::table()
 	t.count("localNeighbours", localNeighbours, 0, 1000, "best covisible keyframes added around each keyframe that sees the frame's matches");
 	t.count("minTrackedInliers", minTrackedInliers, 3, 100000, "fewer inliers against the local map: tracking failed for this frame");
 	t.count("weakInliers", weakInliers, 0, 100000, "a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the frame coasts (0 = off)");
-	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction");
-	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction");
+	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction, per frame interval since the last frame");
+	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction, per frame interval since the last frame");
+	t.count("relocInliers", relocInliers, 0, 100000, "a relocalisation on at least this many inliers is not held to the prediction tracking failed to confirm (ORB-SLAM2: 50; 0 = held as any other solution)");
 	t.real("motionPriorSigma", motionPriorSigma, 0, 10, "m: the motion model's prediction as a weak term of the pose solve, per camera axis (this or motionPriorSigmaDeg 0 = no prior)");
 	t.real("motionPriorSigmaDeg", motionPriorSigmaDeg, 0, 180, "degrees: the same for the rotation (this or motionPriorSigma 0 = no prior)");
 	t.count("priorLostFrames", priorLostFrames, 0, 1000, "for this many lost frames since the motion was last measured, the coasted prediction still judges weak solutions, with 1 + n times the departures (0 = only a prediction from tracked frames does)");
@@ -296,7 +297,8 @@ TLocalMapPoints CTracker::lastFramePoints(const mrpt::poses::CPose3D& lastPose) 
 	return out;
 }
 
-bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius)
+bool CTracker::trackLocalMap(
+	TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius, bool relocalising)
 {
 	const auto ref = referenceKeyFrame();
 	if (!ref) return false;
@@ -313,7 +315,7 @@ bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const
 	if (!e.ok || e.numInliers < opts_.minTrackedInliers) return false;
 	// Before anything is learnt from the frame (see-through counts, movers): a refused pose would
 	// erase good points.
-	if (!plausible(e.cameraInWorld, e.numInliers, r)) return false;
+	if (!plausible(e.cameraInWorld, e.numInliers, r, relocalising)) return false;
 	f.pose = e.cameraInWorld;
 	f.mapPoints.assign(f.size(), -1);
 	std::vector<TPointId> visible, found;
@@ -445,7 +447,7 @@ bool CTracker::relocalise(TFrame& f, TResult& r)
 		if (!pnp.ok) continue;
 		const auto prevRef = refKf_;
 		refKf_ = k;
-		if (trackLocalMap(f, pnp.cameraInWorld, {}, r, opts_.localRadius))
+		if (trackLocalMap(f, pnp.cameraInWorld, {}, r, opts_.localRadius, true))
 		{
 			r.relocalised = true;
 			return true;
@@ -465,14 +467,28 @@ CTracker::TResult CTracker::track(TFrame& f)
 	return r;
 }
 
-bool CTracker::plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r) const
+bool CTracker::plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r, bool relocalising) const
 {
-	if (!prior_ || opts_.weakInliers == 0 || inliers >= opts_.weakInliers) return true;
+	// A relocalisation is never held more than tracking's own solutions.
+	const std::size_t strong = relocalising && opts_.relocInliers > 0 ? std::min(opts_.weakInliers, opts_.relocInliers) : opts_.weakInliers;
+	if (!prior_ || strong == 0 || inliers >= strong) return true;
 	const mrpt::poses::CPose3D d = pose - *prior_;
 	const double angleDeg = mrpt::poses::Lie::SO<3>::log(d.getRotationMatrix()).norm() * 180.0 / M_PI;
 	if (d.norm() <= opts_.priorDeparture * priorScale_ && angleDeg <= opts_.priorDepartureDeg * priorScale_) return true;
 	r.implausible = true;
 	return false;
+}
+
+std::size_t CTracker::stepThreeEvidence(
+	const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers)
+{
+	std::size_t mapMatched = 0, certain = 0;
+	for (std::size_t k = 0; k < used.size(); k++)
+	{
+		if (pts.ids[used[k].point] >= 0) mapMatched++;
+		if (e.inlier[k] && !e.isMoving(k) && !f.features.isUncertain(used[k].keypoint)) certain++;
+	}
+	return mapMatched > 0 && 2 * mapInliers >= mapMatched ? std::max(certain, mapInliers) : mapInliers;
 }
 
 CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& lastPose)
@@ -500,14 +516,14 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// it, is there for several frames, and the first frames back see little but them (real Bonn
 	// crowd slice: a frame after two lost ones was taken on 35 inliers 86 mm off). A refused frame is
 	// a lost frame too, so the next one does not take the same weak solution unchecked.
+	// The departures allowed grow with the frames since the motion was last measured: each lost
+	// frame, and each interval since the last frame (dropped ones), the camera may have sped up.
 	prior_.reset();
 	priorScale_ = 1;
-	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked)
-		prior_ = predicted;
-	else if (velocity_ && lostRun_ > 0 && lostRun_ <= opts_.priorLostFrames)
+	if (velocity_ && ((lostRun_ == 0 && last_ && last_->tracked) || (lostRun_ > 0 && lostRun_ <= opts_.priorLostFrames)))
 	{
 		prior_ = predicted;
-		priorScale_ = 1.0 + static_cast<double>(lostRun_);
+		priorScale_ = (1.0 + static_cast<double>(lostRun_)) * sinceLast;
 	}
 	motionPrior_.reset();
 	if (!refKf_)
@@ -578,11 +594,12 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	}
 	// 3. The local map did not confirm it (the view has left the mapped part faster than keyframes
 	// came): keep the last-frame pose when it had enough support; the new keyframe that the system
-	// then inserts restores the map around it. Its evidence against the motion model is the map
-	// points it matched (`seeds`), not the last frame's temporary depth points: a person moving
-	// beside the camera, whom no detector reported, fills the last frame with such points, and
-	// they agree with each other on the person's motion.
-	if (guess && e.numInliers >= opts_.minTrackedInliers && plausible(*guess, seeds.size(), r))
+	// then inserts restores the map around it. Its evidence against the motion model is all its
+	// certain inliers (none near a detection or a mover) when the map points it matched mostly
+	// agree, else those map points alone: a person moving beside the camera, whom no detector
+	// reported, fills the last frame with temporary depth points that agree with each other on the
+	// person's motion, and the map's points are the outliers of that solution.
+	if (guess && e.numInliers >= opts_.minTrackedInliers && plausible(*guess, stepThreeEvidence(f, used, pts, e, seeds.size()), r))
 	{
 		f.pose = *guess;
 		f.tracked = true;
@@ -603,7 +620,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// Lost: the first lost frame already coasts on the mean motion (see meanRecentMotion); a
 	// refused solution is no pose to keep.
 	TResult scratch;
-	if (guess && plausible(*guess, seeds.size(), scratch))
+	if (guess && plausible(*guess, stepThreeEvidence(f, used, pts, e, seeds.size()), scratch))
 		f.pose = *guess;
 	else if (lostRun_ == 0 && !recentMotion_.empty())
 		f.pose = lastPose + scaledTwist(meanRecentMotion(), sinceLast);

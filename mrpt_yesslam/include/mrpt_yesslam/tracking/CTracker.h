@@ -63,8 +63,14 @@ class CTracker
 		 * move 20 cm off its course in 33 ms; a few inliers on a person who moves with the camera
 		 * (or on a mis-masked one) can make a pose that does. 0 = off. */
 		std::size_t weakInliers = 80;
-		double priorDeparture = 0.05;  //!< m: the farthest a weak solution may lie from the prediction
-		double priorDepartureDeg = 5;  //!< degrees: the most it may turn away from the prediction
+		/** m and degrees: the farthest a weak solution may lie and turn from the prediction, per
+		 * frame interval since the last frame (dropped frames widen them; see priorLostFrames). */
+		double priorDeparture = 0.05;
+		double priorDepartureDeg = 5;
+		/** A relocalisation on at least this many inliers is a pose of its own: it is held to the
+		 * prediction tracking failed to confirm only below it (ORB-SLAM2 takes one on 50; 0 = held
+		 * as any other solution). */
+		std::size_t relocInliers = 50;
 		/** After a loss (a person filled the view, or a weak solution was refused) the coasted
 		 * prediction still judges weak solutions for this many lost frames, counted since the
 		 * motion was last measured, with 1 + n times the departures: the first frames back are the
@@ -180,19 +186,25 @@ class CTracker
 	/** The last frame's pose from its reference keyframe's current pose. */
 	mrpt::poses::CPose3D lastFramePose() const;
 	bool relocalise(TFrame& f, TResult& r);
-	/** Whether a solution on `inliers` may be taken (see TOptions::weakInliers); notes a refusal in `r`. */
-	bool plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r) const;
+	/** Whether a solution on `inliers` may be taken (see TOptions::weakInliers; a relocalisation's
+	 * also TOptions::relocInliers); notes a refusal in `r`. */
+	bool plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r, bool relocalising = false) const;
 	/** The prediction of the frame being tracked that weak solutions must agree with: made from
 	 * tracked frames, or coasted over at most priorLostFrames lost ones; none without a velocity. */
 	std::optional<mrpt::poses::CPose3D> prior_;
 	/** The weak term refineWith adds to the pose solve (motionPriorSigma); none outside tracking's
 	 * own searches (PnP recovery, relocalisation). */
 	std::optional<CPoseOptimizer::TPosePrior> motionPrior_;
-	double priorScale_ = 1;	 //!< the departures allowed, times this (wider for each lost frame the prediction coasted over)
+	double priorScale_ = 1;	 //!< the departures allowed, times this: wider for each lost frame and each frame interval since the last frame
 	/** Local map points in view but not found whose place `f` sees through (farther keypoints
 	 * measured all around where the point should be in front). */
 	std::vector<TPointId> seenThrough(const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView,
 		const std::vector<TPointId>& found) const;
+	/** The inliers that count as evidence for step 3's solution `e` against the last frame's points
+	 * (`used` matches of `pts`): its certain ones, when at least half the map points it matched
+	 * are among its `mapInliers`; else those alone. */
+	static std::size_t stepThreeEvidence(
+		const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers);
 	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
 	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
 	/** One frame older: drops the regions the check has not seen move for a few frames. */
@@ -201,7 +213,8 @@ class CTracker
 	 * matched; none: around the reference keyframe), searching `radius` pixels around each
 	 * projection from `guess`, and refines; on success fills the frame and the keyframe sharing
 	 * most points becomes the reference. */
-	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius);
+	bool trackLocalMap(
+		TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius, bool relocalising = false);
 
 	TOptions opts_;
 	CSparseMap& map_;
