@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config          # compiler and build system
+  lld                                       # LLVM's linker: links the test executables 3-4x faster
   ccache                                    # compiler cache: rebuilds (and CI's three builds) reuse objects
   libmrpt-dev                               # MRPT 2.5: observations, rawlogs, poses, opengl scenes
   libopencv-dev                             # OpenCV 4.6: images, ORB, DNN
