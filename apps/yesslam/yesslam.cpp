@@ -47,7 +47,9 @@ int main(int argc, char** argv)
 				"too, lost frames filled in: [Output]; smoothed_ate_rmse), keyframes.txt, map.3Dscene\n"
 				"(map points, keyframes, trajectory; open with SceneViewer3D or yesslam-render), stats.json\n"
 				"(frames, tracking rate, keyframes, loops, per-stage median and p95 ms), frames.csv (per frame: tracking\n"
-				"state, inliers, map size, stage times, and where its pose comes from: tracked, coasted, interpolated, none), config_used.ini, and with ground\n"
+				"state, inliers, map size, stage times, and where its pose comes from: tracked, coasted, interpolated, none), config_used.ini,\n"
+				"loop_candidates.csv (with loop closing: every loop candidate and the stage it stopped at; yesslam-eval --loops\n"
+				"labels them by a ground truth), and with ground\n"
 				"truth (--gt, or groundtruth.txt found beside the input) eval.json, eval_online.json and eval_smoothed.json;\n"
 				"ATE and RPE are printed.\n"
 				"The dense semantic map (unless --no-dense-map): dense_cloud.ply (colour, fused class label and its\n"
@@ -244,8 +246,8 @@ int main(int argc, char** argv)
 					"                 %s\n", s.dense.priorMerged ? "the octree continues the loaded map's (what this run saw replaces it)"
 															  : "note: the loaded map has no octree at this resolution: the octree holds this run only");
 			std::printf(
-				"outputs:         %s/{trajectory.txt,trajectory_online.txt,trajectory_smoothed.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s}\n", o.outDir.c_str(),
-				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
+				"outputs:         %s/{trajectory.txt,trajectory_online.txt,trajectory_smoothed.txt,keyframes.txt,frames.csv,map.3Dscene,stats.json,config_used.ini%s%s}\n",
+				o.outDir.c_str(), o.slam.loop.detection.enabled ? ",loop_candidates.csv" : "", o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
 			if (!o.saveMap.empty() && s.mapFiles.saveError.empty() && s.mapFiles.savedBytes > 0)
 				std::printf("map saved:       %s (%s, %zu points, %.1f MB)\n", o.saveMap.c_str(), countOf(st.keyFramesInMap, "keyframe").c_str(), st.mapPoints, s.mapFiles.savedBytes / 1e6);
 			if (s.evaluated)

@@ -25,6 +25,8 @@
 #include "mrpt_yesslam/loop/PoseGraph.h"
 #include "mrpt_yesslam/util/CWriterFirstMutex.h"
 #include "mrpt_yesslam/io/CInputSource.h"
+#include "mrpt_yesslam/eval/LoopLabels.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/jobs/SlamJob.h"
 #include "mrpt_yesslam/system/CYesSlamSystem.h"
 
@@ -229,6 +231,35 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	std::size_t listed = 0;
 	for (auto at = json.find("\"matched\": "); at != std::string::npos; at = json.find("\"matched\": ", at + 1)) listed++;
 	EXPECT_EQ(listed, on.stats.loopCorrections) << json;
+	// Issue 64 item 1: every candidate appearance gave is in loop_candidates.csv with where it
+	// stopped; each corrected loop's pair is there as accepted, and the ground truth labels it a
+	// true revisit (as yesslam-eval --loops does).
+	const auto candidates = readLoopCandidatesCsv(a / "loop_candidates.csv");
+	EXPECT_FALSE(fs::exists(b / "loop_candidates.csv")) << "no loop closing, no candidates";
+	const std::set<std::string> stages{"covisible", "young", "below_min_score", "not_group_best", "inconsistent", "gone", "few_matches",
+		"ransac", "pose_solve", "projection", "accepted", "dropped", "untried"};
+	std::map<std::string, std::size_t> byStage;
+	for (const auto& c : candidates)
+	{
+		EXPECT_TRUE(stages.count(c.stage)) << c.stage;
+		EXPECT_LT(c.candidateStamp, c.queryStamp) << "a candidate is an older keyframe";
+		byStage[c.stage]++;
+	}
+	EXPECT_GT(byStage["covisible"], 0u) << "the place tracking just left looks alike, and is excluded";
+	EXPECT_EQ(byStage["accepted"] + byStage["dropped"], on.stats.loops.accepted);
+	for (const auto& r : on.stats.loopRecords)
+		EXPECT_TRUE(std::any_of(candidates.begin(), candidates.end(), [&](const auto& c)
+			{ return c.query == r.current && c.candidate == r.matched && c.stage == "accepted"; }))
+			<< r.current << " " << r.matched;
+	const TLoopLabelReport labels = labelLoopCandidates(candidates, readTumTrajectory(seq + "/groundtruth.txt"));
+	EXPECT_EQ(labels.unlabelled, 0u);
+	EXPECT_EQ(labels.trueAccepted, labels.accepted) << "every accepted loop is a true revisit";
+	EXPECT_GT(labels.trueCandidates, labels.trueAccepted) << "the covisible neighbours of a revisit are true revisits too";
+	const auto ev = runTool("yesslam-eval", {"--gt", seq + "/groundtruth.txt", "--loops", a / "loop_candidates.csv", "--labels", a / "labels.csv"});
+	ASSERT_EQ(ev.exitCode, 0) << ev.err;
+	EXPECT_NE(ev.out.find("loop_accepted_true: " + std::to_string(labels.trueAccepted) + "\n"), std::string::npos) << ev.out;
+	EXPECT_NE(ev.out.find("verification_precision: 1\n"), std::string::npos) << ev.out;
+	EXPECT_EQ(readLoopCandidatesCsv(a / "loop_candidates.csv").size() + 1, splitLines(readText(a / "labels.csv")).size());
 	// Sequential mode stays deterministic through detection, correction and global BA.
 	run(seq, a2.path(), true);
 	EXPECT_EQ(readText(a / "trajectory.txt"), readText(a2 / "trajectory.txt"));

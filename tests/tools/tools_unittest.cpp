@@ -103,6 +103,8 @@ TEST(Tools, EvalBadInput)
 	writeText(d / "empty.txt", "# nothing\n");
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "empty.txt"}), {"empty.txt", "no poses"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt}), {"missing required option --est"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--loops", gt}), {"--loops and --est"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--loops", gt}), {"not a loop_candidates.csv"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--max-diff", "abc"}), {"--max-diff expects a number"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--rpe-unit", "m"}), {"--rpe-unit"});
 	expectCleanFailure(runTool("yesslam-eval", {"--bogus"}), {"unknown option --bogus"});

@@ -1,7 +1,10 @@
 #include "mrpt_yesslam/loop/CLoopClosing.h"
 
+#include <algorithm>
 #include <cstdlib>  // defines __GLIBC__ where it applies
 #include <shared_mutex>
+#include <string>
+#include <utility>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -60,6 +63,9 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 	auto t0 = SteadyClock::now();
 	std::optional<TLoop> loop = detector_->detect(kf);
 	const double loopMs = msSince(t0);
+	std::vector<TLoopCandidate> candidates = detector_->takeCandidates();
+	std::optional<std::pair<TKeyFrameId, TKeyFrameId>> detected;
+	if (loop) detected = std::make_pair(loop->current, loop->matched);
 	if (loop)
 	{
 		matchedPin = map_.pinned(loop->matched);
@@ -93,6 +99,14 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 		std::lock_guard<std::mutex> sl(statsMtx_);
 		stats_.stageMs["loop_detect"].push_back(loopMs);
 		stats_.loops = detector_->stats();
+		// An accepted loop whose correction never came (a keyframe gone) is no loop closed.
+		if (detected && !loop)
+			for (auto& c : candidates)
+				if (c.query == detected->first && c.candidate == detected->second && std::string(c.stage) == "accepted") c.stage = "dropped";
+		// The first kCandidateRecords (the file is for analysis; an hours-long run must not grow with it).
+		constexpr std::size_t kCandidateRecords = 100000;
+		const std::size_t room = kCandidateRecords - std::min(kCandidateRecords, candidates_.size());
+		candidates_.insert(candidates_.end(), candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(std::min(room, candidates.size())));
 		if (loop)
 		{
 			loops_.push_back(*loop);
@@ -253,6 +267,12 @@ TLoopStageStats CLoopClosing::stats() const
 {
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	return stats_;
+}
+
+std::vector<TLoopCandidate> CLoopClosing::candidates() const
+{
+	std::lock_guard<std::mutex> sl(statsMtx_);
+	return candidates_;
 }
 
 std::vector<TLoop> CLoopClosing::loops() const

@@ -144,17 +144,40 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 		anyNeighbour = true;
 	}
 	if (!anyNeighbour) minScore = 0;
+	// Every candidate appearance gives is recorded with where it stopped (loop_candidates.csv).
+	const auto record = [&](const TKeyFrameId c, double stamp, double bow, double score, const char* stage)
+	{
+		TLoopCandidate r;
+		r.query = id, r.candidate = c, r.queryStamp = kf.timestamp, r.candidateStamp = stamp;
+		r.bowScore = bow, r.loopScore = score, r.minScore = minScore, r.stage = stage;
+		candidates_.push_back(r);
+		return candidates_.size() - 1;
+	};
+	// What the query would have found without the covisible ones excluded: those are recorded so.
+	for (const auto& c : database_->query(kf.bow->words, {id}))
+		if (exclude.count(c.keyFrame) && map_.hasKeyFrame(c.keyFrame) && !map_.isBad(c.keyFrame))
+			record(c.keyFrame, map_.keyFrame(c.keyFrame).timestamp, c.score, 0, "covisible");
 	auto cands = database_->query(kf.bow->words, exclude);
 	std::vector<TBowCandidate> scored;
+	std::map<TKeyFrameId, std::size_t> recordOf;  // scored candidate -> its record
 	for (auto& c : cands)
 	{
 		if (!map_.hasKeyFrame(c.keyFrame) || map_.isBad(c.keyFrame)) continue;
 		const CKeyFrame o = map_.keyFrame(c.keyFrame);
-		if (o.id >= sessionStart_ && kf.timestamp - o.timestamp < opts_.minLoopAge) continue;
+		if (o.id >= sessionStart_ && kf.timestamp - o.timestamp < opts_.minLoopAge)
+		{
+			record(o.id, o.timestamp, c.score, 0, "young");
+			continue;
+		}
+		const double bow = c.score;
 		c.score = loopScore(kf, o, reference);
-		if (c.score >= minScore) scored.push_back(c);
+		const std::size_t r = record(o.id, o.timestamp, bow, c.score, "below_min_score");
+		if (c.score < minScore) continue;
+		scored.push_back(c);
+		recordOf[o.id] = r;
 	}
 	const auto grouped = groupCandidates(scored, map_);
+	for (auto& [kfId, r] : recordOf) candidates_[r].stage = "not_group_best";
 
 	// Consistency (eq. 21-22): each candidate's group against the previous keyframe's groups.
 	std::vector<TGroup> current;
@@ -170,13 +193,15 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 				best = std::max(best, prev.consistency);
 		g.consistency = best + 1;
 		if (g.consistency >= opts_.consistency) consistent.push_back(c.keyFrame);
+		if (const auto it = recordOf.find(c.keyFrame); it != recordOf.end())
+			candidates_[it->second].stage = g.consistency >= opts_.consistency ? "untried" : "inconsistent";
 		current.push_back(std::move(g));
 	}
 	groups_ = std::move(current);
 	if (consistent.empty()) return std::nullopt;
 	stats_.consistent++;
 	for (const auto c : consistent)
-		if (auto loop = verify(id, c))
+		if (auto loop = verifyRecorded(id, c, recordOf))
 		{
 			loop->score = loopScore(kf, map_.keyFrame(c));
 			stats_.accepted++;
@@ -187,10 +212,30 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 	return std::nullopt;
 }
 
-std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate) const
+std::optional<TLoop> CLoopDetector::verifyRecorded(TKeyFrameId id, TKeyFrameId candidate, const std::map<TKeyFrameId, std::size_t>& recordOf)
 {
+	TLoopCandidate outcome;
+	auto loop = verify(id, candidate, &outcome);
+	if (const auto it = recordOf.find(candidate); it != recordOf.end())
+	{
+		TLoopCandidate& r = candidates_[it->second];
+		r.stage = outcome.stage, r.matches = outcome.matches, r.inliers = outcome.inliers;
+	}
+	return loop;
+}
+
+std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate, TLoopCandidate* outcome) const
+{
+	TLoopCandidate scratch;
+	TLoopCandidate& out = outcome ? *outcome : scratch;
+	const auto stop = [&](const char* stage, std::size_t inliers)
+	{
+		out.stage = stage;
+		out.inliers = inliers;
+		return std::nullopt;
+	};
 	const CKeyFrame a = map_.keyFrame(id), b = map_.keyFrame(candidate);
-	if (a.bad || b.bad || !a.bow || !b.bow || !a.features || !b.features) return std::nullopt;
+	if (a.bad || b.bad || !a.bow || !b.bow || !a.features || !b.features) return stop("gone", 0);
 	const TFeatures &fa = *a.features, &fb = *b.features;
 	const auto distance = [&](std::size_t i, std::size_t j)
 	{ return orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)), fb.descriptors.ptr<unsigned char>(static_cast<int>(j))); };
@@ -235,7 +280,8 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		}
 		for (const auto& [j, di] : bestForB) matches.emplace_back(di.second, j);
 	}
-	if (matches.size() < opts_.minMatches) return std::nullopt;
+	out.matches = matches.size();
+	if (matches.size() < opts_.minMatches) return stop("few_matches", 0);
 
 	// 2. RANSAC on the 3D points (eq. 23, s = 1): p_b = R p_a + t.
 	const CPinholeCamera Ka(a.camera), Kb(b.camera);
@@ -303,13 +349,13 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		auto in = inliersOf(R, t);
 		if (in.size() > bestIn.size()) bestIn = std::move(in);
 	}
-	if (bestIn.size() < std::min(opts_.minSeedInliers, opts_.minInliers)) return std::nullopt;
+	if (bestIn.size() < std::min(opts_.minSeedInliers, opts_.minInliers)) return stop("ransac", bestIn.size());
 	Eigen::Matrix3d R;
 	Eigen::Vector3d t;
 	{
 		std::vector<Eigen::Vector3d> qa, qb;
 		for (const auto k : bestIn) qa.push_back(pa[k]), qb.push_back(pb[k]);
-		if (!rigidMotionFromPoints(qb, qa, R, t)) return std::nullopt;
+		if (!rigidMotionFromPoints(qb, qa, R, t)) return stop("ransac", bestIn.size());
 	}
 
 	// 3. Guided matching (ORB-SLAM2's SearchBySim3): with the seed transform every usable keypoint of
@@ -348,19 +394,20 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		}
 		matches.clear();
 		for (const auto& [j, di] : bestForB) matches.emplace_back(di.second, j);
+		out.matches = matches.size();
 		setPoints();
 		bestIn = inliersOf(R, t);
 	}
 	// Refined on all inliers, and the inliers recounted with the refined transform.
 	for (int refine = 0; refine < 2; refine++)
 	{
-		if (bestIn.size() < opts_.minInliers) return std::nullopt;
+		if (bestIn.size() < opts_.minInliers) return stop("ransac", bestIn.size());
 		std::vector<Eigen::Vector3d> qa, qb;
 		for (const auto k : bestIn) qa.push_back(pa[k]), qb.push_back(pb[k]);
-		if (!rigidMotionFromPoints(qb, qa, R, t)) return std::nullopt;
+		if (!rigidMotionFromPoints(qb, qa, R, t)) return stop("ransac", bestIn.size());
 		bestIn = inliersOf(R, t);
 	}
-	if (bestIn.size() < opts_.minInliers) return std::nullopt;
+	if (bestIn.size() < opts_.minInliers) return stop("ransac", bestIn.size());
 
 	TLoop loop;
 	loop.current = id;
@@ -384,7 +431,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		std::vector<TPoseObservation> obs;
 		for (const auto k : bestIn) obs.push_back(observation(matches[k].first, pb[k]));
 		const TPoseEstimate e = CPoseOptimizer().refine(obs, a.camera, loop.relative);
-		if (!e.ok || e.numInliers < opts_.minInliers) return std::nullopt;
+		if (!e.ok || e.numInliers < opts_.minInliers) return stop("pose_solve", e.ok ? e.numInliers : 0);
 		loop.relative = e.cameraInWorld;
 		loop.ransacInliers = e.numInliers;
 	}
@@ -406,7 +453,7 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	f.mapPoints.assign(fa.keypoints.size(), -1);
 	const COrbMatcher matcher(opts_.maxHamming, opts_.ratio);
 	const auto found = matcher.searchByProjection(f, loop.correctedPose, pts, opts_.projectionRadius, nullptr, false, scaleFactor_);
-	if (found.size() < opts_.minProjectionMatches) return std::nullopt;
+	if (found.size() < opts_.minProjectionMatches) return stop("projection", found.size());
 	// 6. The pose re-solved on what that search found, as tracking solves a frame on its local map
 	// (ORB-SLAM2 stops at the count; its loop edge keeps the Sim3 fit's pose). The search's pairs
 	// obey the matcher's view and scale checks, where the fit's inliers only passed a loose 3-sigma
@@ -433,6 +480,8 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	}
 	for (std::size_t k = 0; k < found.size(); k++)
 		if (agrees[k]) loop.pointMatches.emplace_back(found[k].keypoint, pts.ids[found[k].point]);
+	out.stage = "accepted";
+	out.inliers = loop.ransacInliers;
 	return loop;
 }
 }  // namespace mrpt_yesslam

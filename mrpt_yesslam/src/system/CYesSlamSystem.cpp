@@ -192,6 +192,10 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 }
 
 std::vector<TLoop> CYesSlamSystem::loops() const { return loopClosing_ ? loopClosing_->loops() : std::vector<TLoop>(); }
+std::vector<TLoopCandidate> CYesSlamSystem::loopCandidates() const
+{
+	return loopClosing_ ? loopClosing_->candidates() : std::vector<TLoopCandidate>();
+}
 
 CYesSlamSystem::~CYesSlamSystem()
 {

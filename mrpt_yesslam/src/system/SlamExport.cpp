@@ -174,4 +174,18 @@ std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows)
 	}
 	return out;
 }
+
+std::string formatLoopCandidatesCsv(const std::vector<TLoopCandidate>& candidates)
+{
+	std::string out = "query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n";
+	char buf[256];
+	for (const auto& c : candidates)
+	{
+		std::snprintf(
+			buf, sizeof(buf), "%zu,%.6f,%zu,%.6f,%.5f,%.5f,%.5f,%s,%zu,%zu\n", c.query, c.queryStamp, c.candidate, c.candidateStamp, c.bowScore,
+			c.loopScore, c.minScore, c.stage, c.matches, c.inliers);
+		out += buf;
+	}
+	return out;
+}
 }  // namespace mrpt_yesslam

@@ -480,8 +480,10 @@ bool CTracker::plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, 
 }
 
 std::size_t CTracker::stepThreeEvidence(
-	const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers)
+	const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers) const
 {
+	// One or two map points agreeing by chance say nothing: at least half what a frame is tracked on.
+	if (2 * mapInliers < opts_.minTrackedInliers) return mapInliers;
 	std::size_t mapMatched = 0, certain = 0;
 	for (std::size_t k = 0; k < used.size(); k++)
 	{

@@ -90,6 +90,8 @@ class CLoopClosing
 	TLoopStageStats stats() const;
 	/** The loops accepted so far, oldest first. */
 	std::vector<TLoop> loops() const;
+	/** Every candidate appearance gave so far and where it stopped, oldest first (a copy). */
+	std::vector<TLoopCandidate> candidates() const;
 
    private:
 	/** Detection for `kf` and the correction of an accepted loop. */
@@ -112,6 +114,7 @@ class CLoopClosing
 	mutable std::mutex statsMtx_;
 	TLoopStageStats stats_;	 //!< guarded by statsMtx_
 	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
+	std::vector<TLoopCandidate> candidates_;  //!< guarded by statsMtx_
 
 	// Global BA: requested after corrections, collected by waitForGlobalBundle (parallel mode).
 	std::mutex gbaMtx_;

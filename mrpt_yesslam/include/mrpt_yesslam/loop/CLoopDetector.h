@@ -20,9 +20,11 @@
 
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "mrpt_yesslam/geometry/DepthNoise.h"
@@ -46,6 +48,25 @@ struct TLoop
 	std::size_t ransacInliers = 0;
 	/** Keypoint of the current keyframe -> map point of the matched place (loop fusion). */
 	std::vector<std::pair<std::size_t, TPointId>> pointMatches;
+};
+
+/** One keyframe that appearance found for a loop query, and where it stopped (loop_candidates.csv):
+ * so that every candidate can be labelled by a ground truth (bench/bench_loop_real.sh). */
+struct TLoopCandidate
+{
+	TKeyFrameId query = 0, candidate = 0;
+	double queryStamp = 0, candidateStamp = 0;  //!< seconds, as in the trajectories
+	double bowScore = 0;  //!< the vocabulary's score of the pair
+	double loopScore = 0;  //!< S_Loop (eq. 19); 0 where it was not needed (covisible, young)
+	double minScore = 0;  //!< the bar S_Loop had to clear: the lowest of the query's covisible keyframes
+	/** covisible (excluded: the map links them), young (minLoopAge), below_min_score (eq. 19 with
+	 * the semantic blend), not_group_best (its covisibility group chose another, or scored under
+	 * 0.75 of the best), inconsistent (eq. 21-22), then verification's: gone (culled meanwhile),
+	 * few_matches, ransac (too few inliers of the rigid fit), pose_solve (the reprojection solve),
+	 * projection (too few of the place's points found), accepted; untried (another was accepted);
+	 * dropped (accepted, but its keyframes were gone before the correction, which moved nothing). */
+	const char* stage = "";
+	std::size_t matches = 0, inliers = 0;  //!< verification's keypoint matches and inliers where it got that far
 };
 
 /** Counts of loop detection (stats.json). */
@@ -122,8 +143,11 @@ class CLoopDetector
 	double referenceScore(const CKeyFrame& k) const;
 	/** S_G (eq. 10) of two keyframes on their static detections. */
 	double semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b) const;
-	/** Geometric verification of `kf` against `candidate` alone (no consistency test). */
-	std::optional<TLoop> verify(TKeyFrameId kf, TKeyFrameId candidate) const;
+	/** Geometric verification of `kf` against `candidate` alone (no consistency test); `outcome`
+	 * (optional) gets the stage it stopped at and its counts. */
+	std::optional<TLoop> verify(TKeyFrameId kf, TKeyFrameId candidate, TLoopCandidate* outcome = nullptr) const;
+	/** The candidates of the queries since the last call, oldest first (moved out). */
+	std::vector<TLoopCandidate> takeCandidates() { return std::exchange(candidates_, {}); }
 	const TLoopDetectionStats& stats() const { return stats_; }
 	const TOptions& options() const { return opts_; }
 	/** Keyframes with ids below `id` come from a loaded map (an earlier session): they are old
@@ -135,6 +159,8 @@ class CLoopDetector
 	void setVerifyHook(std::function<void()> hook) { verifyHook_ = std::move(hook); }
 
    private:
+	/** verify(), its outcome written to the candidate's record (`recordOf`: candidate -> index in candidates_). */
+	std::optional<TLoop> verifyRecorded(TKeyFrameId kf, TKeyFrameId candidate, const std::map<TKeyFrameId, std::size_t>& recordOf);
 	std::function<void()> verifyHook_;  //!< setVerifyHook
 	struct TGroup
 	{
@@ -152,5 +178,6 @@ class CLoopDetector
 	std::vector<TGroup> groups_;  //!< candidate groups of the previous keyframe
 	TKeyFrameId sessionStart_ = 0;  //!< see setSessionStart
 	TLoopDetectionStats stats_;
+	std::vector<TLoopCandidate> candidates_;  //!< see takeCandidates
 };
 }  // namespace mrpt_yesslam

@@ -263,6 +263,8 @@ class CYesSlamSystem
 	std::shared_ptr<const CVocabulary> vocabulary() const { return vocabulary_; }
 	/** The loops accepted so far, oldest first. */
 	std::vector<TLoop> loops() const;
+	/** Every loop candidate appearance gave and where it stopped (loop_candidates.csv). */
+	std::vector<TLoopCandidate> loopCandidates() const;
 	const TYesSlamOptions& options() const { return opts_; }
 	/** config_used.ini's text: options(), except that a value "auto" chose stays "auto", with the
 	 * choice in a comment (re-run with --localize-only, the file must choose again, not keep

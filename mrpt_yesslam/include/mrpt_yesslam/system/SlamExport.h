@@ -29,4 +29,6 @@ struct TStatsContext
 std::string formatStatsJson(const TSlamStats& stats, const TStatsContext& context);
 /** frames.csv: a header line, then one line per processed frame (TFrameLogRow). */
 std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows);
+/** loop_candidates.csv: a header line, then every loop candidate (TLoopCandidate) in order. */
+std::string formatLoopCandidatesCsv(const std::vector<TLoopCandidate>& candidates);
 }  // namespace mrpt_yesslam

@@ -202,9 +202,9 @@ class CTracker
 		const std::vector<TPointId>& found) const;
 	/** The inliers that count as evidence for step 3's solution `e` against the last frame's points
 	 * (`used` matches of `pts`): its certain ones, when at least half the map points it matched
-	 * are among its `mapInliers`; else those alone. */
-	static std::size_t stepThreeEvidence(
-		const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers);
+	 * are among its `mapInliers` and those are at least half of minTrackedInliers; else those alone. */
+	std::size_t stepThreeEvidence(
+		const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers) const;
 	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
 	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
 	/** One frame older: drops the regions the check has not seen move for a few frames. */

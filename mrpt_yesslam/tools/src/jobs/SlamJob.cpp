@@ -229,6 +229,7 @@ void writeOutputs(
 			"): not a pose a robot could have had" + frameNote);
 	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap), "keyframe poses (T_w_c)" + frameNote);
 	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
+	if (sys.options().loop.detection.enabled) writeFileAtomically((d / "loop_candidates.csv").string(), formatLoopCandidatesCsv(sys.loopCandidates()));
 	writeFileAtomically(
 		(d / "config_used.ini").string(), "; the configuration of this run\n; [Tracking] rollingShutter = " + formatNumber(sum.readout.seconds, 9) +
 											 " s, from " + sum.readout.source + "\n" + sys.configUsed());
