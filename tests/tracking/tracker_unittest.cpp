@@ -37,6 +37,18 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> deskFrames()
 	while (auto obs = src->next()) frames.push_back(obs);
 	return frames;
 }
+
+// A tracker on `map` (keyframe 0 the reference) that has seen `last` (the motion measured on them)
+// tracks `next` from scratch (not tracked, no pose).
+CTracker::TResult trackAfter(CSparseMap& map, const CTracker::TOptions& o, const std::vector<std::shared_ptr<TFrame>>& last, TFrame& next)
+{
+	CTracker tracker(o, map, 1.2, CGeometricDynamicCheck::TOptions());
+	tracker.setReferenceKeyFrame(0);
+	for (const auto& f : last) tracker.setLastFrame(f);
+	next.tracked = false;
+	next.pose = mrpt::poses::CPose3D();
+	return tracker.track(next);
+}
 }  // namespace
 
 TEST(Tracker, RealFr1DeskFramesMatchMotionCapture)
@@ -304,13 +316,8 @@ TEST(Tracker, AFrameAfterDroppedOnesIsPredictedOverItsIntervals)
 	{
 		CSparseMap map;
 		map.addKeyFrame(first, 10.0);
-		CTracker tracker(CTracker::TOptions(), map, 1.2, CGeometricDynamicCheck::TOptions());
-		tracker.setReferenceKeyFrame(0);
-		for (std::size_t k = 0; k < 4; k++) tracker.setLastFrame(frameAt(k, true));
 		auto f = frameAt(4 + dropped, features);
-		f->tracked = false;
-		f->pose = mrpt::poses::CPose3D();
-		const CTracker::TResult r = tracker.track(*f);
+		const CTracker::TResult r = trackAfter(map, CTracker::TOptions(), {frameAt(0, true), frameAt(1, true), frameAt(2, true), frameAt(3, true)}, *f);
 		return std::make_pair(r, f->pose);
 	};
 	// Without dropped frames the one-step prediction is right.
@@ -380,13 +387,8 @@ TEST(Tracker, ASolutionRestingOnTheLastFramesTemporaryPointsIsJudgedByItsMapPoin
 		f->timestamp = static_cast<double>(k) * dt;
 		return f;
 	};
-	CTracker tracker(CTracker::TOptions(), map, 1.2, CGeometricDynamicCheck::TOptions());
-	tracker.setReferenceKeyFrame(0);
-	for (std::size_t k = 1; k <= 4; k++) tracker.setLastFrame(frameAt(k, true));
 	auto f = frameAt(5, false);
-	f->tracked = false;
-	f->pose = mrpt::poses::CPose3D();
-	const CTracker::TResult r = tracker.track(*f);
+	const CTracker::TResult r = trackAfter(map, CTracker::TOptions(), {frameAt(1, true), frameAt(2, true), frameAt(3, true), frameAt(4, true)}, *f);
 	EXPECT_GE(r.motionMatches, 100u) << "the test needs the person matched against the last frame";
 	EXPECT_FALSE(r.ok) << "taken " << (f->pose - cameraAt(5)).norm() * 100 << " cm off the camera";
 	EXPECT_TRUE(r.implausible);
@@ -433,13 +435,8 @@ TEST(Tracker, AtTheMapsEdgeAJerkIsJudgedByAllTheCertainInliersTheMapPointsAgreeW
 		f->timestamp = static_cast<double>(k) * dt;
 		return f;
 	};
-	CTracker tracker(CTracker::TOptions(), map, 1.2, CGeometricDynamicCheck::TOptions());
-	tracker.setReferenceKeyFrame(0);
-	for (std::size_t k = 1; k <= 4; k++) tracker.setLastFrame(frameAt(k, true));
 	auto f = frameAt(5, false);
-	f->tracked = false;
-	f->pose = mrpt::poses::CPose3D();
-	const CTracker::TResult r = tracker.track(*f);
+	const CTracker::TResult r = trackAfter(map, CTracker::TOptions(), {frameAt(1, true), frameAt(2, true), frameAt(3, true), frameAt(4, true)}, *f);
 	EXPECT_TRUE(r.ok) << "refused " << (f->pose - cameraAt(5)).norm() * 100 << " cm off the camera";
 	EXPECT_FALSE(r.implausible);
 	EXPECT_LT(r.localMatches, CTracker::TOptions().minTrackedInliers) << "the test needs the local map unable to confirm the frame";
@@ -474,13 +471,8 @@ TEST(Tracker, ARelocalisationOnEnoughInliersIsNotHeldToTheFailedPrediction)
 		CTracker::TOptions o;
 		o.weakInliers = 100000;
 		o.relocInliers = relocInliers;
-		CTracker tracker(o, map, 1.2, CGeometricDynamicCheck::TOptions());
-		tracker.setReferenceKeyFrame(0);
-		for (std::size_t k = 1; k <= 4; k++) tracker.setLastFrame(frameAt(k));
 		auto f = frameAt(5);
-		f->tracked = false;
-		f->pose = mrpt::poses::CPose3D();
-		const CTracker::TResult r = tracker.track(*f);
+		const CTracker::TResult r = trackAfter(map, o, {frameAt(1), frameAt(2), frameAt(3), frameAt(4)}, *f);
 		return std::make_pair(r, (f->pose - cameraAt(5)).norm());
 	};
 	const auto [found, off] = run(CTracker::TOptions().relocInliers);
@@ -523,15 +515,10 @@ TEST(Tracker, TheDeparturesAllowedGrowWithTheIntervalsSinceTheLastFrame)
 		o.weakInliers = 100000;
 		o.relocInliers = 0;
 		o.motionPriorSigma = 0;	 // the solve itself, not pulled toward the prediction it is judged by
-		CTracker tracker(o, map, 1.2, CGeometricDynamicCheck::TOptions());
-		tracker.setReferenceKeyFrame(0);
-		for (std::size_t k = 1; k <= 4; k++) tracker.setLastFrame(frameAt(k, steady(k)));
 		const std::size_t k = 5 + dropped;
 		const mrpt::poses::CPose3D truth(0.01 * static_cast<double>(k) + 0.08, 0, 0, 0, 0, 0);
 		auto f = frameAt(k, truth);
-		f->tracked = false;
-		f->pose = mrpt::poses::CPose3D();
-		const CTracker::TResult r = tracker.track(*f);
+		const CTracker::TResult r = trackAfter(map, o, {frameAt(1, steady(1)), frameAt(2, steady(2)), frameAt(3, steady(3)), frameAt(4, steady(4))}, *f);
 		return std::make_pair(r, (f->pose - truth).norm());
 	};
 	const auto [afterGap, offAfterGap] = run(3);
