@@ -19,7 +19,7 @@ start=$(date +%s)
 ./scripts/install_deps.sh
 FILTER=()
 AGAIN=()  # a second selection ctest runs after the first (ctest's -R and -E cannot say "all but these suites, save these tests")
-# Sanitizer builds: -O1 and line tables only (-g1), the sanitizers' recommended setting, which
+# The TSan build: -O1 and line tables only (-g1), the sanitizers' recommended setting, which
 # compiles much faster than -O2 -g and still gives file:line in every report.
 SANFLAGS=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1")
 if [ "$mode" = tsan ]; then
