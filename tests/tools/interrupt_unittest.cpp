@@ -6,6 +6,7 @@
 
 #include <fcntl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/io/CRawlogSource.h"
 #include "mrpt_yesslam/io/Trajectory.h"
+#include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/jobs/SlamJob.h"
 
 #include <cmath>
@@ -343,4 +345,82 @@ TEST(Interrupt, CtrlCOnAnOniPlaybackKeepsTheOutputsAndTheRecording)
 	long n = 0;
 	while (src.next()) n++;
 	EXPECT_GE(n, r.frames());
+}
+
+TEST(Interrupt, AKilledRunKeepsItsJournalOfPosesAndFrames)
+{
+	// Issue 68 item 1: kill -9 (a power cut, the out-of-memory killer) used to leave an empty
+	// output folder. The journal keeps every frame's online pose and frames.csv row as the run
+	// goes, in whole lines, and stats.json says the run did not end; what an earlier run left
+	// there is gone. Real Kinect frames (tum_fr1_rpy_dev), sequential: the journaled poses are the
+	// ones a whole run reports for the same frames, in the map's frame.
+	const std::string seq = sharedFile("data/tum_fr1_rpy_dev");
+	ASSERT_TRUE(fs::exists(seq + "/rgb.txt")) << seq;
+	TempDir d("sigkill_journal");
+	const std::vector<std::string> common{"--input", seq, "--detector", "none", "--no-dense-map", "--sequential", "--quiet"};
+	auto with = [&](std::vector<std::string> extra)
+	{
+		std::vector<std::string> a = common;
+		a.insert(a.end(), extra.begin(), extra.end());
+		return a;
+	};
+	const std::string whole = d / "whole";
+	const auto w = runTool("yesslam", with({"--out", whole, "--max-frames", "80"}));
+	ASSERT_EQ(w.exitCode, 0) << w.err;
+
+	const std::string out = d / "killed";
+	fs::create_directories(out);
+	writeText(out + "/trajectory.txt", "# an earlier run's\n");
+	writeText(out + "/map.3Dscene", "an earlier run's");
+	const auto poseLines = [&]
+	{
+		std::ifstream f(out + "/trajectory_online.txt");
+		std::string line;
+		long n = 0;
+		while (std::getline(f, line))
+			if (!line.empty() && line[0] != '#') n++;
+		return n;
+	};
+	const auto r = interruptWhen("yesslam", with({"--out", out}), [&] { return poseLines() >= 40; }, SIGKILL);
+	ASSERT_TRUE(r.ready) << "no 40 journaled poses within 60 s: " << r.err;
+	EXPECT_EQ(r.exitCode, -1) << "killed by the signal";
+
+	const auto journal = mrpt_yesslam::readTumTrajectory(out + "/trajectory_online.txt");  // throws on a malformed line
+	ASSERT_GE(journal.size(), 40u);
+	EXPECT_LT(journal.size(), 300u) << "killed before the end";
+	EXPECT_FALSE(fs::exists(out + "/trajectory.txt"));
+	EXPECT_FALSE(fs::exists(out + "/map.3Dscene"));
+	const std::string stats = readText(out + "/stats.json");
+	EXPECT_NE(stats.find("\"complete\": false"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("still running, or it was killed"), std::string::npos) << stats;
+
+	// frames.csv: the header, then one whole row per frame in order, at least one per pose.
+	std::istringstream csv(readText(out + "/frames.csv"));
+	std::string line;
+	ASSERT_TRUE(std::getline(csv, line));
+	const auto fields = [](const std::string& l) { return std::count(l.begin(), l.end(), ',') + 1; };
+	const auto columns = fields(line);
+	std::size_t rows = 0;
+	while (std::getline(csv, line))
+	{
+		ASSERT_EQ(fields(line), columns) << line;
+		EXPECT_EQ(std::stoul(line.substr(0, line.find(','))), rows) << line;
+		rows++;
+	}
+	EXPECT_GE(rows, journal.size());
+	EXPECT_TRUE(csv.eof());
+
+	// The whole run's online poses, in its world frame: the journal's carried into it.
+	const auto finished = mrpt_yesslam::readTumTrajectory(whole + "/trajectory_online.txt");
+	const auto worldFromMap = mrpt_yesslam::readWorldFromMap(whole + "/trajectory_online.txt");
+	ASSERT_TRUE(worldFromMap);
+	const std::size_t n = std::min(journal.size(), finished.size());
+	ASSERT_GE(n, 40u);
+	for (std::size_t i = 0; i < n; i++)
+	{
+		const auto p = *worldFromMap + journal[i].asPose();
+		const auto q = finished[i].asPose();
+		EXPECT_DOUBLE_EQ(journal[i].t, finished[i].t);
+		EXPECT_LT(std::hypot(p.x() - q.x(), p.y() - q.y(), p.z() - q.z()), 1e-6) << "frame " << i;
+	}
 }

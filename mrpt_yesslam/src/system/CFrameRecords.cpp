@@ -313,4 +313,18 @@ std::vector<TFrameLogRow> CFrameRecords::frameLog() const
 	for (std::size_t i = 0; i < rows.size() && i < src.size(); i++) rows[i].pose = src[i];
 	return rows;
 }
+
+CFrameRecords::TSince CFrameRecords::since(std::size_t first) const
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	TSince out;
+	for (std::size_t i = first; i < records_.size(); i++)
+	{
+		const TRecord& r = records_[i];
+		out.rows.push_back(rows_[i]);
+		out.rows.back().pose = !r.hasPose ? EPoseSource::None : r.tracked ? EPoseSource::Tracked : EPoseSource::Coasted;
+		if (r.hasPose) out.online.push_back(TStampedPose::fromPose(r.t, r.online));
+	}
+	return out;
+}
 }  // namespace mrpt_yesslam

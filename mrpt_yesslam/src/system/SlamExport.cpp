@@ -157,11 +157,13 @@ const char* poseSourceName(EPoseSource s)
 	return "none";
 }
 
-std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows)
+std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows, bool header)
 {
-	std::string out =
-		"frame,timestamp,tracked,keyframe,relocalised,features,static_features,detections,inliers,keyframes_in_map,"
-		"map_points,detect_ms,detect_wait_ms,mask_ms,orb_ms,track_ms,keyframe_ms,pose\n";
+	std::string out;
+	if (header)
+		out =
+			"frame,timestamp,tracked,keyframe,relocalised,features,static_features,detections,inliers,keyframes_in_map,"
+			"map_points,detect_ms,detect_wait_ms,mask_ms,orb_ms,track_ms,keyframe_ms,pose\n";
 	out.reserve(out.size() + rows.size() * 96);
 	char buf[320];
 	for (const auto& r : rows)

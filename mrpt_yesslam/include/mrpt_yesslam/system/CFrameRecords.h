@@ -95,6 +95,13 @@ class CFrameRecords
 	TTrajectory online() const;
 	/** The rows, with where each pose comes from (EPoseSource). */
 	std::vector<TFrameLogRow> frameLog() const;
+	/** What a journal appends (CRunJournal): the frames recorded after the first `first`. */
+	struct TSince
+	{
+		std::vector<TFrameLogRow> rows;	 //!< `pose` as the run has it now: tracked, coasted or none
+		TTrajectory online;	 //!< the online poses of those of them that have one, in order
+	};
+	TSince since(std::size_t first) const;
 
    private:
 	/** Where each record's pose comes from (Interpolated: lost, and filled in by smoothed()). */

@@ -210,6 +210,9 @@ class CYesSlamSystem
 	/** One row per processed frame, in order (frames.csv), with where its pose comes from
 	 * (EPoseSource: an "interpolated" frame is coasted in trajectory(), filled in by smoothedTrajectory()). */
 	std::vector<TFrameLogRow> frameLog() const;
+	/** The rows and online poses (map frame) of the frames processed after the first `first`, as
+	 * the run has them now: what a journal appends while the run goes (CRunJournal). */
+	CFrameRecords::TSince framesSince(std::size_t first) const { return records_.since(first); }
 	/** The dense semantic map from every keyframe's cloud at its current pose, in worldFrame()
 	 * (call after waitForMapping for the final map); throws std::logic_error with dense mapping off. */
 	TDenseMap buildDenseMap() const;

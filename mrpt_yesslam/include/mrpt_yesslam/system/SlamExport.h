@@ -27,8 +27,8 @@ struct TStatsContext
 
 /** The figures of a run as JSON (per-stage median and p95 in ms). */
 std::string formatStatsJson(const TSlamStats& stats, const TStatsContext& context);
-/** frames.csv: a header line, then one line per processed frame (TFrameLogRow). */
-std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows);
+/** frames.csv: a header line (unless `header` is false), then one line per processed frame (TFrameLogRow). */
+std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows, bool header = true);
 /** loop_candidates.csv: a header line, then every loop candidate (TLoopCandidate) in order. */
 std::string formatLoopCandidatesCsv(const std::vector<TLoopCandidate>& candidates);
 }  // namespace mrpt_yesslam

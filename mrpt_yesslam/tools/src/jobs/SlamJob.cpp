@@ -25,6 +25,7 @@
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/system/CRunJournal.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 #include "mrpt_yesslam/io/WorldFrame.h"
@@ -516,9 +517,15 @@ TSlamJobSummary runSlamJob(
 	std::error_code ec;
 	fs::create_directories(o.outDir, ec);
 	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
-	// An evaluation or a dense map left by an earlier run in this folder must not pass for this
-	// run's (a --no-dense-map or localisation-only run writes none; one that writes them replaces them).
-	for (const char* f : {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt"}) fs::remove(fs::path(o.outDir) / f, ec);
+	// What an earlier run left in this folder must not pass for this run's: an evaluation or a
+	// dense map this one may not write, and the outputs it writes only at its end (a killed run
+	// leaves its journal and nothing else; a second Ctrl-C skips the slow ones).
+	for (const char* f :
+		 {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt", "trajectory.txt",
+		  "trajectory_smoothed.txt", "keyframes.txt", "loop_candidates.csv", "config_used.ini", "map.3Dscene"})
+		fs::remove(fs::path(o.outDir) / f, ec);
+	// The online poses and frames.csv as the run goes, stats.json "complete": false until the end.
+	CRunJournal journal(o.outDir);
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
@@ -527,6 +534,7 @@ TSlamJobSummary runSlamJob(
 	const auto t0 = std::chrono::steady_clock::now();
 	std::size_t done = 0;
 	std::vector<double> depthMedians;  // each frame's median depth: is the depth scale plausible?
+	bool journalWarned = false;
 	if (o.onPhase) o.onPhase(ESlamJobPhase::Frames);
 	try
 	{
@@ -566,6 +574,11 @@ TSlamJobSummary runSlamJob(
 					": it gives no depth-image stamps of its own (only TUM folders do, with depth.txt); the depth is taken as of the colour image's moment");
 			const TFrameReport r = sys.processFrame(*obs, depthTime);
 			done++;
+			if (!journal.update(sys) && !journal.failure().empty() && !journalWarned)
+			{
+				sum.warnings.push_back(journal.failure() + " (the run went on; its outputs at the end are complete)");
+				journalWarned = true;
+			}
 			if (progress)
 			{
 				const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -605,6 +618,7 @@ TSlamJobSummary runSlamJob(
 		}
 		sys.settle();  // every stage done before the outputs (its failures are not this error)
 		releaseBeforeOutputs(sys);	// no frame is processed after this
+		journal.close();
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
 		throw;
 	}
@@ -635,6 +649,7 @@ TSlamJobSummary runSlamJob(
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
 	if (o.onPhase) o.onPhase(ESlamJobPhase::Saving);
 	releaseBeforeOutputs(sys);
+	journal.close();
 	writeOutputs(sys, o.outDir, sum, stop, o.saveMap, abortSaving);
 	// A pass that was never placed in the loaded map has no pose to give: an error, not identity
 	// poses and an ATE over them (the outputs say so too: no pose, every frame "none").
