@@ -15,9 +15,9 @@ namespace yesslam_bench
 /** A simulator frame. */
 struct TSimFrame
 {
-	cv::Mat rgb;  //!< CV_8UC3 BGR
-	cv::Mat depth;	//!< CV_32F metres (depth_scale 5000, as every yesslam-sim folder)
-	cv::Mat cls;  //!< labels/class as stored (8 or 16 bit)
+	cv::Mat rgb;    //!< CV_8UC3 BGR
+	cv::Mat depth;  //!< CV_32F metres (depth_scale 5000, as every yesslam-sim folder)
+	cv::Mat cls;    //!< labels/class as stored (8 or 16 bit)
 };
 
 /** A yesslam-sim folder as the benches read it: associations.txt read once, which pairs each
@@ -33,7 +33,8 @@ class CSimFolder
 		{
 			std::istringstream row(line);
 			std::string t0, rgb, t1, depth;
-			if (row >> t0 >> rgb >> t1 >> depth) depthOf_[rgb.substr(rgb.find('/') + 1)] = depth.substr(depth.find('/') + 1);
+			if (row >> t0 >> rgb >> t1 >> depth)
+				depthOf_[rgb.substr(rgb.find('/') + 1)] = depth.substr(depth.find('/') + 1);
 		}
 	}
 	/** Frame `name` (the file name in rgb/ and labels/class/); its depth image is the one the list
@@ -43,7 +44,8 @@ class CSimFolder
 		const auto it = depthOf_.find(name);
 		TSimFrame f;
 		f.rgb = cv::imread(dir_ + "/rgb/" + name, cv::IMREAD_COLOR);
-		cv::imread(dir_ + "/depth/" + (it == depthOf_.end() ? name : it->second), cv::IMREAD_UNCHANGED).convertTo(f.depth, CV_32F, 1.0 / 5000);
+		cv::imread(dir_ + "/depth/" + (it == depthOf_.end() ? name : it->second), cv::IMREAD_UNCHANGED)
+			.convertTo(f.depth, CV_32F, 1.0 / 5000);
 		f.cls = cv::imread(dir_ + "/labels/class/" + name, cv::IMREAD_UNCHANGED);
 		return f;
 	}

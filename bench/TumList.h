@@ -20,7 +20,8 @@ inline std::vector<std::string> listedImages(const std::string& folder, const st
 
 /** The colour and depth images FOLDER's rgb.txt and depth.txt list; false, with "TOOL: error: ..."
  * on stderr, when either list is missing or bad or rgb.txt lists nothing. */
-inline bool listFolderImages(const char* tool, const std::string& folder, std::vector<std::string>& rgb, std::vector<std::string>& depth)
+inline bool listFolderImages(const char* tool, const std::string& folder, std::vector<std::string>& rgb,
+							 std::vector<std::string>& depth)
 {
 	try
 	{

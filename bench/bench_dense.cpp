@@ -17,7 +17,9 @@ int main(int argc, char** argv)
 {
 	if (argc < 3)
 	{
-		std::fprintf(stderr, "usage: bench_dense SIM_DIR OUT_DIR [--no-dynamic-filter] [--no-dense-map] [--sequential] [--config FILE]\n");
+		std::fprintf(stderr,
+					 "usage: bench_dense SIM_DIR OUT_DIR [--no-dynamic-filter] [--no-dense-map] [--sequential] "
+					 "[--config FILE]\n");
 		return 2;
 	}
 	try
@@ -37,7 +39,8 @@ int main(int argc, char** argv)
 		if (!o.slam.dense.enabled)
 		{
 			// Only the tracking figures: the run the dense stage's cost is measured against.
-			std::printf("ate_mm=%.1f fps=%.1f\n", s.evaluated ? 1000 * s.eval.ate.stats.rmse : -1.0, s.seconds > 0 ? s.stats.frames / s.seconds : 0.0);
+			std::printf("ate_mm=%.1f fps=%.1f\n", s.evaluated ? 1000 * s.eval.ate.stats.rmse : -1.0,
+						s.seconds > 0 ? s.stats.frames / s.seconds : 0.0);
 			return 0;
 		}
 		const auto tree = CSemanticOcTree::readFile(o.outDir + "/map.ot");
@@ -59,11 +62,13 @@ int main(int argc, char** argv)
 			return v[v.size() / 2];
 		};
 		std::printf(
-			"ate_mm=%.1f fps=%.1f dense_ms=%.1f build_s=%.2f points=%zu occupied=%zu swept=%zu ghost=%zu ghost_share=%.4f "
+			"ate_mm=%.1f fps=%.1f dense_ms=%.1f build_s=%.2f points=%zu occupied=%zu swept=%zu ghost=%zu "
+			"ghost_share=%.4f "
 			"label_acc=%.3f object_recall=%.3f object_precision=%.3f ply_mb=%.2f ot_mb=%.2f bt_mb=%.3f\n",
-			s.evaluated ? 1000 * s.eval.ate.stats.rmse : -1.0, s.seconds > 0 ? s.stats.frames / s.seconds : 0.0, median("dense"),
-			s.dense.buildMs / 1000, s.dense.cloudPoints, s.dense.occupiedLeaves, sc.sweptVoxels, sc.ghostVoxels, sc.ghostShare(),
-			sc.labelAccuracy(), sc.objectRecall(), sc.objectPrecision(), s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6, s.dense.btBytes / 1e6);
+			s.evaluated ? 1000 * s.eval.ate.stats.rmse : -1.0, s.seconds > 0 ? s.stats.frames / s.seconds : 0.0,
+			median("dense"), s.dense.buildMs / 1000, s.dense.cloudPoints, s.dense.occupiedLeaves, sc.sweptVoxels,
+			sc.ghostVoxels, sc.ghostShare(), sc.labelAccuracy(), sc.objectRecall(), sc.objectPrecision(),
+			s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6, s.dense.btBytes / 1e6);
 		for (const auto& [label, cnt] : sc.perLabel)
 			std::printf("  label %d: %zu / %zu correct\n", label, cnt.first, cnt.second);
 		return 0;

@@ -59,8 +59,10 @@ int main(int argc, char** argv)
 		const char *label, *model, *weights, *names;
 	};
 	const std::vector<M> models = {
-		{"Yolo-Fastest 1.1 (darknet 320)", "yolo_fastest_darknet/yolo-fastest-1.1.cfg", "yolo_fastest_darknet/yolo-fastest-1.1.weights", "yolo_fastest_darknet/coco.names"},
-		{"Yolo-Fastest 1.1 XL (darknet 320)", "yolo_fastest_darknet/yolo-fastest-1.1-xl.cfg", "yolo_fastest_darknet/yolo-fastest-1.1-xl.weights", "yolo_fastest_darknet/coco.names"},
+		{"Yolo-Fastest 1.1 (darknet 320)", "yolo_fastest_darknet/yolo-fastest-1.1.cfg",
+		 "yolo_fastest_darknet/yolo-fastest-1.1.weights", "yolo_fastest_darknet/coco.names"},
+		{"Yolo-Fastest 1.1 XL (darknet 320)", "yolo_fastest_darknet/yolo-fastest-1.1-xl.cfg",
+		 "yolo_fastest_darknet/yolo-fastest-1.1-xl.weights", "yolo_fastest_darknet/coco.names"},
 		{"FastestDet (onnx)", "fastestdet_onnx/FastestDet.onnx", "", "fastestdet_onnx/coco.names"},
 		{"NanoDet-m 320 (onnx)", "nanodet_m_onnx/nanodet_m_320.onnx", "", "nanodet_m_onnx/coco.names"},
 		{"NanoDet-m 416 (onnx)", "nanodet_m_onnx/nanodet_m_416.onnx", "", "nanodet_m_onnx/coco.names"},
@@ -83,7 +85,8 @@ int main(int argc, char** argv)
 		if (people.empty() && n == 2)
 			for (const auto& x : d)
 				if (x.dynamic) people.push_back(x);
-		std::printf("detector %-36s %7.1f ms/frame  (%d people found) [%s]\n", m.label, medianMs(ms), n, det->description().c_str());
+		std::printf("detector %-36s %7.1f ms/frame  (%d people found) [%s]\n", m.label, medianMs(ms), n,
+					det->description().c_str());
 	}
 
 	// Masker: the two people boxes on a 640x480 depth image with a person-like foreground at 1.2 m
@@ -96,7 +99,8 @@ int main(int argc, char** argv)
 		{
 			bool fg = false;
 			for (const auto& p : people)
-				fg |= x > p.box.x + 0.2f * p.box.width && x < p.box.br().x - 0.2f * p.box.width && y > p.box.y + 0.05f * p.box.height;
+				fg |= x > p.box.x + 0.2f * p.box.width && x < p.box.br().x - 0.2f * p.box.width &&
+					  y > p.box.y + 0.05f * p.box.height;
 			const float z = fg ? 1.2f : 3.0f;
 			depth.at<float>(y, x) = z + 0.0015f * z * z * n(rng);
 		}

@@ -27,7 +27,8 @@ int main(int argc, char** argv)
 		std::fprintf(stderr, "usage: bench_feature_share (IMAGE DETECTIONS.txt | SIM_FOLDER) ...\n");
 		return 1;
 	}
-	std::printf("%-40s %7s %12s %14s %8s %14s\n", "input", "frames", "box pixels", "box keypoints", "ratio", "textured cells");
+	std::printf("%-40s %7s %12s %14s %8s %14s\n", "input", "frames", "box pixels", "box keypoints", "ratio",
+				"textured cells");
 	COrbExtractor orb;
 	bool core = false;
 	for (int a = 1; a < argc; a++)
@@ -38,7 +39,7 @@ int main(int argc, char** argv)
 			core = true;
 			continue;
 		}
-		std::vector<std::pair<std::string, double>> frames;	// image, timestamp
+		std::vector<std::pair<std::string, double>> frames;  // image, timestamp
 		std::string detFile;
 		if (std::filesystem::is_directory(in))
 		{
@@ -65,7 +66,8 @@ int main(int argc, char** argv)
 				{
 					// The box core (middle 40% of the width, 10-90% of the height) is mostly the person
 					// on real and simulated frames alike; whole boxes are half background.
-					const cv::Rect2f c(d.box.x + 0.3f * d.box.width, d.box.y + 0.1f * d.box.height, 0.4f * d.box.width, 0.8f * d.box.height);
+					const cv::Rect2f c(d.box.x + 0.3f * d.box.width, d.box.y + 0.1f * d.box.height, 0.4f * d.box.width,
+									   0.8f * d.box.height);
 					inBox(cv::Rect(core ? c : d.box) & cv::Rect(0, 0, rgb.cols, rgb.rows)).setTo(255);
 				}
 			const auto f = orb.extract(rgb);
@@ -93,13 +95,15 @@ int main(int argc, char** argv)
 			textured += cells ? static_cast<double>(hits) / static_cast<double>(cells) : 0.0;
 			std::size_t n = 0;
 			for (const auto& k : f.keypoints)
-				n += inBox.at<uchar>(std::min(static_cast<int>(k.pt.y), rgb.rows - 1), std::min(static_cast<int>(k.pt.x), rgb.cols - 1)) != 0;
+				n += inBox.at<uchar>(std::min(static_cast<int>(k.pt.y), rgb.rows - 1),
+									 std::min(static_cast<int>(k.pt.x), rgb.cols - 1)) != 0;
 			pix += cv::countNonZero(inBox) / static_cast<double>(rgb.total());
 			kp += f.keypoints.empty() ? 0.0 : static_cast<double>(n) / static_cast<double>(f.keypoints.size());
 		}
 		const double nf = static_cast<double>(frames.size());
-		std::printf("%-40s %7zu %11.1f%% %13.1f%% %8.2f %13.1f%%\n", in.substr(in.size() > 40 ? in.size() - 40 : 0).c_str(),
-					frames.size(), 100 * pix / nf, 100 * kp / nf, pix > 0 ? kp / pix : 0.0, 100 * textured / nf);
+		std::printf("%-40s %7zu %11.1f%% %13.1f%% %8.2f %13.1f%%\n",
+					in.substr(in.size() > 40 ? in.size() - 40 : 0).c_str(), frames.size(), 100 * pix / nf,
+					100 * kp / nf, pix > 0 ? kp / pix : 0.0, 100 * textured / nf);
 	}
 	return 0;
 }

@@ -46,7 +46,8 @@ int main(int argc, char** argv)
 		std::fprintf(stderr, "usage: bench_labels [--step K] SIM_FOLDER...\n");
 		return 1;
 	}
-	std::printf("%-24s %-9s %6s %-14s %9s %9s %9s %9s\n", "sequence", "method", "class", "name", "pixels", "recall", "precision", "no evid.");
+	std::printf("%-24s %-9s %6s %-14s %9s %9s %9s %9s\n", "sequence", "method", "class", "name", "pixels", "recall",
+				"precision", "no evid.");
 	for (const auto& dir : dirs)
 	{
 		const auto list = readTumFileList(dir + "/rgb.txt");
@@ -57,7 +58,7 @@ int main(int argc, char** argv)
 		auto det = createObjectDetector(dopt);
 		mrpt::img::TCamera cam;
 		cam.ncols = 640, cam.nrows = 480;
-		cam.fx(535.4), cam.fy(539.2), cam.cx(320.1), cam.cy(247.6);	 // yesslam-sim's (calibration.txt)
+		cam.fx(535.4), cam.fy(539.2), cam.cx(320.1), cam.cy(247.6);  // yesslam-sim's (calibration.txt)
 		for (const char* method : {"fill", "segments"})
 		{
 			CDenseSemanticMapper::TOptions o;
@@ -67,8 +68,8 @@ int main(int argc, char** argv)
 			{
 				double truth = 0, hit = 0, labelled = 0, correct = 0, unknown = 0;
 			};
-			std::map<int, TCount> per;	// by label (class + 1)
-			std::vector<double> times;	// ms per frame
+			std::map<int, TCount> per;  // by label (class + 1)
+			std::vector<double> times;  // ms per frame
 			for (std::size_t i = 0; i < list.size(); i += static_cast<std::size_t>(step))
 			{
 				const auto& e = list[i];
@@ -77,10 +78,12 @@ int main(int argc, char** argv)
 				std::vector<TDetection> objects;
 				for (const auto& d : det->detect(rgb, e.t))
 					if (!d.dynamic) objects.push_back(d);
-				std::stable_sort(objects.begin(), objects.end(), [](const TDetection& a, const TDetection& b) { return a.box.area() > b.box.area(); });
+				std::stable_sort(objects.begin(), objects.end(),
+								 [](const TDetection& a, const TDetection& b) { return a.box.area() > b.box.area(); });
 				const auto t0 = std::chrono::steady_clock::now();
 				const TObjectLabels lab = mapper.labelPixels(depth, cam, objects);
-				times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+				times.push_back(
+					std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 				if (!dump.empty())
 				{
 					cv::Mat got = rgb / 3, truth = rgb / 3;
@@ -88,12 +91,16 @@ int main(int argc, char** argv)
 						for (int u = 0; u < depth.cols; u++)
 						{
 							const int inst = lab.instance.at<std::uint16_t>(v, u) - 1;
-							if (inst >= 0) got.at<cv::Vec3b>(v, u) = labelColour(static_cast<TSemLabel>(objects[static_cast<std::size_t>(inst)].classId + 1));
+							if (inst >= 0)
+								got.at<cv::Vec3b>(v, u) = labelColour(
+									static_cast<TSemLabel>(objects[static_cast<std::size_t>(inst)].classId + 1));
 							if (lab.unknown.at<uchar>(v, u)) got.at<cv::Vec3b>(v, u) = cv::Vec3b(0, 0, 0);
-							const int t = cls.type() == CV_16U ? cls.at<std::uint16_t>(v, u) : cls.at<std::uint8_t>(v, u);
+							const int t =
+								cls.type() == CV_16U ? cls.at<std::uint16_t>(v, u) : cls.at<std::uint8_t>(v, u);
 							if (t > 1) truth.at<cv::Vec3b>(v, u) = labelColour(static_cast<TSemLabel>(t));
 						}
-					for (const auto& d : objects) cv::rectangle(got, cv::Rect(d.box), labelColour(static_cast<TSemLabel>(d.classId + 1)), 1);
+					for (const auto& d : objects)
+						cv::rectangle(got, cv::Rect(d.box), labelColour(static_cast<TSemLabel>(d.classId + 1)), 1);
 					cv::Mat both;
 					cv::hconcat(got, truth, both);
 					std::filesystem::create_directories(dump);
@@ -112,7 +119,8 @@ int main(int argc, char** argv)
 					{
 						const float z = depth.at<float>(v, u);
 						if (!(z > 0.3f && z < 4.0f)) continue;
-						const int truth = cls.type() == CV_16U ? cls.at<std::uint16_t>(v, u) : cls.at<std::uint8_t>(v, u);
+						const int truth =
+							cls.type() == CV_16U ? cls.at<std::uint16_t>(v, u) : cls.at<std::uint8_t>(v, u);
 						if (truth == 1) continue;  // people are never labelled (left out of the map)
 						const int inst = lab.instance.at<std::uint16_t>(v, u) - 1;
 						const int got = inst >= 0 ? objects[static_cast<std::size_t>(inst)].classId + 1 : 0;
@@ -131,13 +139,14 @@ int main(int argc, char** argv)
 			}
 			const std::string seq = dir.substr(dir.find_last_of('/') + 1);
 			std::sort(times.begin(), times.end());
-			std::printf("%-24s %-9s median %.2f ms per frame\n", seq.c_str(), method, times.empty() ? 0.0 : times[times.size() / 2]);
+			std::printf("%-24s %-9s median %.2f ms per frame\n", seq.c_str(), method,
+						times.empty() ? 0.0 : times[times.size() / 2]);
 			for (const auto& [l, c] : per)
 			{
 				if (c.truth < 200) continue;
-				std::printf(
-					"%-24s %-9s %6d %-14s %9.0f %9.3f %9.3f %9.3f\n", seq.c_str(), method, l, det->className(l - 1).c_str(), c.truth,
-					c.truth > 0 ? c.hit / c.truth : 0.0, c.labelled > 0 ? c.correct / c.labelled : 0.0, c.truth > 0 ? c.unknown / c.truth : 0.0);
+				std::printf("%-24s %-9s %6d %-14s %9.0f %9.3f %9.3f %9.3f\n", seq.c_str(), method, l,
+							det->className(l - 1).c_str(), c.truth, c.truth > 0 ? c.hit / c.truth : 0.0,
+							c.labelled > 0 ? c.correct / c.labelled : 0.0, c.truth > 0 ? c.unknown / c.truth : 0.0);
 			}
 		}
 	}

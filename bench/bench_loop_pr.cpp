@@ -52,7 +52,8 @@ void report(const char* name, std::vector<TPair> pairs, double TPair::*score, st
 			precisionAtHalf = precision;
 		}
 	}
-	std::printf("%-11s AP %.3f  recall@100%%precision %.3f  precision@50%%recall %.3f\n", name, ap, recallAtFull, precisionAtHalf);
+	std::printf("%-11s AP %.3f  recall@100%%precision %.3f  precision@50%%recall %.3f\n", name, ap, recallAtFull,
+				precisionAtHalf);
 }
 }  // namespace
 
@@ -63,10 +64,10 @@ int main(int argc, char** argv)
 		[&]
 		{
 			std::string input, config;
-			CommandLine cl(
-				"bench_loop_pr", "bench_loop_pr --input SIM_FOLDER [--config CFG]",
-				"Scores place recognition (BoW with people, BoW static, S_Loop) against ground truth on a yesslam-sim loop sequence.",
-				{"bench_loop_pr --input bench_out/loop/office_tour_s31"});
+			CommandLine cl("bench_loop_pr", "bench_loop_pr --input SIM_FOLDER [--config CFG]",
+						   "Scores place recognition (BoW with people, BoW static, S_Loop) against ground truth on a "
+						   "yesslam-sim loop sequence.",
+						   {"bench_loop_pr --input bench_out/loop/office_tour_s31"});
 			cl.text("input", "DIR", "a yesslam-sim folder", &input, true);
 			cl.text("config", "CFG", "config file (INI or YAML)", &config);
 			if (!cl.parse(argc, argv)) return 0;
@@ -88,7 +89,8 @@ int main(int argc, char** argv)
 			// The paper's eq. 19 as written (s_loop) and with the BoW score normalised (s_loop_norm).
 			auto raw = o.loop.detection;
 			raw.normaliseBow = false;
-			CLoopDetector det(raw, sys.map(), sys.vocabulary(), db, o.keyFrames.semantic, o.orb.scaleFactor, o.tracking.maxDepth);
+			CLoopDetector det(raw, sys.map(), sys.vocabulary(), db, o.keyFrames.semantic, o.orb.scaleFactor,
+							  o.tracking.maxDepth);
 
 			std::vector<CKeyFrame> kfs;
 			std::vector<TBowVector> all;
@@ -107,8 +109,10 @@ int main(int argc, char** argv)
 				for (std::size_t j = i + 1; j < kfs.size(); j++)
 				{
 					if (kfs[j].timestamp - kfs[i].timestamp < o.loop.detection.minLoopAge) continue;
-					const auto a = gtByStamp.at(std::llround(kfs[i].timestamp * 1000)), b = gtByStamp.at(std::llround(kfs[j].timestamp * 1000));
-					const double dist = std::sqrt(std::pow(a.x() - b.x(), 2) + std::pow(a.y() - b.y(), 2) + std::pow(a.z() - b.z(), 2));
+					const auto a = gtByStamp.at(std::llround(kfs[i].timestamp * 1000)),
+							   b = gtByStamp.at(std::llround(kfs[j].timestamp * 1000));
+					const double dist =
+						std::sqrt(std::pow(a.x() - b.x(), 2) + std::pow(a.y() - b.y(), 2) + std::pow(a.z() - b.z(), 2));
 					const auto Ra = a.getRotationMatrix(), Rb = b.getRotationMatrix();
 					const double cosAxes = Ra(0, 2) * Rb(0, 2) + Ra(1, 2) * Rb(1, 2) + Ra(2, 2) * Rb(2, 2);
 					const bool positive = dist < 0.3 && cosAxes > std::cos(20 * M_PI / 180);
@@ -120,7 +124,8 @@ int main(int argc, char** argv)
 					pairs.push_back({CVocabulary::score(all[i], all[j]), sb, det.loopScore(kfs[j], kfs[i]),
 									 alpha * norm + (1 - alpha) * det.semanticSimilarity(kfs[j], kfs[i]), positive});
 				}
-			std::printf("keyframes %zu, pairs %zu (>= %.0f s apart), true loops %zu\n", kfs.size(), pairs.size(), o.loop.detection.minLoopAge, positives);
+			std::printf("keyframes %zu, pairs %zu (>= %.0f s apart), true loops %zu\n", kfs.size(), pairs.size(),
+						o.loop.detection.minLoopAge, positives);
 			report("bow_all", pairs, &TPair::bowAll, positives);
 			report("bow_static", pairs, &TPair::bowStatic, positives);
 			report("s_loop", pairs, &TPair::sLoop, positives);
@@ -141,7 +146,9 @@ int main(int argc, char** argv)
 					for (std::size_t c = 0; c < 8; c++)
 					{
 						const auto &A = kfs[pick[r]], &B = kfs[pick[c]];
-						const double v = r == c ? 1.0 : (c > r ? CVocabulary::score(A.bow->words, B.bow->words) : det.semanticSimilarity(A, B));
+						const double v = r == c ? 1.0
+												: (c > r ? CVocabulary::score(A.bow->words, B.bow->words)
+														 : det.semanticSimilarity(A, B));
 						std::printf(" %7.4f", v);
 					}
 					std::printf("\n");

@@ -54,13 +54,16 @@ int io(const std::string& path, int runs)
 	std::filesystem::remove(tmp);
 	const auto poses = m.keyFramePoses();
 	const double per = 1000.0 / static_cast<double>(std::max<std::size_t>(1, poses.size()));
-	std::printf("keyframes: %zu stored (%zu in the map)\npoints: %zu\nbytes: %llu\nload_ms: %.1f\nsave_ms: %.1f\n", poses.size(),
-				m.numKeyFrames(), m.numPoints(), static_cast<unsigned long long>(info.bytes), median(load), median(save));
-	std::printf("per_1000_keyframes: %.1f MB, load %.0f ms, save %.0f ms\n", info.bytes / 1e6 * per, median(load) * per, median(save) * per);
+	std::printf("keyframes: %zu stored (%zu in the map)\npoints: %zu\nbytes: %llu\nload_ms: %.1f\nsave_ms: %.1f\n",
+				poses.size(), m.numKeyFrames(), m.numPoints(), static_cast<unsigned long long>(info.bytes),
+				median(load), median(save));
+	std::printf("per_1000_keyframes: %.1f MB, load %.0f ms, save %.0f ms\n", info.bytes / 1e6 * per, median(load) * per,
+				median(save) * per);
 	return 0;
 }
 
-int localisation(const std::string& gt1Path, const std::string& gt2Path, const std::string& trajPath, const std::string& csvPath)
+int localisation(const std::string& gt1Path, const std::string& gt2Path, const std::string& trajPath,
+				 const std::string& csvPath)
 {
 	const auto gt1 = readTumTrajectory(gt1Path), gt2 = readTumTrajectory(gt2Path), est = readTumTrajectory(trajPath);
 	if (gt1.empty()) throw InputError(gt1Path, "empty ground truth");
@@ -95,7 +98,8 @@ int localisation(const std::string& gt1Path, const std::string& gt2Path, const s
 			{
 				const auto expected = worldFromMap + (g.asPose() - origin);
 				const auto got = est[i].asPose();
-				sum += std::pow(got.x() - expected.x(), 2) + std::pow(got.y() - expected.y(), 2) + std::pow(got.z() - expected.z(), 2);
+				sum += std::pow(got.x() - expected.x(), 2) + std::pow(got.y() - expected.y(), 2) +
+					   std::pow(got.z() - expected.z(), 2);
 				used++;
 				break;
 			}
@@ -111,9 +115,10 @@ int localisation(const std::string& gt1Path, const std::string& gt2Path, const s
 			break;
 		}
 	}
-	std::printf("first_pose_frame: %d\ntime_to_first_pose_ms: %.1f\nrmse_in_map_frame_mm: %.1f\ntracked_frames: %zu of %zu\n", first, first >= 0 ? toFirst : 0.0,
-				used ? 1000 * std::sqrt(sum / static_cast<double>(used)) : 0.0,
-				static_cast<std::size_t>(std::count(tracked.begin(), tracked.end(), true)), tracked.size());
+	std::printf(
+		"first_pose_frame: %d\ntime_to_first_pose_ms: %.1f\nrmse_in_map_frame_mm: %.1f\ntracked_frames: %zu of %zu\n",
+		first, first >= 0 ? toFirst : 0.0, used ? 1000 * std::sqrt(sum / static_cast<double>(used)) : 0.0,
+		static_cast<std::size_t>(std::count(tracked.begin(), tracked.end(), true)), tracked.size());
 	return 0;
 }
 }  // namespace
@@ -127,7 +132,9 @@ int main(int argc, char** argv)
 			const std::vector<std::string> a(argv + 1, argv + argc);
 			if (a.size() == 3 && a[0] == "io") return io(a[1], std::max(1, std::stoi(a[2])));
 			if (a.size() == 5 && a[0] == "localisation") return localisation(a[1], a[2], a[3], a[4]);
-			std::fprintf(stderr, "usage: bench_map io MAP.ysm RUNS | bench_map localisation FIRST_GT SECOND_GT TRAJECTORY FRAMES_CSV\n");
+			std::fprintf(
+				stderr,
+				"usage: bench_map io MAP.ysm RUNS | bench_map localisation FIRST_GT SECOND_GT TRAJECTORY FRAMES_CSV\n");
 			return 2;
 		});
 }

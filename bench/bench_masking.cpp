@@ -27,22 +27,24 @@ int main(int argc, char** argv)
 {
 	if (argc < 2)
 	{
-		std::fprintf(
-			stderr, "usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--gain G] [--blur SIGMA] [--dump DIR] SIM_FOLDER [SIM_FOLDER...]\n");
+		std::fprintf(stderr,
+					 "usage: bench_masking [--frames N] [--dilate PX] [--tolerance M] [--gain G] [--blur SIGMA] "
+					 "[--dump DIR] SIM_FOLDER [SIM_FOLDER...]\n");
 		return 1;
 	}
-	std::size_t maxFrames = 0;	// 0 = all
+	std::size_t maxFrames = 0;  // 0 = all
 	double tolerance = CDynamicObjectMasker::TOptions().loDiff;
 	std::string dumpDir;  // --dump: per-frame pictures of where each method errs
 	int dilate = CDynamicObjectMasker::TOptions().dilatePixels;
 	double gain = CDynamicObjectMasker::TOptions().laplacianGain, blur = CDynamicObjectMasker::TOptions().blurSigma;
-	std::printf(
-		"%-22s %-10s %8s %8s %10s %10s %10s %10s %9s\n", "sequence", "method", "mask IoU", "IoU box", "kp prec", "kp recall", "rec. box",
-		"static kept", "ms/frame");
+	std::printf("%-22s %-10s %8s %8s %10s %10s %10s %10s %9s\n", "sequence", "method", "mask IoU", "IoU box", "kp prec",
+				"kp recall", "rec. box", "static kept", "ms/frame");
 	for (int a = 1; a < argc; a++)
 	{
 		const std::string dir = argv[a];
-		if ((dir == "--frames" || dir == "--dilate" || dir == "--dump" || dir == "--tolerance" || dir == "--gain" || dir == "--blur") && a + 1 < argc)
+		if ((dir == "--frames" || dir == "--dilate" || dir == "--dump" || dir == "--tolerance" || dir == "--gain" ||
+			 dir == "--blur") &&
+			a + 1 < argc)
 		{
 			if (dir == "--gain")
 				gain = std::stod(argv[++a]);
@@ -87,13 +89,12 @@ int main(int argc, char** argv)
 				const auto t0 = std::chrono::steady_clock::now();
 				const auto m = masker.compute(depth, dets);
 				ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-				const cv::Mat truth = cls == 1;	 // COCO person + 1
+				const cv::Mat truth = cls == 1;  // COCO person + 1
 				inter += cv::countNonZero(truth & m.mask);
 				uni += cv::countNonZero(truth | m.mask);
 				cv::Mat inBox = cv::Mat::zeros(truth.size(), CV_8U);
 				for (const auto& d : dets)
-					if (d.dynamic)
-						inBox(cv::Rect(d.box) & cv::Rect(0, 0, inBox.cols, inBox.rows)).setTo(255);
+					if (d.dynamic) inBox(cv::Rect(d.box) & cv::Rect(0, 0, inBox.cols, inBox.rows)).setTo(255);
 				interB += cv::countNonZero(truth & m.mask & inBox);
 				uniB += cv::countNonZero((truth & inBox) | m.mask);
 				const auto f = orb.extract(rgb, depth, m.mask);
@@ -111,12 +112,15 @@ int main(int argc, char** argv)
 				}
 				for (std::size_t i = 0; i < f.keypoints.size(); i++)
 				{
-					const cv::Point p(static_cast<int>(std::lround(f.keypoints[i].pt.x)), static_cast<int>(std::lround(f.keypoints[i].pt.y)));
-					const bool onPerson = truth.at<uchar>(std::min(p.y, truth.rows - 1), std::min(p.x, truth.cols - 1)) != 0;
+					const cv::Point p(static_cast<int>(std::lround(f.keypoints[i].pt.x)),
+									  static_cast<int>(std::lround(f.keypoints[i].pt.y)));
+					const bool onPerson =
+						truth.at<uchar>(std::min(p.y, truth.rows - 1), std::min(p.x, truth.cols - 1)) != 0;
 					tp += onPerson && f.dynamic[i];
 					fp += !onPerson && f.dynamic[i];
 					fn += onPerson && !f.dynamic[i];
-					const bool boxed = inBox.at<uchar>(std::min(p.y, truth.rows - 1), std::min(p.x, truth.cols - 1)) != 0;
+					const bool boxed =
+						inBox.at<uchar>(std::min(p.y, truth.rows - 1), std::min(p.x, truth.cols - 1)) != 0;
 					tpB += onPerson && boxed && f.dynamic[i];
 					fnB += onPerson && boxed && !f.dynamic[i];
 					if (!onPerson)
@@ -127,13 +131,13 @@ int main(int argc, char** argv)
 				}
 			}
 			const std::string seq = dir.substr(dir.find_last_of('/') + 1);
-			std::printf(
-				"%-22s %-10s %8.3f %8.3f %10.3f %10.3f %10.3f %10.3f %9.2f\n", seq.c_str(), method, uni > 0 ? inter / uni : 0.0,
-				uniB > 0 ? interB / uniB : 0.0,
-				tp + fp ? static_cast<double>(tp) / static_cast<double>(tp + fp) : 0.0,
-				tp + fn ? static_cast<double>(tp) / static_cast<double>(tp + fn) : 0.0,
-				tpB + fnB ? static_cast<double>(tpB) / static_cast<double>(tpB + fnB) : 0.0,
-				staticTotal ? static_cast<double>(staticKept) / static_cast<double>(staticTotal) : 0.0, ms / static_cast<double>(list.size()));
+			std::printf("%-22s %-10s %8.3f %8.3f %10.3f %10.3f %10.3f %10.3f %9.2f\n", seq.c_str(), method,
+						uni > 0 ? inter / uni : 0.0, uniB > 0 ? interB / uniB : 0.0,
+						tp + fp ? static_cast<double>(tp) / static_cast<double>(tp + fp) : 0.0,
+						tp + fn ? static_cast<double>(tp) / static_cast<double>(tp + fn) : 0.0,
+						tpB + fnB ? static_cast<double>(tpB) / static_cast<double>(tpB + fnB) : 0.0,
+						staticTotal ? static_cast<double>(staticKept) / static_cast<double>(staticTotal) : 0.0,
+						ms / static_cast<double>(list.size()));
 		}
 	}
 	return 0;

@@ -6,8 +6,8 @@
 //   - projection: ours (COrbMatcher::searchByProjection), keypoint k back-projected with its depth
 //     and projected with a constant-velocity pose prediction, compared within 15 px.
 // A match is correct when the keypoint of frame k, moved with the true poses and its true depth,
-// lands within 3 px (of the matched keypoint's pyramid level) of it. Reported: correct matches per pair, precision and time.
-// usage: bench_matching SIM_FOLDER [GAP=1] [PAIRS=60]
+// lands within 3 px (of the matched keypoint's pyramid level) of it. Reported: correct matches per pair, precision and
+// time. usage: bench_matching SIM_FOLDER [GAP=1] [PAIRS=60]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -122,7 +122,8 @@ int main(int argc, char** argv)
 		{
 			const mrpt::math::TPoint3D pc = b.pose.inverseComposePoint(pts.positions[ia]);
 			if (pc.z <= 0) return false;
-			const double u = b.camera.fx() * pc.x / pc.z + b.camera.cx(), v = b.camera.fy() * pc.y / pc.z + b.camera.cy();
+			const double u = b.camera.fx() * pc.x / pc.z + b.camera.cx(),
+						 v = b.camera.fy() * pc.y / pc.z + b.camera.cy();
 			const cv::Point2f& q = b.features.keypoints[ib].pt;
 			const double tol = 3.0 * std::pow(1.2, b.features.keypoints[ib].octave);  // pixels of its pyramid level
 			return (u - q.x) * (u - q.x) + (v - q.y) * (v - q.y) < tol * tol;
@@ -137,7 +138,7 @@ int main(int argc, char** argv)
 		auto ratioMatches = [&](const std::vector<std::vector<cv::DMatch>>& knn)
 		{
 			std::vector<std::pair<std::size_t, std::size_t>> m;
-			std::map<int, std::pair<float, std::size_t>> bestForB;	// one match per keypoint of b
+			std::map<int, std::pair<float, std::size_t>> bestForB;  // one match per keypoint of b
 			for (const auto& k : knn)
 				if (k.size() == 2 && k[0].distance < 0.8f * k[1].distance && k[0].distance <= 100)
 				{
@@ -174,10 +175,11 @@ int main(int argc, char** argv)
 			score("projection (ours)", m, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
 		}
 	}
-	std::printf("%s: %d pairs, frames %d apart, static keypoints with depth only\n", dir.c_str(), res.begin()->second.pairs, gap);
+	std::printf("%s: %d pairs, frames %d apart, static keypoints with depth only\n", dir.c_str(),
+				res.begin()->second.pairs, gap);
 	std::printf("%-22s %16s %10s %10s\n", "matcher", "correct / pair", "precision", "ms / pair");
 	for (const auto& [name, r] : res)
-		std::printf(
-			"%-22s %16.1f %10.3f %10.2f\n", name.c_str(), r.correct / r.pairs, r.correct / std::max(1.0, r.correct + r.wrong), r.ms / r.pairs);
+		std::printf("%-22s %16.1f %10.3f %10.2f\n", name.c_str(), r.correct / r.pairs,
+					r.correct / std::max(1.0, r.correct + r.wrong), r.ms / r.pairs);
 	return 0;
 }

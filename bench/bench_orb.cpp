@@ -45,7 +45,8 @@ int main(int argc, char** argv)
 	{
 		images.push_back(cv::imread(rgb[static_cast<std::size_t>(i)], cv::IMREAD_COLOR));
 		cv::Mat d;
-		if (i < static_cast<int>(depth.size())) cv::imread(depth[static_cast<std::size_t>(i)], cv::IMREAD_ANYDEPTH).convertTo(d, CV_32F, 1.0 / 5000);
+		if (i < static_cast<int>(depth.size()))
+			cv::imread(depth[static_cast<std::size_t>(i)], cv::IMREAD_ANYDEPTH).convertTo(d, CV_32F, 1.0 / 5000);
 		depths.push_back(d);
 		if (images.back().empty())
 		{
@@ -76,8 +77,8 @@ int main(int argc, char** argv)
 			if (!f.descriptors.empty()) mix(h, f.descriptors.data, f.descriptors.total() * f.descriptors.elemSize());
 		}
 	std::sort(ms.begin(), ms.end());
-	std::printf(
-		"%zu frames x %d: extract median %.2f ms, p95 %.2f ms; %zu keypoints; checksum %016llx\n", images.size(), repeats,
-		ms[ms.size() / 2], ms[ms.size() * 95 / 100], keypoints, static_cast<unsigned long long>(h));
+	std::printf("%zu frames x %d: extract median %.2f ms, p95 %.2f ms; %zu keypoints; checksum %016llx\n",
+				images.size(), repeats, ms[ms.size() / 2], ms[ms.size() * 95 / 100], keypoints,
+				static_cast<unsigned long long>(h));
 	return 0;
 }

@@ -18,7 +18,10 @@ using namespace mrpt_yesslam;
 
 namespace
 {
-double msSince(std::chrono::steady_clock::time_point t0) { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(); }
+double msSince(std::chrono::steady_clock::time_point t0)
+{
+	return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -46,14 +49,18 @@ int main(int argc, char** argv)
 			for (std::size_t i = 0; i < n; i++)
 			{
 				auto t0 = std::chrono::steady_clock::now();
-				const cv::Mat a = readImageFile(rgb[i], cv::IMREAD_COLOR, "image"), ad = readImageFile(depth[i], cv::IMREAD_UNCHANGED, "depth image");
+				const cv::Mat a = readImageFile(rgb[i], cv::IMREAD_COLOR, "image"),
+							  ad = readImageFile(depth[i], cv::IMREAD_UNCHANGED, "depth image");
 				ours.push_back(msSince(t0));
 				t0 = std::chrono::steady_clock::now();
 				const cv::Mat b = cv::imread(rgb[i], cv::IMREAD_COLOR), bd = cv::imread(depth[i], cv::IMREAD_UNCHANGED);
 				opencv.push_back(msSince(t0));
-				if (r == 0 && (a.type() != b.type() || ad.type() != bd.type() || cv::norm(a, b, cv::NORM_INF) != 0 || cv::norm(ad, bd, cv::NORM_INF) != 0))
+				if (r == 0 && (a.type() != b.type() || ad.type() != bd.type() || cv::norm(a, b, cv::NORM_INF) != 0 ||
+							   cv::norm(ad, bd, cv::NORM_INF) != 0))
 				{
-					std::fprintf(stderr, "bench_png: error: %s or its depth image decodes differently from cv::imread\n", rgb[i].c_str());
+					std::fprintf(stderr,
+								 "bench_png: error: %s or its depth image decodes differently from cv::imread\n",
+								 rgb[i].c_str());
 					return 1;
 				}
 			}
@@ -63,8 +70,14 @@ int main(int argc, char** argv)
 		std::fprintf(stderr, "bench_png: error: %s\n", e.what());
 		return 1;
 	}
-	const auto median = [](std::vector<double> v) { std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end()); return v[v.size() / 2]; };
+	const auto median = [](std::vector<double> v)
+	{
+		std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+		return v[v.size() / 2];
+	};
 	const double mo = median(ours), mc = median(opencv);
-	std::printf("%zu frames x %d (colour + depth): readImageFile median %.2f ms, cv::imread %.2f ms, ratio %.2f; same pixels\n", n, repeats, mo, mc, mc / mo);
+	std::printf(
+		"%zu frames x %d (colour + depth): readImageFile median %.2f ms, cv::imread %.2f ms, ratio %.2f; same pixels\n",
+		n, repeats, mo, mc, mc / mo);
 	return 0;
 }

@@ -35,7 +35,8 @@ int main(int argc, char** argv)
 		// tum2rawlog or yesslam --record wrote one beside it): left unknown, it is not corrected.
 		const TReadout readout = resolveReadout(opts.tracking.rollingShutter, argv[1], opts.input);
 		opts.tracking.rollingShutter = readout.seconds;
-		std::cout << "rawlog_slam: rolling-shutter readout " << readout.seconds << " s, from " << readout.source << "\n";
+		std::cout << "rawlog_slam: rolling-shutter readout " << readout.seconds << " s, from " << readout.source
+				  << "\n";
 		CYesSlamSystem slam(opts);
 		std::cout << "rawlog_slam: detector " << slam.detector()->description() << "; vocabulary "
 				  << (slam.vocabulary() ? "loaded" : "none (no loop closing)") << "\n";
@@ -66,8 +67,10 @@ int main(int argc, char** argv)
 		const TWorldFrame world = slam.worldFrame();
 		const TTrajectory trajectory = toWorldFrame(slam.trajectory(), world.worldFromMap);
 		fs::create_directories(argv[2]);
-		writeTumTrajectory((fs::path(argv[2]) / "trajectory.txt").string(), trajectory, "camera pose (T_w_c)\n" + world.describe());
-		saveSceneAtomically(*buildMapScene(slam.map(), trajectory, world.worldFromMap), (fs::path(argv[2]) / "map.3Dscene").string());
+		writeTumTrajectory((fs::path(argv[2]) / "trajectory.txt").string(), trajectory,
+						   "camera pose (T_w_c)\n" + world.describe());
+		saveSceneAtomically(*buildMapScene(slam.map(), trajectory, world.worldFromMap),
+							(fs::path(argv[2]) / "map.3Dscene").string());
 		std::cout << "rawlog_slam: " << frames << " frames, " << tracked << " tracked, " << slam.map().numKeyFrames()
 				  << " keyframes; wrote " << argv[2] << "/trajectory.txt and map.3Dscene\n";
 		return 0;

@@ -29,18 +29,21 @@ int main(int argc, char** argv)
 				"TUM trajectory (camera-to-world, z forward) and writes one coloured point cloud, the camera path\n"
 				"and camera axes as an MRPT .3Dscene (view it with SceneViewer3D or yesslam-render). With ground\n"
 				"truth as poses, a sharp cloud confirms that data, camera model and poses agree.",
-				{"yesslam-cloud --input rgbd_dataset_freiburg1_desk --poses rgbd_dataset_freiburg1_desk/groundtruth.txt "
+				{"yesslam-cloud --input rgbd_dataset_freiburg1_desk --poses "
+				 "rgbd_dataset_freiburg1_desk/groundtruth.txt "
 				 "--out desk.3Dscene"});
 			cl.text("input", "PATH", "rawlog file or TUM RGB-D folder", &input, true);
 			cl.text("poses", "FILE", "TUM trajectory giving each frame's camera pose", &posesPath, true);
 			cl.text("out", "FILE", ".3Dscene to write (atomically)", &out, true);
-			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file (see tum2rawlog --help)", &in.camera);
+			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file (see tum2rawlog --help)",
+					&in.camera);
 			cl.count("stride", "PX", "use every n-th pixel in x and y", &stride);
 			cl.count("frame-step", "N", "use every n-th frame", &step);
 			cl.count("max-frames", "N", "use at most N frames (0 = all)", &o.maxFrames);
 			cl.number("max-depth", "M", "ignore depth beyond this distance", &o.maxDepth);
 			cl.number("max-diff", "SECONDS", "a frame needs a pose this close in time", &o.maxTimeDiff);
-			cl.text("config", "FILE", "INI or YAML config; its [Input] section sets camera, maxDiff, sensorLabel", &configPath);
+			cl.text("config", "FILE", "INI or YAML config; its [Input] section sets camera, maxDiff, sensorLabel",
+					&configPath);
 			cl.flag("quiet", "no progress bar", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
 			if (!configPath.empty())

@@ -30,16 +30,22 @@ int main(int argc, char** argv)
 				"or a rawlog. Writes DIR/detections.txt ('timestamp class_id score x y w h instance_id', pixels;\n"
 				"timestamp 0 for a single image), DIR/masks/<stamp>.png (the dynamic-object masks, for inputs with\n"
 				"depth) and with --overlay DIR/overlays/<stamp>.png. The detections file is what the SLAM app's\n"
-				"'file' detector backend reads. Without --model it runs the shipped Yolo-Fastest-1.1 (COCO), as yesslam does.",
+				"'file' detector backend reads. Without --model it runs the shipped Yolo-Fastest-1.1 (COCO), as "
+				"yesslam does.",
 				{"yesslam-detect --input photo.jpg --out det --overlay   (the shipped Yolo-Fastest)",
-				 "yesslam-detect --model yolo-fastest-1.1-xl.cfg --weights yolo-fastest-1.1-xl.weights --names coco.names "
+				 "yesslam-detect --model yolo-fastest-1.1-xl.cfg --weights yolo-fastest-1.1-xl.weights --names "
+				 "coco.names "
 				 "--input rgbd_dataset_freiburg3_walking_xyz --out det --overlay",
 				 "yesslam-detect --model yolov7-tiny.onnx --names coco.names --input photo.jpg --out det --overlay"});
-			cl.text("model", "FILE", "network: darknet .cfg (with --weights) or .onnx (default: the shipped Yolo-Fastest-1.1)", &o.detector.model);
+			cl.text("model", "FILE",
+					"network: darknet .cfg (with --weights) or .onnx (default: the shipped Yolo-Fastest-1.1)",
+					&o.detector.model);
 			cl.text("weights", "FILE", "darknet weights", &o.detector.weights);
-			cl.text("names", "FILE", "class names, one per line, in the model's order (needed with --model)", &o.detector.names);
+			cl.text("names", "FILE", "class names, one per line, in the model's order (needed with --model)",
+					&o.detector.names);
 			cl.number("conf", "P", "drop detections below this confidence (the paper: 0.6)", &conf);
-			cl.text("dynamic", "NAMES", "comma-separated classes treated as dynamic and masked", &o.detector.dynamicClasses);
+			cl.text("dynamic", "NAMES", "comma-separated classes treated as dynamic and masked",
+					&o.detector.dynamicClasses);
 			std::string formats;
 			for (const auto& f : yoloOutputFormats()) formats += (formats.empty() ? "" : ", ") + f;
 			cl.text("format", "F", "output layout: " + formats, &o.detector.format);
@@ -50,7 +56,8 @@ int main(int argc, char** argv)
 			cl.flag("overlay", "also write images with boxes, names, scores and masks drawn", &o.overlay);
 			cl.text("camera", "NAME|FILE", "TUM folders: fr1, fr2, fr3 or a camera file", &o.source.camera);
 			cl.count("max-frames", "N", "process at most N frames (0 = all)", &o.maxFrames);
-			cl.text("config", "FILE", "INI/YAML config with [Detector], [DynamicMask], [Input]; options given here win", &configPath);
+			cl.text("config", "FILE", "INI/YAML config with [Detector], [DynamicMask], [Input]; options given here win",
+					&configPath);
 			cl.flag("quiet", "no progress bar", &quiet);
 			if (!cl.parse(argc, argv)) return 0;
 			if (cl.given("model") && !cl.given("names") && configPath.empty())

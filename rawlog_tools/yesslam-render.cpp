@@ -33,19 +33,25 @@ int main(int argc, char** argv)
 			cl.text("out", "FILE", "image to write (atomically): PNG, or JPEG for a .jpg/.jpeg name", &outPath, true);
 			cl.count("width", "PX", "image width", &width);
 			cl.count("height", "PX", "image height", &height);
-			cl.number("azimuth", "DEG", "camera azimuth around the vertical axis [default: 200: a yesslam map from behind its first camera, whose view is the map's x axis]", &o.azimuthDeg);
+			cl.number("azimuth", "DEG",
+					  "camera azimuth around the vertical axis [default: 200: a yesslam map from behind its first "
+					  "camera, whose view is the map's x axis]",
+					  &o.azimuthDeg);
 			cl.number("elevation", "DEG", "camera elevation above the horizon (90 = top-down)", &o.elevationDeg);
-			cl.number("distance", "M", "camera distance to the look-at point [default: fits the whole scene]", &distance);
+			cl.number("distance", "M", "camera distance to the look-at point [default: fits the whole scene]",
+					  &distance);
 			cl.text("look-at", "X,Y,Z", "point the camera looks at [default: centre of the scene]", &lookAt);
 			cl.number("fov", "DEG", "vertical field of view", &o.fovDeg);
-			cl.text("background", "R,G,B", "background colour, components in 0..1 [default: 1,1,1 (white)]", &background);
+			cl.text("background", "R,G,B", "background colour, components in 0..1 [default: 1,1,1 (white)]",
+					&background);
 			std::string hide;
-			cl.text(
-				"hide", "NAMES",
-				"comma-separated: leave out objects whose name starts with one of these (yesslam maps: dense_cloud, octomap, map_points, keyframe, "
-				"trajectory; yesslam-sim scenes: ceiling, wall, desk, ...); none: show everything [default: a yesslam map's octomap, which would "
-				"cover its dense cloud]",
-				&hide);
+			cl.text("hide", "NAMES",
+					"comma-separated: leave out objects whose name starts with one of these (yesslam maps: "
+					"dense_cloud, octomap, map_points, keyframe, "
+					"trajectory; yesslam-sim scenes: ceiling, wall, desk, ...); none: show everything [default: a "
+					"yesslam map's octomap, which would "
+					"cover its dense cloud]",
+					&hide);
 			if (!cl.parse(argc, argv)) return 0;
 			if (cl.given("hide"))
 			{
@@ -82,17 +88,22 @@ int main(int argc, char** argv)
 				parse3(background, "background", o.background);
 				for (double c : o.background)
 					if (!(c >= 0 && c <= 1))
-						throw InputError("", "--background components are in 0..1 (not 0..255), got '" + background + "'");
+						throw InputError("",
+										 "--background components are in 0..1 (not 0..255), got '" + background + "'");
 			}
-			if (!(o.fovDeg > 0 && o.fovDeg < 180)) throw InputError("", "--fov must be between 0 and 180 degrees (exclusive)");
-			if (!(o.elevationDeg >= -90 && o.elevationDeg <= 90)) throw InputError("", "--elevation must be in -90..90 degrees");
+			if (!(o.fovDeg > 0 && o.fovDeg < 180))
+				throw InputError("", "--fov must be between 0 and 180 degrees (exclusive)");
+			if (!(o.elevationDeg >= -90 && o.elevationDeg <= 90))
+				throw InputError("", "--elevation must be in -90..90 degrees");
 			const double share = renderSceneFileToPng(scenePath, outPath, o);
-			std::printf("wrote %s (%ux%u, %.1f%% of pixels show the scene)\n", outPath.c_str(), o.width, o.height, 100.0 * share);
+			std::printf("wrote %s (%ux%u, %.1f%% of pixels show the scene)\n", outPath.c_str(), o.width, o.height,
+						100.0 * share);
 			// Almost nothing in view (a few stray pixels of a far object): as useless as a blank picture.
 			if (share < 0.005)
-				std::fprintf(
-					stderr, "yesslam-render: warning: the picture is %s; check --look-at, --distance, --azimuth and --elevation\n",
-					share == 0.0 ? "blank" : "almost blank (under 0.5% of pixels show the scene)");
+				std::fprintf(stderr,
+							 "yesslam-render: warning: the picture is %s; check --look-at, --distance, --azimuth and "
+							 "--elevation\n",
+							 share == 0.0 ? "blank" : "almost blank (under 0.5% of pixels show the scene)");
 			return 0;
 		});
 }

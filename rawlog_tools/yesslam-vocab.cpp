@@ -20,24 +20,29 @@ int main(int argc, char** argv)
 		{
 			TVocabTrainingOptions o;
 			std::string out, info, configPath;
-			std::size_t k = static_cast<std::size_t>(o.tree.branching), levels = static_cast<std::size_t>(o.tree.levels);
+			std::size_t k = static_cast<std::size_t>(o.tree.branching),
+						levels = static_cast<std::size_t>(o.tree.levels);
 			std::size_t seed = o.tree.seed, threads = 0, iterations = static_cast<std::size_t>(o.tree.maxIterations);
 			bool quiet = false;
 			CommandLine cl(
 				"yesslam-vocab",
 				"yesslam-vocab --input PATH [--input PATH ...] --out FILE.yvoc [--k 10] [--levels 5] [--step 5]\n"
 				"       yesslam-vocab --info FILE.yvoc",
-				"Trains a hierarchical k-means vocabulary of ORB descriptors (k-majority centroids, k-means++ seeding,\n"
+				"Trains a hierarchical k-means vocabulary of ORB descriptors (k-majority centroids, k-means++ "
+				"seeding,\n"
 				"TF-IDF weights) for loop detection and relocalisation, from photographs, folders of images (searched\n"
 				"recursively), TUM RGB-D folders and rawlogs. Descriptors are extracted with the [ORB] settings of\n"
-				"--config (the defaults otherwise), which must match the settings SLAM runs with. Up to k^levels words;\n"
+				"--config (the defaults otherwise), which must match the settings SLAM runs with. Up to k^levels "
+				"words;\n"
 				"train on many more images than a single environment (hundreds to thousands) so the words generalise.\n"
 				"The file is a compact checksummed binary that loads in milliseconds. --info prints what a file holds.",
-				{"yesslam-vocab --input /usr/share/doc/opencv-doc/examples/data --input rgbd_dataset_freiburg1_desk --out my.yvoc",
+				{"yesslam-vocab --input /usr/share/doc/opencv-doc/examples/data --input rgbd_dataset_freiburg1_desk "
+				 "--out my.yvoc",
 				 "yesslam-vocab --info share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc"});
 			cl.texts("input", "PATH", "image, image folder, TUM folder or .rawlog to train on", &o.inputs);
 			cl.text("out", "FILE", "vocabulary file to write", &out);
-			cl.text("info", "FILE", "print the header of a vocabulary file and how long it takes to load, then exit", &info);
+			cl.text("info", "FILE", "print the header of a vocabulary file and how long it takes to load, then exit",
+					&info);
 			cl.count("k", "N", "branching factor (children per node), 2..255", &k);
 			cl.count("levels", "L", "depth of the tree, 1..10", &levels);
 			cl.count("iterations", "N", "k-majority iterations per node", &iterations);
@@ -53,9 +58,11 @@ int main(int argc, char** argv)
 			{
 				const auto t0 = std::chrono::steady_clock::now();
 				const CVocabulary v = CVocabulary::load(info);
-				const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+				const double ms =
+					std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 				std::printf("file:      %s\n", info.c_str());
-				std::printf("words:     %zu (k=%d, L=%d, %zu nodes)\n", v.numWords(), v.branching(), v.levels(), v.numNodes());
+				std::printf("words:     %zu (k=%d, L=%d, %zu nodes)\n", v.numWords(), v.branching(), v.levels(),
+							v.numNodes());
 				std::printf("images:    %llu\n", static_cast<unsigned long long>(v.numTrainingImages()));
 				std::printf("trained:   %s\n", v.description().c_str());
 				// The number saved maps quote (yesslam-map's "vocabulary", a refused --load-map's error).
@@ -96,7 +103,8 @@ int main(int argc, char** argv)
 				[] { return interruptRequested(); });
 			bar.finish();
 			v.save(out);
-			std::printf("images:        %zu%s\n", sum.images, sum.interrupted ? " (interrupted: trained on those read)" : "");
+			std::printf("images:        %zu%s\n", sum.images,
+						sum.interrupted ? " (interrupted: trained on those read)" : "");
 			std::printf("descriptors:   %zu\n", sum.descriptors);
 			std::printf("words:         %zu (%zu nodes)\n", v.numWords(), v.numNodes());
 			std::printf("extract s:     %.1f\n", sum.extractSeconds);

@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config          # compiler and build system
   lld                                       # LLVM's linker: links the test executables 3-4x faster
   ccache                                    # compiler cache: rebuilds (and CI's three builds) reuse objects
+  clang-format-14                           # the code's format (.clang-format), checked by a test
   libmrpt-dev                               # MRPT 2.5: observations, rawlogs, poses, opengl scenes
   libopencv-dev                             # OpenCV 4.6: images, ORB, DNN
   libjpeg62-turbo-dev                       # jpeglib.h: we guard MRPT's JPEG decoding (already an OpenCV dependency)

@@ -7,9 +7,11 @@ namespace mrpt_yesslam
 cv::Rect coveringRect(const cv::Rect2f& box, double margin, int scale, const cv::Rect& image)
 {
 	const double mx = box.width * margin, my = box.height * margin, s = scale;
-	return cv::Rect(cv::Point(static_cast<int>(std::floor((box.x - mx) / s)), static_cast<int>(std::floor((box.y - my) / s))),
-			   cv::Point(static_cast<int>(std::ceil((box.br().x + mx) / s)), static_cast<int>(std::ceil((box.br().y + my) / s)))) &
-		image;
+	return cv::Rect(cv::Point(static_cast<int>(std::floor((box.x - mx) / s)),
+							  static_cast<int>(std::floor((box.y - my) / s))),
+					cv::Point(static_cast<int>(std::ceil((box.br().x + mx) / s)),
+							  static_cast<int>(std::ceil((box.br().y + my) / s)))) &
+		   image;
 }
 
 double boxIoU(const cv::Rect2f& a, const cv::Rect2f& b)

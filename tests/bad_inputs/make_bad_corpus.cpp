@@ -52,19 +52,22 @@ int main(int argc, char** argv)
 		damage(d);
 	};
 	make("tum_truncated_png", [](const fs::path& d) { fs::resize_file(d / "depth/0.png", 30); });
-	make("tum_depth_8bit", [](const fs::path& d) { cv::imwrite((d / "depth/0.png").string(), cv::Mat(6, 8, CV_8UC1, cv::Scalar(25))); });
-	make(
-		"tum_depth_float_metres",
-		[](const fs::path& d)
-		{
-			cv::imwrite((d / "depth/0.tiff").string(), cv::Mat(6, 8, CV_32FC1, cv::Scalar(1.0f)));
-			fs::remove(d / "depth/0.png");
-			text(d / "depth.txt", "# timestamp filename\n1.004000 depth/0.tiff\n1.037333 depth/1.png\n");
-		});
-	make("tum_wrong_size", [](const fs::path& d) { cv::imwrite((d / "depth/0.png").string(), cv::Mat(3, 4, CV_16UC1, cv::Scalar(5000))); });
+	make("tum_depth_8bit",
+		 [](const fs::path& d) { cv::imwrite((d / "depth/0.png").string(), cv::Mat(6, 8, CV_8UC1, cv::Scalar(25))); });
+	make("tum_depth_float_metres",
+		 [](const fs::path& d)
+		 {
+			 cv::imwrite((d / "depth/0.tiff").string(), cv::Mat(6, 8, CV_32FC1, cv::Scalar(1.0f)));
+			 fs::remove(d / "depth/0.png");
+			 text(d / "depth.txt", "# timestamp filename\n1.004000 depth/0.tiff\n1.037333 depth/1.png\n");
+		 });
+	make("tum_wrong_size", [](const fs::path& d)
+		 { cv::imwrite((d / "depth/0.png").string(), cv::Mat(3, 4, CV_16UC1, cv::Scalar(5000))); });
 	make("tum_missing_image", [](const fs::path& d) { fs::remove(d / "rgb/0.png"); });
-	make("tum_backwards_stamps", [](const fs::path& d) { text(d / "rgb.txt", "1.033333 rgb/1.png\n1.000000 rgb/0.png\n"); });
-	make("tum_no_matching_depth", [](const fs::path& d) { text(d / "depth.txt", "9.0 depth/0.png\n9.1 depth/1.png\n"); });
+	make("tum_backwards_stamps",
+		 [](const fs::path& d) { text(d / "rgb.txt", "1.033333 rgb/1.png\n1.000000 rgb/0.png\n"); });
+	make("tum_no_matching_depth",
+		 [](const fs::path& d) { text(d / "depth.txt", "9.0 depth/0.png\n9.1 depth/1.png\n"); });
 	make("tum_empty_lists", [](const fs::path& d) { text(d / "rgb.txt", ""); });
 	make("tum_no_calibration", [](const fs::path& d) { fs::remove(d / "calibration.txt"); });
 	return 0;

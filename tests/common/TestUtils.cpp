@@ -33,8 +33,8 @@ std::string sharedFile(const std::string& relative)
 {
 	const fs::path p = fs::path(YESSLAM_SHARED_DIR) / relative;
 	if (!fs::exists(p))
-		throw std::runtime_error(
-			"required shared test file is missing: " + p.string() + " (the tests need ../shared beside the repository)");
+		throw std::runtime_error("required shared test file is missing: " + p.string() +
+								 " (the tests need ../shared beside the repository)");
 	return p.string();
 }
 
@@ -99,19 +99,19 @@ std::vector<SyntheticFrame> makeSyntheticFrames(int n, int w, int h)
 	{
 		SyntheticFrame f;
 		f.tRgb = 1000.0 + k / 30.0;
-		f.tDepth = f.tRgb + 0.004;	// depth 4 ms after colour, well inside the 0.02 s window
+		f.tDepth = f.tRgb + 0.004;  // depth 4 ms after colour, well inside the 0.02 s window
 		f.bgr = cv::Mat(h, w, CV_8UC3);
 		f.depth = cv::Mat(h, w, CV_16UC1);
 		for (int y = 0; y < h; y++)
 			for (int x = 0; x < w; x++)
 			{
-				f.bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(
-					static_cast<uchar>((x * 4 + k) & 255), static_cast<uchar>((y * 5) & 255),
-					static_cast<uchar>(rng() & 255));
+				f.bgr.at<cv::Vec3b>(y, x) =
+					cv::Vec3b(static_cast<uchar>((x * 4 + k) & 255), static_cast<uchar>((y * 5) & 255),
+							  static_cast<uchar>(rng() & 255));
 				f.depth.at<uint16_t>(y, x) = static_cast<uint16_t>(5001 + 7 * x + 3 * y + k);
 			}
-		f.depth.at<uint16_t>(0, 0) = 0;	 // an invalid pixel
-		f.depth.at<uint16_t>(1, 1) = 65535;	 // the largest raw value
+		f.depth.at<uint16_t>(0, 0) = 0;      // an invalid pixel
+		f.depth.at<uint16_t>(1, 1) = 65535;  // the largest raw value
 		frames.push_back(std::move(f));
 	}
 	return frames;
@@ -124,8 +124,8 @@ void writeText(const std::string& path, const std::string& content)
 	if (!f) throw std::runtime_error("cannot write " + path);
 }
 
-void writeTumFolder(
-	const std::string& folder, const std::vector<SyntheticFrame>& frames, bool withGroundTruth, bool withCalibration)
+void writeTumFolder(const std::string& folder, const std::vector<SyntheticFrame>& frames, bool withGroundTruth,
+					bool withCalibration)
 {
 	fs::create_directories(fs::path(folder) / "rgb");
 	fs::create_directories(fs::path(folder) / "depth");
@@ -151,9 +151,8 @@ void writeTumFolder(
 	if (withGroundTruth) writeText((fs::path(folder) / "groundtruth.txt").string(), gt);
 	if (withCalibration && !frames.empty())
 	{
-		std::snprintf(
-			buf, sizeof(buf), "# fx fy cx cy width height depth_scale\n535.4 539.2 %.1f %.1f %d %d 5000\n",
-			frames[0].bgr.cols / 2.0, frames[0].bgr.rows / 2.0, frames[0].bgr.cols, frames[0].bgr.rows);
+		std::snprintf(buf, sizeof(buf), "# fx fy cx cy width height depth_scale\n535.4 539.2 %.1f %.1f %d %d 5000\n",
+					  frames[0].bgr.cols / 2.0, frames[0].bgr.rows / 2.0, frames[0].bgr.cols, frames[0].bgr.rows);
 		writeText((fs::path(folder) / "calibration.txt").string(), buf);
 	}
 }
@@ -170,9 +169,10 @@ mrpt::img::TCamera fr3Camera()
 	return K;
 }
 
-std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
-	std::size_t id, const mrpt::poses::CPose3D& Twc, const std::vector<mrpt::math::TPoint3D>& world,
-	std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng, int octave)
+std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(std::size_t id, const mrpt::poses::CPose3D& Twc,
+												   const std::vector<mrpt::math::TPoint3D>& world,
+												   std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng,
+												   int octave)
 {
 	auto f = std::make_shared<mrpt_yesslam::TFrame>();
 	f->id = id;
@@ -188,7 +188,8 @@ std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
 		double x, y, z;
 		Tcw.composePoint(world[j].x, world[j].y, world[j].z, x, y, z);
 		cv::KeyPoint kp;
-		kp.pt = {static_cast<float>(f->camera.fx() * x / z + f->camera.cx()), static_cast<float>(f->camera.fy() * y / z + f->camera.cy())};
+		kp.pt = {static_cast<float>(f->camera.fx() * x / z + f->camera.cx()),
+				 static_cast<float>(f->camera.fy() * y / z + f->camera.cy())};
 		kp.octave = octave;
 		f->features.keypoints.push_back(kp);
 		f->features.depth.push_back(static_cast<float>(z));
@@ -206,7 +207,8 @@ std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOpti
 	namespace fs = std::filesystem;
 	// Named by the simulator's model too: a build folder's cache outlives the sources that made it,
 	// and a sequence of another model is not this one's.
-	const std::string path = std::string(YESSLAM_TEST_CACHE_DIR) + "/" + name + "-" + mrpt_yesslam::simulatorModelHash();
+	const std::string path =
+		std::string(YESSLAM_TEST_CACHE_DIR) + "/" + name + "-" + mrpt_yesslam::simulatorModelHash();
 	if (!fs::exists(path + "/meta.json"))
 	{
 		fs::create_directories(YESSLAM_TEST_CACHE_DIR);
@@ -216,7 +218,8 @@ std::string cachedSequence(const std::string& name, const mrpt_yesslam::TSimOpti
 		for (const auto& e : fs::directory_iterator(YESSLAM_TEST_CACHE_DIR, listEc))
 		{
 			const std::string n = e.path().filename().string(), hash = mrpt_yesslam::simulatorModelHash();
-			const bool otherModel = n.size() == name.size() + 1 + hash.size() && n.compare(0, name.size() + 1, name + "-") == 0 &&
+			const bool otherModel = n.size() == name.size() + 1 + hash.size() &&
+									n.compare(0, name.size() + 1, name + "-") == 0 &&
 									n.find_first_not_of("0123456789abcdef", name.size() + 1) == std::string::npos;
 			if ((n == name || otherModel) && e.path().string() != path) stale.push_back(e.path());
 		}

@@ -46,8 +46,8 @@ RunResult runCommand(const std::string& program, const std::vector<std::string>&
 struct SyntheticFrame
 {
 	double tRgb, tDepth;
-	cv::Mat bgr;  //!< CV_8UC3
-	cv::Mat depth;	//!< CV_16UC1 raw values
+	cv::Mat bgr;    //!< CV_8UC3
+	cv::Mat depth;  //!< CV_16UC1 raw values
 };
 
 /** Frames with deterministic content: a colour gradient + frame index, depth = base + 7*x + 3*y + k
@@ -56,9 +56,8 @@ std::vector<SyntheticFrame> makeSyntheticFrames(int n, int w = 64, int h = 48);
 
 /** Writes rgb/, depth/, rgb.txt, depth.txt, calibration.txt for the frame size (fx 535.4 fy 539.2,
  * depth_scale 5000) and optionally groundtruth.txt into `folder`. */
-void writeTumFolder(
-	const std::string& folder, const std::vector<SyntheticFrame>& frames, bool withGroundTruth = true,
-	bool withCalibration = true);
+void writeTumFolder(const std::string& folder, const std::vector<SyntheticFrame>& frames, bool withGroundTruth = true,
+					bool withCalibration = true);
 
 /** Expects `f()` to throw mrpt_yesslam::InputError with a one-line message containing every fragment. */
 template <typename F>
@@ -87,9 +86,10 @@ std::string readText(const std::string& path);
 mrpt::img::TCamera fr3Camera();
 /** A tracked frame at pose `Twc` observing `world` exactly: keypoint j at the projection of point j
  * (octave `octave`), depth = its z, a random descriptor; `ids` are its matched map points. */
-std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(
-	std::size_t id, const mrpt::poses::CPose3D& Twc, const std::vector<mrpt::math::TPoint3D>& world,
-	std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng, int octave = 0);
+std::shared_ptr<mrpt_yesslam::TFrame> observeWorld(std::size_t id, const mrpt::poses::CPose3D& Twc,
+												   const std::vector<mrpt::math::TPoint3D>& world,
+												   std::vector<mrpt_yesslam::TPointId> ids, std::mt19937& rng,
+												   int octave = 0);
 
 /** A yesslam-sim sequence rendered once into the build tree's cache (ctest runs every test in its
  * own process): rendered into a private folder renamed into place, so that tests running in

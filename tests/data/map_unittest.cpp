@@ -26,13 +26,15 @@ namespace
 std::vector<mrpt::math::TPoint3D> wall(int n, double z = 2.5)
 {
 	std::vector<mrpt::math::TPoint3D> w;
-	for (int i = 0; i < n; i++) w.emplace_back(-1.0 + 2.0 * (i % 10) / 9.0, -0.7 + 1.4 * (i / 10) / 9.0, z + 0.01 * (i % 7));
+	for (int i = 0; i < n; i++)
+		w.emplace_back(-1.0 + 2.0 * (i % 10) / 9.0, -0.7 + 1.4 * (i / 10) / 9.0, z + 0.01 * (i % 7));
 	return w;
 }
 
 // Keyframe `id` at `pose` observing the points `ids` of `world` (-1: creates a new point from depth).
-TKeyFrameId addView(CSparseMap& map, std::size_t id, const mrpt::poses::CPose3D& pose, const std::vector<mrpt::math::TPoint3D>& world,
-					const std::vector<TPointId>& ids, std::mt19937& rng, int octave = 0)
+TKeyFrameId addView(CSparseMap& map, std::size_t id, const mrpt::poses::CPose3D& pose,
+					const std::vector<mrpt::math::TPoint3D>& world, const std::vector<TPointId>& ids, std::mt19937& rng,
+					int octave = 0)
 {
 	return map.addKeyFrame(observeWorld(id, pose, world, ids, rng, octave), 10.0);
 }
@@ -108,7 +110,7 @@ TEST(SparseMap, ReplacingAPointMovesEveryObservation)
 	std::mt19937 rng(2);
 	const auto world = wall(30);
 	CSparseMap map;
-	addView(map, 0, {}, world, std::vector<TPointId>(30, -1), rng);	 // points 0-29
+	addView(map, 0, {}, world, std::vector<TPointId>(30, -1), rng);  // points 0-29
 	// kf1 sees 0-9 and creates a duplicate of point 5's place (a new point) at keypoint 20.
 	std::vector<TPointId> ids(30, -1);
 	for (int j = 0; j < 10; j++) ids[j] = j;
@@ -131,7 +133,7 @@ TEST(SparseMap, ReplacingAPointMovesEveryObservation)
 	// kf0 and kf1 share one more point now.
 	EXPECT_EQ(map.keyFrame(0).weight(1), 11);
 	expectGraphMatchesObservations(map);
-	EXPECT_FALSE(map.replacePoint(20, duplicate));	// already fused
+	EXPECT_FALSE(map.replacePoint(20, duplicate));  // already fused
 }
 
 TEST(SparseMap, ErasingAKeyFrameRehangsItsChildrenAndKeepsItsPose)
@@ -146,7 +148,7 @@ TEST(SparseMap, ErasingAKeyFrameRehangsItsChildrenAndKeepsItsPose)
 	// kf2 shares all with kf0 and kf1 but the tree hangs it under the heaviest, the oldest on ties.
 	addView(map, 2, p2, world, all, rng);
 	ASSERT_EQ(*map.keyFrame(2).parent, 0u);
-	EXPECT_FALSE(map.eraseKeyFrame(0));	 // the root anchors the map
+	EXPECT_FALSE(map.eraseKeyFrame(0));  // the root anchors the map
 	ASSERT_TRUE(map.eraseKeyFrame(1));
 	EXPECT_FALSE(map.eraseKeyFrame(1));
 	EXPECT_TRUE(map.isBad(1));
@@ -165,7 +167,7 @@ TEST(SparseMap, ErasingAKeyFrameRehangsItsChildrenAndKeepsItsPose)
 	ASSERT_EQ(*map.keyFrame(3).parent, 0u);
 	std::vector<TPointId> five(60, -1);
 	for (int j = 0; j < 5; j++) five[j] = j;
-	addView(map, 4, p3, world, five, rng);	// creates points 60-114, kf4's children follow it
+	addView(map, 4, p3, world, five, rng);  // creates points 60-114, kf4's children follow it
 	std::vector<TPointId> fromKf4(60, -1);
 	for (int j = 5; j < 60; j++) fromKf4[j] = map.keyFrame(4).mapPoints[j];
 	addView(map, 5, p3, world, fromKf4, rng);
@@ -182,7 +184,8 @@ static void sixViewsOfOneWall(CSparseMap& map, std::mt19937& rng)
 {
 	const auto world = wall(80);
 	addView(map, 0, {}, world, std::vector<TPointId>(80, -1), rng);
-	for (std::size_t k = 1; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
+	for (std::size_t k = 1; k <= 5; k++)
+		addView(map, k, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0, 0, 0), world, range(0, 80), rng);
 }
 
 TEST(SparseMap, RedundantKeyFramesAreCulled)
@@ -225,7 +228,8 @@ TEST(SparseMap, AKeyFrameWithALoopEdgeIsNeverCulled)
 	EXPECT_EQ(std::count(erased.begin(), erased.end(), TKeyFrameId(2)), 0) << "culled the loop keyframe";
 	EXPECT_FALSE(erased.empty()) << "the other redundant keyframes still go";
 	const auto graph = map.essentialGraph(100);
-	EXPECT_TRUE(std::count(graph.begin(), graph.end(), std::make_pair(TKeyFrameId(0), TKeyFrameId(2))) == 1) << "the loop edge is in the essential graph";
+	EXPECT_TRUE(std::count(graph.begin(), graph.end(), std::make_pair(TKeyFrameId(0), TKeyFrameId(2))) == 1)
+		<< "the loop edge is in the essential graph";
 	expectGraphMatchesObservations(map);
 }
 
@@ -312,7 +316,8 @@ TEST(SparseMap, APinAStageOwnsIsUndoneHoweverTheStageEnds)
 	// its pin from the moment it is in the map, not from a second call a culling could precede.
 	std::mt19937 rng2(9);
 	{
-		const CSparseMap::TPin added = map.addPinnedKeyFrame(observeWorld(6, mrpt::poses::CPose3D(0.035, 0, 0, 0, 0, 0), wall(80), range(0, 80), rng2, 0), 10.0);
+		const CSparseMap::TPin added = map.addPinnedKeyFrame(
+			observeWorld(6, mrpt::poses::CPose3D(0.035, 0, 0, 0, 0, 0), wall(80), range(0, 80), rng2, 0), 10.0);
 		ASSERT_TRUE(added);
 		EXPECT_EQ(added.id(), 6u);
 		EXPECT_EQ(pins(6), 1);
@@ -381,7 +386,8 @@ TEST(SparseMap, KeyFramesAndPointsSerialiseAndRefuseCorruptData)
 	std::mt19937 rng(7);
 	const auto world = wall(30);
 	CSparseMap map;
-	auto f = observeWorld(0, mrpt::poses::CPose3D(0.1, -0.2, 0.3, 0.4, -0.1, 0.2), world, std::vector<TPointId>(30, -1), rng, 2);
+	auto f = observeWorld(0, mrpt::poses::CPose3D(0.1, -0.2, 0.3, 0.4, -0.1, 0.2), world, std::vector<TPointId>(30, -1),
+						  rng, 2);
 	TDetection d;
 	d.classId = 0;
 	d.score = 0.8f;
@@ -395,7 +401,8 @@ TEST(SparseMap, KeyFramesAndPointsSerialiseAndRefuseCorruptData)
 	kf.serialize(ss);
 	const CKeyFrame back = CKeyFrame::deserialize(ss);
 	EXPECT_EQ(back.id, kf.id);
-	EXPECT_EQ(back.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>(), kf.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>());
+	EXPECT_EQ(back.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>(),
+			  kf.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>());
 	EXPECT_EQ(back.mapPoints, kf.mapPoints);
 	EXPECT_EQ(back.connections, kf.connections);
 	EXPECT_EQ(back.orderedConnections, kf.orderedConnections);
@@ -443,7 +450,7 @@ TEST(SparseMap, FusionAddsObservationsAndMergesDuplicates)
 	std::mt19937 rng(8);
 	const auto world = wall(40);
 	CSparseMap map;
-	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);	 // points 0-39
+	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);  // points 0-39
 	// kf1 matched nothing: it created duplicates 40-79 of the same places.
 	addView(map, 1, mrpt::poses::CPose3D(0.05, 0, 0, 0, 0, 0), world, std::vector<TPointId>(40, -1), rng);
 	ASSERT_EQ(map.numPoints(), 80u);
@@ -451,7 +458,8 @@ TEST(SparseMap, FusionAddsObservationsAndMergesDuplicates)
 	// Points 0-19 found again at kf1's keypoints (which hold duplicates), points 50-59 in kf0.
 	std::vector<TFuseCandidate> c;
 	for (std::size_t j = 0; j < 20; j++) c.push_back({static_cast<TPointId>(j), 1, j});
-	for (std::size_t j = 10; j < 20; j++) c.push_back({static_cast<TPointId>(40 + j), 0, j});  // already fused above: no-op
+	for (std::size_t j = 10; j < 20; j++)
+		c.push_back({static_cast<TPointId>(40 + j), 0, j});  // already fused above: no-op
 	EXPECT_EQ(map.fuse(c), 20u);
 	EXPECT_EQ(map.numPoints(), 60u);
 	EXPECT_EQ(map.keyFrame(0).weight(1), 20);
@@ -482,7 +490,8 @@ TEST(SparseMap, LocalKeyFramesFollowTheFramesMatchesNotTheNewestKeyFrame)
 	EXPECT_EQ(map.localKeyFrames(range(85, 100), 3, 10), (std::vector<TKeyFrameId>{0, 1}));
 	// Only kf1 sees 100-119: kf0 joins as its covisible neighbour.
 	EXPECT_EQ(map.localKeyFrames(range(100, 120), 3, 10), (std::vector<TKeyFrameId>{1, 0, 2}));
-	EXPECT_EQ(map.localKeyFrames(range(100, 120), 3, 10, 0), (std::vector<TKeyFrameId>{1, 2, 0}));  // no neighbours: child, parent
+	EXPECT_EQ(map.localKeyFrames(range(100, 120), 3, 10, 0),
+			  (std::vector<TKeyFrameId>{1, 2, 0}));  // no neighbours: child, parent
 	// The cap holds; without seeds the fallback keyframe and its neighbours.
 	EXPECT_EQ(map.localKeyFrames(range(0, 50), 3, 1), (std::vector<TKeyFrameId>{1}));
 	EXPECT_EQ(map.localKeyFrames({}, 3, 10), (std::vector<TKeyFrameId>{3, 2}));
@@ -509,7 +518,7 @@ TEST(SparseMap, PointsSeenThroughInConsecutiveFramesAreErased)
 	EXPECT_EQ(map.countTracking(all, {1}, {0}, 3), 1u);
 	EXPECT_TRUE(map.point(0).bad);
 	EXPECT_TRUE(map.point(0).observations.empty());
-	EXPECT_EQ(map.countTracking(all, {}, {0, 1}, 3), 0u);	// a bad point is not erased twice
+	EXPECT_EQ(map.countTracking(all, {}, {0, 1}, 3), 0u);  // a bad point is not erased twice
 	EXPECT_EQ(map.countTracking(all, {}, {1}, 3), 0u);
 	EXPECT_FALSE(map.point(1).bad);
 	EXPECT_FALSE(map.point(2).bad);
@@ -527,11 +536,12 @@ TEST(SparseMap, ErasedPointsAreForgottenAfterAFewKeyFramesSoStorageStaysBounded)
 	std::mt19937 rng(4);
 	const auto world = wall(40);
 	CSparseMap map;
-	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);	 // points 0-39
+	addView(map, 0, {}, world, std::vector<TPointId>(40, -1), rng);  // points 0-39
 	ASSERT_TRUE(map.erasePoint(3));
 	std::vector<TPointId> ids(40, -1);
 	for (int j = 10; j < 40; j++) ids[j] = j;
-	addView(map, 1, mrpt::poses::CPose3D(0.02, 0, 0, 0, 0, 0), world, ids, rng);	// re-creates 0-9 (keypoints without a point)
+	addView(map, 1, mrpt::poses::CPose3D(0.02, 0, 0, 0, 0, 0), world, ids,
+			rng);  // re-creates 0-9 (keypoints without a point)
 	const TPointId duplicate = map.keyFrame(1).mapPoints[5];
 	ASSERT_GE(duplicate, 40);
 	ASSERT_TRUE(map.replacePoint(5, duplicate));
@@ -543,14 +553,15 @@ TEST(SparseMap, ErasedPointsAreForgottenAfterAFewKeyFramesSoStorageStaysBounded)
 	EXPECT_EQ(stored, map.numPoints() + 2);
 	// Once three more keyframes are in, both are forgotten: storage = good points; a forgotten id reads as bad
 	// without observations, a fused one resolves to nothing (its keypoints were moved long ago).
-	for (std::size_t k = 2; k <= 5; k++) addView(map, k, mrpt::poses::CPose3D(0.02 * k, 0, 0, 0, 0, 0), world, ids, rng);
+	for (std::size_t k = 2; k <= 5; k++)
+		addView(map, k, mrpt::poses::CPose3D(0.02 * k, 0, 0, 0, 0, 0), world, ids, rng);
 	EXPECT_EQ(map.numStoredPoints(), map.numPoints());
 	EXPECT_TRUE(map.point(3).bad);
 	EXPECT_TRUE(map.point(3).observations.empty());
 	EXPECT_TRUE(map.point(5).bad);
 	EXPECT_TRUE(map.pointsById({3, 5}).ids.empty());
 	EXPECT_EQ(map.keyFrame(0).mapPoints[5], duplicate);
-	EXPECT_THROW(map.point(1000000), std::out_of_range);	// never given
+	EXPECT_THROW(map.point(1000000), std::out_of_range);  // never given
 	expectGraphMatchesObservations(map);
 }
 
@@ -581,15 +592,15 @@ TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
 	EXPECT_NEAR(map.keyFramePose(1).z(), 0.1, 1e-12);
 	EXPECT_NEAR(map.keyFramePose(2).z(), 0.0, 1e-12);
 	EXPECT_NEAR(map.point(made1).position.z, before.z + 0.1, 1e-9);
-	EXPECT_NEAR(map.point(seen0).position.z, before0.z + 0.1, 1e-9);	// kf1 observes it too
+	EXPECT_NEAR(map.point(seen0).position.z, before0.z + 0.1, 1e-9);  // kf1 observes it too
 
 	// applyCorrection: kf1 listed (back down), kf0 listed too (5 cm up), kf2 not: kf2 follows its
 	// parent; kf1's points follow kf1; a point the group step moved with kf1 (seen0, made by kf0)
 	// follows kf1 again, not its creator kf0 (issue 28 item 2: each point is corrected once, as
 	// ORB-SLAM2's mnCorrectedByKF; it used to move with kf0 as well and end 5 cm above either).
-	const auto kf0Before = map.point(20).position;	// made by kf0, seen by kf1 as well: moved in step 1
-	map.applyCorrection(
-		{{1, mrpt::poses::CPose3D(0, 0, -0.1, 0, 0, 0) + map.keyFramePose(1)}, {0, mrpt::poses::CPose3D(0, 0, 0.05, 0, 0, 0) + map.keyFramePose(0)}});
+	const auto kf0Before = map.point(20).position;  // made by kf0, seen by kf1 as well: moved in step 1
+	map.applyCorrection({{1, mrpt::poses::CPose3D(0, 0, -0.1, 0, 0, 0) + map.keyFramePose(1)},
+						 {0, mrpt::poses::CPose3D(0, 0, 0.05, 0, 0, 0) + map.keyFramePose(0)}});
 	EXPECT_NEAR(map.keyFramePose(1).z(), 0.0, 1e-12);
 	EXPECT_NEAR(map.keyFramePose(2).z(), -0.1, 1e-12);
 	EXPECT_NEAR(map.point(made1).position.z, before.z, 1e-9);
@@ -602,7 +613,8 @@ TEST(SparseMap, CorrectionsMoveKeyFramesWithTheirPointsAndFollowTheSpanningTree)
 	const auto p70 = map2.point(70).position;
 	map2.applyCorrection({{0, mrpt::poses::CPose3D(0, 0, 0.05, 0, 0, 0) + map2.keyFramePose(0)}});
 	EXPECT_NEAR(map2.point(70).position.z, p70.z + 0.05, 1e-9);
-	map.applyCorrection({{0, mrpt::poses::CPose3D(0, 0, -0.05, 0, 0, 0) + map.keyFramePose(0)}});  // undo kf0 for what follows
+	map.applyCorrection(
+		{{0, mrpt::poses::CPose3D(0, 0, -0.05, 0, 0, 0) + map.keyFramePose(0)}});  // undo kf0 for what follows
 
 	// The essential graph holds the spanning tree and, once recorded, the loop edge.
 	EXPECT_TRUE(map.addLoopEdge(2, 0));
@@ -635,7 +647,8 @@ namespace
 {
 // A map body as CSparseMap::serialize writes it, from copies of `map`'s keyframes and points that
 // `edit` may damage first.
-std::string mapBody(const CSparseMap& map, const std::function<void(std::vector<CKeyFrame>&, std::vector<CMapPoint>&)>& edit,
+std::string mapBody(const CSparseMap& map,
+					const std::function<void(std::vector<CKeyFrame>&, std::vector<CMapPoint>&)>& edit,
 					std::uint64_t nextKf = 0, std::int64_t nextPt = 0)
 {
 	std::vector<CKeyFrame> kfs;
@@ -696,25 +709,34 @@ TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
 		EXPECT_EQ(m.numKeyFrames(), 1u) << what << ": the map in place is kept";
 	};
 	// An empty point descriptor shifted every later row in the matcher; a 16-byte one threw in tracking.
-	refused("empty descriptor", mapBody(map, [](auto&, auto& p) { p[3].descriptor = cv::Mat(); }), "descriptor of 0 bytes");
-	refused("short descriptor", mapBody(map, [](auto&, auto& p) { p[3].descriptor = p[3].descriptor.colRange(0, 16).clone(); }), "descriptor of 16 bytes");
+	refused("empty descriptor", mapBody(map, [](auto&, auto& p) { p[3].descriptor = cv::Mat(); }),
+			"descriptor of 0 bytes");
+	refused("short descriptor",
+			mapBody(map, [](auto&, auto& p) { p[3].descriptor = p[3].descriptor.colRange(0, 16).clone(); }),
+			"descriptor of 16 bytes");
 	// Intrinsics that projection divides by.
 	refused("zero fx", mapBody(map, [](auto& k, auto&) { k[1].camera.fx(0); }), "intrinsics");
 	refused("NaN cy", mapBody(map, [](auto& k, auto&) { k[0].camera.cy(std::nan("")); }), "intrinsics");
 	// The spanning tree one way only.
-	refused("child without parent", mapBody(map, [](auto& k, auto&) { k[1].parent.reset(); }), "child unknown or with another parent");
-	refused("parent without child", mapBody(map, [](auto& k, auto&) { k[0].children.clear(); }), "does not list it as a child");
+	refused("child without parent", mapBody(map, [](auto& k, auto&) { k[1].parent.reset(); }),
+			"child unknown or with another parent");
+	refused("parent without child", mapBody(map, [](auto& k, auto&) { k[0].children.clear(); }),
+			"does not list it as a child");
 	// A keyframe naming a point that does not observe it back.
-	refused("one-way observation", mapBody(map, [](auto&, auto& p) { p[5].observations.erase(1); }), "not observed back");
+	refused("one-way observation", mapBody(map, [](auto&, auto& p) { p[5].observations.erase(1); }),
+			"not observed back");
 	// Issue 40 (g): covisibility weights the observations do not back are recounted, not trusted:
 	// a weight of 500 on 30 shared points, a connection to the first keyframe dropped.
 	{
 		CSparseMap m;
-		std::istringstream in(mapBody(map, [](auto& k, auto&) {
-			k[1].connections[0] = 500;
-			k[0].connections.clear();
-			k[0].orderedConnections.clear();
-		}), std::ios::binary);
+		std::istringstream in(mapBody(map,
+									  [](auto& k, auto&)
+									  {
+										  k[1].connections[0] = 500;
+										  k[0].connections.clear();
+										  k[0].orderedConnections.clear();
+									  }),
+							  std::ios::binary);
 		m.deserialize(in);
 		EXPECT_EQ(m.keyFrame(1).weight(0), 30);
 		EXPECT_EQ(m.keyFrame(0).weight(1), 30);
@@ -722,7 +744,10 @@ TEST(SparseMap, AMapFileWhoseContentDisagreesWithItselfIsRefusedAndTheMapKept)
 		expectGraphMatchesObservations(m);
 	}
 	// Id counters that would overflow.
-	refused("point counter", mapBody(map, [](auto&, auto&) {}, 0, std::int64_t(1) << 62), "id counter out of range");
+	refused("point counter",
+			mapBody(
+				map, [](auto&, auto&) {}, 0, std::int64_t(1) << 62),
+			"id counter out of range");
 
 	// A file whose map is sound but whose octree section is not: refused, and the map in place is
 	// kept (it was replaced before the octree was read).
@@ -768,7 +793,8 @@ TEST(SparseMap, AMapFileKeepsItsExportFrameExactlyAndRefusesABrokenOne)
 	f.kind = TWorldFrame::EKind::ZUp;
 	f.floorSeen = true;
 	f.cameraHeight = 1.234;
-	f.worldFromMap = mrpt::poses::CPose3D(0.1, -0.2, 1.234, mrpt::DEG2RAD(-91.0), mrpt::DEG2RAD(2.0), mrpt::DEG2RAD(-95.0));
+	f.worldFromMap =
+		mrpt::poses::CPose3D(0.1, -0.2, 1.234, mrpt::DEG2RAD(-91.0), mrpt::DEG2RAD(2.0), mrpt::DEG2RAD(-95.0));
 	saveMapFile(d / "a.ysm", map, 0, nullptr, f);
 	CSparseMap back;
 	const TMapFileInfo info = loadMapFile(d / "a.ysm", back, 0);
@@ -782,7 +808,8 @@ TEST(SparseMap, AMapFileKeepsItsExportFrameExactlyAndRefusesABrokenOne)
 	EXPECT_EQ(readText(d / "a.ysm"), readText(d / "b.ysm"));
 	// A frame whose rotation is no rotation (a scaled matrix) is refused, checksum and all right.
 	std::string bytes = readText(d / "a.ysm");
-	const std::size_t r00 = bytes.size() - 8 - 12 * 8;	// the rotation's first entry, before the translation and the checksum
+	const std::size_t r00 =
+		bytes.size() - 8 - 12 * 8;  // the rotation's first entry, before the translation and the checksum
 	double v;
 	std::memcpy(&v, bytes.data() + r00, 8);
 	v *= 1.5;
@@ -829,7 +856,9 @@ TEST(SparseMap, APointCarriesHowItHasBeenSeen)
 	CSparseMap map;
 	map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), world, {-1}, rng, 1), 10.0);
 	for (std::size_t k = 1; k <= 3; k++)
-		map.addKeyFrame(observeWorld(k, mrpt::poses::CPose3D(-0.5 * static_cast<double>(k), 0, 0, 0, 0, 0), world, {0}, rng, 0), 10.0);
+		map.addKeyFrame(
+			observeWorld(k, mrpt::poses::CPose3D(-0.5 * static_cast<double>(k), 0, 0, 0, 0, 0), world, {0}, rng, 0),
+			10.0);
 	// The mean of the unit directions from the keyframes to it, and its distance and level in the
 	// keyframe that made it; as the observations are now, so without the erased keyframe.
 	const auto expectViews = [&](const std::vector<int>& keyFrames)

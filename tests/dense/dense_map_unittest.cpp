@@ -81,7 +81,7 @@ std::unique_ptr<CSemanticOcTree> smallTree()
 	for (int i = 0; i < 20; i++)
 		for (int j = 0; j < 20; j++) pc.push_back(-0.5f + 0.05f * i, -0.5f + 0.05f * j, 2.0f);
 	t.insertPointCloud(pc, octomap::point3d(0, 0, 0));
-	t.insertPointCloud(pc, octomap::point3d(0, 0, 0));	// two hits: occupied above 0.8 as well
+	t.insertPointCloud(pc, octomap::point3d(0, 0, 0));  // two hits: occupied above 0.8 as well
 	for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it)
 		if (t.isNodeOccupied(*it))
 		{
@@ -145,7 +145,7 @@ TEST(SemanticOcTree, OtRoundTripsBtLoadsInOctomapAndCorruptFilesAreRefused)
 	};
 	refused(bytes.substr(0, bytes.size() - 7), "truncated");
 	std::string flipped = bytes;
-	flipped[bytes.find("data\n") + 5 + 12] = static_cast<char>(0xFF);	// the root's child bits
+	flipped[bytes.find("data\n") + 5 + 12] = static_cast<char>(0xFF);  // the root's child bits
 	refused(flipped, "corrupt");
 	octomap::OcTree other(0.05);
 	other.updateNode(octomap::point3d(0, 0, 1), true);
@@ -197,7 +197,7 @@ TEST(DenseMapper, KeyFrameCloudsLeaveOutPeopleAndFlyingPixelsAndCarryLabels)
 		if (std::abs(p.z - 2.0f) < 1e-4)
 		{
 			tvPoints++;
-			if (c.label[i] != 63) continue;	 // the fill's border runs at half resolution
+			if (c.label[i] != 63) continue;  // the fill's border runs at half resolution
 			EXPECT_NEAR(c.labelProb[i], o.labelProbMin + (o.labelProbMax - o.labelProbMin) * 0.9, 1e-5);
 			tvLabelled++;
 		}
@@ -248,7 +248,7 @@ TEST(DenseMapper, APersonTheDetectorMissesAtTheNextKeyFrameStaysOutOfTheMap)
 TEST(DenseMapper, CloudsAreRePlacedWhenKeyFramePosesChange)
 {
 	CDenseSemanticMapper::TOptions o;
-	o.minObservations = 1;	// one keyframe
+	o.minObservations = 1;  // one keyframe
 	CDenseSemanticMapper m(o, CDynamicObjectMasker::TOptions(), 80);
 	TKeyFrameCloud c;
 	c.xyz = {{0, 0, 1}, {0.5f, 0, 2}};
@@ -297,7 +297,9 @@ TEST(DenseMapper, TheBuildGivesTheSameMapWhateverItsSlabs)
 				for (int j = 0; j < 40; j++)
 				{
 					// A wall 2 m ahead, seen a little shifted by each keyframe, with a person (label 1) in it.
-					c.xyz.emplace_back(-0.6f + 0.02f * static_cast<float>(i) + 0.003f * static_cast<float>(k % 7), -0.4f + 0.02f * static_cast<float>(j), 2.0f + 0.001f * static_cast<float>((i * 7 + j * 3 + k) % 5));
+					c.xyz.emplace_back(-0.6f + 0.02f * static_cast<float>(i) + 0.003f * static_cast<float>(k % 7),
+									   -0.4f + 0.02f * static_cast<float>(j),
+									   2.0f + 0.001f * static_cast<float>((i * 7 + j * 3 + k) % 5));
 					c.bgr.emplace_back(static_cast<uchar>(i), static_cast<uchar>(j), static_cast<uchar>(k));
 					const bool person = i > 20 && i < 30;
 					c.label.push_back(person ? 1 : 0);
@@ -305,7 +307,8 @@ TEST(DenseMapper, TheBuildGivesTheSameMapWhateverItsSlabs)
 				}
 			m.setKeyFrameCloud(k, c);
 		}
-		return m.build([](TKeyFrameId k) { return mrpt::poses::CPose3D(0.001 * static_cast<double>(k), 0, 0, 0, 0, 0); });
+		return m.build([](TKeyFrameId k)
+					   { return mrpt::poses::CPose3D(0.001 * static_cast<double>(k), 0, 0, 0, 0, 0); });
 	};
 	// 1000: every column (1,200-1,600 points) a slab of its own; 4000: slabs of two or three columns.
 	const TDenseMap one = buildWith(std::size_t{1} << 20), many = buildWith(1000), some = buildWith(4000);
@@ -351,7 +354,7 @@ TEST(DenseMapper, StoredCloudsTakeTwelveBytesAPointWithinHalfAMillimetre)
 	ASSERT_EQ(w.size(), 1000u);
 	for (std::size_t i = 0; i < w.size(); i++)
 	{
-		EXPECT_NEAR(w[i].x, c.xyz[i].x, 5.1e-4);	 // half a step, float rounding
+		EXPECT_NEAR(w[i].x, c.xyz[i].x, 5.1e-4);  // half a step, float rounding
 		EXPECT_NEAR(w[i].y, c.xyz[i].y, 5.1e-4);
 		EXPECT_NEAR(w[i].z, c.xyz[i].z, 5.1e-4);
 	}
@@ -369,17 +372,19 @@ TEST(DenseMapper, RealKeyFrameCloudsAreStoredInUnderSixBytesAPointAndComeBackAsS
 		std::string folder, rgb, depth;
 		double fx, fy, cx, cy;
 	};
-	const std::vector<TCase> cases = {
-		{"data/bonn_crowd_dev", "rgb/1548339824.90270.png", "depth/1548339824.89375.png", 542.822841, 542.576870, 315.593520, 237.756098},
-		{"data/tum_fr1_desk_9frames", "", "", 517.3, 516.5, 318.6, 255.3}};
+	const std::vector<TCase> cases = {{"data/bonn_crowd_dev", "rgb/1548339824.90270.png", "depth/1548339824.89375.png",
+									   542.822841, 542.576870, 315.593520, 237.756098},
+									  {"data/tum_fr1_desk_9frames", "", "", 517.3, 516.5, 318.6, 255.3}};
 	for (TCase k : cases)
 	{
 		const std::string dir = sharedFile(k.folder);
-		if (k.rgb.empty())	// the fr1 folder's first pair, from its associations
+		if (k.rgb.empty())  // the fr1 folder's first pair, from its associations
 		{
 			std::ifstream a(dir + "/associations.txt");
 			std::string line;
-			while (std::getline(a, line) && (line.empty() || line[0] == '#')) {}
+			while (std::getline(a, line) && (line.empty() || line[0] == '#'))
+			{
+			}
 			std::istringstream in(line);
 			std::string t1, t2;
 			in >> t1 >> k.rgb >> t2 >> k.depth;
@@ -396,11 +401,13 @@ TEST(DenseMapper, RealKeyFrameCloudsAreStoredInUnderSixBytesAPointAndComeBackAsS
 		CDenseSemanticMapper m(CDenseSemanticMapper::TOptions(), CDynamicObjectMasker::TOptions(), 80);
 		TKeyFrameCloud c = m.keyFrameCloud(f);
 		ASSERT_GT(c.xyz.size(), 5000u) << dir;
-		for (std::size_t i = 0; i < c.xyz.size(); i += 7) c.label[i] = 62, c.labelProb[i] = 0.8f;	// some label evidence too
+		for (std::size_t i = 0; i < c.xyz.size(); i += 7)
+			c.label[i] = 62, c.labelProb[i] = 0.8f;  // some label evidence too
 		m.setKeyFrameCloud(3, c);
 		EXPECT_EQ(m.numStoredPoints(), c.xyz.size()) << dir;
 		// libdeflate level 1 gives about 5 bytes a point on both (Debian 12's 1.14).
-		EXPECT_LT(m.storedBytes(), 6 * c.xyz.size()) << dir << ": " << double(m.storedBytes()) / c.xyz.size() << " bytes a point";
+		EXPECT_LT(m.storedBytes(), 6 * c.xyz.size())
+			<< dir << ": " << double(m.storedBytes()) / c.xyz.size() << " bytes a point";
 		const auto w = m.worldPoints([](TKeyFrameId) { return mrpt::poses::CPose3D(); });
 		ASSERT_EQ(w.size(), c.xyz.size()) << dir;
 		for (std::size_t i = 0; i < w.size(); i++)
@@ -417,7 +424,10 @@ TEST(DenseMapper, RealKeyFrameCloudsAreStoredInUnderSixBytesAPointAndComeBackAsS
 		m1.setKeyFrameCloud(3, c);
 		const TDenseMap dm = m1.build([](TKeyFrameId) { return mrpt::poses::CPose3D(); });
 		std::map<std::tuple<int, int, int>, std::size_t> byPosition;  // 1 mm cells
-		const auto cell = [](const cv::Point3f& p) { return std::make_tuple(int(std::lround(p.x * 1000)), int(std::lround(p.y * 1000)), int(std::lround(p.z * 1000))); };
+		const auto cell = [](const cv::Point3f& p) {
+			return std::make_tuple(int(std::lround(p.x * 1000)), int(std::lround(p.y * 1000)),
+								   int(std::lround(p.z * 1000)));
+		};
 		for (std::size_t i = 0; i < c.xyz.size(); i++) byPosition[cell(w[i])] = i;
 		std::size_t matched = 0, labelled = 0;
 		for (std::size_t j = 0; j < dm.cloud.size(); j++)
@@ -605,7 +615,9 @@ class CFailingBuf : public std::streambuf
 	pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override
 	{
 		const off_type cur = static_cast<off_type>(pos_) - (egptr() - gptr());
-		const off_type base = dir == std::ios_base::beg ? 0 : dir == std::ios_base::end ? static_cast<off_type>(data_.size()) : cur;
+		const off_type base = dir == std::ios_base::beg   ? 0
+							  : dir == std::ios_base::end ? static_cast<off_type>(data_.size())
+														  : cur;
 		return seekpos(pos_type(base + off), std::ios_base::in);
 	}
 	pos_type seekpos(pos_type p, std::ios_base::openmode) override
@@ -673,7 +685,7 @@ TEST(SemanticOcTree, ASurfaceSeenOnceOrLaterPassedIsUnknownNeverFree)
 	t.insertPointCloud(near, octomap::point3d(0, 0, 0), -1, false, true);
 	t.insertPointCloud(near, octomap::point3d(0, 0, 0), -1, false, true);
 	EXPECT_EQ(t.stateOf(*t.search(wall)), EVoxelState::Occupied);
-	t.insertPointCloud(far, octomap::point3d(0, 0, 0), -1, false, true);	 // passed again: unknown, never free
+	t.insertPointCloud(far, octomap::point3d(0, 0, 0), -1, false, true);  // passed again: unknown, never free
 	EXPECT_NE(t.stateOf(*t.search(wall)), EVoxelState::Free);
 	t.updateInnerOccupancy();
 	t.prune();
@@ -804,7 +816,8 @@ TEST(DenseMap, NoSurfaceOfTheRealFramesIsFreeInMapBt)
 	for (std::size_t i = 0; i < stillCounts.size(); i++)
 	{
 		EXPECT_GT(stillCounts[i].occupied + stillCounts[i].unknown, 100000u) << "frame " << i;
-		EXPECT_EQ(stillCounts[i].free, 0u) << "frame " << i << ": " << stillCounts[i].occupied << " occupied, " << stillCounts[i].unknown << " unknown";
+		EXPECT_EQ(stillCounts[i].free, 0u) << "frame " << i << ": " << stillCounts[i].occupied << " occupied, "
+										   << stillCounts[i].unknown << " unknown";
 	}
 
 	// Moving over the desk: what a keyframe saw, even from that keyframe only, is unknown or
@@ -818,7 +831,10 @@ TEST(DenseMap, NoSurfaceOfTheRealFramesIsFreeInMapBt)
 	for (std::size_t i = 0; i < moving.size(); i++)
 	{
 		const TBtCount& c = moving[i];
-		if (movingKfs[i]) { EXPECT_EQ(c.free, 0u) << "keyframe " << i << ": " << c.occupied << " occupied, " << c.unknown << " unknown"; }
+		if (movingKfs[i])
+		{
+			EXPECT_EQ(c.free, 0u) << "keyframe " << i << ": " << c.occupied << " occupied, " << c.unknown << " unknown";
+		}
 		free += c.free, occupied += c.occupied, all += c.free + c.occupied + c.unknown;
 	}
 	EXPECT_GT(occupied, all / 2);
@@ -834,5 +850,6 @@ TEST(DenseMapper, ScoringRefusesASequenceWhoseDepthWasTakenAtOtherMoments)
 	o.frames = 20;
 	o.writeRawlog = false;
 	const std::string seq = cachedSequence("dense_crowd_20", o);
-	expectInputError([&] { scoreSemanticMap(CSemanticOcTree(0.1), seq, mrpt::poses::CPose3D()); }, {"depth.txt", "--depth-offset 0"});
+	expectInputError([&] { scoreSemanticMap(CSemanticOcTree(0.1), seq, mrpt::poses::CPose3D()); },
+					 {"depth.txt", "--depth-offset 0"});
 }

@@ -46,7 +46,8 @@ TScene deskScene()
 	s.K.dist.fill(0);
 	const double floorY = 1.3, topY = floorY - 0.72;
 	std::vector<TRayBox> w = {box(0, floorY + 0.05, 3, 10, 0.1, 10, kFloor), box(0, 0, 3.7, 10, 6, 0.1, kWall),
-							  box(0, topY + 0.02, 2.5, 1.4, 0.04, 0.7, kDesk), box(0, topY - 0.2, 2.6, 0.55, 0.36, 0.04, kMonitor)};
+							  box(0, topY + 0.02, 2.5, 1.4, 0.04, 0.7, kDesk),
+							  box(0, topY - 0.2, 2.6, 0.55, 0.36, 0.04, kMonitor)};
 	for (int lx : {-1, 1})
 		for (int lz : {-1, 1}) w.push_back(box(lx * 0.65, topY + 0.37, 2.5 + lz * 0.3, 0.05, 0.7, 0.05, kDesk));
 	const CBoxRaycaster rc;
@@ -80,7 +81,8 @@ std::pair<double, double> recallPrecision(const TScene& s, const TObjectLabels& 
 	for (int v = 0; v < s.depth.rows; v++)
 		for (int u = 0; u < s.depth.cols; u++)
 		{
-			const bool is = s.instance.at<std::uint16_t>(v, u) == id, got = l.instance.at<std::uint16_t>(v, u) == det + 1;
+			const bool is = s.instance.at<std::uint16_t>(v, u) == id,
+					   got = l.instance.at<std::uint16_t>(v, u) == det + 1;
 			truth += is, hit += is && got, labelled += got;
 		}
 	return {hit / std::max(1.0, truth), labelled > 0 ? hit / labelled : 0.0};

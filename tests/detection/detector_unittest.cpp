@@ -32,7 +32,7 @@ namespace
 struct HandBox
 {
 	const char* image;
-	std::vector<cv::Rect2f> people;	 // measured by hand on the image
+	std::vector<cv::Rect2f> people;  // measured by hand on the image
 };
 
 // Boxes measured by hand (pixels, x y w h): feet to head, hand to hand.
@@ -47,8 +47,8 @@ std::string describe(const CObjectDetector& det, const std::vector<TDetection>& 
 {
 	std::ostringstream ss;
 	for (const auto& d : ds)
-		ss << det.className(d.classId) << " " << d.score << " [" << d.box.x << "," << d.box.y << "," << d.box.width << ","
-		   << d.box.height << "]\n";
+		ss << det.className(d.classId) << " " << d.score << " [" << d.box.x << "," << d.box.y << "," << d.box.width
+		   << "," << d.box.height << "]\n";
 	return ss.str();
 }
 
@@ -100,10 +100,13 @@ TEST(Detector, DarknetWeightsOfAnotherModelAreRefused)
 	// matches its own weights (Yolo-Fastest, darknet YOLO licence; the body model is one class).
 	const std::string m = "models/yolo_fastest_darknet/";
 	for (const char* name : {"yolo-fastest-1.1", "yolo-fastest-1.1-xl", "yolo-fastest-1.1_body"})
-		EXPECT_EQ(darknetWeightsBytes(sharedFile(m + name + ".cfg")), std::filesystem::file_size(sharedFile(m + name + ".weights"))) << name;
+		EXPECT_EQ(darknetWeightsBytes(sharedFile(m + name + ".cfg")),
+				  std::filesystem::file_size(sharedFile(m + name + ".weights")))
+			<< name;
 	CObjectDetector::TOptions o = yoloFastest();
 	o.model = sharedFile(m + "yolo-fastest-1.1.cfg");
-	expectInputError([&] { createObjectDetector(o); }, {"yolo-fastest-1.1-xl.weights", "weights do not match yolo-fastest-1.1.cfg"});
+	expectInputError([&] { createObjectDetector(o); },
+					 {"yolo-fastest-1.1-xl.weights", "weights do not match yolo-fastest-1.1.cfg"});
 }
 
 TEST(Detector, TheShippedModelIsTheDefaultAndFindsThePeople)
@@ -127,7 +130,7 @@ TEST(Detector, TheShippedModelIsTheDefaultAndFindsThePeople)
 		return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
 	};
 	EXPECT_EQ(bytes(shareDir() + "/models/yolo-fastest-1.1/yolo-fastest-1.1.weights"),
-		bytes(sharedFile("models/yolo_fastest_darknet/yolo-fastest-1.1.weights")));
+			  bytes(sharedFile("models/yolo_fastest_darknet/yolo-fastest-1.1.weights")));
 	expectFindsPeople(*det);
 }
 
@@ -200,7 +203,8 @@ TEST(Detector, YoloV5V7AndV8LayoutsDecodeARealNetworksOutput)
 				for (int gx = 0; gx < S / stride; gx++, r++)
 				{
 					const float* p = raw.ptr<float>(r);
-					const float box[4] = {(p[0] + gx) * stride, (p[1] + gy) * stride, std::exp(p[2]) * stride, std::exp(p[3]) * stride};
+					const float box[4] = {(p[0] + gx) * stride, (p[1] + gy) * stride, std::exp(p[2]) * stride,
+										  std::exp(p[3]) * stride};
 					for (int k = 0; k < 4; k++) v5.at<float>(r, k) = v8.at<float>(k, r) = box[k];
 					v5.at<float>(r, 4) = p[4];
 					for (int c = 0; c < C; c++)
@@ -241,9 +245,12 @@ TEST(Detector, FastestDetAndNanoDetOnnx)
 		const char* names;
 		CYoloDnnDetector::Format format;
 	};
-	for (const M& m : {M{"models/fastestdet_onnx/FastestDet.onnx", "models/fastestdet_onnx/coco.names", CYoloDnnDetector::Format::FastestDet},
-					   M{"models/nanodet_m_onnx/nanodet_m_320.onnx", "models/nanodet_m_onnx/coco.names", CYoloDnnDetector::Format::NanoDet},
-					   M{"models/nanodet_m_onnx/nanodet_m_416.onnx", "models/nanodet_m_onnx/coco.names", CYoloDnnDetector::Format::NanoDet}})
+	for (const M& m : {M{"models/fastestdet_onnx/FastestDet.onnx", "models/fastestdet_onnx/coco.names",
+						 CYoloDnnDetector::Format::FastestDet},
+					   M{"models/nanodet_m_onnx/nanodet_m_320.onnx", "models/nanodet_m_onnx/coco.names",
+						 CYoloDnnDetector::Format::NanoDet},
+					   M{"models/nanodet_m_onnx/nanodet_m_416.onnx", "models/nanodet_m_onnx/coco.names",
+						 CYoloDnnDetector::Format::NanoDet}})
 	{
 		SCOPED_TRACE(m.model);
 		CObjectDetector::TOptions o;
@@ -289,7 +296,8 @@ TEST(Detector, BadModelsAndNames)
 	expectInputError([&] { createObjectDetector(o); }, {"junk.weights"});
 	o = yoloFastest();
 	o.names = sharedFile("models/yolo_fastest_darknet/body.names");
-	expectInputError([&] { createObjectDetector(o); }, {"body.names", "has 1 class names but the model outputs 80 classes"});
+	expectInputError([&] { createObjectDetector(o); },
+					 {"body.names", "has 1 class names but the model outputs 80 classes"});
 	o = yoloFastest();
 	o.backend = "magic";
 	expectInputError([&] { createObjectDetector(o); }, {"unknown detector backend 'magic'"});
@@ -307,16 +315,16 @@ TEST(Detector, BadDetectionsFilesOfTheCorpus)
 	o.file = bad + "detections_outside_image.txt";
 	auto det = createObjectDetector(o);
 	const cv::Mat img(480, 640, CV_8UC3, cv::Scalar::all(0));
-	expectInputError([&] { det->detect(img, 1.0); }, {"detections_outside_image.txt", "line 1", "outside the 640x480 image"});
+	expectInputError([&] { det->detect(img, 1.0); },
+					 {"detections_outside_image.txt", "line 1", "outside the 640x480 image"});
 }
 
 TEST(Detector, DetectionsFileBackend)
 {
 	TempDir d("detfile");
-	writeText(
-		d / "detections.txt",
-		"# timestamp class_id score x y w h instance_id\n"
-		"10.000000 0 0.9 100 50 80 200 3\n10.000000 56 0.7 300 300 40 40 -1\n10.033333 0 0.5 110 50 80 200 3\n");
+	writeText(d / "detections.txt",
+			  "# timestamp class_id score x y w h instance_id\n"
+			  "10.000000 0 0.9 100 50 80 200 3\n10.000000 56 0.7 300 300 40 40 -1\n10.033333 0 0.5 110 50 80 200 3\n");
 	CObjectDetector::TOptions o;
 	o.backend = "file";
 	o.file = d / "detections.txt";
@@ -369,9 +377,9 @@ TEST(Detector, FramesDetectedAheadAreCollectedByTheirNumberInAnyOrder)
 		return true;
 	};
 	const auto da = sync->detect(a, 5.0), db = sync->detect(b, 5.0);
-	ASSERT_FALSE(same(da, db));	 // two different views: a mix-up would show
-	async.submit(b, 5.0, 2);  // read ahead, the same stamp as the frame before it
-	async.submit(a, 5.0, 1);  // the frame before, submitted when processed
+	ASSERT_FALSE(same(da, db));  // two different views: a mix-up would show
+	async.submit(b, 5.0, 2);     // read ahead, the same stamp as the frame before it
+	async.submit(a, 5.0, 1);     // the frame before, submitted when processed
 	EXPECT_TRUE(async.submitted(1, 5.0) && async.submitted(2, 5.0));
 	EXPECT_FALSE(async.submitted(2, 6.0)) << "a frame number with another stamp is another frame";
 	EXPECT_TRUE(same(async.get(1), da));
@@ -451,7 +459,10 @@ TEST(Detector, TheShippedNetworkIsLetGoBeforeARunsOutputsAndItsNamesStay)
 	async.releaseModel();
 	const std::size_t after = inUse();
 	std::cout << "network let go: " << (double(before) - double(after)) / 1048576 << " MB\n";
-	if (before > 0) EXPECT_GT(before, after + (std::size_t(3) << 20));
+	if (before > 0)
+	{
+		EXPECT_GT(before, after + (std::size_t(3) << 20));
+	}
 	EXPECT_EQ(async.detector().classNames(), names);
 	EXPECT_EQ(async.detector().description(), description);
 	EXPECT_FALSE(async.get(2).empty()) << "a detection finished before the release is still there";

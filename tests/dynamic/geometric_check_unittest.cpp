@@ -16,7 +16,8 @@ using namespace yesslam_test;
 TEST(GeometricCheck, UncertainKeypointsAreUnmaskedOnesInADynamicBox)
 {
 	TFeatures f;
-	for (const cv::Point2f p : {cv::Point2f(50, 50), cv::Point2f(150, 150), cv::Point2f(205, 150), cv::Point2f(150, 150), cv::Point2f(450, 300)})
+	for (const cv::Point2f p : {cv::Point2f(50, 50), cv::Point2f(150, 150), cv::Point2f(205, 150),
+								cv::Point2f(150, 150), cv::Point2f(450, 300)})
 	{
 		f.keypoints.emplace_back(p, 7.f);
 		f.depth.push_back(2.f);
@@ -24,7 +25,7 @@ TEST(GeometricCheck, UncertainKeypointsAreUnmaskedOnesInADynamicBox)
 	f.dynamic = {false, false, false, true, false};
 	TDetection person, chair;
 	person.dynamic = true;
-	person.box = {100, 100, 100, 200};	// grown by 10 %: x in [90, 210]
+	person.box = {100, 100, 100, 200};  // grown by 10 %: x in [90, 210]
 	chair.dynamic = false;
 	chair.box = {400, 250, 100, 100};
 	CGeometricDynamicCheck::TOptions boxes;
@@ -45,9 +46,8 @@ namespace
 {
 // Observations of `n` points seen from `Twc`: static ones at their place; "person" ones measured
 // where they are now but matched to map points where the person was (moved by `shift`).
-void observe(
-	std::vector<TPoseObservation>& obs, std::vector<bool>& uncertain, const mrpt::poses::CPose3D& Twc, int n, bool isUncertain,
-	const Eigen::Vector3d& shift, std::mt19937& rng)
+void observe(std::vector<TPoseObservation>& obs, std::vector<bool>& uncertain, const mrpt::poses::CPose3D& Twc, int n,
+			 bool isUncertain, const Eigen::Vector3d& shift, std::mt19937& rng)
 {
 	const auto K = fr3Camera();
 	std::uniform_real_distribution<double> u(-1, 1);
@@ -59,7 +59,7 @@ void observe(
 		double wx, wy, wz;
 		Twc.composePoint(x, y, z, wx, wy, wz);
 		TPoseObservation o;
-		o.world = Eigen::Vector3d(wx, wy, wz) + shift;	// the map point
+		o.world = Eigen::Vector3d(wx, wy, wz) + shift;  // the map point
 		o.pixel = {K.fx() * x / z + K.cx() + px(rng), K.fy() * y / z + K.cy() + px(rng)};
 		o.depth = z;
 		o.sigmaZ = 0.0025 * z * z;
@@ -82,8 +82,10 @@ TEST(GeometricCheck, UncertainMatchesMovingWithAPersonCannotDragThePose)
 	std::vector<TPoseObservation> obs;
 	std::vector<bool> uncertain;
 	observe(obs, uncertain, truth, 50, false, Eigen::Vector3d::Zero(), rng);  // certain static
-	observe(obs, uncertain, truth, 20, true, Eigen::Vector3d::Zero(), rng);  // uncertain, static: background between legs
-	observe(obs, uncertain, truth, 150, true, Eigen::Vector3d(0.04, 0, 0.03), rng);  // uncertain, on a person who moved 5 cm
+	observe(obs, uncertain, truth, 20, true, Eigen::Vector3d::Zero(),
+			rng);  // uncertain, static: background between legs
+	observe(obs, uncertain, truth, 150, true, Eigen::Vector3d(0.04, 0, 0.03),
+			rng);  // uncertain, on a person who moved 5 cm
 	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
 	const auto K = fr3Camera();
 
@@ -91,10 +93,12 @@ TEST(GeometricCheck, UncertainMatchesMovingWithAPersonCannotDragThePose)
 	off.enabled = false;
 	const TPoseEstimate dragged = CGeometricDynamicCheck(off).refine(optimizer, obs, uncertain, K, guess);
 	ASSERT_TRUE(dragged.ok);
-	EXPECT_GT(translationError(dragged.cameraInWorld, truth), 0.02) << "the person's matches should outvote the static ones without the check";
+	EXPECT_GT(translationError(dragged.cameraInWorld, truth), 0.02)
+		<< "the person's matches should outvote the static ones without the check";
 
 	CGeometricDynamicCheck::TStats st;
-	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, K, guess, &st);
+	const TPoseEstimate e =
+		CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, K, guess, &st);
 	ASSERT_TRUE(e.ok);
 	EXPECT_TRUE(st.applied);
 	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.005);
@@ -116,14 +120,17 @@ TEST(GeometricCheck, AViewFilledByAPersonGivesNoPose)
 	observe(obs, uncertain, truth, 200, true, Eigen::Vector3d(0.3, 0, 0), rng);
 	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
 	CGeometricDynamicCheck::TStats st;
-	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), truth, &st);
+	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions())
+								.refine(optimizer, obs, uncertain, fr3Camera(), truth, &st);
 	EXPECT_FALSE(e.ok);
 	EXPECT_TRUE(st.blinded);
 	EXPECT_EQ(e.numInliers, 0u);
 	// Few features of either kind (a bare wall): the check stands aside.
 	obs.resize(12 + 5);
 	uncertain.resize(12 + 5);
-	EXPECT_TRUE(CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), truth, &st).ok);
+	EXPECT_TRUE(CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions())
+					.refine(optimizer, obs, uncertain, fr3Camera(), truth, &st)
+					.ok);
 	EXPECT_FALSE(st.blinded);
 }
 
@@ -142,7 +149,8 @@ TEST(GeometricCheck, APersonFillingMuchOfTheViewStillGivesAPoseWhenTheBackground
 	observe(obs, uncertain, truth, 80, true, Eigen::Vector3d(0.1, 0, 0.05), rng);
 	const CPoseOptimizer optimizer{CPoseOptimizer::TOptions()};
 	CGeometricDynamicCheck::TStats st;
-	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), guess, &st);
+	const TPoseEstimate e = CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions())
+								.refine(optimizer, obs, uncertain, fr3Camera(), guess, &st);
 	ASSERT_TRUE(e.ok);
 	EXPECT_FALSE(st.blinded);
 	EXPECT_LT(translationError(e.cameraInWorld, truth), 0.005);
@@ -157,7 +165,9 @@ TEST(GeometricCheck, APersonFillingMuchOfTheViewStillGivesAPoseWhenTheBackground
 	// Without background to confirm it (only the moving person in the box), lost as before.
 	obs.erase(obs.begin() + 15, obs.begin() + 40);
 	uncertain.erase(uncertain.begin() + 15, uncertain.begin() + 40);
-	EXPECT_FALSE(CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions()).refine(optimizer, obs, uncertain, fr3Camera(), guess, &st).ok);
+	EXPECT_FALSE(CGeometricDynamicCheck(CGeometricDynamicCheck::TOptions())
+					 .refine(optimizer, obs, uncertain, fr3Camera(), guess, &st)
+					 .ok);
 	EXPECT_TRUE(st.blinded);
 }
 
@@ -165,9 +175,8 @@ namespace
 {
 // Certain observations of points in the image window [u0, u1] x [v0, v1] at depths [z0, z1] seen
 // from `Twc`, matched to map points displaced by `shift` (zero: static).
-void observeWindow(
-	std::vector<TPoseObservation>& obs, const mrpt::poses::CPose3D& Twc, int n, double u0, double u1, double v0, double v1,
-	double z0, double z1, const Eigen::Vector3d& shift, std::mt19937& rng)
+void observeWindow(std::vector<TPoseObservation>& obs, const mrpt::poses::CPose3D& Twc, int n, double u0, double u1,
+				   double v0, double v1, double z0, double z1, const Eigen::Vector3d& shift, std::mt19937& rng)
 {
 	const auto K = fr3Camera();
 	std::uniform_real_distribution<double> uu(u0, u1), vv(v0, v1), zz(z0, z1);
@@ -193,9 +202,9 @@ struct TPlainAndChecked
 	TPoseEstimate plain, checked;
 	CGeometricDynamicCheck::TStats stats;  //!< of the checked solve
 };
-TPlainAndChecked solvePlainAndChecked(
-	const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const mrpt::poses::CPose3D& guess,
-	const CGeometricDynamicCheck::TOptions& opts = CGeometricDynamicCheck::TOptions())
+TPlainAndChecked solvePlainAndChecked(const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs,
+									  const mrpt::poses::CPose3D& guess,
+									  const CGeometricDynamicCheck::TOptions& opts = CGeometricDynamicCheck::TOptions())
 {
 	const std::vector<bool> certain(obs.size(), false);
 	CGeometricDynamicCheck::TOptions noMovers = opts;
@@ -400,12 +409,14 @@ TEST(GeometricCheck, AMoverFoundByAFailedCertainSolveStillLeavesThePlainOne)
 
 	CGeometricDynamicCheck::TOptions noMovers = opts;
 	noMovers.movers = false;
-	const TPoseEstimate dragged = CGeometricDynamicCheck(noMovers).refine(optimizer, obs, uncertain, fr3Camera(), truth);
+	const TPoseEstimate dragged =
+		CGeometricDynamicCheck(noMovers).refine(optimizer, obs, uncertain, fr3Camera(), truth);
 	ASSERT_TRUE(dragged.ok);
 	CGeometricDynamicCheck::TStats st;
 	const TPoseEstimate e = CGeometricDynamicCheck(opts).refine(optimizer, obs, uncertain, fr3Camera(), truth, &st);
 	ASSERT_TRUE(e.ok);
-	EXPECT_FALSE(st.applied) << "the certain-first solve should have failed (too few certain inliers without the mover)";
+	EXPECT_FALSE(st.applied)
+		<< "the certain-first solve should have failed (too few certain inliers without the mover)";
 	const std::size_t moverFlagged = countMoving(e, firstMover, firstUncertain);
 	EXPECT_GE(moverFlagged, (firstUncertain - firstMover) * 8 / 10) << "the plain solve kept the mover";
 	EXPECT_EQ(countMoving(e, 0, firstMover), 0u);

@@ -19,13 +19,13 @@ namespace
 cv::Mat personShape()
 {
 	cv::Mat m = cv::Mat::zeros(480, 640, CV_8U);
-	cv::ellipse(m, {320, 110}, {32, 40}, 0, 0, 360, 255, cv::FILLED);		 // head
-	cv::rectangle(m, cv::Rect(302, 140, 36, 15), 255, cv::FILLED);			 // neck
-	cv::rectangle(m, cv::Rect(265, 150, 110, 160), 255, cv::FILLED);			 // torso
-	cv::rectangle(m, cv::Rect(237, 155, 28, 140), 255, cv::FILLED);			 // left arm
-	cv::rectangle(m, cv::Rect(375, 155, 28, 140), 255, cv::FILLED);			 // right arm
-	cv::rectangle(m, cv::Rect(272, 310, 42, 160), 255, cv::FILLED);			 // left leg
-	cv::rectangle(m, cv::Rect(326, 310, 42, 160), 255, cv::FILLED);			 // right leg
+	cv::ellipse(m, {320, 110}, {32, 40}, 0, 0, 360, 255, cv::FILLED);  // head
+	cv::rectangle(m, cv::Rect(302, 140, 36, 15), 255, cv::FILLED);     // neck
+	cv::rectangle(m, cv::Rect(265, 150, 110, 160), 255, cv::FILLED);   // torso
+	cv::rectangle(m, cv::Rect(237, 155, 28, 140), 255, cv::FILLED);    // left arm
+	cv::rectangle(m, cv::Rect(375, 155, 28, 140), 255, cv::FILLED);    // right arm
+	cv::rectangle(m, cv::Rect(272, 310, 42, 160), 255, cv::FILLED);    // left leg
+	cv::rectangle(m, cv::Rect(326, 310, 42, 160), 255, cv::FILLED);    // right leg
 	return m;
 }
 
@@ -58,7 +58,8 @@ TDetection personBox(const cv::Mat& person, float grow)
 	d.classId = 0;
 	d.score = 0.9f;
 	d.dynamic = true;
-	d.box = cv::Rect2f(r.x - grow * r.width, r.y - grow * r.height, r.width * (1 + 2 * grow), r.height * (1 + 2 * grow));
+	d.box =
+		cv::Rect2f(r.x - grow * r.width, r.y - grow * r.height, r.width * (1 + 2 * grow), r.height * (1 + 2 * grow));
 	return d;
 }
 }  // namespace
@@ -68,7 +69,7 @@ TEST(Masker, PersonInFrontOfWallIoUAbove90Percent)
 	const cv::Mat person = personShape();
 	const cv::Mat depth = noisyDepth(person, 1.0, 3.0, 1);
 	CDynamicObjectMasker::TOptions o;
-	o.dilatePixels = 0;	 // compare the fill itself with the truth
+	o.dilatePixels = 0;  // compare the fill itself with the truth
 	CDynamicObjectMasker edge(o);
 	const auto r = edge.compute(depth, {personBox(person, 0.04f)});
 	ASSERT_EQ(r.regions.size(), 1u);
@@ -146,7 +147,8 @@ TEST(Masker, RealDeskMonitorWithHandPlacedBox)
 	// 0.5 m farther (teddy, far desk, floor), and be clearly smaller than the box. It does include
 	// the near desk the stand stands on: depth is continuous there, the known limit of depth fills
 	// (for people: the floor at their feet), bounded by maxDepthRange.
-	const cv::Mat raw = cv::imread(sharedFile("data/tum_sample_frames/fr2_desk_pair/1_depth.png"), cv::IMREAD_UNCHANGED);
+	const cv::Mat raw =
+		cv::imread(sharedFile("data/tum_sample_frames/fr2_desk_pair/1_depth.png"), cv::IMREAD_UNCHANGED);
 	ASSERT_EQ(raw.type(), CV_16UC1);
 	cv::Mat depth;
 	raw.convertTo(depth, CV_32F, 1.0 / 5000.0);
@@ -201,7 +203,8 @@ TEST(Masker, MissedDetectionsAreHeldForHoldFrames)
 		ASSERT_EQ(r.regions.size(), 1u) << "missed frame " << missed;
 		EXPECT_TRUE(r.regions[0].held);
 		EXPECT_EQ(r.regions[0].detection, -1);
-		EXPECT_GE(iou(r.mask, person), base - 0.05) << "a held box still cuts the person out (missed frame " << missed << ")";
+		EXPECT_GE(iou(r.mask, person), base - 0.05)
+			<< "a held box still cuts the person out (missed frame " << missed << ")";
 	}
 	EXPECT_EQ(cv::countNonZero(masker.compute(depth, {}).mask), 0) << "held no longer than holdFrames";
 
@@ -225,7 +228,8 @@ TEST(Masker, KeypointClassificationEq3)
 {
 	cv::Mat mask = cv::Mat::zeros(10, 10, CV_8U);
 	mask(cv::Rect(2, 2, 3, 3)).setTo(255);
-	const std::vector<cv::KeyPoint> kps = {{3.f, 3.f, 1}, {8.f, 8.f, 1}, {-1.f, 3.f, 1}, {4.4f, 4.4f, 1}, {4.6f, 4.6f, 1}};
+	const std::vector<cv::KeyPoint> kps = {
+		{3.f, 3.f, 1}, {8.f, 8.f, 1}, {-1.f, 3.f, 1}, {4.4f, 4.4f, 1}, {4.6f, 4.6f, 1}};
 	EXPECT_EQ(CDynamicObjectMasker::classifyKeypoints(kps, mask), (std::vector<bool>{true, false, false, true, false}));
 }
 
@@ -251,7 +255,8 @@ TEST(Masker, TheSeedComparisonOfEq2StopsWhereTheNeighbourComparisonFollowsTheBod
 	const cv::Rect r = cv::boundingRect(person);
 	for (int y = 0; y < depth.rows; y++)
 		for (int x = 0; x < depth.cols; x++)
-			depth.at<float>(y, x) = person.at<uchar>(y, x) ? static_cast<float>(1.6 + 0.8 * (y - r.y) / r.height) : 4.0f;
+			depth.at<float>(y, x) =
+				person.at<uchar>(y, x) ? static_cast<float>(1.6 + 0.8 * (y - r.y) / r.height) : 4.0f;
 	CDynamicObjectMasker::TOptions o;
 	o.method = "fill";
 	o.dilatePixels = 0;

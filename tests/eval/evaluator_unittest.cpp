@@ -23,7 +23,7 @@ namespace
 struct ExpectedRow
 {
 	std::string est, gt;
-	std::vector<std::string> cells;	 // every column of the table row
+	std::vector<std::string> cells;  // every column of the table row
 };
 
 // Reads the reference table of EXPECTED.md (computed with TUM's evaluate_ate.py / evaluate_rpe.py).
@@ -51,7 +51,10 @@ std::vector<ExpectedRow> readExpected()
 	return rows;
 }
 
-TTrajectory shared(const std::string& name) { return readTumTrajectory(sharedFile("data/tum_eval_trajectories/" + name)); }
+TTrajectory shared(const std::string& name)
+{
+	return readTumTrajectory(sharedFile("data/tum_eval_trajectories/" + name));
+}
 }  // namespace
 
 TEST(Evaluator, ReproducesEveryTumReferenceRow)
@@ -129,8 +132,10 @@ TEST(Evaluator, ErrorsForNoCommonStamps)
 {
 	const TTrajectory gt = shared("evo_freiburg1_xyz-groundtruth.txt");
 	TTrajectory est = shared("evo_fr2_desk_ORB.txt");
-	expectInputError([&] { computeAte(gt, est, TEvalOptions{}, "gt.txt", "est.txt"); }, {"est.txt", "only 0 of", "need at least 3"});
-	expectInputError([&] { computeAte(gt, TTrajectory{}, TEvalOptions{}, "gt.txt", "est.txt"); }, {"est.txt", "no poses"});
+	expectInputError([&] { computeAte(gt, est, TEvalOptions{}, "gt.txt", "est.txt"); },
+					 {"est.txt", "only 0 of", "need at least 3"});
+	expectInputError([&] { computeAte(gt, TTrajectory{}, TEvalOptions{}, "gt.txt", "est.txt"); },
+					 {"est.txt", "no poses"});
 	// An offset that moves the estimate onto the ground truth's clock makes them match again.
 	TEvalOptions o;
 	const TTrajectory est1 = shared("evo_freiburg1_xyz-rgbdslam.txt");
@@ -155,8 +160,8 @@ TEST(Evaluator, ReportKeysJsonAndPlot)
 	const TTrajectory est = shared("evo_freiburg1_xyz-rgbdslam.txt");
 	const auto rep = evaluateTrajectories(gt, est, TEvalOptions{}, "gt", "est");
 	const std::string kv = formatEvalKeyValues(rep);
-	for (const char* k : {"ate_pairs: 786", "ate_rmse: ", "ate_mean: ", "ate_median: ", "ate_std: ", "ate_min: ", "ate_max: ",
-						  "rpe_pairs: 753", "rpe_trans_rmse: ", "rpe_rot_rmse_deg: ", "alignment: se3"})
+	for (const char* k : {"ate_pairs: 786", "ate_rmse: ", "ate_mean: ", "ate_median: ", "ate_std: ", "ate_min: ",
+						  "ate_max: ", "rpe_pairs: 753", "rpe_trans_rmse: ", "rpe_rot_rmse_deg: ", "alignment: se3"})
 		EXPECT_NE(kv.find(k), std::string::npos) << k;
 	const std::string js = formatEvalJson(rep);
 	EXPECT_NE(js.find("\"ate_rmse\": 0.0134"), std::string::npos);
@@ -183,7 +188,8 @@ TEST(Evaluator, ReportKeysJsonAndPlot)
 	// Nothing is cut at the picture's edges (issue 18 item 6: the legend was clipped on the right):
 	// the outermost columns and rows are background.
 	int drawnOnEdge = 0;
-	for (const cv::Rect edge : {cv::Rect(0, 0, 2, img.rows), cv::Rect(img.cols - 2, 0, 2, img.rows), cv::Rect(0, img.rows - 2, img.cols, 2)})
+	for (const cv::Rect edge :
+		 {cv::Rect(0, 0, 2, img.rows), cv::Rect(img.cols - 2, 0, 2, img.rows), cv::Rect(0, img.rows - 2, img.cols, 2)})
 	{
 		cv::Mat dark;
 		cv::inRange(img(edge), cv::Scalar(0, 0, 0), cv::Scalar(230, 230, 230), dark);

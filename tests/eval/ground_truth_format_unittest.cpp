@@ -21,7 +21,8 @@ TEST(GroundTruthFormat, BonnMarkerPosesBecomeTheCameraPosesARealRunMeasures)
 	// the camera's (measured 19.0 deg per second); compared with the camera poses the conversion
 	// gives, only the estimate's own error remains (measured 1.1). Of the other readings of the
 	// dataset's formula, T_m inverted gives 20.2 and the markers merely rotated by T_ros 32.3.
-	const std::string dir = std::filesystem::path(sharedFile("data/bonn_crowd_dev/groundtruth.txt")).parent_path().string();
+	const std::string dir =
+		std::filesystem::path(sharedFile("data/bonn_crowd_dev/groundtruth.txt")).parent_path().string();
 	TempDir d("gt_format_bonn");
 	TSlamJobOptions o;
 	o.input = dir;
@@ -38,9 +39,11 @@ TEST(GroundTruthFormat, BonnMarkerPosesBecomeTheCameraPosesARealRunMeasures)
 	ASSERT_TRUE(s.eval.hasRpe) << s.eval.rpeProblem;
 
 	const TTrajectory markers = readGroundTruth(dir + "/groundtruth.txt", EGroundTruthFormat::Tum);
-	const TEvalReport raw = evaluateTrajectories(markers, readTumTrajectory(d / "trajectory.txt"), TEvalOptions(), "markers", "trajectory.txt");
+	const TEvalReport raw = evaluateTrajectories(markers, readTumTrajectory(d / "trajectory.txt"), TEvalOptions(),
+												 "markers", "trajectory.txt");
 	ASSERT_TRUE(raw.hasRpe);
-	EXPECT_LT(s.eval.rpe.rotDeg.rmse, 0.35 * raw.rpe.rotDeg.rmse) << "bonn " << s.eval.rpe.rotDeg.rmse << " deg, raw " << raw.rpe.rotDeg.rmse;
+	EXPECT_LT(s.eval.rpe.rotDeg.rmse, 0.35 * raw.rpe.rotDeg.rmse)
+		<< "bonn " << s.eval.rpe.rotDeg.rmse << " deg, raw " << raw.rpe.rotDeg.rmse;
 	EXPECT_LT(s.eval.rpe.rotDeg.rmse, 2.0);
 
 	// The conversion is rigid and per pose: distances between camera positions differ from the
@@ -50,8 +53,10 @@ TEST(GroundTruthFormat, BonnMarkerPosesBecomeTheCameraPosesARealRunMeasures)
 	for (std::size_t i = 0; i < markers.size(); i++)
 	{
 		EXPECT_EQ(cams[i].t, markers[i].t);
-		const Eigen::Vector3d a(markers[i].tx, markers[i].ty, markers[i].tz), b(markers.front().tx, markers.front().ty, markers.front().tz);
-		const Eigen::Vector3d ca(cams[i].tx, cams[i].ty, cams[i].tz), cb(cams.front().tx, cams.front().ty, cams.front().tz);
+		const Eigen::Vector3d a(markers[i].tx, markers[i].ty, markers[i].tz),
+			b(markers.front().tx, markers.front().ty, markers.front().tz);
+		const Eigen::Vector3d ca(cams[i].tx, cams[i].ty, cams[i].tz),
+			cb(cams.front().tx, cams.front().ty, cams.front().tz);
 		EXPECT_NEAR((ca - cb).norm(), (a - b).norm(), 0.04);
 	}
 }
@@ -64,8 +69,13 @@ TEST(GroundTruthFormat, AnUnknownFormatIsAOneLineError)
 	// auto: the dataset's folders (rgbd_bonn_<sequence>) and files named for it are Bonn's, others TUM's;
 	// a format given is kept.
 	EXPECT_EQ(parseGroundTruthFormat("Auto"), EGroundTruthFormat::Auto);
-	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_bonn_crowd/groundtruth.txt", EGroundTruthFormat::Auto), EGroundTruthFormat::Bonn);
-	EXPECT_EQ(resolveGroundTruthFormat("rec/rgbd_bonn_crowd2_groundtruth.txt", EGroundTruthFormat::Auto), EGroundTruthFormat::Bonn);
-	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_dataset_freiburg3_walking_xyz/groundtruth.txt", EGroundTruthFormat::Auto), EGroundTruthFormat::Tum);
-	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_bonn_crowd/groundtruth.txt", EGroundTruthFormat::Tum), EGroundTruthFormat::Tum);
+	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_bonn_crowd/groundtruth.txt", EGroundTruthFormat::Auto),
+			  EGroundTruthFormat::Bonn);
+	EXPECT_EQ(resolveGroundTruthFormat("rec/rgbd_bonn_crowd2_groundtruth.txt", EGroundTruthFormat::Auto),
+			  EGroundTruthFormat::Bonn);
+	EXPECT_EQ(
+		resolveGroundTruthFormat("/data/rgbd_dataset_freiburg3_walking_xyz/groundtruth.txt", EGroundTruthFormat::Auto),
+		EGroundTruthFormat::Tum);
+	EXPECT_EQ(resolveGroundTruthFormat("/data/rgbd_bonn_crowd/groundtruth.txt", EGroundTruthFormat::Tum),
+			  EGroundTruthFormat::Tum);
 }

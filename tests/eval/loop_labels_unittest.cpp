@@ -14,17 +14,23 @@ TEST(LoopLabels, ARevisitIsNearWithTheSameViewAndARollKeepsTheView)
 	// The camera at t = 0, and where it stands at later stamps, relative to it in its optical frame
 	// (x right, y down, z forward; MRPT's yaw turns about z, pitch about y, roll about x).
 	const mrpt::poses::CPose3D start(1, 2, 0.5, 0.3, 0, 0);
-	const auto at = [&](double t, const mrpt::poses::CPose3D& relative) { return TStampedPose::fromPose(t, start + relative); };
-	const TTrajectory gt{at(0, {}), at(10, {0.2, 0, 0.1, 0, 0, 0}), at(20, {0, 0, 0, 0, 0, mrpt::DEG2RAD(60.0)}),
-		at(30, {0, 0, 0, mrpt::DEG2RAD(60.0), 0, 0}), at(40, {0, 0, 1.5, 0, 0, 0}), at(50, {0, 0, 0, 0, mrpt::DEG2RAD(20.0), 0})};
+	const auto at = [&](double t, const mrpt::poses::CPose3D& relative)
+	{ return TStampedPose::fromPose(t, start + relative); };
+	const TTrajectory gt{at(0, {}),
+						 at(10, {0.2, 0, 0.1, 0, 0, 0}),
+						 at(20, {0, 0, 0, 0, 0, mrpt::DEG2RAD(60.0)}),
+						 at(30, {0, 0, 0, mrpt::DEG2RAD(60.0), 0, 0}),
+						 at(40, {0, 0, 1.5, 0, 0, 0}),
+						 at(50, {0, 0, 0, 0, mrpt::DEG2RAD(20.0), 0})};
 	const auto row = [](std::size_t q, double tq, const char* stage)
 	{
 		TLabelledLoopCandidate r;
 		r.query = q, r.queryStamp = tq, r.candidate = 0, r.candidateStamp = 0, r.stage = stage;
 		return r;
 	};
-	const std::vector<TLabelledLoopCandidate> rows{row(1, 10, "accepted"), row(2, 20, "ransac"), row(3, 30, "covisible"), row(4, 40, "accepted"),
-		row(5, 50, "few_matches"), row(6, 99, "inconsistent")};
+	const std::vector<TLabelledLoopCandidate> rows{row(1, 10, "accepted"),    row(2, 20, "ransac"),
+												   row(3, 30, "covisible"),   row(4, 40, "accepted"),
+												   row(5, 50, "few_matches"), row(6, 99, "inconsistent")};
 	const TLoopLabelReport r = labelLoopCandidates(rows, gt);
 	ASSERT_EQ(r.rows.size(), 6u);
 	EXPECT_TRUE(r.rows[0].trueRevisit) << "22 cm aside, the same view";
@@ -60,8 +66,8 @@ TEST(LoopLabels, TheCsvReadsBackAndABadOneIsRefusedNamingTheLine)
 {
 	TempDir d("loop_labels");
 	writeText(d / "c.csv",
-		"query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
-		"12,10.500000,3,2.250000,0.04000,0.61000,0.40000,ransac,35,9\n");
+			  "query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
+			  "12,10.500000,3,2.250000,0.04000,0.61000,0.40000,ransac,35,9\n");
 	const auto rows = readLoopCandidatesCsv(d / "c.csv");
 	ASSERT_EQ(rows.size(), 1u);
 	EXPECT_EQ(rows[0].query, 12u);
@@ -71,16 +77,17 @@ TEST(LoopLabels, TheCsvReadsBackAndABadOneIsRefusedNamingTheLine)
 	EXPECT_EQ(rows[0].matches, 35u);
 	EXPECT_EQ(rows[0].inliers, 9u);
 	writeText(d / "bad.csv",
-		"query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
-		"12,10.5,3,nan,0.04,0.61,0.4,ransac,35,9\n");
-	expectInputError([&] { readLoopCandidatesCsv(d / "bad.csv"); }, {"bad.csv", "line 2", "'nan' is not a finite number"});
+			  "query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
+			  "12,10.5,3,nan,0.04,0.61,0.4,ransac,35,9\n");
+	expectInputError([&] { readLoopCandidatesCsv(d / "bad.csv"); },
+					 {"bad.csv", "line 2", "'nan' is not a finite number"});
 	writeText(d / "stage.csv",
-		"query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
-		"12,10.5,3,2.25,0.04,0.61,0.4,maybe,35,9\n");
+			  "query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
+			  "12,10.5,3,2.25,0.04,0.61,0.4,maybe,35,9\n");
 	expectInputError([&] { readLoopCandidatesCsv(d / "stage.csv"); }, {"stage.csv", "line 2", "unknown stage 'maybe'"});
 	writeText(d / "id.csv",
-		"query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
-		"1e30,10.5,3,2.25,0.04,0.61,0.4,ransac,35,9\n");
+			  "query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n"
+			  "1e30,10.5,3,2.25,0.04,0.61,0.4,ransac,35,9\n");
 	expectInputError([&] { readLoopCandidatesCsv(d / "id.csv"); }, {"id.csv", "query '1e30' is not a keyframe id"});
 	writeText(d / "other.csv", "stamp,error\n");
 	expectInputError([&] { readLoopCandidatesCsv(d / "other.csv"); }, {"other.csv", "not a loop_candidates.csv"});

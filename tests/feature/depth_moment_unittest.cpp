@@ -56,7 +56,7 @@ void expectCorrected(const mrpt::img::TCamera& cam)
 		{
 			f.keypoints.emplace_back(cv::Point2f(static_cast<float>(u), static_cast<float>(v)), 8.f);
 			const cv::Point2d raw = K.distort(u, v);
-			f.depth.push_back(COrbExtractor::depthAt(depth, raw.x, raw.y));	// as the extractor reads it
+			f.depth.push_back(COrbExtractor::depthAt(depth, raw.x, raw.y));  // as the extractor reads it
 		}
 	f.dynamic.assign(f.keypoints.size(), false);
 	double before = 0, after = 0;

@@ -53,7 +53,8 @@ TEST(OrbMatcher, HammingDistanceEqualsOpenCv)
 	std::mt19937 rng(1);
 	const cv::Mat d = randomDescriptors(50, rng);
 	for (int i = 0; i + 1 < d.rows; i++)
-		EXPECT_EQ(orbDistance(d.ptr<uchar>(i), d.ptr<uchar>(i + 1)), static_cast<int>(cv::norm(d.row(i), d.row(i + 1), cv::NORM_HAMMING)));
+		EXPECT_EQ(orbDistance(d.ptr<uchar>(i), d.ptr<uchar>(i + 1)),
+				  static_cast<int>(cv::norm(d.row(i), d.row(i + 1), cv::NORM_HAMMING)));
 }
 
 TEST(OrbMatcher, ProjectionSearchFindsTheKeypointAtTheProjection)
@@ -109,15 +110,15 @@ TEST(OrbMatcher, ViewChecksSearchAPointOnlyWhereItsPyramidAndItsViewsReach)
 		pts.refDistances.push_back(refDistance);
 		pts.refOctaves.push_back(0);
 	};
-	add(0, {0, 0, 2}, {0, 0, 1}, 2.0f);	 // seen from here before: level 0
+	add(0, {0, 0, 2}, {0, 0, 1}, 2.0f);       // seen from here before: level 0
 	add(1, {0.4, 0, 2}, {-1, 0, 0.2}, 2.0f);  // only ever seen from its side, 80 degrees off
-	add(2, {-0.4, 0, 2}, {0, 0, 1}, 0.5f);	// seen from 0.5 m at level 0: past its pyramid's reach at 2 m
-	add(3, {0, 0.4, 2}, {0, 0, 1}, 4.0f);  // seen from 4 m at level 0: at 2 m it is at level 4
+	add(2, {-0.4, 0, 2}, {0, 0, 1}, 0.5f);    // seen from 0.5 m at level 0: past its pyramid's reach at 2 m
+	add(3, {0, 0.4, 2}, {0, 0, 1}, 4.0f);     // seen from 4 m at level 0: at 2 m it is at level 4
 	pts.descriptors = pointDesc;
 	cv::Mat desc;
 	for (int j = 0; j < 4; j++) desc.push_back(pointDesc.row(j).clone());
-	desc.push_back(flip(pointDesc.row(3), 10));	 // point 3 again, at the level its distance predicts
-	desc.push_back(randomDescriptors(1, rng));	// far off, at the coarsest level (the pyramid's reach)
+	desc.push_back(flip(pointDesc.row(3), 10));  // point 3 again, at the level its distance predicts
+	desc.push_back(randomDescriptors(1, rng));   // far off, at the coarsest level (the pyramid's reach)
 	TFrame f = frameWith({{320, 240}, {420, 240}, {220, 240}, {320, 340}, {322, 342}, {600, 50}}, desc);
 	f.features.keypoints[4].octave = 4;
 	f.features.keypoints[5].octave = 7;

@@ -17,7 +17,8 @@ std::pair<double, int> spread(const std::vector<cv::KeyPoint>& kps, cv::Size img
 {
 	std::vector<int> cells(48, 0);
 	for (const auto& k : kps)
-		cells[static_cast<std::size_t>(std::min(5, static_cast<int>(k.pt.y * 6 / img.height)) * 8 + std::min(7, static_cast<int>(k.pt.x * 8 / img.width)))]++;
+		cells[static_cast<std::size_t>(std::min(5, static_cast<int>(k.pt.y * 6 / img.height)) * 8 +
+									   std::min(7, static_cast<int>(k.pt.x * 8 / img.width)))]++;
 	return {static_cast<double>(*std::max_element(cells.begin(), cells.end())) / static_cast<double>(kps.size()),
 			static_cast<int>(std::count(cells.begin(), cells.end(), 0))};
 }
@@ -56,7 +57,8 @@ TEST(OrbExtractor, BudgetSpreadAndDepthOnARealFrame)
 	std::size_t withDepth = 0, onEdges = 0;
 	for (std::size_t i = 0; i < f.keypoints.size(); i++)
 	{
-		const cv::Point p(static_cast<int>(std::lround(f.keypoints[i].pt.x)), static_cast<int>(std::lround(f.keypoints[i].pt.y)));
+		const cv::Point p(static_cast<int>(std::lround(f.keypoints[i].pt.x)),
+						  static_cast<int>(std::lround(f.keypoints[i].pt.y)));
 		if (p.x < 2 || p.y < 2 || p.x >= depth.cols - 2 || p.y >= depth.rows - 2) continue;
 		const float z = depth.at<float>(p);
 		double lo = 1e9, hi = 0;
@@ -95,7 +97,8 @@ TEST(OrbExtractor, ItsCornersAndOrientationsAreThoseOfOpenCVsOrb)
 	cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY);
 	const COrbExtractor::TOptions o;
 	const auto f = COrbExtractor(o).extract(img);
-	auto orb = cv::ORB::create(o.numFeatures * 4, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
+	auto orb = cv::ORB::create(o.numFeatures * 4, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2,
+							   cv::ORB::FAST_SCORE, 31, o.fastThreshold);
 	std::vector<cv::KeyPoint> theirs;
 	cv::Mat theirDescriptors;
 	orb->detectAndCompute(grey, cv::noArray(), theirs, theirDescriptors);
@@ -113,7 +116,8 @@ TEST(OrbExtractor, ItsCornersAndOrientationsAreThoseOfOpenCVsOrb)
 			same++;
 			const float d = std::abs(t.angle - k.angle);
 			steered += std::min(d, 360.f - d) < 1.f;
-			close += cv::norm(f.descriptors.row(static_cast<int>(i)), theirDescriptors.row(static_cast<int>(j)), cv::NORM_HAMMING) <= 8;
+			close += cv::norm(f.descriptors.row(static_cast<int>(i)), theirDescriptors.row(static_cast<int>(j)),
+							  cv::NORM_HAMMING) <= 8;
 			break;
 		}
 	}
@@ -145,7 +149,8 @@ TEST(OrbExtractor, ItsDescriptorsAreThoseOpenCVsOrbComputesForTheSameKeypoints)
 			const float off = 0.5f * (static_cast<float>(std::pow(o.scaleFactor, k.octave)) - 1.f);
 			k.pt -= cv::Point2f(off, off);
 		}
-		auto orb = cv::ORB::create(o.numFeatures, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
+		auto orb = cv::ORB::create(o.numFeatures, static_cast<float>(o.scaleFactor), o.numLevels, 19, 0, 2,
+								   cv::ORB::FAST_SCORE, 31, o.fastThreshold);
 		const std::size_t n = kps.size();
 		cv::Mat theirs;
 		orb->compute(grey, kps, theirs);
@@ -157,7 +162,8 @@ TEST(OrbExtractor, ItsDescriptorsAreThoseOpenCVsOrbComputesForTheSameKeypoints)
 		{
 			const float off = 0.5f * (static_cast<float>(std::pow(o.scaleFactor, f.keypoints[i].octave)) - 1.f);
 			ASSERT_LT(cv::norm(kps[i].pt + cv::Point2f(off, off) - f.keypoints[i].pt), 1e-3) << "keypoint " << i;
-			same += cv::norm(f.descriptors.row(static_cast<int>(i)), theirs.row(static_cast<int>(i)), cv::NORM_HAMMING) == 0;
+			same += cv::norm(f.descriptors.row(static_cast<int>(i)), theirs.row(static_cast<int>(i)),
+							 cv::NORM_HAMMING) == 0;
 		}
 		EXPECT_EQ(same, n) << name << ": descriptors equal to the bit";
 	}
@@ -171,8 +177,7 @@ TEST(OrbExtractor, KeypointDepthIsTheSurfacesAtTheKeypointNotAtItsNearestPixel)
 	cv::Mat img(480, 640, CV_8UC3);
 	cv::RNG rng(7);
 	for (int y = 0; y < img.rows; y += 8)
-		for (int x = 0; x < img.cols; x += 8)
-			img(cv::Rect(x, y, 8, 8)).setTo(cv::Scalar::all(rng.uniform(0, 256)));
+		for (int x = 0; x < img.cols; x += 8) img(cv::Rect(x, y, 8, 8)).setTo(cv::Scalar::all(rng.uniform(0, 256)));
 	cv::Mat depth(480, 640, CV_32F);
 	for (int y = 0; y < depth.rows; y++)
 		for (int x = 0; x < depth.cols; x++) depth.at<float>(y, x) = 1.5f + 0.01f * static_cast<float>(x);

@@ -81,7 +81,13 @@ void expectUnrolled(const mrpt::img::TCamera& cam)
 }
 }  // namespace
 
-TEST(RollingShutter, KeypointsAreMovedToTheMiddleRowsMoment) { expectUnrolled(tumCameraByName("fr3").intrinsics); }
+TEST(RollingShutter, KeypointsAreMovedToTheMiddleRowsMoment)
+{
+	expectUnrolled(tumCameraByName("fr3").intrinsics);
+}
 
 // TUM fr1's published calibration, with its distortion.
-TEST(RollingShutter, RowTimesAreTheRecordedRowsThroughTheLensDistortion) { expectUnrolled(tumCameraByName("fr1").intrinsics); }
+TEST(RollingShutter, RowTimesAreTheRecordedRowsThroughTheLensDistortion)
+{
+	expectUnrolled(tumCameraByName("fr1").intrinsics);
+}

@@ -57,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 				tracker.track(*f);
 				tracker.setLastFrame(f);
 			}
-			break;	// one keyframe: the map's content is what is under test
+			break;  // one keyframe: the map's content is what is under test
 		}
 	}
 	catch (const std::runtime_error&)
@@ -71,7 +71,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 	file.append(reinterpret_cast<const char*>(&version), 4);
 	file.append(reinterpret_cast<const char*>(&vocabulary), 8);
 	file += body;
-	file += std::string(16, '\0');	 // no semantic octree (threshold 0, length 0)
+	file += std::string(16, '\0');  // no semantic octree (threshold 0, length 0)
 	const std::uint64_t sum = binio::checksum(file.data(), file.size());
 	file.append(reinterpret_cast<const char*>(&sum), 8);
 	const std::string path = "/tmp/yesslam_fuzz_map_" + std::to_string(::getpid()) + ".ysm";

@@ -40,7 +40,7 @@ TEST(LiveSource, WithoutDroppingEveryFrameArrivesInOrder)
 		auto f = live.next();
 		ASSERT_TRUE(f) << "frame " << i;
 		EXPECT_NEAR(observationTime(*f), frames[i].tRgb, 0.01);
-		std::this_thread::sleep_for(std::chrono::milliseconds(15));	// a consumer slower than the reader
+		std::this_thread::sleep_for(std::chrono::milliseconds(15));  // a consumer slower than the reader
 	}
 	EXPECT_FALSE(live.next());
 	EXPECT_FALSE(live.next());
@@ -52,15 +52,16 @@ TEST(LiveSource, WithoutDroppingEveryFrameArrivesInOrder)
 TEST(LiveSource, ASlowConsumerGetsTheNewestFramesAndTheDropsAreCounted)
 {
 	TempDir d("live");
-	const auto frames = makeSyntheticFrames(12);	// 30 Hz stamps: 0.37 s as a camera delivers them
+	const auto frames = makeSyntheticFrames(12);  // 30 Hz stamps: 0.37 s as a camera delivers them
 	writeTumFolder(d.path(), frames);
 	std::size_t seen = 0;
-	CLiveSource live(std::make_unique<CPacedSource>(std::make_unique<CTumFolderSource>(d.path())), 1, true, [&](const auto&) { seen++; });
+	CLiveSource live(std::make_unique<CPacedSource>(std::make_unique<CTumFolderSource>(d.path())), 1, true,
+					 [&](const auto&) { seen++; });
 	std::vector<double> got;
 	while (auto f = live.next())
 	{
 		got.push_back(observationTime(*f));
-		std::this_thread::sleep_for(std::chrono::milliseconds(100));	 // SLAM at 10 fps
+		std::this_thread::sleep_for(std::chrono::milliseconds(100));  // SLAM at 10 fps
 	}
 	const TLiveStats s = live.stats();
 	EXPECT_EQ(s.captured, frames.size());
@@ -69,7 +70,8 @@ TEST(LiveSource, ASlowConsumerGetsTheNewestFramesAndTheDropsAreCounted)
 	EXPECT_EQ(got.size() + s.dropped, s.captured);
 	EXPECT_EQ(s.delivered, got.size());
 	EXPECT_EQ(s.waiting, 0u);
-	for (std::size_t i = 1; i < got.size(); i++) EXPECT_GT(got[i], got[i - 1]) << "never an older frame after a newer one";
+	for (std::size_t i = 1; i < got.size(); i++)
+		EXPECT_GT(got[i], got[i - 1]) << "never an older frame after a newer one";
 	EXPECT_NEAR(got.back(), frames.back().tRgb, 0.01) << "the newest frame is never the one dropped";
 	EXPECT_GT(s.captureFps, 10.0);
 }
@@ -128,7 +130,7 @@ TEST(DeviceClock, FramesKeepTheDevicesSpacingOnTheHostClock)
 	// USB and pairing latency (and an NTP step) went into every frame time. Now the device's own
 	// times are mapped onto the host clock once.
 	CDeviceClock c;
-	EXPECT_DOUBLE_EQ(c.toHost(2'000'000, 1000.0), 1000.0);	// the anchor
+	EXPECT_DOUBLE_EQ(c.toHost(2'000'000, 1000.0), 1000.0);  // the anchor
 	EXPECT_NEAR(c.toHost(2'033'333, 1000.051), 1000.033333, 1e-9) << "arrived 18 ms late: the device's time counts";
 	EXPECT_NEAR(c.toHost(2'066'667, 999.5), 1000.066667, 1e-9) << "the host clock stepped back (NTP): no jump";
 	EXPECT_NEAR(c.toHost(2'100'000, 1000.101), 1000.1, 1e-9);

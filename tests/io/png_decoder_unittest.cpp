@@ -47,7 +47,8 @@ int paethPredictor(int a, int b, int c)
 // A PNG of `img` (CV_8UC3 as BGR, CV_8UC1 or CV_16UC1) written here, independently of libpng: row y
 // filtered with filter type y % 5, the zlib stream split over `idatChunks` IDAT chunks, optional
 // extra chunks (name, data) before the first IDAT.
-std::vector<std::uint8_t> encodePng(const cv::Mat& img, int idatChunks, const std::vector<std::pair<std::string, std::vector<std::uint8_t>>>& extra = {})
+std::vector<std::uint8_t> encodePng(const cv::Mat& img, int idatChunks,
+									const std::vector<std::pair<std::string, std::vector<std::uint8_t>>>& extra = {})
 {
 	const int colourType = img.channels() == 3 ? 2 : 0, bitDepth = img.depth() == CV_16U ? 16 : 8;
 	const std::size_t bpp = img.elemSize(), rowBytes = img.cols * bpp;
@@ -58,9 +59,10 @@ std::vector<std::uint8_t> encodePng(const cv::Mat& img, int idatChunks, const st
 			for (std::size_t b = 0; b < bpp; b++)
 			{
 				std::uint8_t v = 0;
-				if (img.type() == CV_8UC3) v = img.at<cv::Vec3b>(y, x)[2 - b];	// PNG is RGB
+				if (img.type() == CV_8UC3) v = img.at<cv::Vec3b>(y, x)[2 - b];  // PNG is RGB
 				if (img.type() == CV_8UC1) v = img.at<std::uint8_t>(y, x);
-				if (img.type() == CV_16UC1) v = static_cast<std::uint8_t>(img.at<std::uint16_t>(y, x) >> (b == 0 ? 8 : 0));
+				if (img.type() == CV_16UC1)
+					v = static_cast<std::uint8_t>(img.at<std::uint16_t>(y, x) >> (b == 0 ? 8 : 0));
 				cur[x * bpp + b] = v;
 			}
 		const int filter = y % 5;
@@ -68,7 +70,11 @@ std::vector<std::uint8_t> encodePng(const cv::Mat& img, int idatChunks, const st
 		for (std::size_t i = 0; i < rowBytes; i++)
 		{
 			const int a = i >= bpp ? cur[i - bpp] : 0, b = prev[i], c = i >= bpp ? prev[i - bpp] : 0;
-			const int pred = filter == 0 ? 0 : filter == 1 ? a : filter == 2 ? b : filter == 3 ? (a + b) / 2 : paethPredictor(a, b, c);
+			const int pred = filter == 0   ? 0
+							 : filter == 1 ? a
+							 : filter == 2 ? b
+							 : filter == 3 ? (a + b) / 2
+										   : paethPredictor(a, b, c);
 			raw.push_back(static_cast<std::uint8_t>(cur[i] - pred));
 		}
 		prev = cur;
@@ -118,7 +124,8 @@ TEST(PngDecoder, RealDatasetFramesGiveOpenCvsPixels)
 	// fr2/fr3 samples (TUM RGB-D, CC BY 4.0). Every fifth Bonn frame, colour and depth.
 	std::vector<std::pair<std::string, int>> files;
 	int n = 0;
-	for (const char* sub : {"data/bonn_crowd_dev/rgb", "data/bonn_crowd_dev/depth", "data/tum_fr1_desk_9frames/rgb", "data/tum_fr1_desk_9frames/depth"})
+	for (const char* sub : {"data/bonn_crowd_dev/rgb", "data/bonn_crowd_dev/depth", "data/tum_fr1_desk_9frames/rgb",
+							"data/tum_fr1_desk_9frames/depth"})
 	{
 		std::vector<fs::path> paths;
 		for (const auto& e : fs::directory_iterator(sharedFile(sub))) paths.push_back(e.path());
@@ -128,7 +135,10 @@ TEST(PngDecoder, RealDatasetFramesGiveOpenCvsPixels)
 			files.emplace_back(paths[i].string(), depth ? cv::IMREAD_UNCHANGED : cv::IMREAD_COLOR);
 	}
 	for (const auto& e : fs::recursive_directory_iterator(sharedFile("data/tum_sample_frames")))
-		if (e.path().extension() == ".png") files.emplace_back(e.path().string(), e.path().string().find("depth") != std::string::npos ? cv::IMREAD_UNCHANGED : cv::IMREAD_COLOR);
+		if (e.path().extension() == ".png")
+			files.emplace_back(e.path().string(), e.path().string().find("depth") != std::string::npos
+													  ? cv::IMREAD_UNCHANGED
+													  : cv::IMREAD_COLOR);
 	ASSERT_GT(files.size(), 100u);
 	for (const auto& [path, flags] : files)
 	{
@@ -152,7 +162,8 @@ TEST(PngDecoder, EveryRowFilterAndSplitStreamsDecodeAsLibpngDoes)
 		{
 			const cv::Mat img = randomImage(type, seed++);
 			const auto png = encodePng(img, chunks);
-			expectAsOpenCv(png, cv::IMREAD_UNCHANGED, "type " + std::to_string(type) + ", " + std::to_string(chunks) + " IDAT");
+			expectAsOpenCv(png, cv::IMREAD_UNCHANGED,
+						   "type " + std::to_string(type) + ", " + std::to_string(chunks) + " IDAT");
 			const TPngDecodeResult r = decodePng(png.data(), png.size(), cv::IMREAD_UNCHANGED);
 			EXPECT_EQ(cv::norm(r.image, img, cv::NORM_INF), 0.0) << "not the pixels encoded";
 		}
@@ -179,7 +190,8 @@ TEST(PngDecoder, OtherKindsAreLeftToOpenCv)
 	auto split = encodePng(rgb, 2);
 	{
 		// A tEXt chunk moved between the two IDATs (the first IDAT starts after IHDR, at byte 33).
-		const std::size_t first = 33, firstLen = (std::size_t(split[33]) << 24) | (std::size_t(split[34]) << 16) | (std::size_t(split[35]) << 8) | split[36];
+		const std::size_t first = 33, firstLen = (std::size_t(split[33]) << 24) | (std::size_t(split[34]) << 16) |
+												 (std::size_t(split[35]) << 8) | split[36];
 		std::vector<std::uint8_t> text;
 		chunk(text, "tEXt", {'a', 0, 'b'});
 		split.insert(split.begin() + static_cast<std::ptrdiff_t>(first + 12 + firstLen), text.begin(), text.end());
@@ -190,7 +202,8 @@ TEST(PngDecoder, OtherKindsAreLeftToOpenCv)
 	TempDir d("png");
 	const std::string path = d.path() + "/grey.png";
 	const auto bytes = encodePng(grey, 1);
-	std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+	std::ofstream(path, std::ios::binary)
+		.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 	const cv::Mat viaUs = readImageFile(path, cv::IMREAD_COLOR, "image"), ref = cv::imread(path, cv::IMREAD_COLOR);
 	ASSERT_EQ(viaUs.type(), CV_8UC3);
 	EXPECT_EQ(cv::norm(viaUs, ref, cv::NORM_INF), 0.0);
@@ -208,7 +221,8 @@ TEST(PngDecoder, DamageIsReportedNotDecoded)
 	EXPECT_NE(r.error.find("CRC error in IDAT"), std::string::npos) << r.error;
 
 	// The CRC made right again over damaged data: the zlib stream itself is refused.
-	const std::uint32_t len = (std::uint32_t(flipped[33]) << 24) | (std::uint32_t(flipped[34]) << 16) | (std::uint32_t(flipped[35]) << 8) | flipped[36];
+	const std::uint32_t len = (std::uint32_t(flipped[33]) << 24) | (std::uint32_t(flipped[34]) << 16) |
+							  (std::uint32_t(flipped[35]) << 8) | flipped[36];
 	const std::uint32_t crc = libdeflate_crc32(0, flipped.data() + 37, 4 + len);
 	for (int i = 0; i < 4; i++) flipped[37 + 4 + len + i] = static_cast<std::uint8_t>(crc >> (24 - 8 * i));
 	r = decodePng(flipped.data(), flipped.size(), cv::IMREAD_UNCHANGED);
@@ -218,7 +232,8 @@ TEST(PngDecoder, DamageIsReportedNotDecoded)
 	// Cut short, through the file reader: one line naming the file and the problem.
 	TempDir d("png");
 	const std::string path = d.path() + "/cut.png";
-	std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(good.data()), static_cast<std::streamsize>(good.size() / 2));
+	std::ofstream(path, std::ios::binary)
+		.write(reinterpret_cast<const char*>(good.data()), static_cast<std::streamsize>(good.size() / 2));
 	try
 	{
 		readImageFile(path, cv::IMREAD_UNCHANGED, "depth image");
@@ -226,7 +241,8 @@ TEST(PngDecoder, DamageIsReportedNotDecoded)
 	}
 	catch (const InputError& e)
 	{
-		EXPECT_NE(std::string(e.what()).find(path + ": cannot decode depth image (truncated PNG"), std::string::npos) << e.what();
+		EXPECT_NE(std::string(e.what()).find(path + ": cannot decode depth image (truncated PNG"), std::string::npos)
+			<< e.what();
 	}
 	const std::string text = d.path() + "/text.png";
 	std::ofstream(text) << "not an image\n";

@@ -53,14 +53,13 @@ TEST(Rawlog, TumToRawlogRoundTripInline)
 	o.folder = d / "seq";
 	o.output = d / "seq.rawlog";
 	std::size_t calls = 0;
-	const auto sum = convertTumToRawlog(
-		o,
-		[&](std::size_t done, std::size_t total)
-		{
-			calls++;
-			EXPECT_EQ(total, 6u);
-			EXPECT_EQ(done, calls);
-		});
+	const auto sum = convertTumToRawlog(o,
+										[&](std::size_t done, std::size_t total)
+										{
+											calls++;
+											EXPECT_EQ(total, 6u);
+											EXPECT_EQ(done, calls);
+										});
 	EXPECT_EQ(calls, 6u);
 	EXPECT_EQ(sum.frames, 6u);
 	EXPECT_EQ(sum.skipped, 0u);
@@ -109,7 +108,9 @@ TEST(Rawlog, TumToRawlogExternalImages)
 	fs::remove_all(d / "ext_Images");
 	CRawlogSource src3(o.output);
 	expectInputError(
-		[&] { src3.next(); }, {"ext.rawlog: frame 1", "the images folder '" + fs::absolute(d / "ext_Images").lexically_normal().string() + "' does not exist"});
+		[&] { src3.next(); },
+		{"ext.rawlog: frame 1",
+		 "the images folder '" + fs::absolute(d / "ext_Images").lexically_normal().string() + "' does not exist"});
 }
 
 TEST(Rawlog, ActionObservationFormatAndOtherSensors)
@@ -129,7 +130,7 @@ TEST(Rawlog, ActionObservationFormatAndOtherSensors)
 			mrpt::obs::CSensoryFrame sf;
 			sf.insert(makeRgbdObservation(fr.tRgb, fr.bgr, fr.depth, cam));
 			auto odo = mrpt::obs::CObservationOdometry::Create();
-			sf.insert(odo);	 // not an RGB-D frame: skipped
+			sf.insert(odo);  // not an RGB-D frame: skipped
 			arch << acts << sf;
 		}
 	}
@@ -157,7 +158,8 @@ TEST(Rawlog, UncommittedWriterLeavesNothing)
 	TempDir d("rawlog");
 	{
 		CRawlogWriter w(d / "x.rawlog");
-		w.write(*makeRgbdObservation(1.0, makeSyntheticFrames(1)[0].bgr, makeSyntheticFrames(1)[0].depth, tumCameraByName("fr3")));
+		w.write(*makeRgbdObservation(1.0, makeSyntheticFrames(1)[0].bgr, makeSyntheticFrames(1)[0].depth,
+									 tumCameraByName("fr3")));
 	}
 	EXPECT_TRUE(fs::is_empty(d.path()));
 }
@@ -200,7 +202,8 @@ TEST(Rawlog, CorruptAndTruncatedFiles)
 		std::string junk(5000, '\0');
 		for (std::size_t i = 0; i < junk.size(); i++) junk[i] = static_cast<char>((i * 7919 + 13) & 255);
 		writeText(d / "junk.rawlog", junk);
-		expectInputError([&] { readAll(d / "junk.rawlog"); }, {"junk.rawlog", "corrupt or truncated rawlog at entry 1"});
+		expectInputError([&] { readAll(d / "junk.rawlog"); },
+						 {"junk.rawlog", "corrupt or truncated rawlog at entry 1"});
 	}
 	// A gz file cut short.
 	{

@@ -11,11 +11,11 @@
 using namespace mrpt_yesslam;
 using namespace yesslam_test;
 
-
 TEST(Trajectory, ParsesSpacesCommasTabsAndComments)
 {
 	const auto t = parseTumTrajectory(
-		"# header\n\n1.5 1 2 3 0 0 0 1\n  # indented comment\n2.5,4,5,6,0,0,0.7071068,0.7071068\r\n3.5\t7\t8\t9\t0\t0\t0\t1\n",
+		"# header\n\n1.5 1 2 3 0 0 0 1\n  # indented "
+		"comment\n2.5,4,5,6,0,0,0.7071068,0.7071068\r\n3.5\t7\t8\t9\t0\t0\t0\t1\n",
 		"x.txt");
 	ASSERT_EQ(t.size(), 3u);
 	EXPECT_DOUBLE_EQ(t[0].t, 1.5);
@@ -28,7 +28,8 @@ TEST(Trajectory, ParsesSpacesCommasTabsAndComments)
 
 TEST(Trajectory, RejectsMalformedLinesNamingFileAndLine)
 {
-	expectInputError([] { parseTumTrajectory("# c\n1 2 3 4 5 6\n", "traj.txt"); }, {"traj.txt", "line 2", "expected 8"});
+	expectInputError([] { parseTumTrajectory("# c\n1 2 3 4 5 6\n", "traj.txt"); },
+					 {"traj.txt", "line 2", "expected 8"});
 	expectInputError([] { parseTumTrajectory("1 2 3 nan 0 0 0 1\n", "a.txt"); }, {"a.txt", "line 1", "nan"});
 	expectInputError([] { parseTumTrajectory("1 2 3 inf 0 0 0 1\n", "a.txt"); }, {"not a finite number"});
 	expectInputError([] { parseTumTrajectory("1 2 3 4 0 0 0 0\n", "q.txt"); }, {"q.txt", "zero norm"});
@@ -66,8 +67,8 @@ TEST(Trajectory, WriteReadRoundTripIsAtomic)
 
 TEST(Trajectory, WritingIntoMissingFolderFails)
 {
-	expectInputError(
-		[] { writeTumTrajectory("/nonexistent_dir_yesslam/x.txt", TTrajectory{}); }, {"/nonexistent_dir_yesslam/x.txt"});
+	expectInputError([] { writeTumTrajectory("/nonexistent_dir_yesslam/x.txt", TTrajectory{}); },
+					 {"/nonexistent_dir_yesslam/x.txt"});
 }
 
 TEST(Trajectory, LostFramesBetweenTwoTrackedOnesArePlacedBetweenThemByTime)

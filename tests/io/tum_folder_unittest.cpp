@@ -48,7 +48,8 @@ TEST(TumFolder, ReadsFramesWithExactDepth)
 		expectSameFrame(*obs, f);
 		EXPECT_DOUBLE_EQ(obs->cameraParamsIntensity.fx(), 535.4);
 		// Depth in metres through MRPT's own conversion.
-		EXPECT_NEAR(obs->rangeImage(10, 20) * obs->rangeUnits, (5001 + 7 * 20 + 3 * 10 + (&f - &frames[0])) / 5000.0, 1e-6);
+		EXPECT_NEAR(obs->rangeImage(10, 20) * obs->rangeUnits, (5001 + 7 * 20 + 3 * 10 + (&f - &frames[0])) / 5000.0,
+					1e-6);
 	}
 	EXPECT_FALSE(src.next());
 }
@@ -57,7 +58,7 @@ TEST(TumFolder, PairsLikeAssociatePyAndCountsSkipped)
 {
 	TempDir d("tum");
 	auto frames = makeSyntheticFrames(4);
-	frames[2].tDepth = frames[2].tRgb + 0.025;	// 25 ms from its rgb image, closer to the next one
+	frames[2].tDepth = frames[2].tRgb + 0.025;  // 25 ms from its rgb image, closer to the next one
 	writeTumFolder(d.path(), frames);
 	CTumFolderSource src(d.path());
 	EXPECT_EQ(src.sizeHint(), 3u);
@@ -113,7 +114,7 @@ TEST(TumFolder, RealFr1DeskFrames)
 			}
 		}
 	EXPECT_EQ(bad, 0);
-	EXPECT_GT(lo, 3000);  // about 0.7 m: a desk seen from a hand-held Kinect
+	EXPECT_GT(lo, 3000);   // about 0.7 m: a desk seen from a hand-held Kinect
 	EXPECT_LT(hi, 13000);  // about 2.6 m
 	EXPECT_GT(valid, 640 * 480 * 3 / 4);
 	int n = 1;
@@ -183,36 +184,35 @@ TEST(TumFolder, BadFolders)
 	};
 	auto firstDepth = [](const std::string& f) { return f + "/depth/1000.004000.png"; };
 	auto firstRgb = [](const std::string& f) { return f + "/rgb/1000.000000.png"; };
-	firstFrameError("missingpng", [&](const std::string& f) { fs::remove(firstRgb(f)); }, {"1000.000000.png", "not found"});
-	firstFrameError(
-		"truncated", [&](const std::string& f) { fs::resize_file(firstDepth(f), 40); }, {"1000.004000.png", "cannot decode"});
-	firstFrameError(
-		"notimage", [&](const std::string& f) { writeText(firstRgb(f), "this is not a PNG"); }, {"1000.000000.png", "cannot decode"});
-	firstFrameError(
-		"eightbit",
-		[&](const std::string& f)
-		{
-			cv::Mat m(48, 64, CV_8UC1, cv::Scalar(100));
-			cv::imwrite(firstDepth(f), m);
-		},
-		{"1000.004000.png", "8-bit"});
-	firstFrameError(
-		"wrongsize",
-		[&](const std::string& f)
-		{
-			cv::Mat m(24, 32, CV_16UC1, cv::Scalar(5000));
-			cv::imwrite(firstDepth(f), m);
-		},
-		{"1000.004000.png", "32x24", "64x48"});
-	firstFrameError(
-		"floatdepth",
-		[&](const std::string& f)
-		{
-			// Depth in metres as a float image (a common mistake when exporting from other tools).
-			cv::Mat m(48, 64, CV_32FC1, cv::Scalar(1.5f));
-			const std::string tif = f + "/depth/1000.004000.tiff";
-			cv::imwrite(tif, m);
-			writeText(f + "/depth.txt", "1000.004000 depth/1000.004000.tiff\n1000.037333 depth/1000.037333.png\n");
-		},
-		{"floating-point"});
+	firstFrameError("missingpng", [&](const std::string& f) { fs::remove(firstRgb(f)); },
+					{"1000.000000.png", "not found"});
+	firstFrameError("truncated", [&](const std::string& f) { fs::resize_file(firstDepth(f), 40); },
+					{"1000.004000.png", "cannot decode"});
+	firstFrameError("notimage", [&](const std::string& f) { writeText(firstRgb(f), "this is not a PNG"); },
+					{"1000.000000.png", "cannot decode"});
+	firstFrameError("eightbit",
+					[&](const std::string& f)
+					{
+						cv::Mat m(48, 64, CV_8UC1, cv::Scalar(100));
+						cv::imwrite(firstDepth(f), m);
+					},
+					{"1000.004000.png", "8-bit"});
+	firstFrameError("wrongsize",
+					[&](const std::string& f)
+					{
+						cv::Mat m(24, 32, CV_16UC1, cv::Scalar(5000));
+						cv::imwrite(firstDepth(f), m);
+					},
+					{"1000.004000.png", "32x24", "64x48"});
+	firstFrameError("floatdepth",
+					[&](const std::string& f)
+					{
+						// Depth in metres as a float image (a common mistake when exporting from other tools).
+						cv::Mat m(48, 64, CV_32FC1, cv::Scalar(1.5f));
+						const std::string tif = f + "/depth/1000.004000.tiff";
+						cv::imwrite(tif, m);
+						writeText(f + "/depth.txt",
+								  "1000.004000 depth/1000.004000.tiff\n1000.037333 depth/1000.037333.png\n");
+					},
+					{"floating-point"});
 }

@@ -67,7 +67,7 @@ TEST(WorldFrame, TheFloorLevelsTheFrameAndLiesAtZeroEvenUnderABusierDesk)
 	EXPECT_NEAR(f.cameraHeight, 1.4, 0.01);
 	// The true world frame is the answer: its x axis is the camera's view on the floor, its origin
 	// the point of the floor under the camera.
-	const CPose3D camInWorld = f.worldFromMap;	// T_world_map with map = the camera
+	const CPose3D camInWorld = f.worldFromMap;  // T_world_map with map = the camera
 	EXPECT_LT(angleDeg(camInWorld, cam), 0.3);
 	EXPECT_NEAR(camInWorld.x(), 0, 0.01);
 	EXPECT_NEAR(camInWorld.y(), 0, 0.01);

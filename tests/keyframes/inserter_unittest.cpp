@@ -59,7 +59,7 @@ TEST(KeyFrameInserter, SemanticPolicyDecidesPerIntervalAndForcesWhenTheMapIsLeft
 	CKeyFrameInserter::TOptions o;
 	CKeyFrameInserter ins(o);
 	const CKeyFrameInserter::TReference ref{0, 400};
-	auto first = ins.addFrame(tracked(0, 400), ref, 0);	// the first frame is the selector's first reference
+	auto first = ins.addFrame(tracked(0, 400), ref, 0);  // the first frame is the selector's first reference
 	ASSERT_TRUE(first);
 	EXPECT_EQ(first->frameId, 0u);
 	// Frames with motion in (D_min, D_max) and enough inliers: one decision per interval of 5.
@@ -125,7 +125,8 @@ TEST(KeyFrameInserter, ForcedKeyFrameRestartsTheSemanticInterval)
 	}
 	ASSERT_GE(chosen.size(), 2u);
 	EXPECT_EQ(chosen[0], 4u);
-	for (std::size_t i = 1; i < chosen.size(); i++) EXPECT_GT(chosen[i], chosen[i - 1]) << "keyframes out of time order";
+	for (std::size_t i = 1; i < chosen.size(); i++)
+		EXPECT_GT(chosen[i], chosen[i - 1]) << "keyframes out of time order";
 }
 
 // Beyond the paper (ORB-SLAM2's c2): Algorithm 1 chooses a frame every interval wherever the camera
@@ -138,15 +139,15 @@ TEST(KeyFrameInserter, SemanticChoiceCoveredByTheMapIsNotInserted)
 		CKeyFrameInserter::TOptions o;
 		o.semanticRefRatio = refRatio;
 		CKeyFrameInserter ins(o);
-		EXPECT_TRUE(ins.addFrame(tracked(0, 400), ref, 0));	 // the first reference is never judged
+		EXPECT_TRUE(ins.addFrame(tracked(0, 400), ref, 0));  // the first reference is never judged
 		std::size_t n = 0;
 		for (std::size_t i = 1; i <= 20; i++) n += ins.addFrame(tracked(i, inliers), ref, 0.05).has_value();
 		EXPECT_EQ(ins.redundantChoices(), 4 - n);
 		return n;
 	};
-	EXPECT_EQ(decisions(0.9, 300), 4u);	 // 75 % of the reference's points: new content, one per interval
-	EXPECT_EQ(decisions(0.9, 380), 0u);	 // 95 %: the map covers the view
-	EXPECT_EQ(decisions(1.0, 380), 4u);	 // the check off: the paper's Algorithm 1 alone
+	EXPECT_EQ(decisions(0.9, 300), 4u);  // 75 % of the reference's points: new content, one per interval
+	EXPECT_EQ(decisions(0.9, 380), 0u);  // 95 %: the map covers the view
+	EXPECT_EQ(decisions(1.0, 380), 4u);  // the check off: the paper's Algorithm 1 alone
 }
 
 TEST(RecentFrames, AChosenFrameComesAtItsPoseInTheMapAsItIsNow)
@@ -157,7 +158,8 @@ TEST(RecentFrames, AChosenFrameComesAtItsPoseInTheMapAsItIsNow)
 	std::vector<mrpt::math::TPoint3D> world;
 	for (int i = 0; i < 30; i++) world.emplace_back(0.05 * i - 0.7, 0.02 * i - 0.3, 2.0 + 0.03 * i);
 	CSparseMap map;
-	const TKeyFrameId kf = map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng), 10.0);
+	const TKeyFrameId kf =
+		map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(30, -1), rng), 10.0);
 	CRecentFrames recent(2);
 	for (std::size_t id = 1; id <= 3; id++)
 	{
@@ -179,7 +181,8 @@ TEST(RecentFrames, AChosenFrameComesAtItsPoseInTheMapAsItIsNow)
 	map.applyCorrection({{kf, mrpt::poses::CPose3D(1, 2, 3, 0.5, 0, 0)}});
 	const auto moved = recent.tracked(3, map);
 	ASSERT_NE(moved, nullptr);
-	const mrpt::poses::CPose3D want = mrpt::poses::CPose3D(1, 2, 3, 0.5, 0, 0) + mrpt::poses::CPose3D(0.03, 0, 0, 0, 0, 0);
+	const mrpt::poses::CPose3D want =
+		mrpt::poses::CPose3D(1, 2, 3, 0.5, 0, 0) + mrpt::poses::CPose3D(0.03, 0, 0, 0, 0, 0);
 	EXPECT_LT((moved->pose.asVectorVal() - want.asVectorVal()).norm(), 1e-9);
 	EXPECT_NE(moved.get(), same.get()) << "a copy: the tracked frame itself is left as it was";
 }

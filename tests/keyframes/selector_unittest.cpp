@@ -26,7 +26,8 @@ const cv::Size kImg(640, 480);
 TEST(KeyFrameEquations, RegionVectorsAndJaccardEq9)
 {
 	// A person across the two left regions, a chair bottom-right, a screen top-right.
-	const std::vector<TDetection> a = {det(0, 100, 50, 100, 400), det(56, 400, 300, 100, 100), det(62, 400, 50, 100, 100)};
+	const std::vector<TDetection> a = {det(0, 100, 50, 100, 400), det(56, 400, 300, 100, 100),
+									   det(62, 400, 50, 100, 100)};
 	const auto va = semanticRegionVectors(a, kImg, 2, 2);
 	ASSERT_EQ(va.size(), 4u);
 	EXPECT_EQ(va[0], (std::set<int>{0}));
@@ -34,12 +35,14 @@ TEST(KeyFrameEquations, RegionVectorsAndJaccardEq9)
 	EXPECT_EQ(va[2], (std::set<int>{0}));
 	EXPECT_EQ(va[3], (std::set<int>{56}));
 	// The person moved to the right half: region 0 and 2 lose it, regions 1 and 3 gain it.
-	const std::vector<TDetection> b = {det(0, 420, 50, 100, 400), det(56, 400, 300, 100, 100), det(62, 400, 50, 100, 100)};
+	const std::vector<TDetection> b = {det(0, 420, 50, 100, 400), det(56, 400, 300, 100, 100),
+									   det(62, 400, 50, 100, 100)};
 	const auto vb = semanticRegionVectors(b, kImg, 2, 2);
 	// Regions: {0} vs {} -> 0; {62} vs {62,0} -> 1/2; {0} vs {} -> 0; {56} vs {56,0} -> 1/2.
 	EXPECT_DOUBLE_EQ(jaccardSimilarity(va, vb), (0 + 0.5 + 0 + 0.5) / 4);
 	EXPECT_DOUBLE_EQ(jaccardSimilarity(va, va), 1.0);
-	EXPECT_DOUBLE_EQ(jaccardSimilarity(semanticRegionVectors({}, kImg, 2, 2), semanticRegionVectors({}, kImg, 2, 2)), 1.0);
+	EXPECT_DOUBLE_EQ(jaccardSimilarity(semanticRegionVectors({}, kImg, 2, 2), semanticRegionVectors({}, kImg, 2, 2)),
+					 1.0);
 }
 
 TEST(KeyFrameEquations, AreaSimilarityEq8)
@@ -81,7 +84,9 @@ TEST(KeyFrameEquations, RigidMotionEq12to15AndAmplitudeEq16)
 	EXPECT_LT((te - t).norm(), 1e-9);
 	EXPECT_NEAR(motionAmplitude(Re, te), t.norm() + 0.3, 1e-9);
 	// Angles near pi count as near pi, never more.
-	EXPECT_NEAR(motionAmplitude(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d::Zero()), M_PI, 1e-9);
+	EXPECT_NEAR(
+		motionAmplitude(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix(), Eigen::Vector3d::Zero()),
+		M_PI, 1e-9);
 	// Collinear points do not fix a rotation.
 	std::vector<Eigen::Vector3d> line = {{0, 0, 1}, {0, 0, 2}, {0, 0, 3}};
 	EXPECT_FALSE(rigidMotionFromPoints(line, line, Re, te));
@@ -91,7 +96,8 @@ TEST(KeyFrameEquations, RigidMotionEq12to15AndAmplitudeEq16)
 namespace
 {
 // A frame whose single person box is shifted by `shift` pixels: the larger the shift, the lower S_G.
-TKeyFrameInput frame(std::size_t id, float shift, double motion = 0.05, std::size_t inliers = 100, std::size_t statics = 800)
+TKeyFrameInput frame(std::size_t id, float shift, double motion = 0.05, std::size_t inliers = 100,
+					 std::size_t statics = 800)
 {
 	TKeyFrameInput f;
 	f.frameId = id;
@@ -154,7 +160,7 @@ TEST(KeyFrameSelector, ExcessiveMotionShortensTheInterval)
 	for (int k = 1; k <= 3; k++) sel.addFrame(frame(k, 10.f * k, 0.5));
 	EXPECT_EQ(sel.currentInterval(), 3);
 	sel.addFrame(frame(4, 40, 0.5));
-	auto d = sel.addFrame(frame(5, 50, 0.5));	 // closes the first interval (5 frames)
+	auto d = sel.addFrame(frame(5, 50, 0.5));  // closes the first interval (5 frames)
 	ASSERT_TRUE(d);
 	// The next interval has 3 frames.
 	EXPECT_FALSE(sel.addFrame(frame(6, 60, 0.5)));

@@ -55,7 +55,8 @@ std::string tour(const std::string& preset, double speed = 1.25, std::size_t fra
 	return cachedSequence("loop_" + preset + "_x" + std::to_string(speed) + "_" + std::to_string(frames), o);
 }
 
-TSlamJobSummary run(const std::string& seq, const std::string& out, bool loopClosing, bool parallel = false, std::size_t maxFrames = 0)
+TSlamJobSummary run(const std::string& seq, const std::string& out, bool loopClosing, bool parallel = false,
+					std::size_t maxFrames = 0)
 {
 	TSlamJobOptions o;
 	o.input = seq;
@@ -74,7 +75,8 @@ TSlamJobSummary run(const std::string& seq, const std::string& out, bool loopClo
 // is "kidnapped" across that stretch. With `closeGap`, every stamp after the cut moves back by the
 // cut's duration: the frame after it comes one frame interval after the one before (a jump within
 // a frame, as a relocalisation makes one). `to` must be a frame of `seq`.
-void writeWithGap(const std::string& seq, const std::string& out, std::size_t from, std::size_t to, bool closeGap = false)
+void writeWithGap(const std::string& seq, const std::string& out, std::size_t from, std::size_t to,
+				  bool closeGap = false)
 {
 	fs::create_directories(out);
 	fs::create_directory_symlink(fs::absolute(seq + "/rgb"), out + "/rgb");
@@ -126,7 +128,8 @@ TEST(BowDatabase, QueriesFindTheKeyFramesSharingWordsAndForgetErasedOnes)
 {
 	const CVocabulary& v = shippedVocabulary();
 	std::vector<std::string> frames;
-	for (const auto& e : fs::directory_iterator(sharedFile("data/tum_fr1_desk_9frames/rgb"))) frames.push_back(e.path().string());
+	for (const auto& e : fs::directory_iterator(sharedFile("data/tum_fr1_desk_9frames/rgb")))
+		frames.push_back(e.path().string());
 	std::sort(frames.begin(), frames.end());
 	CBowDatabase db(v.numWords());
 	std::vector<std::shared_ptr<const TBow>> bows;
@@ -177,7 +180,8 @@ TEST(PoseGraph, ALoopEdgeRemovesTheDriftOfBiasedOdometry)
 	auto error = [&](const std::map<TKeyFrameId, mrpt::poses::CPose3D>& p)
 	{
 		double worst = 0;
-		for (int i = 0; i < n; i++) worst = std::max(worst, (p.at(i).asVectorVal() - gt[i].asVectorVal()).head<3>().norm());
+		for (int i = 0; i < n; i++)
+			worst = std::max(worst, (p.at(i).asVectorVal() - gt[i].asVectorVal()).head<3>().norm());
 		return worst;
 	};
 	const double before = error(initial);
@@ -185,7 +189,7 @@ TEST(PoseGraph, ALoopEdgeRemovesTheDriftOfBiasedOdometry)
 	edges.push_back({static_cast<TKeyFrameId>(n - 1), 0, (-gt[n - 1]) + gt[0], 1.0});
 	const auto out = optimisePoseGraph(initial, edges, {0});
 	EXPECT_LT(error(out), 0.2 * before);
-	EXPECT_EQ(out.at(0).asVectorVal(), initial.at(0).asVectorVal());	// the fixed vertex stays
+	EXPECT_EQ(out.at(0).asVectorVal(), initial.at(0).asVectorVal());  // the fixed vertex stays
 }
 
 TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministically)
@@ -207,7 +211,9 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	EXPECT_GT(on.stats.largestLoopCorrection(), 0.0005);
 	EXPECT_LT(on.stats.largestLoopCorrection(), 0.05);
 	EXPECT_NE(json.find("\"largest_correction_m\": "), std::string::npos) << json;
-	EXPECT_NE(json.find("\"global_ba_cancelled\": " + std::to_string(on.stats.globalBundleCancelled)), std::string::npos) << json;
+	EXPECT_NE(json.find("\"global_ba_cancelled\": " + std::to_string(on.stats.globalBundleCancelled)),
+			  std::string::npos)
+		<< json;
 	// Each corrected loop is listed with what its correction did (issue 28 item 8: the correction's
 	// figures were computed and thrown away).
 	ASSERT_EQ(on.stats.loopRecords.size(), on.stats.loopCorrections);
@@ -219,7 +225,8 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 		EXPECT_GT(r.matchedStamp, 0.0);
 		EXPECT_GT(r.currentStamp, r.matchedStamp);
 		char stamps[96];
-		std::snprintf(stamps, sizeof stamps, "\"current_stamp\": %.6f, \"matched_stamp\": %.6f", r.currentStamp, r.matchedStamp);
+		std::snprintf(stamps, sizeof stamps, "\"current_stamp\": %.6f, \"matched_stamp\": %.6f", r.currentStamp,
+					  r.matchedStamp);
 		EXPECT_NE(json.find(stamps), std::string::npos) << json;
 		EXPECT_GE(r.correction.groupKeyFrames, 1u);
 		EXPECT_GE(r.correction.graphEdges, r.correction.graphKeyFrames) << "a spanning tree and the loop edge at least";
@@ -229,15 +236,17 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	largestText << "\"largest_correction_m\": " << largest << ",";
 	EXPECT_NE(json.find(largestText.str()), std::string::npos) << json;
 	std::size_t listed = 0;
-	for (auto at = json.find("\"matched\": "); at != std::string::npos; at = json.find("\"matched\": ", at + 1)) listed++;
+	for (auto at = json.find("\"matched\": "); at != std::string::npos; at = json.find("\"matched\": ", at + 1))
+		listed++;
 	EXPECT_EQ(listed, on.stats.loopCorrections) << json;
 	// Issue 64 item 1: every candidate appearance gave is in loop_candidates.csv with where it
 	// stopped; each corrected loop's pair is there as accepted, and the ground truth labels it a
 	// true revisit (as yesslam-eval --loops does).
 	const auto candidates = readLoopCandidatesCsv(a / "loop_candidates.csv");
 	EXPECT_FALSE(fs::exists(b / "loop_candidates.csv")) << "no loop closing, no candidates";
-	const std::set<std::string> stages{"covisible", "young", "below_min_score", "not_group_best", "inconsistent", "gone", "few_matches",
-		"ransac", "pose_solve", "projection", "accepted", "dropped", "untried"};
+	const std::set<std::string> stages{"covisible", "young",       "below_min_score", "not_group_best", "inconsistent",
+									   "gone",      "few_matches", "ransac",          "pose_solve",     "projection",
+									   "accepted",  "dropped",     "untried"};
 	std::map<std::string, std::size_t> byStage;
 	for (const auto& c : candidates)
 	{
@@ -248,18 +257,23 @@ TEST(LoopClosing, ARevisitIsDetectedVerifiedAndCorrectsTheTrajectoryDeterministi
 	EXPECT_GT(byStage["covisible"], 0u) << "the place tracking just left looks alike, and is excluded";
 	EXPECT_EQ(byStage["accepted"] + byStage["dropped"], on.stats.loops.accepted);
 	for (const auto& r : on.stats.loopRecords)
-		EXPECT_TRUE(std::any_of(candidates.begin(), candidates.end(), [&](const auto& c)
-			{ return c.query == r.current && c.candidate == r.matched && c.stage == "accepted"; }))
+		EXPECT_TRUE(std::any_of(candidates.begin(), candidates.end(),
+								[&](const auto& c)
+								{ return c.query == r.current && c.candidate == r.matched && c.stage == "accepted"; }))
 			<< r.current << " " << r.matched;
 	const TLoopLabelReport labels = labelLoopCandidates(candidates, readTumTrajectory(seq + "/groundtruth.txt"));
 	EXPECT_EQ(labels.unlabelled, 0u);
 	EXPECT_EQ(labels.trueAccepted, labels.accepted) << "every accepted loop is a true revisit";
-	EXPECT_GT(labels.trueCandidates, labels.trueAccepted) << "the covisible neighbours of a revisit are true revisits too";
-	const auto ev = runTool("yesslam-eval", {"--gt", seq + "/groundtruth.txt", "--loops", a / "loop_candidates.csv", "--labels", a / "labels.csv"});
+	EXPECT_GT(labels.trueCandidates, labels.trueAccepted)
+		<< "the covisible neighbours of a revisit are true revisits too";
+	const auto ev = runTool("yesslam-eval", {"--gt", seq + "/groundtruth.txt", "--loops", a / "loop_candidates.csv",
+											 "--labels", a / "labels.csv"});
 	ASSERT_EQ(ev.exitCode, 0) << ev.err;
-	EXPECT_NE(ev.out.find("loop_accepted_true: " + std::to_string(labels.trueAccepted) + "\n"), std::string::npos) << ev.out;
+	EXPECT_NE(ev.out.find("loop_accepted_true: " + std::to_string(labels.trueAccepted) + "\n"), std::string::npos)
+		<< ev.out;
 	EXPECT_NE(ev.out.find("verification_precision: 1\n"), std::string::npos) << ev.out;
-	EXPECT_EQ(readLoopCandidatesCsv(a / "loop_candidates.csv").size() + 1, splitLines(readText(a / "labels.csv")).size());
+	EXPECT_EQ(readLoopCandidatesCsv(a / "loop_candidates.csv").size() + 1,
+			  splitLines(readText(a / "labels.csv")).size());
 	// Sequential mode stays deterministic through detection, correction and global BA.
 	run(seq, a2.path(), true);
 	EXPECT_EQ(readText(a / "trajectory.txt"), readText(a2 / "trajectory.txt"));
@@ -291,16 +305,18 @@ TEST(LoopClosing, TheLoopEdgeIsMeasuredFromTheMatchedKeyFramesPoseWhenItIsApplie
 		placeB.emplace_back(-1.0 + 0.05 * i, -0.4 + 0.02 * (i % 9), 3.0 + 0.01 * (i % 5));
 	}
 	CSparseMap map;
-	const TKeyFrameId matched = map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), placeA, std::vector<TPointId>(40, -1), rng), 10.0);
+	const TKeyFrameId matched =
+		map.addKeyFrame(observeWorld(0, mrpt::poses::CPose3D(), placeA, std::vector<TPointId>(40, -1), rng), 10.0);
 	// The current keyframe sees other points (no covisibility: a loop, not a neighbour), drifted.
-	const TKeyFrameId current =
-		map.addKeyFrame(observeWorld(1, mrpt::poses::CPose3D(0.15, 0.02, 0, 0.05, 0, 0), placeB, std::vector<TPointId>(40, -1), rng), 10.0);
+	const TKeyFrameId current = map.addKeyFrame(
+		observeWorld(1, mrpt::poses::CPose3D(0.15, 0.02, 0, 0.05, 0, 0), placeB, std::vector<TPointId>(40, -1), rng),
+		10.0);
 	ASSERT_EQ(map.keyFrame(current).weight(matched), 0);
 	TLoop loop;
 	loop.current = current;
 	loop.matched = matched;
-	loop.relative = mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0);  // verified: T_matched_current
-	loop.correctedPose = map.keyFramePose(matched) + loop.relative;	 // at detection
+	loop.relative = mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0);        // verified: T_matched_current
+	loop.correctedPose = map.keyFramePose(matched) + loop.relative;  // at detection
 	// A BA moves the matched keyframe before the correction is applied.
 	const mrpt::poses::CPose3D movedTo(0, 0.03, 0, 0.02, 0, 0);
 	map.correctKeyFrames({{matched, movedTo}});
@@ -309,7 +325,8 @@ TEST(LoopClosing, TheLoopEdgeIsMeasuredFromTheMatchedKeyFramesPoseWhenItIsApplie
 	EXPECT_GT(c.groupKeyFrames, 0u);
 	const mrpt::poses::CPose3D rel = (-map.keyFramePose(matched)) + map.keyFramePose(current);
 	EXPECT_LT((rel.asVectorVal() - loop.relative.asVectorVal()).norm(), 1e-4) << rel;
-	EXPECT_LT((map.keyFramePose(matched).asVectorVal() - movedTo.asVectorVal()).norm(), 1e-9) << "the matched place stays fixed";
+	EXPECT_LT((map.keyFramePose(matched).asVectorVal() - movedTo.asVectorVal()).norm(), 1e-9)
+		<< "the matched place stays fixed";
 }
 
 TEST(LoopClosing, AGlobalBundleWriteBackWaitsForTheCorrectionBeingWrittenAndIsThenDropped)
@@ -330,9 +347,10 @@ TEST(LoopClosing, AGlobalBundleWriteBackWaitsForTheCorrectionBeingWrittenAndIsTh
 	map.addKeyFrame(observeWorld(2, mrpt::poses::CPose3D(0.2, 0.02, 0, 0.03, 0, 0), wall, seen, rng), 10.0);
 	CWriterFirstMutex mapUpdate;
 	CLoopCloser closer(CLoopCloser::TOptions(), map);
-	std::unique_lock<CWriterFirstMutex> correcting(mapUpdate);	// a correction is being written
+	std::unique_lock<CWriterFirstMutex> correcting(mapUpdate);  // a correction is being written
 	auto gba = std::async(std::launch::async, [&] { return closer.globalBundleAdjust(&mapUpdate); });
-	EXPECT_EQ(gba.wait_for(std::chrono::milliseconds(500)), std::future_status::timeout) << "the write-back did not wait for the correction";
+	EXPECT_EQ(gba.wait_for(std::chrono::milliseconds(500)), std::future_status::timeout)
+		<< "the write-back did not wait for the correction";
 	const mrpt::poses::CPose3D corrected(0.25, 0.05, 0, 0.05, 0, 0);
 	map.applyCorrection({{2, corrected}});
 	correcting.unlock();
@@ -506,11 +524,11 @@ TEST(Relocalisation, ARelocalisationIsNoStepOfTheCamera)
 	o.detector.backend = "auto";
 	o.system.parallel = false;
 	o.loop.detection.enabled = false;
-	o.tracking.rollingShutter = 0.028;	// what a real camera's frames get (the sim's shutter is global)
+	o.tracking.rollingShutter = 0.028;  // what a real camera's frames get (the sim's shutter is global)
 	CYesSlamSystem sys(o);
 	auto src = openInputSource(d / "seq", o.input);
 	std::vector<TFrameReport> reps;
-	std::optional<mrpt::poses::CPose3D> afterReloc;	 // the shutter's motion right after it
+	std::optional<mrpt::poses::CPose3D> afterReloc;  // the shutter's motion right after it
 	while (auto obs = src->next())
 	{
 		reps.push_back(sys.processFrame(*obs));

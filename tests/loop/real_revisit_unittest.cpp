@@ -57,14 +57,17 @@ struct TBonnRevisits
 		const TTrajectory gt = readGroundTruth(dir + "/groundtruth.txt", EGroundTruthFormat::Bonn);
 		const auto gtAt = [&](double t) -> std::optional<mrpt::poses::CPose3D>
 		{
-			const auto it = std::min_element(gt.begin(), gt.end(), [&](const TStampedPose& a, const TStampedPose& b) { return std::abs(a.t - t) < std::abs(b.t - t); });
+			const auto it = std::min_element(gt.begin(), gt.end(),
+											 [&](const TStampedPose& a, const TStampedPose& b)
+											 { return std::abs(a.t - t) < std::abs(b.t - t); });
 			if (it == gt.end() || std::abs(it->t - t) > 0.02) return std::nullopt;
 			return it->asPose();
 		};
 		CFrameBuilder builder(createObjectDetector(o.detector), o.masker, o.orb, true, false, o.geometric);
 		vocabulary = std::make_shared<CVocabulary>(CVocabulary::load(CVocabulary::shippedPath()));
 		database = std::make_shared<CBowDatabase>(vocabulary->numWords());
-		detector = std::make_unique<CLoopDetector>(o.loop.detection, map, vocabulary, database, o.keyFrames.semantic, o.orb.scaleFactor, o.tracking.maxDepth);
+		detector = std::make_unique<CLoopDetector>(o.loop.detection, map, vocabulary, database, o.keyFrames.semantic,
+												   o.orb.scaleFactor, o.tracking.maxDepth);
 		auto src = openInputSource(dir, o.input);
 		std::size_t index = 0;
 		while (auto obs = src->next())
@@ -72,14 +75,16 @@ struct TBonnRevisits
 			if (wanted.count(index))
 			{
 				cv::Mat bgr = obs->intensityImage.asCvMatRef();
-				auto f = builder.build(bgr, depthInMetres(*obs), observationTime(*obs), obs->cameraParamsIntensity, index);
+				auto f =
+					builder.build(bgr, depthInMetres(*obs), observationTime(*obs), obs->cameraParamsIntensity, index);
 				const auto pose = gtAt(f->timestamp);
 				ASSERT_TRUE(pose.has_value()) << "frame " << index;
 				// The shutter undone along the motion of the last 0.1 s, as the motion model's mean
 				// of the last three tracked steps gives it in a run (CTracker::motionOver).
 				const auto before = gtAt(f->timestamp - 0.1);
 				ASSERT_TRUE(before.has_value()) << "frame " << index;
-				unrollShutter(f->features, CPinholeCamera(f->camera), scaleMotion((-*before) + *pose, kConsumerRgbdReadout / 0.1));
+				unrollShutter(f->features, CPinholeCamera(f->camera),
+							  scaleMotion((-*before) + *pose, kConsumerRgbdReadout / 0.1));
 				f->pose = *pose;
 				f->tracked = true;
 				truth[index] = *pose;
@@ -138,7 +143,8 @@ TEST(LoopClosing, APairVerifiedWhileTheMapMovesKeepsItsTrueRelativePose)
 		{
 			if (moved) return;
 			moved = true;
-			const mrpt::poses::CPose3D T(0.10, -0.05, 0.03, mrpt::DEG2RAD(5.0), mrpt::DEG2RAD(-3.0), mrpt::DEG2RAD(2.0));
+			const mrpt::poses::CPose3D T(0.10, -0.05, 0.03, mrpt::DEG2RAD(5.0), mrpt::DEG2RAD(-3.0),
+										 mrpt::DEG2RAD(2.0));
 			std::map<TKeyFrameId, mrpt::poses::CPose3D> corrected;
 			for (const auto& k : r.map.keyFramePoses()) corrected[k.id] = T + k.pose;
 			r.map.applyCorrection(corrected);

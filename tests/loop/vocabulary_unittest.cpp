@@ -33,7 +33,8 @@ std::vector<std::string> sortedImages(const std::string& dir)
 {
 	std::vector<std::string> v;
 	for (const auto& e : fs::directory_iterator(dir))
-		if (e.path().extension() == ".png" && e.path().string().find("depth") == std::string::npos) v.push_back(e.path().string());
+		if (e.path().extension() == ".png" && e.path().string().find("depth") == std::string::npos)
+			v.push_back(e.path().string());
 	std::sort(v.begin(), v.end());
 	return v;
 }
@@ -45,8 +46,10 @@ const std::vector<cv::Mat>& trainingDescriptors()
 	static const std::vector<cv::Mat> d = []
 	{
 		std::vector<cv::Mat> out;
-		for (const auto& f : sortedImages(sharedFile("data/tum_sample_frames/fr2_desk_loop10"))) out.push_back(descriptorsOf(f));
-		for (const auto& f : sortedImages(sharedFile("data/tum_sample_frames/fr3_walking"))) out.push_back(descriptorsOf(f));
+		for (const auto& f : sortedImages(sharedFile("data/tum_sample_frames/fr2_desk_loop10")))
+			out.push_back(descriptorsOf(f));
+		for (const auto& f : sortedImages(sharedFile("data/tum_sample_frames/fr3_walking")))
+			out.push_back(descriptorsOf(f));
 		out.push_back(descriptorsOf(sharedFile("data/detector_test_images/person.jpg")));
 		return out;
 	}();
@@ -141,11 +144,11 @@ TEST(Vocabulary, CorruptTruncatedAndForeignFilesAreRefusedWithOneLine)
 	std::ofstream(tmp / "flipped.yvoc", std::ios::binary) << flipped;
 	std::ofstream(tmp / "truncated.yvoc", std::ios::binary) << bytes.substr(0, bytes.size() - 100);
 	const std::string dbow3 = sharedFile("models/dbow3_vocab_slambook2/vocabulary.yml.gz");
-	for (const auto& [file, expect] : std::vector<std::pair<std::string, std::string>>{
-			 {tmp / "flipped.yvoc", "corrupt"},
-			 {tmp / "truncated.yvoc", "corrupt"},
-			 {dbow3, "not a yesslam vocabulary"},
-			 {tmp / "missing.yvoc", "cannot open"}})
+	for (const auto& [file, expect] :
+		 std::vector<std::pair<std::string, std::string>>{{tmp / "flipped.yvoc", "corrupt"},
+														  {tmp / "truncated.yvoc", "corrupt"},
+														  {dbow3, "not a yesslam vocabulary"},
+														  {tmp / "missing.yvoc", "cannot open"}})
 	{
 		const std::string e = errorOf([&] { CVocabulary::load(file); });
 		EXPECT_NE(e.find(file), std::string::npos) << e;
@@ -176,7 +179,10 @@ void expectPlacesRanked(const CVocabulary& v)
 	}
 }
 
-TEST(Vocabulary, NeighbouringFramesOfAnUnseenPlaceScoreAboveOtherPlaces) { expectPlacesRanked(smallVocabulary()); }
+TEST(Vocabulary, NeighbouringFramesOfAnUnseenPlaceScoreAboveOtherPlaces)
+{
+	expectPlacesRanked(smallVocabulary());
+}
 
 TEST(Vocabulary, TheShippedVocabularyLoadsAndRanksPlaces)
 {
@@ -191,9 +197,9 @@ TEST(Vocabulary, TheShippedVocabularyLoadsAndRanksPlaces)
 TEST(Vocabulary, TheToolTrainsFromAFolderAndReportsTheFile)
 {
 	TempDir tmp("vocab_tool");
-	const auto r = runTool(
-		"yesslam-vocab", {"--input", sharedFile("data/tum_sample_frames/fr2_desk_loop10"), "--input", sharedFile("data/tum_fr1_desk_9frames"),
-						  "--k", "6", "--levels", "3", "--out", tmp / "v.yvoc", "--quiet"});
+	const auto r = runTool("yesslam-vocab", {"--input", sharedFile("data/tum_sample_frames/fr2_desk_loop10"), "--input",
+											 sharedFile("data/tum_fr1_desk_9frames"), "--k", "6", "--levels", "3",
+											 "--out", tmp / "v.yvoc", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	const CVocabulary v = CVocabulary::load(tmp / "v.yvoc");
 	// 10 photographs + the 9-frame TUM sequence at every 5th frame (frames 0 and 5).
@@ -208,7 +214,8 @@ TEST(Vocabulary, TheToolTrainsFromAFolderAndReportsTheFile)
 	EXPECT_EQ(empty.exitCode, 1);
 	EXPECT_NE(empty.err.find(tmp / "empty"), std::string::npos) << empty.err;
 	EXPECT_FALSE(fs::exists(tmp / "x.yvoc"));
-	const auto foreign = runTool("yesslam-vocab", {"--info", sharedFile("models/dbow3_vocab_slambook2/vocabulary.yml.gz")});
+	const auto foreign =
+		runTool("yesslam-vocab", {"--info", sharedFile("models/dbow3_vocab_slambook2/vocabulary.yml.gz")});
 	EXPECT_EQ(foreign.exitCode, 1);
 	EXPECT_NE(foreign.err.find("not a yesslam vocabulary"), std::string::npos) << foreign.err;
 }
@@ -224,9 +231,11 @@ TEST(Vocabulary, AFailureInATrainingThreadIsAnErrorNotATermination)
 	std::atomic<int> calls{0};
 	try
 	{
-		CVocabulary::train(trainingDescriptors(), o, [&](std::size_t, std::size_t) {
-			if (++calls == 2) throw std::runtime_error("stopped by the caller");
-		});
+		CVocabulary::train(trainingDescriptors(), o,
+						   [&](std::size_t, std::size_t)
+						   {
+							   if (++calls == 2) throw std::runtime_error("stopped by the caller");
+						   });
 		ADD_FAILURE() << "no error";
 	}
 	catch (const std::runtime_error& e)

@@ -21,8 +21,9 @@ using namespace mrpt_yesslam;
 
 namespace
 {
-std::shared_ptr<TFrame> observe(std::size_t id, const mrpt::poses::CPose3D& Twc, const std::vector<mrpt::math::TPoint3D>& world,
-								std::vector<TPointId> ids, std::mt19937& rng)
+std::shared_ptr<TFrame> observe(std::size_t id, const mrpt::poses::CPose3D& Twc,
+								const std::vector<mrpt::math::TPoint3D>& world, std::vector<TPointId> ids,
+								std::mt19937& rng)
 {
 	return yesslam_test::observeWorld(id, Twc, world, std::move(ids), rng);
 }
@@ -35,9 +36,9 @@ double positionError(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& 
 // One point P seen from one place (the origin) by two fixed keyframes, 0 and 1, with no baseline:
 // only the depths say how far it is. Keyframe k reads `depths[k]` at pyramid level `octaves[k]`;
 // the window starts the point at `start`.
-TBundleWindow onePointFromOnePlace(
-	const mrpt::img::TCamera& K, const mrpt::math::TPoint3D& P, const std::array<double, 2>& depths, const std::array<int, 2>& octaves,
-	const mrpt::math::TPoint3D& start)
+TBundleWindow onePointFromOnePlace(const mrpt::img::TCamera& K, const mrpt::math::TPoint3D& P,
+								   const std::array<double, 2>& depths, const std::array<int, 2>& octaves,
+								   const mrpt::math::TPoint3D& start)
 {
 	const double u = K.fx() * P.x / P.z + K.cx(), v = K.fy() * P.y / P.z + K.cy();
 	TBundleWindow w;
@@ -63,7 +64,7 @@ TBundleWindow onePointFromOnePlace(
 
 TEST(BundleCosts, RgbdReprojectionJacobiansMatchNumeric)
 {
-	for (double z : {2.4, 0.0})	 // with and without depth
+	for (double z : {2.4, 0.0})  // with and without depth
 	{
 		const TRgbdReprojectionCost c(310, 250, z, 1.2, 0.0025 * z * z, 535.4, 539.2, 320.1, 247.6);
 		ceres::AutoDiffCostFunction<TRgbdReprojectionCost, 3, 3, 3, 3> cost(new TRgbdReprojectionCost(c));
@@ -92,12 +93,11 @@ TEST(BundleCosts, TheHandWrittenJacobiansAreAutomaticDifferentiationsOwn)
 	{
 		double rv[3], t[3], X[3], z, sigma;
 	};
-	const std::vector<Case> cases = {
-		{{0.1, -0.2, 0.05}, {0.2, -0.1, 0.3}, {0.4, 0.3, 2.5}, 2.4, 1.0},
-		{{1.2, 0.4, -0.9}, {-0.3, 0.2, 1.5}, {-0.8, 0.5, 1.1}, 0.0, 1.44},
-		{{1e-6, -2e-6, 5e-7}, {0.0, 0.0, 0.0}, {0.3, -0.2, 3.0}, 3.1, 2.0736},
-		{{0.0, 0.0, 0.0}, {0.1, 0.0, -0.2}, {-0.5, 0.4, 4.2}, 4.0, 1.2},
-		{{2.9, -0.1, 0.2}, {0.0, 0.1, 0.0}, {0.2, 0.1, -2.0}, 1.5, 1.0}};
+	const std::vector<Case> cases = {{{0.1, -0.2, 0.05}, {0.2, -0.1, 0.3}, {0.4, 0.3, 2.5}, 2.4, 1.0},
+									 {{1.2, 0.4, -0.9}, {-0.3, 0.2, 1.5}, {-0.8, 0.5, 1.1}, 0.0, 1.44},
+									 {{1e-6, -2e-6, 5e-7}, {0.0, 0.0, 0.0}, {0.3, -0.2, 3.0}, 3.1, 2.0736},
+									 {{0.0, 0.0, 0.0}, {0.1, 0.0, -0.2}, {-0.5, 0.4, 4.2}, 4.0, 1.2},
+									 {{2.9, -0.1, 0.2}, {0.0, 0.1, 0.0}, {0.2, 0.1, -2.0}, 1.5, 1.0}};
 	for (const auto& k : cases)
 	{
 		SCOPED_TRACE(k.X[2]);
@@ -112,7 +112,8 @@ TEST(BundleCosts, TheHandWrittenJacobiansAreAutomaticDifferentiationsOwn)
 		ASSERT_TRUE(analytic.Evaluate(params, rb, pb));
 		for (int i = 0; i < 3; i++) EXPECT_NEAR(ra[i], rb[i], 1e-9 * (1 + std::abs(ra[i])));
 		for (int b = 0; b < 3; b++)
-			for (int i = 0; i < 9; i++) EXPECT_NEAR(ja[b][i], jb[b][i], 1e-7 * (1 + std::abs(ja[b][i]))) << "block " << b << " entry " << i;
+			for (int i = 0; i < 9; i++)
+				EXPECT_NEAR(ja[b][i], jb[b][i], 1e-7 * (1 + std::abs(ja[b][i]))) << "block " << b << " entry " << i;
 	}
 }
 
@@ -122,9 +123,9 @@ TEST(LocalMapper, BundleAdjustmentRecoversPerturbedKeyFramesAndPoints)
 	std::uniform_real_distribution<double> ux(-1.5, 1.5), uy(-1.0, 1.0), uz(2.0, 4.0);
 	std::vector<mrpt::math::TPoint3D> world;
 	for (int i = 0; i < 150; i++) world.emplace_back(ux(rng), uy(rng), uz(rng));
-	const std::vector<mrpt::poses::CPose3D> truth = {
-		mrpt::poses::CPose3D(), mrpt::poses::CPose3D(0.10, 0.02, 0.0, 0.05, 0.0, 0.0),
-		mrpt::poses::CPose3D(0.20, -0.03, 0.05, 0.10, 0.02, 0.0)};
+	const std::vector<mrpt::poses::CPose3D> truth = {mrpt::poses::CPose3D(),
+													 mrpt::poses::CPose3D(0.10, 0.02, 0.0, 0.05, 0.0, 0.0),
+													 mrpt::poses::CPose3D(0.20, -0.03, 0.05, 0.10, 0.02, 0.0)};
 
 	CSparseMap map;
 	// Keyframe 0 creates the points from depth; the others observe the same ones.
@@ -149,7 +150,7 @@ TEST(LocalMapper, BundleAdjustmentRecoversPerturbedKeyFramesAndPoints)
 	const TBundleStats st = mapper.bundleAdjust(2);
 	EXPECT_EQ(st.fixedKeyFrames, 1u);  // keyframe 0 anchors the map
 	EXPECT_EQ(st.keyFrames, 2u);
-	EXPECT_LT(st.finalCost, 0.1 * st.initialCost);	// what is left is the two outliers' (Huber) cost
+	EXPECT_LT(st.finalCost, 0.1 * st.initialCost);  // what is left is the two outliers' (Huber) cost
 	EXPECT_EQ(st.outliers, 2u);
 	for (std::size_t k = 0; k < 3; k++) EXPECT_LT(positionError(map.keyFramePose(k), truth[k]), 2e-3) << k;
 	EXPECT_EQ(positionError(map.keyFramePose(0), truth[0]), 0.0);
@@ -243,7 +244,8 @@ TEST(BundleAdjustment, AKeyFrameTheWindowCannotPlaceKeepsItsPose)
 	const auto see = [&](TFeatures& f, const mrpt::poses::CPose3D& T, const mrpt::math::TPoint3D& P, double shiftU)
 	{
 		const auto c = (-T).composePoint(P);
-		f.keypoints.push_back(cv::KeyPoint(static_cast<float>(K.fx() * c.x / c.z + K.cx() + shiftU), static_cast<float>(K.fy() * c.y / c.z + K.cy()), 31.f));
+		f.keypoints.push_back(cv::KeyPoint(static_cast<float>(K.fx() * c.x / c.z + K.cx() + shiftU),
+										   static_cast<float>(K.fy() * c.y / c.z + K.cy()), 31.f));
 		f.depth.push_back(static_cast<float>(c.z));
 		f.dynamic.push_back(false);
 		return f.keypoints.size() - 1;
@@ -276,7 +278,8 @@ TEST(BundleAdjustment, AKeyFrameTheWindowCannotPlaceKeepsItsPose)
 		const TBundleSolution s = solveBundle(w, o);
 		EXPECT_EQ(s.stats.heldKeyFrames, minShared > 3 ? 1u : 0u);
 		const auto& p = s.poses.at(1);
-		return std::hypot(p.x() - T1.x(), p.y() - T1.y(), p.z() - T1.z()) + std::abs(p.yaw() - T1.yaw()) + std::abs(p.pitch());
+		return std::hypot(p.x() - T1.x(), p.y() - T1.y(), p.z() - T1.z()) + std::abs(p.yaw() - T1.yaw()) +
+			   std::abs(p.pitch());
 	};
 	EXPECT_LT(moved(TBundleSolveOptions().minSharedObservations), 1e-9) << "held where tracking put it";
 	EXPECT_GT(moved(0), 0.01) << "free, the three mismatches place it";
@@ -289,7 +292,8 @@ TEST(BundleAdjustment, ASolveWhoseResultWentStaleStopsAtTheNextIteration)
 	// correction generation changed) stops it after the current iteration.
 	std::mt19937 rng(11);
 	std::vector<mrpt::math::TPoint3D> world;
-	for (int i = 0; i < 60; i++) world.emplace_back(0.05 * (i % 10) - 0.25, 0.05 * (i / 10) - 0.15, 2.0 + 0.01 * (i % 7));
+	for (int i = 0; i < 60; i++)
+		world.emplace_back(0.05 * (i % 10) - 0.25, 0.05 * (i / 10) - 0.15, 2.0 + 0.01 * (i % 7));
 	CSparseMap map;
 	std::vector<TPointId> ids;
 	map.addKeyFrame(observe(0, mrpt::poses::CPose3D(), world, std::vector<TPointId>(world.size(), -1), rng), 10.0);
@@ -298,7 +302,7 @@ TEST(BundleAdjustment, ASolveWhoseResultWentStaleStopsAtTheNextIteration)
 	map.addKeyFrame(observe(2, mrpt::poses::CPose3D(0.2, 0.02, 0, 0.1, 0, 0), world, ids, rng), 10.0);
 	TBundleWindow w = map.globalBundleWindow();
 	for (auto& [k, p] : w.poses)
-		if (k != 0) p = p + mrpt::poses::CPose3D(0.02, -0.01, 0.01, 0.01, 0, 0);	 // something to optimise
+		if (k != 0) p = p + mrpt::poses::CPose3D(0.02, -0.01, 0.01, 0.01, 0, 0);  // something to optimise
 	TBundleSolveOptions o;
 	o.iterations = 50;
 	const TBundleSolution full = solveBundle(w, o);

@@ -67,9 +67,11 @@ TEST(Render, SceneFileToPngIsNotBlank)
 TEST(Render, BadSceneFiles)
 {
 	TempDir d("render");
-	expectInputError([&] { renderSceneFileToPng(d / "missing.3Dscene", d / "x.png", {}); }, {"missing.3Dscene", "not found"});
+	expectInputError([&] { renderSceneFileToPng(d / "missing.3Dscene", d / "x.png", {}); },
+					 {"missing.3Dscene", "not found"});
 	writeText(d / "junk.3Dscene", "not a scene at all");
-	expectInputError([&] { renderSceneFileToPng(d / "junk.3Dscene", d / "x.png", {}); }, {"junk.3Dscene", "not a readable .3Dscene"});
+	expectInputError([&] { renderSceneFileToPng(d / "junk.3Dscene", d / "x.png", {}); },
+					 {"junk.3Dscene", "not a readable .3Dscene"});
 }
 
 TEST(Render, ASimulatedRoomIsFramedFromAboveAndSeenFromInside)
@@ -126,21 +128,26 @@ TEST(Render, AMapsDefaultPictureShowsItsCloudAndPathFilledAndTheLegendOverTheOct
 	TempDir d("render_map");
 	CSparseMap emptyMap;
 	TTrajectory path;
-	for (int i = 0; i <= 100; i++) path.push_back(TStampedPose::fromPose(i, mrpt::poses::CPose3D(0.5 + 0.02 * i, 1.2, 1.0, 0, 0, 0)));
+	for (int i = 0; i <= 100; i++)
+		path.push_back(TStampedPose::fromPose(i, mrpt::poses::CPose3D(0.5 + 0.02 * i, 1.2, 1.0, 0, 0, 0)));
 	auto scene = buildMapScene(emptyMap, path);
 	auto cloud = mrpt::opengl::CPointCloudColoured::Create();
 	cloud->setName("dense_cloud");
 	cloud->setPointSize(3.0f);
 	for (double x = 0; x <= 4; x += 0.02)
-		for (double y = 0; y <= 3; y += 0.02) cloud->push_back(static_cast<float>(x), static_cast<float>(y), 0.f, 0.1f, 0.7f, 0.1f);
+		for (double y = 0; y <= 3; y += 0.02)
+			cloud->push_back(static_cast<float>(x), static_cast<float>(y), 0.f, 0.1f, 0.7f, 0.1f);
 	cloud->push_back(40.f, 40.f, 5.f, 0.1f, 0.7f, 0.1f);
 	cloud->push_back(-40.f, 45.f, 5.f, 0.1f, 0.7f, 0.1f);
 	scene->insert(cloud);
 	CSemanticOcTree tree(0.1);
 	for (double x = 0.05; x < 4; x += 0.1)
 		for (double y = 0.05; y < 3; y += 0.1)
-			for (int k = 0; k < 4; k++) tree.updateNode(octomap::point3d(static_cast<float>(x), static_cast<float>(y), 0.05f), true)->label = 57;  // c + 1: COCO chair
-	const std::vector<std::string> names = readClassNames(std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/models/yolo-fastest-1.1/coco.names");
+			for (int k = 0; k < 4; k++)
+				tree.updateNode(octomap::point3d(static_cast<float>(x), static_cast<float>(y), 0.05f), true)->label =
+					57;  // c + 1: COCO chair
+	const std::vector<std::string> names =
+		readClassNames(std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/models/yolo-fastest-1.1/coco.names");
 	scene->insert(semanticOcTreeObject(tree, names));
 	ASSERT_TRUE(scene->saveToFile(d / "map.3Dscene"));
 
@@ -152,7 +159,8 @@ TEST(Render, AMapsDefaultPictureShowsItsCloudAndPathFilledAndTheLegendOverTheOct
 			for (int x = 0; x < img.cols; x++) n += is(img.at<cv::Vec3b>(y, x));
 		return n;
 	};
-	auto near = [](const cv::Vec3b& a, const cv::Vec3b& b, int tol) { return std::abs(a[0] - b[0]) <= tol && std::abs(a[1] - b[1]) <= tol && std::abs(a[2] - b[2]) <= tol; };
+	auto near = [](const cv::Vec3b& a, const cv::Vec3b& b, int tol)
+	{ return std::abs(a[0] - b[0]) <= tol && std::abs(a[1] - b[1]) <= tol && std::abs(a[2] - b[2]) <= tol; };
 	TRenderOptions o;
 	o.width = 400;
 	o.height = 300;
@@ -164,13 +172,15 @@ TEST(Render, AMapsDefaultPictureShowsItsCloudAndPathFilledAndTheLegendOverTheOct
 		const cv::Mat img = cv::imread(d / "default.png", cv::IMREAD_COLOR);
 		const std::size_t green = count(img, [](const cv::Vec3b& p) { return p[1] > 120 && p[0] < 80 && p[2] < 80; });
 		const std::size_t red = count(img, [](const cv::Vec3b& p) { return p[2] > 150 && p[1] < 90 && p[0] < 90; });
-		EXPECT_GT(green, static_cast<std::size_t>(img.total() / 4)) << "the cloud fills the picture (stray points aside), voxels hidden";
+		EXPECT_GT(green, static_cast<std::size_t>(img.total() / 4))
+			<< "the cloud fills the picture (stray points aside), voxels hidden";
 		EXPECT_GT(red, 250u) << "the path is a visible line";
 		cv::Mat grey, diff;
 		cv::absdiff(img, cv::Scalar(255, 255, 255), diff);
 		cv::cvtColor(diff, grey, cv::COLOR_BGR2GRAY);
 		const cv::Rect r = cv::boundingRect(grey > 8);
-		EXPECT_GT(std::max(static_cast<double>(r.width) / img.cols, static_cast<double>(r.height) / img.rows), 0.85) << "framed to fill";
+		EXPECT_GT(std::max(static_cast<double>(r.width) / img.cols, static_cast<double>(r.height) / img.rows), 0.85)
+			<< "framed to fill";
 	}
 	// The OctoMap shown: its legend (the label's swatch and name) in the top-left corner, from the
 	// side and from straight above.
@@ -183,7 +193,8 @@ TEST(Render, AMapsDefaultPictureShowsItsCloudAndPathFilledAndTheLegendOverTheOct
 		const cv::Mat img = cv::imread(d / "octomap.png", cv::IMREAD_COLOR);
 		const cv::Mat corner = img(cv::Rect(0, 0, img.cols / 4, img.rows / 8));
 		EXPECT_GT(count(corner, [&](const cv::Vec3b& p) { return near(p, label, 6); }), 20u) << "the legend's swatch";
-		EXPECT_GT(count(corner, [&](const cv::Vec3b& p) { return p[0] < 80 && p[1] < 80 && p[2] < 80; }), 30u) << "the legend's text";
+		EXPECT_GT(count(corner, [&](const cv::Vec3b& p) { return p[0] < 80 && p[1] < 80 && p[2] < 80; }), 30u)
+			<< "the legend's text";
 	}
 }
 
@@ -197,7 +208,9 @@ TEST(Render, OctoMapWallsShowTheirColourFromEverySide)
 	// An L of walls (x-z and y-z planes) on a floor, all labelled "chair" (label 57).
 	for (double a = 0.05; a < 3; a += 0.1)
 		for (double b = 0.05; b < 2; b += 0.1)
-			for (const auto& p : {octomap::point3d(float(a), 0.05f, float(b)), octomap::point3d(0.05f, float(a), float(b)), octomap::point3d(float(a), float(b), 0.05f)})
+			for (const auto& p :
+				 {octomap::point3d(float(a), 0.05f, float(b)), octomap::point3d(0.05f, float(a), float(b)),
+				  octomap::point3d(float(a), float(b), 0.05f)})
 				for (int k = 0; k < 4; k++) tree.updateNode(p, true)->label = 57;
 	CSparseMap emptyMap;
 	auto scene = buildMapScene(emptyMap, {});
@@ -205,7 +218,7 @@ TEST(Render, OctoMapWallsShowTheirColourFromEverySide)
 	ASSERT_TRUE(scene->saveToFile(d / "walls.3Dscene"));
 	const cv::Vec3b label = labelColour(57);
 	const double labelBrightness = (label[0] + label[1] + label[2]) / 3.0;
-	for (const double azimuth : {45.0, 225.0})	// the inside of the L, then its outside
+	for (const double azimuth : {45.0, 225.0})  // the inside of the L, then its outside
 	{
 		TRenderOptions o;
 		o.width = 400;
@@ -224,7 +237,8 @@ TEST(Render, OctoMapWallsShowTheirColourFromEverySide)
 			}
 		ASSERT_GT(voxel.size(), img.total() / 10) << azimuth;
 		std::sort(voxel.begin(), voxel.end());
-		const double dark = voxel[voxel.size() / 10];	 // the darkest tenth: the faces turned from the light
-		EXPECT_GT(dark, 0.45 * labelBrightness) << "azimuth " << azimuth << ": median " << voxel[voxel.size() / 2] << ", label " << labelBrightness;
+		const double dark = voxel[voxel.size() / 10];  // the darkest tenth: the faces turned from the light
+		EXPECT_GT(dark, 0.45 * labelBrightness)
+			<< "azimuth " << azimuth << ": median " << voxel[voxel.size() / 2] << ", label " << labelBrightness;
 	}
 }

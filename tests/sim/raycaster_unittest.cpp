@@ -18,7 +18,10 @@ using mrpt::poses::CPose3D;
 
 namespace
 {
-mrpt::img::TCamera fr3() { return tumCameraByName("fr3").intrinsics; }
+mrpt::img::TCamera fr3()
+{
+	return tumCameraByName("fr3").intrinsics;
+}
 
 // A thin box facing the camera (at the origin, looking along +z) covering image columns
 // [u0, u1] and rows [v0, v1] (fractional image coordinates) at depth z.
@@ -41,7 +44,7 @@ TRayBox screenBox(double u0, double v0, double u1, double v1, double z, uint16_t
 CPose3D officeCamera(double dx)
 {
 	mrpt::math::CMatrixDouble33 R;
-	const double rows[3][3] = {{0, 0, 1}, {-1, 0, 0}, {0, -1, 0}};	// columns: camera x, y, z in the world
+	const double rows[3][3] = {{0, 0, 1}, {-1, 0, 0}, {0, -1, 0}};  // columns: camera x, y, z in the world
 	for (int i = 0; i < 3; i++)
 		for (int j = 0; j < 3; j++) R(i, j) = rows[i][j];
 	mrpt::math::CVectorFixedDouble<3> t;
@@ -83,7 +86,7 @@ TEST(Raycaster, DepthIsExactOnATiltedPlane)
 	cv::Mat bgr, depth, inst;
 	rc.render({b}, CPose3D(), fr3(), bgr, depth, inst);
 	const auto R = b.pose.getRotationMatrix();
-	const double n[3] = {R(0, 2), R(1, 2), R(2, 2)};  // box z axis in the camera frame
+	const double n[3] = {R(0, 2), R(1, 2), R(2, 2)};                                   // box z axis in the camera frame
 	const double d = n[0] * b.pose.x() + n[1] * b.pose.y() + n[2] * b.pose.z() - 0.1;  // the face towards the camera
 	const auto K = fr3();
 	double worst = 0;
@@ -98,7 +101,7 @@ TEST(Raycaster, DepthIsExactOnATiltedPlane)
 			worst = std::max(worst, std::abs(depth.at<float>(v, u) - z));
 		}
 	ASSERT_GT(hits, 5000u);
-	EXPECT_LT(worst, 2e-6) << "ray-plane depth error (m)";	// float rounding only
+	EXPECT_LT(worst, 2e-6) << "ray-plane depth error (m)";  // float rounding only
 }
 
 TEST(Raycaster, NearestBoxWinsAndNothingIsEmpty)
@@ -109,7 +112,8 @@ TEST(Raycaster, NearestBoxWinsAndNothingIsEmpty)
 	for (bool nearFirst : {false, true})
 	{
 		const TRayBox far = screenBox(100, 100, 400, 300, 3.0, 1), near = screenBox(250, 150, 500, 250, 1.5, 2);
-		rc.render(nearFirst ? std::vector<TRayBox>{near, far} : std::vector<TRayBox>{far, near}, CPose3D(), fr3(), bgr, depth, inst);
+		rc.render(nearFirst ? std::vector<TRayBox>{near, far} : std::vector<TRayBox>{far, near}, CPose3D(), fr3(), bgr,
+				  depth, inst);
 		EXPECT_EQ(inst.at<uint16_t>(200, 150), 1);
 		EXPECT_NEAR(depth.at<float>(200, 150), 3.0, 1e-5);
 		EXPECT_EQ(inst.at<uint16_t>(200, 300), 2);
@@ -131,7 +135,8 @@ TEST(Raycaster, SameImagesAsMrptsRendererForTheOffice)
 	// light. CFBORender's depth is a +-0.4 % sawtooth around the truth, and both renderers take
 	// one sample per pixel, so silhouettes may differ by a pixel.
 	CSimWorld world(1);
-	world.addWalkingPerson({mrpt::math::TPoint2D(4.4, 1.2), mrpt::math::TPoint2D(2.95, 2.3), mrpt::math::TPoint2D(4.4, 3.8)}, 0.8, 0.0);
+	world.addWalkingPerson(
+		{mrpt::math::TPoint2D(4.4, 1.2), mrpt::math::TPoint2D(2.95, 2.3), mrpt::math::TPoint2D(4.4, 3.8)}, 0.8, 0.0);
 	world.addWalkingPerson({mrpt::math::TPoint2D(3.5, 0.7), mrpt::math::TPoint2D(3.6, 4.3)}, 1.1, 1.0);
 	const auto K = fr3();
 	mrpt::opengl::CFBORender fbo(static_cast<int>(K.ncols), static_cast<int>(K.nrows));
@@ -168,7 +173,7 @@ TEST(Raycaster, SameImagesAsMrptsRendererForTheOffice)
 				const float a = depth.at<float>(v, u), g = glDepth(v, u);
 				if (a <= 0 || g <= 0) continue;
 				both++;
-				if (std::abs(a - g) > 0.01f * a) continue;	// another surface (silhouette pixel)
+				if (std::abs(a - g) > 0.01f * a) continue;  // another surface (silhouette pixel)
 				depthOk++;
 				const cv::Vec3b p = bgrBlur.at<cv::Vec3b>(v, u), q = glBlur.at<cv::Vec3b>(v, u);
 				const int diff = std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]);

@@ -17,7 +17,8 @@ cv::Mat noisyWall(double sigma, unsigned seed, int holeRows = 0)
 	std::normal_distribution<double> n(0, sigma);
 	cv::Mat d(480, 640, CV_32F);
 	for (int y = 0; y < d.rows; y++)
-		for (int x = 0; x < d.cols; x++) d.at<float>(y, x) = y < holeRows ? 0.f : static_cast<float>(2.1 + 0.0003 * x + n(rng));
+		for (int x = 0; x < d.cols; x++)
+			d.at<float>(y, x) = y < holeRows ? 0.f : static_cast<float>(2.1 + 0.0003 * x + n(rng));
 	return d;
 }
 
@@ -39,7 +40,7 @@ TEST(SensorStatistics, MeasureDepthNoiseValidDepthTextureAndSharpness)
 	cv::GaussianBlur(blocks(8), blur, cv::Size(), 2.0);
 	for (unsigned k = 0; k < 3; k++)
 	{
-		sharp.addFrame(blocks(8), noisyWall(0.005, k, 96));	// 96 of 480 rows without depth
+		sharp.addFrame(blocks(8), noisyWall(0.005, k, 96));  // 96 of 480 rows without depth
 		blurred.addFrame(blur, noisyWall(0.005, k));
 		flat.addFrame(cv::Mat(480, 640, CV_8U, cv::Scalar(128)), noisyWall(0.005, k));
 	}

@@ -89,7 +89,7 @@ TEST(Simulator, GroundTruthIsConsistentAcrossFrames)
 	for (std::size_t k = 0; k + 5 < frames.size(); k += 5)
 	{
 		const Frame &a = frames[k], &b = frames[k + 5];
-		const auto rel = -b.pose + a.pose;	// frame a's camera in frame b's
+		const auto rel = -b.pose + a.pose;  // frame a's camera in frame b's
 		for (int v = 4; v < 480; v += 4)
 			for (int u = 4; u < 640; u += 4)
 			{
@@ -97,18 +97,19 @@ TEST(Simulator, GroundTruthIsConsistentAcrossFrames)
 				if (z <= 0) continue;
 				const auto p = rel.composePoint(mrpt::math::TPoint3D((u - cx) * z / fx, (v - cy) * z / fy, z));
 				if (p.z <= 0.1) continue;
-				const int ub = static_cast<int>(std::lround(fx * p.x / p.z + cx)), vb = static_cast<int>(std::lround(fy * p.y / p.z + cy));
+				const int ub = static_cast<int>(std::lround(fx * p.x / p.z + cx)),
+						  vb = static_cast<int>(std::lround(fy * p.y / p.z + cy));
 				if (ub < 1 || vb < 1 || ub >= 639 || vb >= 479) continue;
 				const float zb = b.depth.at<float>(vb, ub);
 				if (zb <= 0) continue;
-				const bool moving = a.cls.at<uint16_t>(v, u) == 1;	// person (COCO 0) + 1
+				const bool moving = a.cls.at<uint16_t>(v, u) == 1;  // person (COCO 0) + 1
 				const bool agrees = std::abs(zb - p.z) < 0.01 + 0.01 * p.z;
 				if (moving)
 				{
 					dynN++;
 					dynOff += !agrees;
 				}
-				else if (b.cls.at<uint16_t>(vb, ub) != 1)	 // not hidden behind a person in b
+				else if (b.cls.at<uint16_t>(vb, ub) != 1)  // not hidden behind a person in b
 				{
 					staticN++;
 					staticDepthOk += agrees;
@@ -140,8 +141,8 @@ TEST(Simulator, OpenGlIntrinsicsPutMrptsPixelCentresAtIntegers)
 		auto y = [&](double v) { return (v - K.cy()) * z / K.fy(); };
 		auto s = mrpt::opengl::COpenGLScene::Create();
 		s->getViewport()->setViewportClipDistances(0.2f, 10.0f);
-		s->insert(mrpt::opengl::CBox::Create(
-			mrpt::math::TPoint3D(x(100 + e), y(100 + e), z), mrpt::math::TPoint3D(x(300 + e), y(300 + e), z + 1e-4), false));
+		s->insert(mrpt::opengl::CBox::Create(mrpt::math::TPoint3D(x(100 + e), y(100 + e), z),
+											 mrpt::math::TPoint3D(x(300 + e), y(300 + e), z + 1e-4), false));
 		auto& cam = fbo.getCamera(*s);
 		cam.set6DOFMode(true);
 		cam.setProjectiveFromPinhole(openGlIntrinsics(K));
@@ -246,7 +247,8 @@ TEST(Simulator, ExactDetectorSeesEveryVisiblePerson)
 	ASSERT_GT(people.size(), 5u);
 	for (const auto& r : parseDetectionsText(readText(d / "detections.txt"), "detections.txt"))
 	{
-		const auto it = people.find({[&] {
+		const auto it = people.find({[&]
+									 {
 										 char b[64];
 										 std::snprintf(b, sizeof(b), "%.6f", r.t);
 										 return std::string(b);
@@ -254,7 +256,8 @@ TEST(Simulator, ExactDetectorSeesEveryVisiblePerson)
 									 r.det.instanceId});
 		if (it != people.end()) it->second = true;
 	}
-	for (const auto& [key, found] : people) EXPECT_TRUE(found) << "person " << key.second << " at " << key.first << " not detected";
+	for (const auto& [key, found] : people)
+		EXPECT_TRUE(found) << "person " << key.second << " at " << key.first << " not detected";
 
 	// The TUM folder reads back with our own source: calibration.txt gives the fr3 camera.
 	CTumFolderSource src(d.path());
@@ -323,7 +326,8 @@ TEST(Simulator, ReplaysARealTumTrajectory)
 TEST(Simulator, BadOptions)
 {
 	TempDir d("sim_bad");
-	expectInputError([&] { runSimulation(quick(d / "x", "walking_fast", 2)); }, {"unknown preset 'walking_fast'", "walking_xyz"});
+	expectInputError([&] { runSimulation(quick(d / "x", "walking_fast", 2)); },
+					 {"unknown preset 'walking_fast'", "walking_xyz"});
 	writeText(d / "traj.txt", "1 2 3\n");
 	auto o = quick(d / "y", "walking_xyz", 2);
 	o.trajectoryFile = d / "traj.txt";
@@ -339,7 +343,8 @@ TEST(Simulator, UndetectedPeopleNeverReachTheDetections)
 	const auto detectedIds = [](const std::string& dir)
 	{
 		std::map<int, std::size_t> n;
-		for (const auto& r : parseDetectionsText(readText(fs::path(dir) / "detections.txt"), "detections.txt")) n[r.det.instanceId]++;
+		for (const auto& r : parseDetectionsText(readText(fs::path(dir) / "detections.txt"), "detections.txt"))
+			n[r.det.instanceId]++;
 		return n;
 	};
 	const auto movingPeople = [](const std::string& dir)
@@ -374,7 +379,7 @@ TEST(Simulator, UndetectedPeopleNeverReachTheDetections)
 	runSimulation(o);
 	const auto one = detectedIds(d / "one");
 	EXPECT_EQ(one.count(*people.begin()), 0u) << "the undetected person was reported";
-	EXPECT_EQ(movingPeople(d / "one"), people);	 // still there, still moving
+	EXPECT_EQ(movingPeople(d / "one"), people);  // still there, still moving
 	for (auto it = std::next(people.begin()); it != people.end(); ++it) EXPECT_EQ(one.count(*it), all.count(*it));
 
 	o.outDir = d / "missing";
@@ -449,7 +454,7 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	// depth.txt carries. Exact sensor (no noise) and a fast camera, so the moment shows.
 	TempDir d("sim_depth_offset");
 	TSimOptions o = quick(d / "sync", "static_office", 12);
-	o.seed = 3;	 // offsets of -9 ms here
+	o.seed = 3;  // offsets of -9 ms here
 	o.noise = false;
 	o.speed = 4;
 	o.writeRawlog = false;
@@ -459,7 +464,8 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	off.depthOffsetMs = 16.7;
 	runSimulation(off);
 	const fs::path offDir = d / "offset", syncDir = d / "sync";
-	const auto rgbList = readTumFileList((offDir / "rgb.txt").string()), depthList = readTumFileList((offDir / "depth.txt").string());
+	const auto rgbList = readTumFileList((offDir / "rgb.txt").string()),
+			   depthList = readTumFileList((offDir / "depth.txt").string());
 	const auto syncDepth = readTumFileList((syncDir / "depth.txt").string());
 	ASSERT_EQ(rgbList.size(), 12u);
 	ASSERT_EQ(depthList.size(), 12u);
@@ -471,7 +477,8 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 		lo = std::min(lo, dt);
 		hi = std::max(hi, dt);
 		EXPECT_LE(std::abs(dt), 0.0168);
-		EXPECT_NEAR(std::stod(fs::path(depthList[k].file).stem().string()), depthList[k].t, 1e-6) << "named by its own stamp";
+		EXPECT_NEAR(std::stod(fs::path(depthList[k].file).stem().string()), depthList[k].t, 1e-6)
+			<< "named by its own stamp";
 		if (std::abs(dt) < 0.002 || k == 0) continue;
 		// Taken dt after (before) the colour image: closer to the synchronised depth images
 		// interpolated to that moment than to the one taken with its colour image.
@@ -482,17 +489,19 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 			return z;
 		};
 		const std::size_t other = dt > 0 ? k + 1 : k - 1;
-		const cv::Mat z = load(offDir / depthList[k].file), a = load(syncDir / syncDepth[k].file), b = load(syncDir / syncDepth[other].file);
+		const cv::Mat z = load(offDir / depthList[k].file), a = load(syncDir / syncDepth[k].file),
+					  b = load(syncDir / syncDepth[other].file);
 		const double w = std::abs(dt) / std::abs(rgbList[other].t - rgbList[k].t);
 		// On surfaces: across a depth edge a pixelwise interpolation says nothing.
 		const cv::Mat valid = (z > 0) & (a > 0) & (b > 0) & (cv::abs(a - b) < 0.05);
-		const double toOwnColour = cv::mean(cv::abs(z - a), valid)[0], toMoment = cv::mean(cv::abs(z - ((1 - w) * a + w * b)), valid)[0];
+		const double toOwnColour = cv::mean(cv::abs(z - a), valid)[0],
+					 toMoment = cv::mean(cv::abs(z - ((1 - w) * a + w * b)), valid)[0];
 		EXPECT_LT(toMoment, 0.5 * toOwnColour) << "frame " << k << ", " << 1000 * dt << " ms";
 		tested++;
 	}
 	EXPECT_GT(tested, 2u);
 	EXPECT_GT(hi - lo, 0.0005) << "the offset drifts";
-	off.depthOffsetMs = -2;	 // -1 is "the preset's"
+	off.depthOffsetMs = -2;  // -1 is "the preset's"
 	expectInputError([&] { runSimulation(off); }, {"--depth-offset"});
 	// Past half a frame (16.7 ms at 30 Hz) each depth image is nearer the next colour image, and
 	// every reader would pair it so: refused before anything is written.
@@ -503,7 +512,8 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	// The crowd preset's own 16.7 ms on a trajectory replayed at 100 Hz (motion-capture stamps) is
 	// held to half that frame interval instead: every depth image stays its colour image's.
 	std::string traj;
-	for (int k = 0; k < 5; k++) traj += std::to_string(100.0 + 0.01 * k) + " " + std::to_string(0.002 * k) + " 0 0 0 0 0 1\n";
+	for (int k = 0; k < 5; k++)
+		traj += std::to_string(100.0 + 0.01 * k) + " " + std::to_string(0.002 * k) + " 0 0 0 0 0 1\n";
 	writeText(d / "traj100hz.txt", traj);
 	TSimOptions replay = quick(d / "replay", "crowd", 5);
 	replay.trajectoryFile = d / "traj100hz.txt";
@@ -511,10 +521,12 @@ TEST(Simulator, ADepthOffsetTakesTheDepthImageAtItsOwnMoment)
 	replay.writeRawlog = false;
 	runSimulation(replay);
 	const fs::path replayDir = d / "replay";
-	const auto replayRgb = readTumFileList((replayDir / "rgb.txt").string()), replayDepth = readTumFileList((replayDir / "depth.txt").string());
+	const auto replayRgb = readTumFileList((replayDir / "rgb.txt").string()),
+			   replayDepth = readTumFileList((replayDir / "depth.txt").string());
 	ASSERT_EQ(replayDepth.size(), replayRgb.size());
 	double largest = 0;
-	for (std::size_t k = 0; k < replayRgb.size(); k++) largest = std::max(largest, std::abs(replayDepth[k].t - replayRgb[k].t));
+	for (std::size_t k = 0; k < replayRgb.size(); k++)
+		largest = std::max(largest, std::abs(replayDepth[k].t - replayRgb[k].t));
 	EXPECT_LE(largest, 0.00501);
 	EXPECT_GT(largest, 0.001) << "offset, only less";
 }
@@ -538,7 +550,8 @@ TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)
 	rs.readoutMs = 28;
 	runSimulation(rs);
 	EXPECT_NE(readTextFile((rsDir / "meta.json").string()).find("\"readout_ms\": 28.0"), std::string::npos);
-	const auto gsList = readTumFileList((gsDir / "depth.txt").string()), rsList = readTumFileList((rsDir / "depth.txt").string());
+	const auto gsList = readTumFileList((gsDir / "depth.txt").string()),
+			   rsList = readTumFileList((rsDir / "depth.txt").string());
 	ASSERT_EQ(rsList.size(), 10u);
 	const auto load = [](const fs::path& f)
 	{
@@ -555,7 +568,7 @@ TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)
 	{
 		EXPECT_EQ(rsList[k].t, gsList[k].t) << "stamped at the middle row's moment";
 		const cv::Mat z = load(rsDir / rsList[k].file), a = load(gsDir / gsList[k].file);
-		for (const int r0 : {0, 30, 225, 420, 450})	// bands of 30 rows; the outer ones 10-13 ms from the middle row
+		for (const int r0 : {0, 30, 225, 420, 450})  // bands of 30 rows; the outer ones 10-13 ms from the middle row
 		{
 			const double dt = ((r0 + 14.5) - 240.0) / 480.0 * 0.028;
 			const std::size_t other = dt > 0 ? k + 1 : k - 1;
@@ -565,7 +578,8 @@ TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)
 			const cv::Mat zb = z(band), ab = a(band), bb = b(band);
 			// On surfaces: across a depth edge a pixelwise interpolation says nothing.
 			const cv::Mat valid = (zb > 0) & (ab > 0) & (bb > 0) & (cv::abs(ab - bb) < 0.05);
-			const double s = cv::mean(cv::abs(zb - ab), valid)[0], r = cv::mean(cv::abs(zb - ((1 - w) * ab + w * bb)), valid)[0];
+			const double s = cv::mean(cv::abs(zb - ab), valid)[0],
+						 r = cv::mean(cv::abs(zb - ((1 - w) * ab + w * bb)), valid)[0];
 			if (r0 == 225)
 			{
 				midToStamp += s;
@@ -580,7 +594,8 @@ TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)
 	EXPECT_EQ(tested, 32u);
 	EXPECT_GE(nearer, 29u);
 	EXPECT_LT(toRow, 0.3 * toStamp) << "mean depth difference, rows against the stamp's image";
-	EXPECT_LT(midToStamp / 8, 0.4 * toStamp / 32) << "the middle rows are the stamp's (0.29 measured; the first row's moment would give about 1)";
+	EXPECT_LT(midToStamp / 8, 0.4 * toStamp / 32)
+		<< "the middle rows are the stamp's (0.29 measured; the first row's moment would give about 1)";
 	// A sensor reads its rows within a frame: a trajectory replayed at its 100 Hz stamps gets 10 ms.
 	TSimOptions fast = quick(d / "replayed", "walking_xyz", 4);
 	fast.trajectoryFile = sharedFile("data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt");
@@ -590,7 +605,8 @@ TEST(Simulator, ARollingShutterReadsEachRowAtItsOwnMoment)
 	const std::string meta = readTextFile((replayDir / "meta.json").string());
 	const auto at = meta.find("\"readout_ms\": ");
 	ASSERT_NE(at, std::string::npos);
-	EXPECT_NEAR(std::stod(meta.substr(at + 14)), 10.0, 0.2) << "the realistic sensor's 28 ms, limited to the frame interval";
+	EXPECT_NEAR(std::stod(meta.substr(at + 14)), 10.0, 0.2)
+		<< "the realistic sensor's 28 ms, limited to the frame interval";
 	rs.readoutMs = 101;
 	expectInputError([&] { runSimulation(rs); }, {"--readout"});
 }
@@ -606,7 +622,8 @@ TEST(Simulator, AReplayedTrajectorysCaptureNoiseDoesNotShearItsRows)
 	const fs::path dir = d.path();
 	TTrajectory still;
 	for (int k = 0; k < 16; k++)
-		still.push_back(TStampedPose::fromPose(1000.0 + 0.01 * k, mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(k % 2 ? 0.5 : -0.5), 0, 0)));
+		still.push_back(TStampedPose::fromPose(1000.0 + 0.01 * k,
+											   mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(k % 2 ? 0.5 : -0.5), 0, 0)));
 	writeTumTrajectory((dir / "still.txt").string(), still);
 	TSimOptions o = quick(dir / "global", "static_office", 16);
 	o.trajectoryFile = (dir / "still.txt").string();
@@ -617,7 +634,8 @@ TEST(Simulator, AReplayedTrajectorysCaptureNoiseDoesNotShearItsRows)
 	o.outDir = dir / "rolling";
 	o.readoutMs = 10;
 	runSimulation(o);
-	const auto gs = readTumFileList((dir / "global" / "depth.txt").string()), rs = readTumFileList((dir / "rolling" / "depth.txt").string());
+	const auto gs = readTumFileList((dir / "global" / "depth.txt").string()),
+			   rs = readTumFileList((dir / "rolling" / "depth.txt").string());
 	ASSERT_EQ(rs.size(), 16u);
 	const auto load = [](const fs::path& f)
 	{
@@ -625,7 +643,7 @@ TEST(Simulator, AReplayedTrajectorysCaptureNoiseDoesNotShearItsRows)
 		cv::imread(f.string(), cv::IMREAD_UNCHANGED).convertTo(z, CV_32F, 1.0 / 5000);
 		return z;
 	};
-	for (std::size_t k = 5; k <= 10; k++)	 // +-50 ms inside the trajectory
+	for (std::size_t k = 5; k <= 10; k++)  // +-50 ms inside the trajectory
 	{
 		const cv::Mat a = load(dir / "global" / gs[k].file), b = load(dir / "rolling" / rs[k].file);
 		const cv::Mat valid = (a > 0) & (b > 0);

@@ -24,7 +24,8 @@ void texturedScene(cv::Mat& bgr, cv::Mat& depth)
 	std::uniform_int_distribution<int> c(0, 255);
 	bgr = cv::Mat(480, 640, CV_8UC3);
 	for (int y = 0; y < 480; y += 12)
-		for (int x = 0; x < 640; x += 12) cv::rectangle(bgr, cv::Rect(x, y, 12, 12), cv::Scalar(c(rng), c(rng), c(rng)), cv::FILLED);
+		for (int x = 0; x < 640; x += 12)
+			cv::rectangle(bgr, cv::Rect(x, y, 12, 12), cv::Scalar(c(rng), c(rng), c(rng)), cv::FILLED);
 	depth = cv::Mat(480, 640, CV_32F, cv::Scalar(2.0f));
 }
 

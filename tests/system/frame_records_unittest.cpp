@@ -24,14 +24,17 @@ CFrameRecords::TRecord record(int k, const mrpt::poses::CPose3D& online, bool tr
 	return r;
 }
 // Frame k of a camera moving 3 mm a frame along x.
-mrpt::poses::CPose3D alongX(int k) { return mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0); }
+mrpt::poses::CPose3D alongX(int k)
+{
+	return mrpt::poses::CPose3D(0.003 * k, 0, 0, 0, 0, 0);
+}
 
-// 40 frames moving 3 mm a frame along x and turning 0.01 rad a frame, tracked exactly (online = truth). Frames 0-19 were
-// tracked before a loop correction (generation 1), frames 20-39 after it (generation 2). Every
-// 10 frames two keyframes; frames hang from them alternately (the reference keyframe switching).
-// Mapping then moved the keyframes: those of generation 1 by the loop's 10 cm in y, and every
-// keyframe by another +-2 mm in y and +-0.5 mrad in yaw, alternately (what two local BAs left
-// between neighbours). Corrections act in the world frame: final = correction + tracked.
+// 40 frames moving 3 mm a frame along x and turning 0.01 rad a frame, tracked exactly (online = truth). Frames 0-19
+// were tracked before a loop correction (generation 1), frames 20-39 after it (generation 2). Every 10 frames two
+// keyframes; frames hang from them alternately (the reference keyframe switching). Mapping then moved the keyframes:
+// those of generation 1 by the loop's 10 cm in y, and every keyframe by another +-2 mm in y and +-0.5 mrad in yaw,
+// alternately (what two local BAs left between neighbours). Corrections act in the world frame: final = correction +
+// tracked.
 struct TScene
 {
 	CFrameRecords records;
@@ -44,7 +47,8 @@ struct TScene
 			for (int ab = 0; ab < 2; ab++)
 			{
 				const auto id = static_cast<TKeyFrameId>(2 * s + ab);
-				const mrpt::poses::CPose3D correction(0, (s < 2 ? 0.1 : 0.0) + (ab == 0 ? 0.002 : -0.002), 0, ab == 0 ? 0.0005 : -0.0005, 0, 0);
+				const mrpt::poses::CPose3D correction(0, (s < 2 ? 0.1 : 0.0) + (ab == 0 ? 0.002 : -0.002), 0,
+													  ab == 0 ? 0.0005 : -0.0005, 0, 0);
 				finalKeyFrames[id] = correction + truth[static_cast<std::size_t>(10 * s + 5 * ab)];
 			}
 		for (int k = 0; k < 40; k++)
@@ -58,7 +62,10 @@ struct TScene
 			records.add(r, TFrameLogRow());
 		}
 	}
-	TTrajectory trajectory() const { return records.smoothed([this] { return finalKeyFrames; }); }
+	TTrajectory trajectory() const
+	{
+		return records.smoothed([this] { return finalKeyFrames; });
+	}
 };
 
 // How far the estimate's step from frame k to k+1 is from the true step (position, metres).
@@ -80,7 +87,7 @@ TEST(FrameRecords, ConsecutiveFramesOnDifferentKeyFramesStepAsTheCameraDid)
 	double worstPlain = 0, worstSmooth = 0;
 	for (std::size_t k = 0; k + 1 < 40; k++)
 	{
-		if (k == 19) continue;	// the loop correction's step, below
+		if (k == 19) continue;  // the loop correction's step, below
 		worstPlain = std::max(worstPlain, stepError(plain, k));
 		worstSmooth = std::max(worstSmooth, stepError(smooth, k));
 	}
@@ -104,8 +111,8 @@ TEST(FrameRecords, AFramePinnedToItsKeyFrameKeepsTheKeyFramesPose)
 	// [System] keyFrameFramePose = keyframe: the frame a keyframe was made of is that keyframe's
 	// final pose, whatever its neighbours' corrections.
 	CFrameRecords records(false, 3);
-	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{
-		{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}, {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0.002, 0, 0)}};
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)},
+															 {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0.002, 0, 0)}};
 	for (int k = 0; k < 10; k++)
 	{
 		CFrameRecords::TRecord r = record(k, alongX(k));
@@ -135,7 +142,7 @@ TEST(FrameRecords, FramesCoastedAtTheEndMoveWithTheLastTrackedOne)
 	TScene scene(3);
 	for (int k = 40; k < 43; k++)
 	{
-		CFrameRecords::TRecord r = record(k, mrpt::poses::CPose3D(0.003 * k, 0, 0, 0.01 * k, 0, 0), false);	 // coasted
+		CFrameRecords::TRecord r = record(k, mrpt::poses::CPose3D(0.003 * k, 0, 0, 0.01 * k, 0, 0), false);  // coasted
 		r.anchor = TAnchor{TKeyFrameId(7), r.online - scene.truth[35]};
 		r.generation = 2;
 		scene.records.add(r, TFrameLogRow());
@@ -155,7 +162,8 @@ TEST(FrameRecords, AFrameWhoseKeyFrameIsGoneLendsItsFallbackToNoNeighbour)
 	for (int k = 0; k < 11; k++)
 	{
 		CFrameRecords::TRecord r = record(k, alongX(k));
-		r.anchor = k == 5 ? TAnchor{TKeyFrameId(9), mrpt::poses::CPose3D(1, 2, 0, 0, 0, 0)} : TAnchor{TKeyFrameId(0), r.online};
+		r.anchor = k == 5 ? TAnchor{TKeyFrameId(9), mrpt::poses::CPose3D(1, 2, 0, 0, 0, 0)}
+						  : TAnchor{TKeyFrameId(0), r.online};
 		records.add(r, TFrameLogRow());
 	}
 	const TTrajectory t = records.smoothed([&] { return finals; });
@@ -175,8 +183,8 @@ TEST(FrameRecords, FramesCoastedAfterAPinnedFrameKeepTheirOwnPoses)
 	// the coasted frames hang from their own keyframe as recorded, not from an earlier frame's
 	// averaged correction.
 	CFrameRecords records(false, 3);
-	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{
-		{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)}, {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0, 0, 0)}};
+	const std::map<TKeyFrameId, mrpt::poses::CPose3D> finals{{0, mrpt::poses::CPose3D(0, 0.01, 0, 0, 0, 0)},
+															 {1, mrpt::poses::CPose3D(0.015, -0.01, 0, 0, 0, 0)}};
 	for (int k = 0; k < 9; k++)
 	{
 		CFrameRecords::TRecord r = record(k, alongX(k), k < 6);
@@ -210,7 +218,8 @@ struct TNoisyRun
 	TTrajectory written;
 	// Frames [lostFrom, lostTo) are coasted (tracking lost them) on a path of their own. Frame
 	// `relocalisedAt` was relocalised: the frames before it had drifted 3 cm.
-	explicit TNoisyRun(int window, int frames = 60, int newGenerationAt = -1, int lostFrom = -1, int lostTo = -1, int relocalisedAt = -1)
+	explicit TNoisyRun(int window, int frames = 60, int newGenerationAt = -1, int lostFrom = -1, int lostTo = -1,
+					   int relocalisedAt = -1)
 	{
 		CFrameRecords records(false, 0, window);
 		for (int k = 0; k < frames; k++)
@@ -219,7 +228,8 @@ struct TNoisyRun
 			truth.emplace_back(0.2 * t - 0.3 * t * t, 0.05 * t, 0, 0.2 * t, 0, 0);
 			const double noise = (k % 2 ? 0.0015 : -0.0015) * (k % 3 ? 1.0 : 0.5);
 			const double drift = k < relocalisedAt ? -0.03 : 0.0;
-			const mrpt::poses::CPose3D measured(truth.back().x() + noise + drift, truth.back().y() - noise, truth.back().z() + noise, 0.2 * t, 0, 0);
+			const mrpt::poses::CPose3D measured(truth.back().x() + noise + drift, truth.back().y() - noise,
+												truth.back().z() + noise, 0.2 * t, 0, 0);
 			CFrameRecords::TRecord r = record(k, measured, k < lostFrom || k >= lostTo);
 			r.t = t;
 			r.anchor = TAnchor{TKeyFrameId(0), measured};
@@ -228,7 +238,10 @@ struct TNoisyRun
 			row.relocalised = k == relocalisedAt;
 			records.add(r, row);
 		}
-		written = records.smoothed([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
+		written = records.smoothed(
+			[] {
+				return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}};
+			});
 	}
 	double positionError(std::size_t k) const
 	{
@@ -278,7 +291,8 @@ TEST(FrameRecords, TheSmoothingNeverReachesAcrossALoss)
 	// tracked neighbours on that side and stay as solved, and so do the coasted ones, which keep
 	// their step from frame 24; farther from the gap the fits are whole again.
 	const TNoisyRun plain(0, 60, -1, 25, 35), gap(8, 60, -1, 25, 35);
-	for (const std::size_t k : {23u, 24u, 35u, 36u}) EXPECT_NEAR(gap.positionError(k), plain.positionError(k), 1e-12) << k;
+	for (const std::size_t k : {23u, 24u, 35u, 36u})
+		EXPECT_NEAR(gap.positionError(k), plain.positionError(k), 1e-12) << k;
 	EXPECT_LT(gap.positionError(15), 0.0006);
 	EXPECT_LT(gap.positionError(45), 0.0006);
 	for (std::size_t k = 25; k < 35; k++) EXPECT_EQ(gap.written[k].tx, plain.written[k].tx) << k;
@@ -294,7 +308,8 @@ TEST(FrameRecords, TheSmoothingNeverReachesAcrossARelocalisation)
 	// 30 have no two neighbours on that side and stay as solved (a fit through the jump pulled
 	// them 1 cm towards each other before). The corrections' averaging ends at the same stretches.
 	const TNoisyRun plain(0, 60, -1, -1, -1, 30), reloc(8, 60, -1, -1, -1, 30);
-	for (const std::size_t k : {28u, 29u, 30u, 31u}) EXPECT_NEAR(reloc.positionError(k), plain.positionError(k), 1e-12) << k;
+	for (const std::size_t k : {28u, 29u, 30u, 31u})
+		EXPECT_NEAR(reloc.positionError(k), plain.positionError(k), 1e-12) << k;
 	EXPECT_NEAR(reloc.positionError(15), 0.03, 0.0006);  // the drift, smoothed
 	EXPECT_LT(reloc.positionError(45), 0.0006);
 }
@@ -310,9 +325,13 @@ TEST(FrameRecords, ARunWithoutStampsIsNotSmoothed)
 		r.anchor = TAnchor{TKeyFrameId(0), r.online};
 		records.add(r, TFrameLogRow());
 	}
-	const TTrajectory t = records.smoothed([] { return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}}; });
+	const TTrajectory t = records.smoothed(
+		[] {
+			return std::map<TKeyFrameId, mrpt::poses::CPose3D>{{0, mrpt::poses::CPose3D()}};
+		});
 	ASSERT_EQ(t.size(), 30u);
-	for (int k = 0; k < 30; k++) EXPECT_NEAR(t[static_cast<std::size_t>(k)].tx, 0.003 * k + (k % 2 ? 0.001 : -0.001), 1e-15) << k;
+	for (int k = 0; k < 30; k++)
+		EXPECT_NEAR(t[static_cast<std::size_t>(k)].tx, 0.003 * k + (k % 2 ? 0.001 : -0.001), 1e-15) << k;
 }
 
 TEST(FrameRecords, TheKeyFrameCarriedTrajectoryUsesNoLaterFrame)
@@ -337,7 +356,9 @@ TEST(FrameRecords, TheKeyFrameCarriedTrajectoryUsesNoLaterFrame)
 	double moved = 0;
 	for (std::size_t k = 0; k < 40; k++)
 	{
-		const mrpt::poses::CPose3D want = finals.at(0) + mrpt::poses::CPose3D(0.003 * static_cast<double>(k) + (k % 2 ? 0.0015 : -0.0015), 0, 0, 0, 0, 0);
+		const mrpt::poses::CPose3D want =
+			finals.at(0) +
+			mrpt::poses::CPose3D(0.003 * static_cast<double>(k) + (k % 2 ? 0.0015 : -0.0015), 0, 0, 0, 0, 0);
 		EXPECT_LT((all[k].asPose().asVectorVal() - want.asVectorVal()).norm(), 1e-12) << k;
 		EXPECT_EQ(soFar[k][k].tx, all[k].tx) << "frame " << k << " changed once later frames came";
 		moved += std::abs(smooth[k].tx - all[k].tx);
@@ -356,12 +377,14 @@ TEST(FrameRecords, TheSmoothedTrajectoryUsesTheMeasuredPosesNotTheFilteredOnes)
 	{
 		CFrameRecords::TRecord r = record(k, filtered.truth[static_cast<std::size_t>(k)]);
 		const int s = k / 10, ab = k % 2;
-		r.anchor = TAnchor{static_cast<TKeyFrameId>(2 * s + ab), r.online - filtered.truth[static_cast<std::size_t>(10 * s + 5 * ab)]};
+		r.anchor = TAnchor{static_cast<TKeyFrameId>(2 * s + ab),
+						   r.online - filtered.truth[static_cast<std::size_t>(10 * s + 5 * ab)]};
 		r.generation = k < 20 ? 1 : 2;
 		r.online = mrpt::poses::CPose3D(0.01, 0, 0, 0, 0, 0) + r.online;
 		shifted.add(r, TFrameLogRow());
 	}
 	const TTrajectory a = plain.trajectory(), b = shifted.smoothed([&] { return filtered.finalKeyFrames; });
 	ASSERT_EQ(a.size(), b.size());
-	for (std::size_t k = 0; k < a.size(); k++) EXPECT_NEAR((a[k].asPose().asVectorVal() - b[k].asPose().asVectorVal()).norm(), 0.0, 1e-12) << k;
+	for (std::size_t k = 0; k < a.size(); k++)
+		EXPECT_NEAR((a[k].asPose().asVectorVal() - b[k].asPose().asVectorVal()).norm(), 0.0, 1e-12) << k;
 }

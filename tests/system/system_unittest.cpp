@@ -105,7 +105,7 @@ TEST(System, WalkingSequenceIsTrackedAccurately)
 	mrpt::opengl::COpenGLScene scene;
 	mrpt::io::CFileGZInputStream f(d / "map.3Dscene");
 	mrpt::serialization::archiveFrom(f) >> scene;
-	EXPECT_GE(scene.getViewport()->size(), s.stats.keyFrames + 1);	// cloud + a frustum per keyframe (+ path)
+	EXPECT_GE(scene.getViewport()->size(), s.stats.keyFrames + 1);  // cloud + a frustum per keyframe (+ path)
 	std::ifstream js(d / "stats.json");
 	const std::string json((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
 	for (const char* k : {"\"tracking_rate\": 1.0000", "\"keyframes\"", "\"track\": {\"median\"", "\"mapping\""})
@@ -140,7 +140,7 @@ TEST(System, DynamicFilterKeepsPeopleOutOfTheMap)
 				if (kf.mapPoints[i] < 0) continue;
 				const auto& p = kf.features->keypoints[i].pt;
 				all++;
-				onPerson += cls.at<uint16_t>(cvRound(p.y), cvRound(p.x)) == 1;	 // COCO person (0) + 1
+				onPerson += cls.at<uint16_t>(cvRound(p.y), cvRound(p.x)) == 1;  // COCO person (0) + 1
 			}
 		}
 		return all ? static_cast<double>(onPerson) / static_cast<double>(all) : 1.0;
@@ -209,7 +209,11 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 	std::size_t i = 0;
 	std::vector<mrpt::poses::CPose3D> coasted;
 	std::vector<TFrameReport> reports;
-	sys.setFrameCallback([&](const TFrame& f) { if (!f.tracked) coasted.push_back(f.pose); });
+	sys.setFrameCallback(
+		[&](const TFrame& f)
+		{
+			if (!f.tracked) coasted.push_back(f.pose);
+		});
 	while (auto obs = src->next())
 	{
 		const double t = mrpt::Clock::toDouble(obs->timestamp);
@@ -244,7 +248,9 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 	}
 	for (std::size_t k = 0; k < rows.size(); k++)
 	{
-		const EPoseSource want = k < 2 ? EPoseSource::None : (k >= 22 && k < 27) ? EPoseSource::Interpolated : EPoseSource::Tracked;
+		const EPoseSource want = k < 2                 ? EPoseSource::None
+								 : (k >= 22 && k < 27) ? EPoseSource::Interpolated
+													   : EPoseSource::Tracked;
 		EXPECT_EQ(poseSourceName(rows[k].pose), std::string(poseSourceName(want))) << "frame " << k;
 	}
 	// Frames without a pose are left out of every trajectory.
@@ -270,8 +276,13 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 	double carriedOff = 0;
 	for (std::size_t k = 0; k < 5; k++)
 	{
-		EXPECT_LT((carried[20 + k].asPose().asVectorVal().head<3>() - online[20 + k].asPose().asVectorVal().head<3>()).norm(), 0.01) << "lost frame " << k;
-		carriedOff += (carried[20 + k].asPose().asVectorVal().head<3>() - smoothed[20 + k].asPose().asVectorVal().head<3>()).norm();
+		EXPECT_LT(
+			(carried[20 + k].asPose().asVectorVal().head<3>() - online[20 + k].asPose().asVectorVal().head<3>()).norm(),
+			0.01)
+			<< "lost frame " << k;
+		carriedOff +=
+			(carried[20 + k].asPose().asVectorVal().head<3>() - smoothed[20 + k].asPose().asVectorVal().head<3>())
+				.norm();
 	}
 	EXPECT_GT(carriedOff, 0.5 * moved) << "trajectory() does not fill the lost frames in";
 
@@ -285,14 +296,16 @@ TEST(System, EveryPoseSaysWhereItComesFromAndTheOnlinePosesAreWhatTheRunHad)
 		const auto& K = obs->cameraParamsIntensity;
 		if (i >= 20 && i < 25)
 			plain.processFrame(cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_8UC3),
-				cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_32F), mrpt::Clock::toDouble(obs->timestamp), K);
+							   cv::Mat::zeros(static_cast<int>(K.nrows), static_cast<int>(K.ncols), CV_32F),
+							   mrpt::Clock::toDouble(obs->timestamp), K);
 		else
 			plain.processFrame(*obs);
 		i++;
 	}
 	const auto rows2 = plain.frameLog();
 	ASSERT_EQ(rows2.size(), 60u);
-	for (std::size_t k = 20; k < 25; k++) EXPECT_EQ(poseSourceName(rows2[k].pose), std::string("coasted")) << "frame " << k;
+	for (std::size_t k = 20; k < 25; k++)
+		EXPECT_EQ(poseSourceName(rows2[k].pose), std::string("coasted")) << "frame " << k;
 }
 
 TEST(System, SequentialModeIsDeterministic)
@@ -451,13 +464,15 @@ TEST(System, AFailedLoopTaskLeavesNoLaterOneRunningWhenTheErrorComes)
 			{
 				// The first task holds the stage until the run is over, then fails: every later
 				// keyframe's task is queued behind it by then.
-				while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(10));  // ctest's timeout bounds it
+				while (!release)
+					std::this_thread::sleep_for(std::chrono::milliseconds(10));  // ctest's timeout bounds it
 				throw std::runtime_error("disk full");
 			}
 			std::this_thread::sleep_for(std::chrono::milliseconds(100));
 		});
 	auto src = openInputSource(walkingSequence(), o.input);
-	while (auto obs = src->next()) ASSERT_NO_THROW(sys.processFrame(*obs)) << "the failing task is held until the run is over";
+	while (auto obs = src->next())
+		ASSERT_NO_THROW(sys.processFrame(*obs)) << "the failing task is held until the run is over";
 	release = true;
 	EXPECT_THROW(sys.waitForMapping(), std::runtime_error);
 	EXPECT_EQ(entered.load(), left.load()) << "a loop task still ran when the error came";
@@ -523,7 +538,7 @@ TEST(System, CallbacksMayBeReplacedWhileTheStagesRun)
 		{
 			while (!done)
 			{
-				auto seen = std::make_shared<std::atomic<std::size_t>>(0);	// owned by the callbacks (CCallbackSlot)
+				auto seen = std::make_shared<std::atomic<std::size_t>>(0);  // owned by the callbacks (CCallbackSlot)
 				sys.setKeyFrameCallback(
 					[&keyFrameCalls, seen](TKeyFrameId)
 					{
@@ -579,7 +594,7 @@ TEST(System, AKeyFrameWaitingForItsMappingIsNeverCulled)
 		{
 			mapped++;
 			if (sys.map().keyFrame(k).bad) erasedBeforeMapped.push_back(k);
-			std::this_thread::sleep_for(std::chrono::milliseconds(300));	// the next keyframes queue up
+			std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the next keyframes queue up
 			culled += sys.mutableMap().cullRedundantKeyFrames(k, 0.0, 1, 10.0).size();
 		});
 	auto src = openInputSource(walkingSequence(), o.input);
@@ -587,7 +602,8 @@ TEST(System, AKeyFrameWaitingForItsMappingIsNeverCulled)
 	sys.waitForMapping();
 	EXPECT_GE(mapped, 4u);
 	EXPECT_GT(culled, 0u) << "the cull erased nothing: it proves nothing";
-	EXPECT_TRUE(erasedBeforeMapped.empty()) << erasedBeforeMapped.size() << " keyframes were culled while they waited for their mapping";
+	EXPECT_TRUE(erasedBeforeMapped.empty())
+		<< erasedBeforeMapped.size() << " keyframes were culled while they waited for their mapping";
 }
 
 TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
@@ -632,7 +648,11 @@ TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
 
 	// A failure on the mapping thread reaches the caller as an error, not std::terminate.
 	CYesSlamSystem failing(o);
-	failing.setKeyFrameCallback([](TKeyFrameId k) { if (k == 2) throw std::runtime_error("disk full"); });
+	failing.setKeyFrameCallback(
+		[](TKeyFrameId k)
+		{
+			if (k == 2) throw std::runtime_error("disk full");
+		});
 	auto src2 = openInputSource(walkingSequence(), o.input);
 	bool reported = false;
 	try
@@ -782,7 +802,8 @@ TEST(System, ProgressTotalsAreTheFramesThisRunWillProcess)
 		o.slam.dense.enabled = false;
 		std::set<std::size_t> seen;
 		std::size_t last = 0;
-		runSlamJob(o, [&](std::size_t done, std::size_t total, const std::string&) { seen.insert(total), last = done; });
+		runSlamJob(o,
+				   [&](std::size_t done, std::size_t total, const std::string&) { seen.insert(total), last = done; });
 		EXPECT_EQ(seen.size(), 1u);
 		EXPECT_EQ(last, seen.empty() ? 0 : *seen.begin()) << "the last frame reports done == total";
 		return seen.empty() ? 0 : *seen.begin();
@@ -835,7 +856,8 @@ TEST(System, AMappingFailureStillCommitsTheRecordingOfTheFramesSoFar)
 		{
 			const std::size_t until = frames + 15;
 			const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-			while (frames < until && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+			while (frames < until && std::chrono::steady_clock::now() < deadline)
+				std::this_thread::sleep_for(std::chrono::milliseconds(5));
 		}
 		failures++;
 		throw std::runtime_error("injected mapping failure at keyframe " + std::to_string(id));
@@ -901,7 +923,8 @@ TEST(System, ACorrectionBetweenTrackingAndADelayedKeyFrameCarriesOverToIt)
 				out.delayed.emplace_back(j, i);
 			}
 			if (correctAfter && i == *correctAfter)
-				correctWholeMap(sys.mutableMap(), mrpt::poses::CPose3D(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0)));
+				correctWholeMap(sys.mutableMap(), mrpt::poses::CPose3D(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0),
+																	   mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0)));
 		}
 		out.ate = computeAte(gt, sys.trajectory(), TEvalOptions()).stats.rmse;
 		out.keyFrameAte = computeAte(gt, sys.keyFrameTrajectory(), TEvalOptions()).stats.rmse;
@@ -909,7 +932,8 @@ TEST(System, ACorrectionBetweenTrackingAndADelayedKeyFrameCarriesOverToIt)
 	};
 	const TRun plain = run(std::nullopt);
 	// The map moves after a frame that becomes a keyframe only frames later.
-	const auto late = std::find_if(plain.delayed.begin(), plain.delayed.end(), [](const auto& d) { return d.first >= 10 && d.second > d.first; });
+	const auto late = std::find_if(plain.delayed.begin(), plain.delayed.end(),
+								   [](const auto& d) { return d.first >= 10 && d.second > d.first; });
 	ASSERT_NE(late, plain.delayed.end()) << "the sequence must make a keyframe of an earlier frame";
 	const TRun corrected = run(late->first);
 	// One rigid alignment fits every pose as well as without the correction. Measured: 5.5 / 4.6 mm
@@ -935,7 +959,8 @@ TEST(System, ALoopCorrectionDuringAFramesOwnKeyFrameCarriesOverToTheNextPredicti
 		{
 			if (id < 3 || corrected) return;
 			corrected = true;
-			correctWholeMap(sys.mutableMap(), mrpt::poses::CPose3D(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0)));
+			correctWholeMap(sys.mutableMap(), mrpt::poses::CPose3D(0.4, -0.2, 0.3, mrpt::DEG2RAD(20.0),
+																   mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0)));
 		});
 	auto src = openInputSource(walkingSequence(), o.input);
 	std::size_t after = 0;
@@ -1067,7 +1092,8 @@ TEST(System, DepthTakenAtAnotherMomentIsMovedToTheColourImages)
 namespace
 {
 // An exact (noise-free) simulated sequence with exact detections, made for the rolling-shutter tests.
-TSimOptions exactSequence(const std::string& preset, std::size_t frames, uint32_t seed, double readoutMs, const std::string& out)
+TSimOptions exactSequence(const std::string& preset, std::size_t frames, uint32_t seed, double readoutMs,
+						  const std::string& out)
 {
 	TSimOptions sim;
 	sim.preset = preset;
@@ -1110,12 +1136,16 @@ TEST(System, ARollingShutterCameraIsTrackedAtEachImagesStamp)
 	sim.outDir = d / "global";
 	runSimulation(sim);
 	const double global = ateWithReadout(d / "global", d / "global_auto", -1),
-				 uncorrected = ateWithReadout(d / "rolling", d / "rolling_off", 0), corrected = ateWithReadout(d / "rolling", d / "rolling_auto", -1);
-	const auto used = [&](const std::string& out) { return readTextFile((fs::path(d / out) / "config_used.ini").string()); };
+				 uncorrected = ateWithReadout(d / "rolling", d / "rolling_off", 0),
+				 corrected = ateWithReadout(d / "rolling", d / "rolling_auto", -1);
+	const auto used = [&](const std::string& out)
+	{ return readTextFile((fs::path(d / out) / "config_used.ini").string()); };
 	EXPECT_NE(used("rolling_auto").find("rollingShutter = 0.028"), std::string::npos) << "the sequence's own readout";
-	EXPECT_NE(used("global_auto").find("rollingShutter = 0\n"), std::string::npos) << "a global-shutter sequence is not corrected";
+	EXPECT_NE(used("global_auto").find("rollingShutter = 0\n"), std::string::npos)
+		<< "a global-shutter sequence is not corrected";
 	EXPECT_GT(uncorrected, 1.5 * global) << "the shear costs accuracy";
-	EXPECT_LT(corrected, 0.6 * uncorrected) << "ATE, m: " << corrected << " corrected, " << uncorrected << " not, " << global << " global shutter";
+	EXPECT_LT(corrected, 0.6 * uncorrected)
+		<< "ATE, m: " << corrected << " corrected, " << uncorrected << " not, " << global << " global shutter";
 }
 
 TEST(System, ARollingShutterReadoutIsNeverLongerThanAFrame)
@@ -1128,8 +1158,10 @@ TEST(System, ARollingShutterReadoutIsNeverLongerThanAFrame)
 	TSimOptions sim = exactSequence("walking_xyz", 150, 1, 10, d / "seq");
 	sim.trajectoryFile = sharedFile("data/tum_eval_trajectories/fr3_walking_xyz_groundtruth.txt");
 	runSimulation(sim);
-	const double stated = ateWithReadout(d / "seq", d / "stated", -1), assumed = ateWithReadout(d / "seq", d / "assumed", 0.028);
-	EXPECT_LT(assumed, 1.5 * stated + 0.001) << "ATE, m: " << assumed << " with 28 ms assumed, " << stated << " with the stated 10 ms";
+	const double stated = ateWithReadout(d / "seq", d / "stated", -1),
+				 assumed = ateWithReadout(d / "seq", d / "assumed", 0.028);
+	EXPECT_LT(assumed, 1.5 * stated + 0.001)
+		<< "ATE, m: " << assumed << " with 28 ms assumed, " << stated << " with the stated 10 ms";
 }
 
 // Issue 62 item 4: a camera jerked 8 cm sideways and panned 8 degrees within one frame (2.4 m/s, a
@@ -1170,8 +1202,9 @@ TEST(System, ACameraJerkedEightCentimetresAndEightDegreesStaysTracked)
 	}
 	ASSERT_EQ(n, 60u);
 	const TTrajectory truth = readTumTrajectory(seq + "/groundtruth.txt");
-	for (const auto& [name, traj] : {std::pair<const char*, TTrajectory>{"trajectory()", sys.trajectory()}, {"onlineTrajectory()", sys.onlineTrajectory()},
-			 {"smoothedTrajectory()", sys.smoothedTrajectory()}})
+	for (const auto& [name, traj] : {std::pair<const char*, TTrajectory>{"trajectory()", sys.trajectory()},
+									 {"onlineTrajectory()", sys.onlineTrajectory()},
+									 {"smoothedTrajectory()", sys.smoothedTrajectory()}})
 	{
 		const auto ate = computeAte(truth, traj, TEvalOptions());
 		EXPECT_EQ(ate.stats.n, 60u) << name;

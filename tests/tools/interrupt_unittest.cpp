@@ -30,7 +30,8 @@ namespace
 {
 // rgb.txt and depth.txt listing the same two files `n` times at 30 Hz: minutes of work for a tool
 // from two files on disk.
-void writeRepeatedLists(const std::string& folder, const std::string& rgbFile, const std::string& depthFile, int n, double depthDelay)
+void writeRepeatedLists(const std::string& folder, const std::string& rgbFile, const std::string& depthFile, int n,
+						double depthDelay)
 {
 	std::ostringstream rgb, depth;
 	char buf[128];
@@ -74,7 +75,7 @@ struct TInterrupted
 {
 	int exitCode = -1;
 	std::string out, err;
-	bool ready = false;	 //!< `ready()` turned true before the deadline (else it was interrupted anyway)
+	bool ready = false;  //!< `ready()` turned true before the deadline (else it was interrupted anyway)
 	/** The "frames: N" of its summary, -1 without one. */
 	long frames() const
 	{
@@ -86,9 +87,8 @@ struct TInterrupted
 // Runs one of our tools with `args`, waits (at most 60 s) until `ready()`, presses Ctrl-C (SIGINT,
 // or sends `sig`) and waits for it to end.
 // With `secondAfterMs` >= 0, Ctrl-C is pressed a second time that long after the first was handled.
-TInterrupted interruptWhen(
-	const std::string& tool, const std::vector<std::string>& args, const std::function<bool()>& ready, int sig = SIGINT,
-	int secondAfterMs = -1)
+TInterrupted interruptWhen(const std::string& tool, const std::vector<std::string>& args,
+						   const std::function<bool()>& ready, int sig = SIGINT, int secondAfterMs = -1)
 {
 	TempDir tmp("sigint_log");
 	const std::string log = tmp / "stdout.txt", path = std::string(YESSLAM_TOOLS_DIR) + "/" + tool;
@@ -146,14 +146,15 @@ TEST(Interrupt, Tum2RawlogSavesCompleteFramesOnSigint)
 
 	// Ctrl-C once the temporary rawlog has real content.
 	const std::string out = d / "seq.rawlog";
-	const auto r = interruptWhen(
-		"tum2rawlog", {"--input", folder, "--output", out, "--quiet"},
-		[&]
-		{
-			for (const auto& e : fs::directory_iterator(d.path()))
-				if (e.path().string().find("seq.rawlog.tmp.") != std::string::npos && fs::file_size(e.path()) > 2'000'000) return true;
-			return false;
-		});
+	const auto r = interruptWhen("tum2rawlog", {"--input", folder, "--output", out, "--quiet"},
+								 [&]
+								 {
+									 for (const auto& e : fs::directory_iterator(d.path()))
+										 if (e.path().string().find("seq.rawlog.tmp.") != std::string::npos &&
+											 fs::file_size(e.path()) > 2'000'000)
+											 return true;
+									 return false;
+								 });
 	ASSERT_TRUE(r.ready) << "conversion did not start";
 	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
 
@@ -186,12 +187,15 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	// Ctrl-C after 5 s of work.
 	const std::string out = d / "run";
 	const auto start = std::chrono::steady_clock::now();
-	const auto r = interruptWhen(
-		"yesslam", {"--input", folder, "--out", out, "--detector", "none", "--quiet"},
-		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(5); });
+	const auto r = interruptWhen("yesslam", {"--input", folder, "--out", out, "--detector", "none", "--quiet"},
+								 [&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(5); });
 	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
 	// Said at once, before the saving (issue 30 item 3).
-	EXPECT_NE(r.err.find("yesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet written)"), std::string::npos) << r.err;
+	EXPECT_NE(
+		r.err.find(
+			"yesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet written)"),
+		std::string::npos)
+		<< r.err;
 	const long reported = r.frames();
 	ASSERT_GE(reported, 0) << r.out;
 	EXPECT_GT(reported, 0);
@@ -200,12 +204,15 @@ TEST(Interrupt, SlamAppSavesTheTrajectorySoFarOnSigint)
 	const auto traj = mrpt_yesslam::readTumTrajectory(out + "/trajectory.txt");
 	EXPECT_EQ(static_cast<long>(traj.size()), reported);
 	for (const auto& t : traj) EXPECT_LT(std::hypot(t.tx - traj[0].tx, t.ty - traj[0].ty, t.tz - traj[0].tz), 0.01);
-	for (const char* name : {"keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini"}) EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
+	for (const char* name : {"keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini"})
+		EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
 	// stats.json says the run was cut short (issue 18 item 4).
 	std::ifstream js(out + "/stats.json");
 	const std::string stats((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
 	EXPECT_NE(stats.find("\"complete\": false"), std::string::npos) << stats;
-	EXPECT_NE(stats.find("\"stop_reason\": \"interrupted after " + std::to_string(reported) + " frames\""), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"stop_reason\": \"interrupted after " + std::to_string(reported) + " frames\""),
+			  std::string::npos)
+		<< stats;
 	for (const auto& e : fs::directory_iterator(out))
 		EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
 }
@@ -241,8 +248,9 @@ TEST(Interrupt, ASecondCtrlCWhileSavingKeepsWhatIsWrittenAndSaysWhatIsNot)
 	ASSERT_NE(reason, std::string::npos) << stats;
 	const std::string skipped = stats.substr(reason, stats.find('\n', reason) - reason);
 	EXPECT_NE(skipped.find("map.3Dscene"), std::string::npos) << skipped;
-	const std::pair<const char*, std::string> outputs[] = {
-		{"the dense map", out + "/dense_cloud.ply"}, {"the map file", d / "map.ysm"}, {"map.3Dscene", out + "/map.3Dscene"}};
+	const std::pair<const char*, std::string> outputs[] = {{"the dense map", out + "/dense_cloud.ply"},
+														   {"the map file", d / "map.ysm"},
+														   {"map.3Dscene", out + "/map.3Dscene"}};
 	for (const auto& [name, file] : outputs)
 	{
 		const bool named = skipped.find(name) != std::string::npos;
@@ -274,7 +282,8 @@ TEST(Interrupt, ASecondCtrlCSaysWhatItDoesInThePhaseItComesIn)
 	EXPECT_EQ(seen[1], std::make_pair(P::FinalMapping, false));
 	EXPECT_EQ(seen[2], std::make_pair(P::Saving, false));
 	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
-	const std::string mapping = mrpt_yesslam::secondInterruptNote(P::FinalMapping), saving = mrpt_yesslam::secondInterruptNote(P::Saving);
+	const std::string mapping = mrpt_yesslam::secondInterruptNote(P::FinalMapping),
+					  saving = mrpt_yesslam::secondInterruptNote(P::Saving);
 	EXPECT_EQ(mapping.find("file being written"), std::string::npos) << mapping;
 	EXPECT_NE(mapping.find("final mapping runs to its end"), std::string::npos) << mapping;
 	EXPECT_NE(saving.find("the file being written is finished"), std::string::npos) << saving;
@@ -307,7 +316,8 @@ TEST(Interrupt, ALiveRunStoppedWithCtrlCKeepsItsRecordingAndOutputs)
 	const std::string out = d / "run", rec = d / "live.rawlog";
 	const auto start = std::chrono::steady_clock::now();
 	const auto r = interruptWhen(
-		"yesslam", {"--input", folder, "--out", out, "--realtime", "--record", rec, "--detector", "none", "--no-dense-map"},
+		"yesslam",
+		{"--input", folder, "--out", out, "--realtime", "--record", rec, "--detector", "none", "--no-dense-map"},
 		[&] { return std::chrono::steady_clock::now() - start > std::chrono::seconds(4); });
 	EXPECT_EQ(r.exitCode, 130) << "-1: killed by a signal";
 	ASSERT_GT(r.frames(), 0) << r.out;
@@ -357,7 +367,8 @@ TEST(Interrupt, AKilledRunKeepsItsJournalOfPosesAndFrames)
 	const std::string seq = sharedFile("data/tum_fr1_rpy_dev");
 	ASSERT_TRUE(fs::exists(seq + "/rgb.txt")) << seq;
 	TempDir d("sigkill_journal");
-	const std::vector<std::string> common{"--input", seq, "--detector", "none", "--no-dense-map", "--sequential", "--quiet"};
+	const std::vector<std::string> common{"--input",      seq,      "--detector", "none", "--no-dense-map",
+										  "--sequential", "--quiet"};
 	auto with = [&](std::vector<std::string> extra)
 	{
 		std::vector<std::string> a = common;
@@ -381,7 +392,8 @@ TEST(Interrupt, AKilledRunKeepsItsJournalOfPosesAndFrames)
 			if (!line.empty() && line[0] != '#') n++;
 		return n;
 	};
-	const auto r = interruptWhen("yesslam", with({"--out", out}), [&] { return poseLines() >= 40; }, SIGKILL);
+	const auto r = interruptWhen(
+		"yesslam", with({"--out", out}), [&] { return poseLines() >= 40; }, SIGKILL);
 	ASSERT_TRUE(r.ready) << "no 40 journaled poses within 60 s: " << r.err;
 	EXPECT_EQ(r.exitCode, -1) << "killed by the signal";
 

@@ -50,10 +50,11 @@ TEST(LiveApp, ACameraFasterThanSlamHasItsFramesDroppedAndCounted)
 	// the capture thread drops the oldest waiting frames; everything captured is still recorded.
 	TempDir d("live_app");
 	const std::string seq = walkingSequence60();
-	const auto r = runTool(
-		"yesslam", {"--input", seq, "--out", d / "run", "--realtime", "--speed", "10", "--record", d / "captured.rawlog", "--no-dense-map", "--quiet"});
+	const auto r = runTool("yesslam", {"--input", seq, "--out", d / "run", "--realtime", "--speed", "10", "--record",
+									   d / "captured.rawlog", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
-	const long captured = inputCount(d / "run/stats.json", "captured_frames"), dropped = inputCount(d / "run/stats.json", "dropped_frames");
+	const long captured = inputCount(d / "run/stats.json", "captured_frames"),
+			   dropped = inputCount(d / "run/stats.json", "dropped_frames");
 	const long frames = inputCount(d / "run/stats.json", "frames");
 	EXPECT_EQ(captured, 60);
 	EXPECT_GT(dropped, 0);
@@ -72,15 +73,15 @@ TEST(LiveApp, ARecordedRunReplaysToTheSameTrajectory)
 	const std::string seq = walkingSequence60();
 	fs::create_directories(d / "rec");
 	fs::copy_file(seq + "/detections.txt", d / "rec/detections.txt");
-	const auto first = runTool(
-		"yesslam", {"--input", seq, "--out", d / "a", "--sequential", "--record", d / "rec/run.rawlog", "--no-dense-map", "--quiet"});
+	const auto first = runTool("yesslam", {"--input", seq, "--out", d / "a", "--sequential", "--record",
+										   d / "rec/run.rawlog", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(first.exitCode, 0) << first.err;
 	EXPECT_NE(first.out.find("recorded:        60 frames"), std::string::npos) << first.out;
 	// The camera's readout (the simulated sequence's own) went with the recording, in its camera
 	// file: the replay uses it without being told (issue 62 item 5).
 	EXPECT_TRUE(fs::exists(d / "rec/run_camera.txt"));
-	const auto again = runTool(
-		"yesslam", {"--input", d / "rec/run.rawlog", "--out", d / "b", "--sequential", "--gt", seq + "/groundtruth.txt", "--no-dense-map", "--quiet"});
+	const auto again = runTool("yesslam", {"--input", d / "rec/run.rawlog", "--out", d / "b", "--sequential", "--gt",
+										   seq + "/groundtruth.txt", "--no-dense-map", "--quiet"});
 	EXPECT_NE(again.out.find("from the recording's camera file"), std::string::npos) << again.out;
 	ASSERT_EQ(again.exitCode, 0) << again.err;
 	const std::string ta = readText(d / "a/trajectory.txt"), tb = readText(d / "b/trajectory.txt");
@@ -115,13 +116,14 @@ TEST(LiveApp, WithoutACameraOrWithBadLiveOptionsNothingStarts)
 	writeText(d / "old.rawlog", "an earlier recording");
 	fails({"--input", seq, "--out", d / "run", "--record", d / "old.rawlog"}, {"old.rawlog", "exists", "--overwrite"});
 	EXPECT_EQ(readText(d / "old.rawlog"), "an earlier recording");
-	const auto again = runTool("yesslam", {"--input", seq, "--out", d / "ok", "--record", d / "old.rawlog", "--overwrite", "--max-frames", "3",
-										   "--sequential", "--no-dense-map", "--quiet", "--detector", "none"});
+	const auto again =
+		runTool("yesslam", {"--input", seq, "--out", d / "ok", "--record", d / "old.rawlog", "--overwrite",
+							"--max-frames", "3", "--sequential", "--no-dense-map", "--quiet", "--detector", "none"});
 	EXPECT_EQ(again.exitCode, 0) << again.err;
 	EXPECT_EQ(rawlogFrames(d / "old.rawlog"), 3u);
-	fails({"--input", d / "old.rawlog", "--out", d / "run", "--record", d / "old.rawlog", "--overwrite"}, {"old.rawlog", "names the input itself"});
+	fails({"--input", d / "old.rawlog", "--out", d / "run", "--record", d / "old.rawlog", "--overwrite"},
+		  {"old.rawlog", "names the input itself"});
 }
-
 
 TEST(LiveApp, AnOniRecordingPlaysThroughOpenNI2ToTheSameTrajectory)
 {
@@ -132,14 +134,15 @@ TEST(LiveApp, AnOniRecordingPlaysThroughOpenNI2ToTheSameTrajectory)
 	TempDir d("live_oni");
 	const std::string seq = walkingSequence60(), oni = walkingOniRecording(d.path());
 	EXPECT_TRUE(fs::exists(d / "walking_groundtruth.txt"));
-	const auto folder = runTool("yesslam", {"--input", seq, "--out", d / "folder", "--sequential", "--no-dense-map", "--quiet"});
+	const auto folder =
+		runTool("yesslam", {"--input", seq, "--out", d / "folder", "--sequential", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(folder.exitCode, 0) << folder.err;
 	// Neither the recording nor a camera says that the simulated camera had a global shutter (a
 	// camera is taken for a rolling-shutter Kinect or Xtion): the runs say it.
 	std::ofstream(d / "global_shutter.ini") << "[Tracking]\nrollingShutter = 0\n";
-	const auto live = runTool(
-		"yesslam", {"--input", "openni2:" + oni, "--out", d / "oni", "--sequential", "--camera", seq + "/calibration.txt", "--no-dense-map",
-					"--record", d / "oni.rawlog", "--quiet", "--config", d / "global_shutter.ini"});
+	const auto live = runTool("yesslam", {"--input", "openni2:" + oni, "--out", d / "oni", "--sequential", "--camera",
+										  seq + "/calibration.txt", "--no-dense-map", "--record", d / "oni.rawlog",
+										  "--quiet", "--config", d / "global_shutter.ini"});
 	ASSERT_EQ(live.exitCode, 0) << live.err;
 	EXPECT_NE(live.out.find("camera:          "), std::string::npos) << live.out;
 	EXPECT_NE(live.out.find("(recording)"), std::string::npos) << live.out;
@@ -148,14 +151,14 @@ TEST(LiveApp, AnOniRecordingPlaysThroughOpenNI2ToTheSameTrajectory)
 	const double ate = ateOf(live.out);
 	EXPECT_LT(ate, 0.03) << "evaluated against the ground truth found beside the recording";
 	// What --record kept of that run replays to the same trajectory.
-	const auto replay = runTool(
-		"yesslam", {"--input", d / "oni.rawlog", "--out", d / "replay", "--sequential", "--no-dense-map", "--quiet", "--gt", seq + "/groundtruth.txt",
-					"--config", d / "global_shutter.ini"});
+	const auto replay =
+		runTool("yesslam", {"--input", d / "oni.rawlog", "--out", d / "replay", "--sequential", "--no-dense-map",
+							"--quiet", "--gt", seq + "/groundtruth.txt", "--config", d / "global_shutter.ini"});
 	ASSERT_EQ(replay.exitCode, 0) << replay.err;
 	EXPECT_EQ(readText(d / "replay/trajectory.txt"), readText(d / "oni/trajectory.txt"));
 	// Without --camera the intrinsics come from the field of view the recording states: close.
-	const auto fov = runTool(
-		"yesslam", {"--input", "openni2:" + oni, "--out", d / "fov", "--sequential", "--no-dense-map", "--quiet", "--config", d / "global_shutter.ini"});
+	const auto fov = runTool("yesslam", {"--input", "openni2:" + oni, "--out", d / "fov", "--sequential",
+										 "--no-dense-map", "--quiet", "--config", d / "global_shutter.ini"});
 	ASSERT_EQ(fov.exitCode, 0) << fov.err;
 	EXPECT_LT(ateOf(fov.out), 0.03);
 }
@@ -165,7 +168,8 @@ TEST(LiveApp, AnOniPlayedFasterThanSlamDropsFrames)
 	TempDir d("live_oni_speed");
 	const std::string oni = walkingOniRecording(d.path());
 	// Ten times the recorded rate (parallel mode: frames as a camera delivers them).
-	const auto fast = runTool("yesslam", {"--input", "openni2:" + oni, "--out", d / "fast", "--speed", "10", "--no-dense-map", "--quiet"});
+	const auto fast = runTool(
+		"yesslam", {"--input", "openni2:" + oni, "--out", d / "fast", "--speed", "10", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(fast.exitCode, 0) << fast.err;
 	EXPECT_GT(inputCount(d / "fast/stats.json", "dropped_frames"), 0);
 	EXPECT_EQ(inputCount(d / "fast/stats.json", "frames") + inputCount(d / "fast/stats.json", "dropped_frames"),
@@ -194,7 +198,8 @@ TEST(LiveApp, BadRecordingsAndBadConversionsAreRefusedInOneLine)
 	const auto missing = runTool("yesslam-oni", {"--input", d / "nothing", "--output", d / "x.oni"});
 	EXPECT_EQ(missing.exitCode, 1);
 	EXPECT_NE(missing.err.find("not found"), std::string::npos) << missing.err;
-	const auto newDir = runTool("yesslam-oni", {"--input", walkingSequence60(), "--output", d / "no/dir/x.oni", "--max-frames", "3", "--quiet"});
+	const auto newDir = runTool("yesslam-oni", {"--input", walkingSequence60(), "--output", d / "no/dir/x.oni",
+												"--max-frames", "3", "--quiet"});
 	EXPECT_EQ(newDir.exitCode, 0) << newDir.err;
 	EXPECT_TRUE(fs::exists(d / "no/dir/x.oni"));
 	EXPECT_TRUE(fs::exists(d / "no/dir/detections.txt"));
@@ -221,20 +226,22 @@ TEST(LiveApp, AnOniAtANonAsciiOrLongPathPlaysThroughAShortLink)
 	fs::copy_file(oni, umlaut);
 	fs::copy_file(oni, longPath);
 	// With the recording's camera file (its intrinsics and readout go with it; issue 62 item 5).
-	for (const std::string& path : {umlaut, longPath}) fs::copy_file(mrpt_yesslam::recordingCameraPath(oni), mrpt_yesslam::recordingCameraPath(path));
+	for (const std::string& path : {umlaut, longPath})
+		fs::copy_file(mrpt_yesslam::recordingCameraPath(oni), mrpt_yesslam::recordingCameraPath(path));
 	fs::create_directories(d / "tmp");
 	setenv("TMPDIR", (d / "tmp").c_str(), 1);  // where the links go (the tools inherit it)
 	// No detector: the copies have no detections.txt beside them.
-	const auto ref = runTool(
-		"yesslam", {"--input", "openni2:" + oni, "--out", d / "ref", "--sequential", "--no-dense-map", "--quiet", "--max-frames", "12", "--detector", "none"});
+	const auto ref = runTool("yesslam", {"--input", "openni2:" + oni, "--out", d / "ref", "--sequential",
+										 "--no-dense-map", "--quiet", "--max-frames", "12", "--detector", "none"});
 	ASSERT_EQ(ref.exitCode, 0) << ref.err;
 	for (const std::string& path : {umlaut, longPath})
 	{
 		const std::string out = d / ("run" + std::to_string(path.size()));
-		const auto r = runTool(
-			"yesslam", {"--input", "openni2:" + path, "--out", out, "--sequential", "--no-dense-map", "--quiet", "--max-frames", "12", "--detector", "none"});
+		const auto r = runTool("yesslam", {"--input", "openni2:" + path, "--out", out, "--sequential", "--no-dense-map",
+										   "--quiet", "--max-frames", "12", "--detector", "none"});
 		ASSERT_EQ(r.exitCode, 0) << path.size() << " characters: " << r.err;
-		EXPECT_EQ(readText(out + "/trajectory.txt"), readText(d / "ref/trajectory.txt")) << path.size() << " characters";
+		EXPECT_EQ(readText(out + "/trajectory.txt"), readText(d / "ref/trajectory.txt"))
+			<< path.size() << " characters";
 	}
 	unsetenv("TMPDIR");
 	for (const auto& e : fs::directory_iterator(d / "tmp"))
@@ -299,7 +306,8 @@ TEST(LiveApp, ARecordingIsPairedByTimeWhenAColourFrameIsMissingAndColourIsLate)
 		while (auto obs = src->next())
 		{
 			obs->rangeImage.setConstant(static_cast<float>(0.5 + 0.1 * k) / obs->rangeUnits);
-			obs->intensityImage = mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * k)), mrpt::img::DEEP_COPY);
+			obs->intensityImage =
+				mrpt::img::CImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * k)), mrpt::img::DEEP_COPY);
 			mrpt_yesslam::TOniStreams streams;
 			streams.colourDelay = 0.008;  // colour taken 8 ms after depth
 			streams.colour = k != 4;
@@ -323,8 +331,10 @@ TEST(LiveApp, ARecordingIsPairedByTimeWhenAColourFrameIsMissingAndColourIsLate)
 	{
 		const int fromDepth = static_cast<int>(std::lround((f->rangeImage(24, 32) * f->rangeUnits - 0.5) / 0.1));
 		const int fromColour = f->intensityImage.asCvMatRef().at<cv::Vec3b>(24, 32)[0] / 20;
-		EXPECT_EQ(fromDepth, fromColour) << "frame " << seen.size() << " pairs depth " << fromDepth << " with colour " << fromColour;
-		EXPECT_NEAR(mrpt_yesslam::observationTime(*f), frames[static_cast<std::size_t>(fromDepth)].tRgb, 0.01) << "the depth frame's time";
+		EXPECT_EQ(fromDepth, fromColour) << "frame " << seen.size() << " pairs depth " << fromDepth << " with colour "
+										 << fromColour;
+		EXPECT_NEAR(mrpt_yesslam::observationTime(*f), frames[static_cast<std::size_t>(fromDepth)].tRgb, 0.01)
+			<< "the depth frame's time";
 		seen.push_back(fromDepth);
 	}
 	EXPECT_EQ(seen, (std::vector<int>{0, 1, 2, 3, 5, 6, 7, 8, 9}));

@@ -83,7 +83,8 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 			EXPECT_LT((written - (info.worldFrame.worldFromMap + kp.pose)).norm(), 1e-6) << "keyframe " << kp.id;
 		}
 
-	const auto loc = secondPass({"--out", d / "loc", "--load-map", d / "room.ysm", "--localize-only", "--save-map", d / "again.ysm"});
+	const auto loc = secondPass(
+		{"--out", d / "loc", "--load-map", d / "room.ysm", "--localize-only", "--save-map", d / "again.ysm"});
 	ASSERT_EQ(loc.exitCode, 0) << loc.err;
 	EXPECT_NE(loc.out.find("localisation only"), std::string::npos) << loc.out;
 	// Localisation only: the map written back is the map read, byte for byte.
@@ -120,7 +121,8 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 	ASSERT_TRUE(worldFromMap.has_value());
 	const auto locFrame = mrpt_yesslam::readWorldFromMap(d / "loc/trajectory.txt");
 	ASSERT_TRUE(locFrame.has_value());
-	EXPECT_LT((locFrame->asVectorVal() - worldFromMap->asVectorVal()).norm(), 1e-8) << "the loaded map's export frame is kept";
+	EXPECT_LT((locFrame->asVectorVal() - worldFromMap->asVectorVal()).norm(), 1e-8)
+		<< "the loaded map's export frame is kept";
 	const auto origin = gt1.front().asPose();
 	auto errorInMapFrame = [&](const std::string& trajectory)
 	{
@@ -133,14 +135,16 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 				{
 					const auto expected = *worldFromMap + (g.asPose() - origin);
 					const auto got = e.asPose();
-					sum += std::pow(got.x() - expected.x(), 2) + std::pow(got.y() - expected.y(), 2) + std::pow(got.z() - expected.z(), 2);
+					sum += std::pow(got.x() - expected.x(), 2) + std::pow(got.y() - expected.y(), 2) +
+						   std::pow(got.z() - expected.z(), 2);
 					used++;
 				}
 		EXPECT_GT(used, 100u);
 		return std::sqrt(sum / std::max<std::size_t>(1, used));
 	};
 	const double inMap = errorInMapFrame(d / "loc/trajectory.txt");
-	std::printf("localisation only: first pose at frame %d, unaligned RMSE in the map's frame %.1f mm\n", firstTracked, 1000 * inMap);
+	std::printf("localisation only: first pose at frame %d, unaligned RMSE in the map's frame %.1f mm\n", firstTracked,
+				1000 * inMap);
 	// Localisation only adds no keyframes: where this pass looks at the room from farther away than
 	// the first pass did, its pose rests on the old map's far points alone (measured 29 mm here; the
 	// same pass extending the map: 9 mm, below).
@@ -167,7 +171,8 @@ TEST(MapReuse, ASecondPassLocalisesInTheSavedMapInItsFrameAndLeavesItUnchanged)
 			EXPECT_GT(id, oldIds.back());
 		}
 	const double extended = errorInMapFrame(d / "ext/trajectory.txt");
-	std::printf("extending the map: %.1f mm in its frame, %zu -> %zu keyframes\n", 1000 * extended, loaded.numKeyFrames(), bigger.numKeyFrames());
+	std::printf("extending the map: %.1f mm in its frame, %zu -> %zu keyframes\n", 1000 * extended,
+				loaded.numKeyFrames(), bigger.numKeyFrames());
 	EXPECT_LT(extended, 0.03);
 }
 
@@ -211,7 +216,8 @@ TEST(MapReuse, ARunOnALoadedMapContinuesItsSemanticOctree)
 		kept += occ;
 		if (it->label > 0) labelled++, labelKept += occ && n->label == it->label;
 	}
-	std::printf("first pass %zu occupied, %zu of them occupied after the second; alone %zu\n", total, kept, occupied(*b));
+	std::printf("first pass %zu occupied, %zu of them occupied after the second; alone %zu\n", total, kept,
+				occupied(*b));
 	ASSERT_GT(total, 1000u);
 	EXPECT_GT(kept, total * 8 / 10);
 	EXPECT_GT(labelKept, labelled * 7 / 10);
@@ -224,12 +230,12 @@ TEST(MapReuse, APassNeverLocalisedInTheMapIsAnErrorWithNoFakePoses)
 	// nothing in the map looks like): before, it exited 0 with an identity pose per frame and an ATE
 	// over them.
 	TempDir d("map_reuse_never");
-	const auto mapped = runTool(
-		"yesslam", {"--input", walkingSequence60(), "--out", d / "map", "--save-map", d / "room.ysm", "--sequential", "--quiet", "--no-dense-map"});
+	const auto mapped = runTool("yesslam", {"--input", walkingSequence60(), "--out", d / "map", "--save-map",
+											d / "room.ysm", "--sequential", "--quiet", "--no-dense-map"});
 	ASSERT_EQ(mapped.exitCode, 0) << mapped.err;
 	writeTumFolder(d / "elsewhere", makeSyntheticFrames(12, 640, 480));
-	const auto r = runTool(
-		"yesslam", {"--input", d / "elsewhere", "--out", d / "loc", "--load-map", d / "room.ysm", "--localize-only", "--quiet", "--detector", "none"});
+	const auto r = runTool("yesslam", {"--input", d / "elsewhere", "--out", d / "loc", "--load-map", d / "room.ysm",
+									   "--localize-only", "--quiet", "--detector", "none"});
 	EXPECT_EQ(r.exitCode, 1) << r.out;
 	EXPECT_NE(r.err.find("never localised in the map"), std::string::npos) << r.err;
 	EXPECT_NE(r.err.find("room.ysm"), std::string::npos) << r.err;
@@ -256,15 +262,16 @@ TEST(MapReuse, ALocaliseOnlyRunSavesTheMapItLoadedOctreeIncluded)
 	// Issue 30 item 2: the re-saved map lost its semantic OctoMap (localisation runs build no dense
 	// map, and the loaded octree was not kept): yesslam-map then said the run had no dense map.
 	TempDir d("map_reuse_resave");
-	const auto mapped = runTool("yesslam", {"--input", walkingSequence60(), "--out", d / "map", "--save-map", d / "a.ysm", "--sequential", "--quiet"});
+	const auto mapped = runTool("yesslam", {"--input", walkingSequence60(), "--out", d / "map", "--save-map",
+											d / "a.ysm", "--sequential", "--quiet"});
 	ASSERT_EQ(mapped.exitCode, 0) << mapped.err;
-	const auto loc = runTool(
-		"yesslam", {"--input", walkingSequence60(), "--out", d / "loc", "--load-map", d / "a.ysm", "--localize-only", "--save-map", d / "b.ysm",
-					"--sequential", "--quiet"});
+	const auto loc = runTool("yesslam", {"--input", walkingSequence60(), "--out", d / "loc", "--load-map", d / "a.ysm",
+										 "--localize-only", "--save-map", d / "b.ysm", "--sequential", "--quiet"});
 	ASSERT_EQ(loc.exitCode, 0) << loc.err;
 	const std::string a = readText(d / "a.ysm"), b = readText(d / "b.ysm");
 	ASSERT_FALSE(a.empty());
-	EXPECT_TRUE(a == b) << "the localise-only run must save the map it loaded, byte for byte (" << a.size() << " vs " << b.size() << " bytes)";
+	EXPECT_TRUE(a == b) << "the localise-only run must save the map it loaded, byte for byte (" << a.size() << " vs "
+						<< b.size() << " bytes)";
 	const auto info = runTool("yesslam-map", {"--map", d / "b.ysm"});
 	ASSERT_EQ(info.exitCode, 0) << info.err;
 	EXPECT_EQ(info.out.find("octree:       none"), std::string::npos) << info.out;
@@ -274,7 +281,8 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 {
 	TempDir d("map_reuse_bad");
 	const std::string seq = walkingSequence60();
-	const auto made = runTool("yesslam", {"--input", seq, "--out", d / "map", "--save-map", d / "good.ysm", "--sequential", "--quiet"});
+	const auto made = runTool(
+		"yesslam", {"--input", seq, "--out", d / "map", "--save-map", d / "good.ysm", "--sequential", "--quiet"});
 	ASSERT_EQ(made.exitCode, 0) << made.err;
 	const std::string good = readText(d / "good.ysm");
 	ASSERT_GT(good.size(), 1000u);
@@ -283,20 +291,23 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 	{
 		mrpt_yesslam::CSparseMap m;
 		mrpt_yesslam::loadMapFile(d / "good.ysm", m, 0);
-		const auto r = runTool(
-			"yesslam-map", {"--map", d / "good.ysm", "--scene", d / "m.3Dscene", "--ply", d / "m.ply", "--bt", d / "m.bt", "--ot", d / "m.ot"});
+		const auto r = runTool("yesslam-map", {"--map", d / "good.ysm", "--scene", d / "m.3Dscene", "--ply",
+											   d / "m.ply", "--bt", d / "m.bt", "--ot", d / "m.ot"});
 		ASSERT_EQ(r.exitCode, 0) << r.err;
 		// The run's semantic OctoMap went into the map file: the one written back out is the run's map.ot.
 		EXPECT_NE(r.out.find("octree:       "), std::string::npos) << r.out;
 		// The vocabulary fingerprint the map quotes is the one yesslam-vocab --info prints.
-		const auto vocab = runTool("yesslam-vocab", {"--info", std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc"});
+		const auto vocab = runTool("yesslam-vocab", {"--info", std::string(YESSLAM_SOURCE_DIR) +
+																   "/share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc"});
 		const auto fp = vocab.out.find("fingerprint: ");
 		ASSERT_NE(fp, std::string::npos) << vocab.out;
-		EXPECT_NE(r.out.find("vocabulary " + vocab.out.substr(fp + 13, 16) + ")"), std::string::npos) << r.out << vocab.out;
-		EXPECT_TRUE(readText(d / "m.ot") == readText(d / "map/map.ot")) << "the stored octree differs from the run's map.ot";
+		EXPECT_NE(r.out.find("vocabulary " + vocab.out.substr(fp + 13, 16) + ")"), std::string::npos)
+			<< r.out << vocab.out;
+		EXPECT_TRUE(readText(d / "m.ot") == readText(d / "map/map.ot"))
+			<< "the stored octree differs from the run's map.ot";
 		EXPECT_NE(r.out.find("keyframes:    " + std::to_string(m.numKeyFrames()) + " "), std::string::npos) << r.out;
 		EXPECT_NE(r.out.find("map points:   " + std::to_string(m.numPoints()) + "\n"), std::string::npos) << r.out;
-		EXPECT_NE(r.out.find("person ("), std::string::npos) << r.out;	// walking people were detected
+		EXPECT_NE(r.out.find("person ("), std::string::npos) << r.out;  // walking people were detected
 		EXPECT_EQ(mrpt_yesslam::readDenseCloudPly(d / "m.ply").size(), m.numPoints());
 		// Sparse points, and the header says so (it claimed a dense semantic map, every label 0).
 		const std::string plyHead = readText(d / "m.ply").substr(0, 400);
@@ -321,7 +332,8 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 		EXPECT_GT(volume, 0.0);
 		EXPECT_NEAR(volume, occupiedVolume(d / "map/map.bt"), 1e-9);
 		// A map saved without a dense map: a .bt from its points, and no .ot to give.
-		const auto sparse = runTool("yesslam", {"--input", seq, "--out", d / "sparse", "--save-map", d / "sparse.ysm", "--sequential", "--quiet", "--no-dense-map"});
+		const auto sparse = runTool("yesslam", {"--input", seq, "--out", d / "sparse", "--save-map", d / "sparse.ysm",
+												"--sequential", "--quiet", "--no-dense-map"});
 		ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
 		const auto r2 = runTool("yesslam-map", {"--map", d / "sparse.ysm", "--bt", d / "s.bt"});
 		ASSERT_EQ(r2.exitCode, 0) << r2.err;
@@ -329,7 +341,8 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 		octomap::OcTree fromPoints(0.1);
 		ASSERT_TRUE(fromPoints.readBinary(d / "s.bt"));
 		std::size_t occupied = 0;
-		for (auto it = fromPoints.begin_leafs(); it != fromPoints.end_leafs(); ++it) occupied += fromPoints.isNodeOccupied(*it);
+		for (auto it = fromPoints.begin_leafs(); it != fromPoints.end_leafs(); ++it)
+			occupied += fromPoints.isNodeOccupied(*it);
 		EXPECT_GT(occupied, m.numPoints() / 10);
 		const auto noOt = runTool("yesslam-map", {"--map", d / "sparse.ysm", "--ot", d / "s.ot"});
 		EXPECT_EQ(noOt.exitCode, 1);

@@ -29,7 +29,8 @@ void expectCleanFailure(const RunResult& r, const std::vector<std::string>& frag
 	EXPECT_NE(r.exitCode, 0);
 	EXPECT_LT(r.exitCode, 128) << "killed by a signal: " << r.err;
 	EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-	for (const auto& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << "stderr: " << r.err << "\nmissing: " << f;
+	for (const auto& f : fragments)
+		EXPECT_NE(r.err.find(f), std::string::npos) << "stderr: " << r.err << "\nmissing: " << f;
 }
 
 std::string value(const std::string& out, const std::string& key)
@@ -48,13 +49,12 @@ const std::string kTraj = "data/tum_eval_trajectories/";
 TEST(Tools, EvalPrintsTheContractKeys)
 {
 	TempDir d("eval");
-	const auto r = runTool(
-		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
-						 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--json", d / "r.json", "--plot", d / "r.png",
-						 "--errors", d / "r.csv"});
+	const auto r = runTool("yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
+											sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--json", d / "r.json",
+											"--plot", d / "r.png", "--errors", d / "r.csv"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
-	for (const char* k : {"ate_pairs", "ate_rmse", "ate_mean", "ate_median", "ate_std", "ate_min", "ate_max", "rpe_pairs",
-						  "rpe_trans_rmse", "rpe_rot_rmse_deg"})
+	for (const char* k : {"ate_pairs", "ate_rmse", "ate_mean", "ate_median", "ate_std", "ate_min", "ate_max",
+						  "rpe_pairs", "rpe_trans_rmse", "rpe_rot_rmse_deg"})
 		EXPECT_FALSE(value(r.out, k).empty()) << k << " missing in\n" << r.out;
 	EXPECT_EQ(value(r.out, "ate_pairs"), "2223");
 	EXPECT_NEAR(std::stod(value(r.out, "ate_rmse")), 0.008144, 1e-6);
@@ -71,18 +71,17 @@ TEST(Tools, EvalPrintsTheContractKeys)
 	EXPECT_EQ(rows, 2223);
 
 	// RPE in frames: pairs i, i+30; those whose partner would be the last pose are dropped.
-	const auto f = runTool(
-		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
-						 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--rpe-delta", "30", "--rpe-unit", "f"});
+	const auto f =
+		runTool("yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
+								 sharedFile(kTraj + "evo_fr2_desk_ORB.txt"), "--rpe-delta", "30", "--rpe-unit", "f"});
 	ASSERT_EQ(f.exitCode, 0) << f.err;
 	EXPECT_EQ(value(f.out, "rpe_unit"), "f");
 	// (Some pairs fall in ground-truth gaps longer than twice its median period and are dropped.)
 	EXPECT_LE(std::stoi(value(f.out, "rpe_pairs")), 2893 - 31);
 	EXPECT_GT(std::stoi(value(f.out, "rpe_pairs")), 1900);
 
-	const auto s = runTool(
-		"yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
-						 sharedFile(kTraj + "evo_fr2_desk_ORB_kf_mono.txt"), "--sim3"});
+	const auto s = runTool("yesslam-eval", {"--gt", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--est",
+											sharedFile(kTraj + "evo_fr2_desk_ORB_kf_mono.txt"), "--sim3"});
 	ASSERT_EQ(s.exitCode, 0) << s.err;
 	EXPECT_EQ(value(s.out, "alignment"), "sim3");
 	EXPECT_NEAR(std::stod(value(s.out, "scale")), 2.2283, 1e-4);
@@ -93,24 +92,27 @@ TEST(Tools, EvalBadInput)
 	TempDir d("evalbad");
 	const std::string gt = sharedFile(kTraj + "evo_freiburg1_xyz-groundtruth.txt");
 	writeText(d / "six.txt", "# x\n1305031102.16 1 2 3 4 5\n");
-	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "six.txt"}), {"six.txt", "line 2", "expected 8"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "six.txt"}),
+					   {"six.txt", "line 2", "expected 8"});
 	writeText(d / "nan.txt", "1305031102.16 1 2 nan 0 0 0 1\n");
-	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "nan.txt"}), {"nan.txt", "not a finite number"});
-	expectCleanFailure(
-		runTool("yesslam-eval", {"--gt", gt, "--est", sharedFile(kTraj + "evo_fr2_desk_ORB.txt")}),
-		{"evo_fr2_desk_ORB.txt", "only 0 of 2893 poses"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "nan.txt"}),
+					   {"nan.txt", "not a finite number"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", sharedFile(kTraj + "evo_fr2_desk_ORB.txt")}),
+					   {"evo_fr2_desk_ORB.txt", "only 0 of 2893 poses"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "missing.txt"}), {"missing.txt", "not found"});
 	writeText(d / "empty.txt", "# nothing\n");
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", d / "empty.txt"}), {"empty.txt", "no poses"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt}), {"missing required option --est"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--loops", gt}), {"--loops and --est"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--loops", gt}), {"not a loop_candidates.csv"});
-	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--max-diff", "abc"}), {"--max-diff expects a number"});
+	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--max-diff", "abc"}),
+					   {"--max-diff expects a number"});
 	expectCleanFailure(runTool("yesslam-eval", {"--gt", gt, "--est", gt, "--rpe-unit", "m"}), {"--rpe-unit"});
 	expectCleanFailure(runTool("yesslam-eval", {"--bogus"}), {"unknown option --bogus"});
 	const auto h = runTool("yesslam-eval", {"--help"});
 	EXPECT_EQ(h.exitCode, 0);
-	for (const char* o : {"--gt", "--est", "--max-diff", "--offset", "--sim3", "--rpe-delta", "--rpe-unit", "--json", "--plot"})
+	for (const char* o :
+		 {"--gt", "--est", "--max-diff", "--offset", "--sim3", "--rpe-delta", "--rpe-unit", "--json", "--plot"})
 		EXPECT_NE(h.out.find(o), std::string::npos) << o;
 }
 
@@ -133,7 +135,8 @@ TEST(Tools, Tum2RawlogConvertsAndSummarises)
 	}
 	EXPECT_EQ(n, 5);
 
-	const auto e = runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "ext.rawlog", "--external-images", "--max-frames", "2"});
+	const auto e = runTool(
+		"tum2rawlog", {"--input", d / "seq", "--output", d / "ext.rawlog", "--external-images", "--max-frames", "2"});
 	ASSERT_EQ(e.exitCode, 0) << e.err;
 	EXPECT_EQ(value(e.out, "frames"), "2");
 	EXPECT_TRUE(fs::is_directory(d / "ext_Images"));
@@ -162,15 +165,20 @@ TEST(Tools, RawlogsOpenInMrptsRawlogEdit)
 	TempDir d("rawlog_edit");
 	writeTumFolder(d / "seq", makeSyntheticFrames(4));
 	ASSERT_EQ(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "inline.rawlog", "--quiet"}).exitCode, 0);
-	ASSERT_EQ(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "ext.rawlog", "--external-images", "--quiet"}).exitCode, 0);
-	const auto sim = runTool("yesslam-sim", {"--preset", "walking_xyz", "--frames", "3", "--out", d / "sim", "--quiet"});
+	ASSERT_EQ(
+		runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "ext.rawlog", "--external-images", "--quiet"})
+			.exitCode,
+		0);
+	const auto sim =
+		runTool("yesslam-sim", {"--preset", "walking_xyz", "--frames", "3", "--out", d / "sim", "--quiet"});
 	ASSERT_EQ(sim.exitCode, 0) << sim.err;
 	for (const auto& [file, frames] : std::vector<std::pair<std::string, std::string>>{
 			 {d / "inline.rawlog", "4"}, {d / "ext.rawlog", "4"}, {d / "sim/sequence.rawlog", "3"}})
 	{
 		SCOPED_TRACE(file);
 		const auto info = runCommand("rawlog-edit", {"-i", file, "--info"});
-		ASSERT_NE(info.exitCode, 127) << "rawlog-edit not found: install Debian's mrpt-apps (scripts/install_deps.sh does)";
+		ASSERT_NE(info.exitCode, 127)
+			<< "rawlog-edit not found: install Debian's mrpt-apps (scripts/install_deps.sh does)";
 		ASSERT_EQ(info.exitCode, 0) << info.out << info.err;
 		EXPECT_EQ(field(info, "Overall number of objects"), frames) << info.out;
 		const auto pc = runCommand("rawlog-edit", {"-i", file, "--generate-3d-pointclouds", "-o", file + ".pc.rawlog"});
@@ -181,10 +189,13 @@ TEST(Tools, RawlogsOpenInMrptsRawlogEdit)
 	// Issue 18 item 7: MRPT resolves external images against the working directory, so
 	// rawlog-edit must run from the rawlog's folder to reach them (what docs/tools.md says): from there
 	// --de-externalize embeds the images; from elsewhere it silently writes a rawlog without them.
-	const auto here = runCommand("sh", {"-c", "cd '" + d.path() + "' && rawlog-edit -i ext.rawlog --de-externalize -o here.rawlog"});
+	const auto here =
+		runCommand("sh", {"-c", "cd '" + d.path() + "' && rawlog-edit -i ext.rawlog --de-externalize -o here.rawlog"});
 	ASSERT_EQ(here.exitCode, 0) << here.out << here.err;
-	EXPECT_GT(fs::file_size(d / "here.rawlog"), fs::file_size(d / "ext.rawlog") + 4 * 64 * 48) << "the images were not embedded";
-	const auto away = runCommand("sh", {"-c", "cd / && rawlog-edit -i '" + (d / "ext.rawlog") + "' --de-externalize -o '" + (d / "away.rawlog") + "'"});
+	EXPECT_GT(fs::file_size(d / "here.rawlog"), fs::file_size(d / "ext.rawlog") + 4 * 64 * 48)
+		<< "the images were not embedded";
+	const auto away = runCommand("sh", {"-c", "cd / && rawlog-edit -i '" + (d / "ext.rawlog") +
+												  "' --de-externalize -o '" + (d / "away.rawlog") + "'"});
 	ASSERT_EQ(away.exitCode, 0) << away.out << away.err;
 	EXPECT_LT(fs::file_size(d / "away.rawlog"), fs::file_size(d / "here.rawlog"));
 }
@@ -192,29 +203,33 @@ TEST(Tools, RawlogsOpenInMrptsRawlogEdit)
 TEST(Tools, Tum2RawlogBadInput)
 {
 	TempDir d("t2rbad");
-	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "nope", "--output", d / "x.rawlog"}), {"nope", "folder not found"});
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "nope", "--output", d / "x.rawlog"}),
+					   {"nope", "folder not found"});
 	writeTumFolder(d / "seq", makeSyntheticFrames(2));
-	expectCleanFailure(
-		runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "x.rawlog", "--camera", "fr9"}),
-		{"fr9", "neither a known camera name"});
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "x.rawlog", "--camera", "fr9"}),
+					   {"fr9", "neither a known camera name"});
 	// A missing output folder is made (issue 43); one that cannot be made is named.
 	const auto made = runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "new/dir/x.rawlog"});
 	EXPECT_EQ(made.exitCode, 0) << made.err;
 	EXPECT_TRUE(fs::is_regular_file(d / "new/dir/x.rawlog"));
 	writeText(d / "afile", "x");
-	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "afile/x.rawlog"}), {"x.rawlog", "cannot create the output folder"});
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "afile/x.rawlog"}),
+					   {"x.rawlog", "cannot create the output folder"});
 	fs::remove(d / "seq/depth/1000.037333.png");
-	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "y.rawlog"}), {"1000.037333.png", "not found"});
+	expectCleanFailure(runTool("tum2rawlog", {"--input", d / "seq", "--output", d / "y.rawlog"}),
+					   {"1000.037333.png", "not found"});
 	EXPECT_FALSE(fs::exists(d / "y.rawlog")) << "a failed conversion must not leave a partial rawlog";
 	int leftovers = 0;
-	for (const auto& e : fs::directory_iterator(d.path())) leftovers += e.path().string().find(".tmp.") != std::string::npos;
+	for (const auto& e : fs::directory_iterator(d.path()))
+		leftovers += e.path().string().find(".tmp.") != std::string::npos;
 	EXPECT_EQ(leftovers, 0);
 }
 
 TEST(Tools, RenderCliAndErrors)
 {
 	TempDir d("rendercli");
-	expectCleanFailure(runTool("yesslam-render", {"--scene", d / "none.3Dscene", "--out", d / "x.png"}), {"none.3Dscene", "not found"});
+	expectCleanFailure(runTool("yesslam-render", {"--scene", d / "none.3Dscene", "--out", d / "x.png"}),
+					   {"none.3Dscene", "not found"});
 	expectCleanFailure(
 		runTool("yesslam-render", {"--scene", d / "none.3Dscene", "--out", d / "x.png", "--look-at", "1,2"}),
 		{"--look-at expects three numbers"});
@@ -229,34 +244,38 @@ TEST(Tools, CloudOfRealFramesRendersAndRejectsBadPoses)
 	// 9 real TUM fr1/desk frames with their motion-capture ground truth (TUM RGB-D, CC BY 4.0).
 	TempDir d("cloud");
 	const std::string folder = sharedFile("data/tum_fr1_desk_9frames");
-	const auto c = runTool(
-		"yesslam-cloud", {"--input", folder, "--poses", folder + "/groundtruth.txt", "--out", d / "desk.3Dscene", "--quiet"});
+	const auto c = runTool("yesslam-cloud", {"--input", folder, "--poses", folder + "/groundtruth.txt", "--out",
+											 d / "desk.3Dscene", "--quiet"});
 	ASSERT_EQ(c.exitCode, 0) << c.err;
 	EXPECT_EQ(value(c.out, "frames used"), "9");
 	EXPECT_GT(std::stol(value(c.out, "points")), 100000);
-	const auto r = runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.png", "--width", "400", "--height", "300"});
+	const auto r = runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.png", "--width", "400",
+											  "--height", "300"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.out.find("of pixels show the scene"), std::string::npos);
 	EXPECT_EQ(r.out.find("(0.0% of pixels"), std::string::npos) << r.out;
 	// Issue 18 item 6: a .jpg name gets a JPEG, an unknown extension an error, never a mislabelled PNG.
-	ASSERT_EQ(runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.jpg", "--width", "200", "--height", "150"}).exitCode, 0);
+	ASSERT_EQ(runTool("yesslam-render",
+					  {"--scene", d / "desk.3Dscene", "--out", d / "desk.jpg", "--width", "200", "--height", "150"})
+				  .exitCode,
+			  0);
 	EXPECT_EQ(readText(d / "desk.jpg").substr(0, 3), std::string("\xFF\xD8\xFF"));
-	expectCleanFailure(
-		runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.gif", "--width", "200", "--height", "150"}),
-		{"desk.gif", "unknown image type '.gif' (use .png or .jpg)"});
+	expectCleanFailure(runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.gif", "--width",
+												  "200", "--height", "150"}),
+					   {"desk.gif", "unknown image type '.gif' (use .png or .jpg)"});
 	EXPECT_FALSE(fs::exists(d / "desk.gif"));
 	// A camera that sees only a corner of the cloud from far away: the blank-picture warning.
-	const auto corner = runTool(
-		"yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "corner.png", "--width", "200", "--height", "150", "--look-at",
-						   "30,30,30", "--distance", "5"});
+	const auto corner =
+		runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "corner.png", "--width", "200",
+								   "--height", "150", "--look-at", "30,30,30", "--distance", "5"});
 	ASSERT_EQ(corner.exitCode, 0) << corner.err;
 	EXPECT_NE(corner.err.find("warning: the picture is"), std::string::npos) << corner.out << corner.err;
 	EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
 
 	// Poses from another sequence: no frame has a pose, said clearly.
 	expectCleanFailure(
-		runTool("yesslam-cloud", {"--input", folder, "--poses", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), "--out",
-								  d / "x.3Dscene", "--quiet"}),
+		runTool("yesslam-cloud", {"--input", folder, "--poses", sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"),
+								  "--out", d / "x.3Dscene", "--quiet"}),
 		{"tum_fr1_desk_9frames", "no frame has a pose"});
 	EXPECT_FALSE(fs::exists(d / "x.3Dscene"));
 }
@@ -267,11 +286,13 @@ TEST(Tools, DetectOnImageAndTumFolder)
 	// fr1/desk frames (TUM RGB-D, CC BY 4.0), which have depth and so get masks.
 	TempDir d("detect");
 	const std::string m = "models/yolo_fastest_darknet/";
-	const std::vector<std::string> model = {"--model", sharedFile(m + "yolo-fastest-1.1.cfg"), "--weights",
-											sharedFile(m + "yolo-fastest-1.1.weights"), "--names", sharedFile(m + "coco.names"), "--quiet"};
+	const std::vector<std::string> model = {
+		"--model", sharedFile(m + "yolo-fastest-1.1.cfg"), "--weights", sharedFile(m + "yolo-fastest-1.1.weights"),
+		"--names", sharedFile(m + "coco.names"),           "--quiet"};
 	auto args = model;
-	for (const auto& a : {std::string("--input"), sharedFile("data/detector_test_images/person.jpg"), std::string("--out"), d / "img",
-						  std::string("--overlay"), std::string("--conf"), std::string("0.5")})
+	for (const auto& a :
+		 {std::string("--input"), sharedFile("data/detector_test_images/person.jpg"), std::string("--out"), d / "img",
+		  std::string("--overlay"), std::string("--conf"), std::string("0.5")})
 		args.push_back(a);
 	const auto r = runTool("yesslam-detect", args);
 	ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -294,16 +315,19 @@ TEST(Tools, DetectOnImageAndTumFolder)
 	EXPECT_TRUE(fs::exists(d / "img/overlays/0.000000.png"));
 	// Without --model: the shipped Yolo-Fastest-1.1 (the same files), so the same detections
 	// (issue 30 item 8: --model and --names were required).
-	const auto shipped = runTool(
-		"yesslam-detect", {"--input", sharedFile("data/detector_test_images/person.jpg"), "--out", d / "shipped", "--conf", "0.5", "--quiet"});
+	const auto shipped = runTool("yesslam-detect", {"--input", sharedFile("data/detector_test_images/person.jpg"),
+													"--out", d / "shipped", "--conf", "0.5", "--quiet"});
 	ASSERT_EQ(shipped.exitCode, 0) << shipped.err;
 	EXPECT_EQ(readText(d / "shipped/detections.txt"), readText(d / "img/detections.txt"));
-	const auto noNames = runTool("yesslam-detect", {"--model", sharedFile(m + "yolo-fastest-1.1.cfg"), "--input", sharedFile("data/detector_test_images/person.jpg"), "--out", d / "x"});
+	const auto noNames =
+		runTool("yesslam-detect", {"--model", sharedFile(m + "yolo-fastest-1.1.cfg"), "--input",
+								   sharedFile("data/detector_test_images/person.jpg"), "--out", d / "x"});
 	EXPECT_EQ(noNames.exitCode, 1);
 	EXPECT_NE(noNames.err.find("--names"), std::string::npos) << noNames.err;
 
 	args = model;
-	for (const auto& a : {std::string("--input"), sharedFile("data/tum_fr1_desk_9frames"), std::string("--out"), d / "tum"})
+	for (const auto& a :
+		 {std::string("--input"), sharedFile("data/tum_fr1_desk_9frames"), std::string("--out"), d / "tum"})
 		args.push_back(a);
 	const auto t = runTool("yesslam-detect", args);
 	ASSERT_EQ(t.exitCode, 0) << t.err;
@@ -321,14 +345,16 @@ TEST(Tools, ThePaperConfigurationRunsThePapersPipelineAsWritten)
 	// against 4.9 mm with the default configuration).
 	TempDir d("paper_ini");
 	const std::string cfg = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/paper.ini";
-	const auto r = runTool("yesslam", {"--input", walkingSequence60(), "--config", cfg, "--out", d / "run", "--sequential", "--quiet"});
+	const auto r = runTool(
+		"yesslam", {"--input", walkingSequence60(), "--config", cfg, "--out", d / "run", "--sequential", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;  // every key of paper.ini is known
 	EXPECT_EQ(value(r.out, "tracked").substr(0, 10), "60 (100.0%");
 	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.05);
 	const std::string used = readText(d / "run/config_used.ini");
-	for (const char* k : {"fillCompare = seed", "maxDepthRange = 0", "holdFrames = 0", "motionReference = previous", "forceTrackedRatio = 0",
-						  "semanticRefRatio = 1", "etaAsWritten = true", "normaliseBow = false", "seeThroughFrames = 0", "depthNoise = 0"})
+	for (const char* k : {"fillCompare = seed", "maxDepthRange = 0", "holdFrames = 0", "motionReference = previous",
+						  "forceTrackedRatio = 0", "semanticRefRatio = 1", "etaAsWritten = true",
+						  "normaliseBow = false", "seeThroughFrames = 0", "depthNoise = 0"})
 		EXPECT_NE(used.find(std::string("\n") + k + "\n"), std::string::npos) << k;
 	EXPECT_EQ(used.find("depthNoise = 0.0025"), std::string::npos) << "eq. 7 and eq. 24 without the depth term";
 }
@@ -344,13 +370,17 @@ TEST(Tools, OutputsAreZUpLevelledByTheFloorAndOpticalKeepsTheFirstCamerasFrame)
 	const auto r = runTool("yesslam", {"--input", seq, "--out", d / "run", "--sequential", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	const std::string head = readText(d / "run/trajectory.txt");
-	EXPECT_NE(head.find("# world frame: zup (x forward, y left, z up), levelled by the floor plane: floor at z = 0"), std::string::npos) << head.substr(0, 400);
+	EXPECT_NE(head.find("# world frame: zup (x forward, y left, z up), levelled by the floor plane: floor at z = 0"),
+			  std::string::npos)
+		<< head.substr(0, 400);
 	EXPECT_NE(head.find("# T_world_map: "), std::string::npos);
 	// Issue 42 item 4: the dense cloud's header names the frame its points are in (it said
 	// "world = first keyframe" over z-up points).
 	const std::string ply = readText(d / "run/dense_cloud.ply");
 	const std::string plyHead = ply.substr(0, ply.find("end_header"));
-	EXPECT_NE(plyHead.find("comment world frame: zup (x forward, y left, z up), levelled by the floor plane"), std::string::npos) << plyHead;
+	EXPECT_NE(plyHead.find("comment world frame: zup (x forward, y left, z up), levelled by the floor plane"),
+			  std::string::npos)
+		<< plyHead;
 	EXPECT_NE(plyHead.find("comment T_world_map: "), std::string::npos) << plyHead;
 	EXPECT_EQ(plyHead.find("world = first keyframe"), std::string::npos) << plyHead;
 	const auto est = mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt");
@@ -364,7 +394,8 @@ TEST(Tools, OutputsAreZUpLevelledByTheFloorAndOpticalKeepsTheFirstCamerasFrame)
 		const auto it = truth.find(std::llround(e.t * 1000));
 		if (it == truth.end()) continue;
 		// Copies: asEigen() of a temporary is a view of memory gone at the end of the statement.
-		const Eigen::Matrix3d a = e.asPose().getRotationMatrix().asEigen(), b = it->second.getRotationMatrix().asEigen();
+		const Eigen::Matrix3d a = e.asPose().getRotationMatrix().asEigen(),
+							  b = it->second.getRotationMatrix().asEigen();
 		worstZ = std::max(worstZ, std::abs(e.tz - it->second.z()));
 		worstTilt = std::max(worstTilt, mrpt::RAD2DEG(std::acos(std::clamp(a.row(2).dot(b.row(2)), -1.0, 1.0))));
 		n++;
@@ -386,13 +417,15 @@ TEST(Tools, OutputsAreZUpLevelledByTheFloorAndOpticalKeepsTheFirstCamerasFrame)
 	EXPECT_LT(under, occupied / 100 + 1) << occupied << " occupied";
 
 	// optical: today's frame, the first keyframe's camera at the origin.
-	const auto o = runTool("yesslam", {"--input", seq, "--out", d / "optical", "--sequential", "--quiet", "--no-dense-map", "--world-frame", "optical"});
+	const auto o = runTool("yesslam", {"--input", seq, "--out", d / "optical", "--sequential", "--quiet",
+									   "--no-dense-map", "--world-frame", "optical"});
 	ASSERT_EQ(o.exitCode, 0) << o.err;
 	EXPECT_NE(readText(d / "optical/trajectory.txt").find("# world frame: optical"), std::string::npos);
 	const auto first = mrpt_yesslam::readTumTrajectory(d / "optical/trajectory.txt").at(0);
 	EXPECT_NEAR(std::abs(first.qw), 1.0, 1e-9);
 	EXPECT_NEAR(std::hypot(first.tx, first.ty, first.tz), 0.0, 1e-9);
-	expectCleanFailure(runTool("yesslam", {"--input", seq, "--out", d / "x", "--world-frame", "enu"}), {"--world-frame", "enu"});
+	expectCleanFailure(runTool("yesslam", {"--input", seq, "--out", d / "x", "--world-frame", "enu"}),
+					   {"--world-frame", "enu"});
 }
 
 TEST(Tools, ARecordingKeepsTheCamerasReadoutAndItsReplayUsesIt)
@@ -410,7 +443,10 @@ TEST(Tools, ARecordingKeepsTheCamerasReadoutAndItsReplayUsesIt)
 	EXPECT_DOUBLE_EQ(cam.readout, 0.028);
 	EXPECT_NEAR(cam.intrinsics.dist[0], 0.2624, 1e-9);
 	const auto slamArgs = [&](const std::string& input, const std::string& out)
-	{ return std::vector<std::string>{"--input", input, "--out", d / out, "--detector", "none", "--sequential", "--quiet", "--no-dense-map"}; };
+	{
+		return std::vector<std::string>{"--input", input,          "--out",   d / out,         "--detector",
+										"none",    "--sequential", "--quiet", "--no-dense-map"};
+	};
 	// The rawlog to an .oni: its camera file carries the rawlog's readout and distortion on.
 	const auto oni = runTool("yesslam-oni", {"--input", d / "desk.rawlog", "--output", d / "desk2.oni", "--quiet"});
 	ASSERT_EQ(oni.exitCode, 0) << oni.err;
@@ -420,17 +456,28 @@ TEST(Tools, ARecordingKeepsTheCamerasReadoutAndItsReplayUsesIt)
 	EXPECT_NEAR(oniCam.intrinsics.dist[0], 0.2624, 1e-9) << "the distortion an .oni cannot hold";
 	const auto fromOni = runTool("yesslam", slamArgs("openni2:" + (d / "desk2.oni"), "oni_run"));
 	ASSERT_EQ(fromOni.exitCode, 0) << fromOni.err;
-	EXPECT_NE(value(fromOni.out, "rolling shutter").find("28 ms readout, from the recording's camera file"), std::string::npos) << fromOni.out;
+	EXPECT_NE(value(fromOni.out, "rolling shutter").find("28 ms readout, from the recording's camera file"),
+			  std::string::npos)
+		<< fromOni.out;
 	// yesslam --record keeps the readout the run used.
-	const auto rec = runTool("yesslam", [&] { auto a = slamArgs(desk, "rec_run"); a.push_back("--record"); a.push_back(d / "rec.rawlog"); return a; }());
+	const auto rec = runTool("yesslam",
+							 [&]
+							 {
+								 auto a = slamArgs(desk, "rec_run");
+								 a.push_back("--record");
+								 a.push_back(d / "rec.rawlog");
+								 return a;
+							 }());
 	ASSERT_EQ(rec.exitCode, 0) << rec.err;
 	ASSERT_TRUE(fs::exists(d / "rec_camera.txt"));
 	EXPECT_DOUBLE_EQ(mrpt_yesslam::readCameraFile(d / "rec_camera.txt").readout, 0.028);
 	const auto replay = runTool("yesslam", slamArgs(d / "rec.rawlog", "replay_run"));
 	ASSERT_EQ(replay.exitCode, 0) << replay.err;
 	EXPECT_NE(value(replay.out, "rolling shutter").find("28 ms readout"), std::string::npos) << replay.out;
-	EXPECT_EQ(readText(d / "replay_run/trajectory_online.txt").substr(readText(d / "replay_run/trajectory_online.txt").find("\n1")),
-			  readText(d / "rec_run/trajectory_online.txt").substr(readText(d / "rec_run/trajectory_online.txt").find("\n1")))
+	EXPECT_EQ(
+		readText(d / "replay_run/trajectory_online.txt")
+			.substr(readText(d / "replay_run/trajectory_online.txt").find("\n1")),
+		readText(d / "rec_run/trajectory_online.txt").substr(readText(d / "rec_run/trajectory_online.txt").find("\n1")))
 		<< "a replay of the recording gives the run's poses";
 }
 
@@ -440,14 +487,16 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	// is found and evaluated; then the CLI's one-line errors.
 	TempDir d("slam_app");
 	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
-	const auto r = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--sequential", "--quiet"});
+	const auto r =
+		runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--sequential", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_EQ(value(r.out, "frames"), "9");
 	EXPECT_EQ(value(r.out, "tracked").substr(0, 9), "9 (100.0%");
 	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.01);
 	EXPECT_EQ(value(r.out, "ate_pairs"), "9");
-	for (const char* f : {"trajectory.txt", "trajectory_online.txt", "trajectory_smoothed.txt", "keyframes.txt", "map.3Dscene", "stats.json", "config_used.ini",
-			 "eval.json", "eval_online.json", "eval_smoothed.json", "dense_cloud.ply", "map.ot", "map.bt", "frames.csv"})
+	for (const char* f : {"trajectory.txt", "trajectory_online.txt", "trajectory_smoothed.txt", "keyframes.txt",
+						  "map.3Dscene", "stats.json", "config_used.ini", "eval.json", "eval_online.json",
+						  "eval_smoothed.json", "dense_cloud.ply", "map.ot", "map.bt", "frames.csv"})
 		EXPECT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
 	// Issue 62: each trajectory is evaluated, the smoothed one's header says it uses later frames.
 	EXPECT_NO_THROW(std::stod(value(r.out, "online_ate_rmse")));
@@ -456,21 +505,29 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	EXPECT_EQ(readText(d / "run/trajectory.txt").find("smoothed"), std::string::npos);
 	// Issue 70: the run says which rolling-shutter readout it used and where it came from, in the
 	// summary, stats.json and config_used.ini; a folder whose name says nothing says "none" and warns.
-	EXPECT_NE(value(r.out, "rolling shutter").find("28 ms readout, from the folder's name"), std::string::npos) << r.out;
-	EXPECT_NE(readText(d / "run/stats.json").find("\"rolling_shutter\": {\"readout_s\": 0.028, \"source\": \"the folder's name"), std::string::npos);
-	EXPECT_NE(readText(d / "run/config_used.ini").find("; [Tracking] rollingShutter = 0.028 s, from the folder's name"), std::string::npos);
+	EXPECT_NE(value(r.out, "rolling shutter").find("28 ms readout, from the folder's name"), std::string::npos)
+		<< r.out;
+	EXPECT_NE(readText(d / "run/stats.json")
+				  .find("\"rolling_shutter\": {\"readout_s\": 0.028, \"source\": \"the folder's name"),
+			  std::string::npos);
+	EXPECT_NE(readText(d / "run/config_used.ini").find("; [Tracking] rollingShutter = 0.028 s, from the folder's name"),
+			  std::string::npos);
 	EXPECT_EQ(r.err.find("rolling-shutter readout is not known"), std::string::npos) << r.err;
 	{
 		fs::copy(desk, d / "desk_run", fs::copy_options::recursive);
-		const auto u = runTool("yesslam", {"--input", d / "desk_run", "--out", d / "unnamed", "--detector", "none", "--sequential", "--quiet", "--no-dense-map"});
+		const auto u = runTool("yesslam", {"--input", d / "desk_run", "--out", d / "unnamed", "--detector", "none",
+										   "--sequential", "--quiet", "--no-dense-map"});
 		ASSERT_EQ(u.exitCode, 0) << u.err;
 		EXPECT_EQ(value(u.out, "rolling shutter").rfind("none", 0), 0u) << u.out;
-		EXPECT_NE(u.err.find("rolling-shutter readout is not known for " + (d / "desk_run")), std::string::npos) << u.err;
+		EXPECT_NE(u.err.find("rolling-shutter readout is not known for " + (d / "desk_run")), std::string::npos)
+			<< u.err;
 		EXPECT_NE(readText(d / "unnamed/stats.json").find("\"source\": \"none\""), std::string::npos);
 		writeText(d / "desk_run/calibration.txt", readText(desk + "/calibration.txt") + "readout kinect1\n");
-		const auto k = runTool("yesslam", {"--input", d / "desk_run", "--out", d / "named", "--detector", "none", "--sequential", "--quiet", "--no-dense-map"});
+		const auto k = runTool("yesslam", {"--input", d / "desk_run", "--out", d / "named", "--detector", "none",
+										   "--sequential", "--quiet", "--no-dense-map"});
 		ASSERT_EQ(k.exitCode, 0) << k.err;
-		EXPECT_NE(value(k.out, "rolling shutter").find("28 ms readout, from the camera file"), std::string::npos) << k.out;
+		EXPECT_NE(value(k.out, "rolling shutter").find("28 ms readout, from the camera file"), std::string::npos)
+			<< k.out;
 		EXPECT_EQ(k.err.find("readout is not known"), std::string::npos) << k.err;
 	}
 	// frames.csv: a header, then one row per frame with the trajectory's time, all tracked, the first a
@@ -497,8 +554,8 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 			{
 				EXPECT_EQ(c[3], "1");
 			}
-			EXPECT_GE(std::stoul(c[9]), 1u);	 // keyframes in the map
-			EXPECT_GT(std::stoul(c[10]), 100u);	 // map points
+			EXPECT_GE(std::stoul(c[9]), 1u);     // keyframes in the map
+			EXPECT_GT(std::stoul(c[10]), 100u);  // map points
 			if (n > 0)
 			{
 				EXPECT_GT(std::stod(c[15]), 0.0);  // track_ms
@@ -509,18 +566,20 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	}
 	// The dense map of real Kinect frames: a labelled cloud and an octree at the asked resolution.
 	EXPECT_GT(mrpt_yesslam::readDenseCloudPly(d / "run/dense_cloud.ply").size(), 1000u);
-	const auto coarse = runTool(
-		"yesslam", {"--input", desk, "--out", d / "coarse", "--detector", "none", "--sequential", "--quiet", "--octomap-resolution", "0.1"});
+	const auto coarse = runTool("yesslam", {"--input", desk, "--out", d / "coarse", "--detector", "none",
+											"--sequential", "--quiet", "--octomap-resolution", "0.1"});
 	ASSERT_EQ(coarse.exitCode, 0) << coarse.err;
 	EXPECT_DOUBLE_EQ(mrpt_yesslam::CSemanticOcTree::readFile(d / "coarse/map.ot")->getResolution(), 0.1);
-	const auto sparse = runTool("yesslam", {"--input", desk, "--out", d / "sparse", "--detector", "none", "--sequential", "--quiet", "--no-dense-map"});
+	const auto sparse = runTool("yesslam", {"--input", desk, "--out", d / "sparse", "--detector", "none",
+											"--sequential", "--quiet", "--no-dense-map"});
 	ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
 	EXPECT_FALSE(fs::exists(d / "sparse/map.ot"));
 	EXPECT_FALSE(fs::exists(d / "sparse/dense_cloud.ply"));
 
 	const auto help = runTool("yesslam", {"--help"});
 	EXPECT_EQ(help.exitCode, 0);
-	for (const char* opt : {"--input", "--out", "--config", "--detector", "--no-dynamic-filter", "--max-frames", "--gt", "--policy", "--no-dense-map", "--octomap-resolution"})
+	for (const char* opt : {"--input", "--out", "--config", "--detector", "--no-dynamic-filter", "--max-frames", "--gt",
+							"--policy", "--no-dense-map", "--octomap-resolution"})
 		EXPECT_NE(help.out.find(opt), std::string::npos) << opt;
 
 	auto fails = [&](const std::vector<std::string>& args, const std::vector<std::string>& fragments)
@@ -536,16 +595,21 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	fails({"--input", desk, "--out", d / "x", "--max-frames", "many"}, {"--max-frames"});
 	fails({"--input", desk, "--out", d / "x", "--octomap-resolution", "0"}, {"--octomap-resolution", "0.005"});
 	// Finer than the cloud it is built from: refused at once (it took 85 s and 3.8 GB for 30 frames).
-	fails({"--input", desk, "--out", d / "fine", "--octomap-resolution", "0.01", "--detector", "none"}, {"--octomap-resolution", "voxelSize 0.02"});
+	fails({"--input", desk, "--out", d / "fine", "--octomap-resolution", "0.01", "--detector", "none"},
+		  {"--octomap-resolution", "voxelSize 0.02"});
 	EXPECT_FALSE(fs::exists(d / "fine")) << "a run that cannot start makes no output folder";
 	// Issue 30 item 8: a skip past the end, options that would do nothing, a map that could not be
 	// saved after the run, and a map and recording that would overwrite each other - refused at once.
-	fails({"--input", desk, "--out", d / "skip", "--skip-frames", "20", "--detector", "none"}, {"--skip-frames 20", "holds only 9"});
+	fails({"--input", desk, "--out", d / "skip", "--skip-frames", "20", "--detector", "none"},
+		  {"--skip-frames 20", "holds only 9"});
 	EXPECT_FALSE(fs::exists(d / "skip"));
 	fails({"--input", desk, "--out", d / "x", "--speed", "2", "--detector", "none"}, {"--speed", "--realtime"});
 	fails({"--input", desk, "--out", d / "x", "--width", "320", "--detector", "none"}, {"--width", "OpenNI2"});
-	fails({"--input", desk, "--out", d / "x", "--save-map", "/proc/x.ysm", "--detector", "none"}, {"/proc/x.ysm", "takes no new files"});
-	fails({"--input", desk, "--out", d / "x", "--save-map", d / "same.bin", "--record", d / "same.bin", "--detector", "none"}, {"same file"});
+	fails({"--input", desk, "--out", d / "x", "--save-map", "/proc/x.ysm", "--detector", "none"},
+		  {"/proc/x.ysm", "takes no new files"});
+	fails({"--input", desk, "--out", d / "x", "--save-map", d / "same.bin", "--record", d / "same.bin", "--detector",
+		   "none"},
+		  {"same file"});
 	EXPECT_FALSE(fs::exists(d / "x"));
 	fails({"--input", desk, "--out", d / "x", "--policy", "often", "--detector", "none"}, {"policy", "often"});
 	writeText(d / "bad.ini", "[Tracking]\nmaxDepth = far\n");
@@ -563,14 +627,16 @@ TEST(Tools, ShippedConfigsRunWithTheDocumentedDetectorDefault)
 	for (const char* cfg : {"default.ini", "tum_fr1.ini", "tum_fr3.ini"})
 	{
 		const std::string out = d / cfg;
-		const auto r = runTool("yesslam", {"--input", desk, "--config", std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/" + cfg,
-											  "--out", out, "--max-frames", "3", "--quiet"});
+		const auto r = runTool("yesslam", {"--input", desk, "--config",
+										   std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/" + cfg,
+										   "--out", out, "--max-frames", "3", "--quiet"});
 		EXPECT_EQ(r.exitCode, 0) << cfg << ": " << r.err;
 		EXPECT_TRUE(fs::exists(out + "/trajectory.txt")) << cfg;
 		std::ifstream used(out + "/config_used.ini");
 		const std::string text((std::istreambuf_iterator<char>(used)), std::istreambuf_iterator<char>());
 		EXPECT_NE(text.find("backend = yolo"), std::string::npos) << cfg;
-		EXPECT_NE(text.find("share/mrpt_yesslam/models/yolo-fastest-1.1/yolo-fastest-1.1.cfg"), std::string::npos) << cfg;
+		EXPECT_NE(text.find("share/mrpt_yesslam/models/yolo-fastest-1.1/yolo-fastest-1.1.cfg"), std::string::npos)
+			<< cfg;
 		// "auto" stays auto, its choice in a comment: the file re-run with --localize-only chooses again.
 		EXPECT_NE(text.find("\nboxes = auto\n"), std::string::npos) << cfg;
 		EXPECT_NE(text.find("boxes = auto chose false in this run"), std::string::npos) << cfg;
@@ -581,7 +647,8 @@ TEST(Tools, EveryToolHasVersionAndAForgottenValueIsNamed)
 {
 	// Issue 18 item 5: --version on every tool (project, MRPT and OpenCV versions), and
 	// "yesslam --input --out x" says that --input needs a value (it took "--out" as the input).
-	for (const char* tool : {"yesslam", "yesslam-sim", "yesslam-eval", "yesslam-detect", "yesslam-render", "yesslam-cloud", "yesslam-vocab", "tum2rawlog"})
+	for (const char* tool : {"yesslam", "yesslam-sim", "yesslam-eval", "yesslam-detect", "yesslam-render",
+							 "yesslam-cloud", "yesslam-vocab", "tum2rawlog"})
 	{
 		const auto r = runTool(tool, {"--version"});
 		EXPECT_EQ(r.exitCode, 0) << tool << ": " << r.err;
@@ -631,7 +698,9 @@ TEST(Tools, RenderAndCloudRefuseOutOfRangeValues)
 	fails("yesslam-render", {"--scene", scene, "--out", png, "--elevation", "500"}, "--elevation");
 	fails("yesslam-render", {"--scene", scene, "--out", png, "--background", "255,255,255"}, "0..1");
 	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
-	fails("yesslam-cloud", {"--input", desk, "--poses", desk + "/groundtruth.txt", "--out", d / "c.ply", "--max-depth", "-1"}, "--max-depth");
+	fails("yesslam-cloud",
+		  {"--input", desk, "--poses", desk + "/groundtruth.txt", "--out", d / "c.ply", "--max-depth", "-1"},
+		  "--max-depth");
 	EXPECT_FALSE(fs::exists(png));
 }
 
@@ -649,7 +718,8 @@ TEST(Tools, AFailedStartLeavesNoFolderAndNoStaleEvaluation)
 	EXPECT_EQ(sim.exitCode, 1);
 	EXPECT_FALSE(fs::exists(d / "sim"));
 
-	const auto first = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
+	const auto first =
+		runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
 	ASSERT_EQ(first.exitCode, 0) << first.err;
 	ASSERT_TRUE(fs::exists(d / "run/eval.json"));
 	// Three frames span 0.07 s: no RPE pair 1 s apart, and yesslam says so as yesslam-eval does
@@ -658,7 +728,8 @@ TEST(Tools, AFailedStartLeavesNoFolderAndNoStaleEvaluation)
 	// The same frames without ground truth (a copy of the folder without groundtruth.txt).
 	fs::copy(desk, d / "nogt", fs::copy_options::recursive);
 	fs::remove(d / "nogt/groundtruth.txt");
-	const auto second = runTool("yesslam", {"--input", d / "nogt", "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
+	const auto second = runTool(
+		"yesslam", {"--input", d / "nogt", "--out", d / "run", "--detector", "none", "--quiet", "--max-frames", "3"});
 	ASSERT_EQ(second.exitCode, 0) << second.err;
 	EXPECT_FALSE(fs::exists(d / "run/eval.json")) << "a stale evaluation was left in place";
 }
@@ -672,7 +743,8 @@ TEST(Tools, ABadVocabularyStopsTheRunBeforeItStartsAndLoopClosingCanBeTurnedOff)
 	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
 	const std::string dbow3 = sharedFile("models/dbow3_vocab_slambook2/vocabulary.yml.gz");
 	writeText(d / "v.ini", "[LoopClosing]\nvocabulary = " + dbow3 + "\n");
-	const auto bad = runTool("yesslam", {"--input", desk, "--out", d / "run", "--config", d / "v.ini", "--detector", "none"});
+	const auto bad =
+		runTool("yesslam", {"--input", desk, "--out", d / "run", "--config", d / "v.ini", "--detector", "none"});
 	EXPECT_EQ(bad.exitCode, 1);
 	EXPECT_NE(bad.err.find(dbow3 + ": not a yesslam vocabulary"), std::string::npos) << bad.err;
 	EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
@@ -681,7 +753,8 @@ TEST(Tools, ABadVocabularyStopsTheRunBeforeItStartsAndLoopClosingCanBeTurnedOff)
 	ASSERT_EQ(on.exitCode, 0) << on.err;
 	EXPECT_NE(on.out.find("loops:           0 closed"), std::string::npos) << on.out;
 	EXPECT_NE(readText(d / "on/stats.json").find("\"loop_closing\": true"), std::string::npos);
-	const auto off = runTool("yesslam", {"--input", desk, "--out", d / "off", "--detector", "none", "--quiet", "--no-loop-closure"});
+	const auto off =
+		runTool("yesslam", {"--input", desk, "--out", d / "off", "--detector", "none", "--quiet", "--no-loop-closure"});
 	ASSERT_EQ(off.exitCode, 0) << off.err;
 	EXPECT_NE(off.out.find("loop closing off"), std::string::npos) << off.out;
 	EXPECT_NE(readText(d / "off/stats.json").find("\"loop_closing\": false"), std::string::npos);
@@ -712,7 +785,8 @@ TEST(Tools, ARunThatFailsPartWaySaysSoInItsStats)
 	EXPECT_NE(stats.find("\"stop_reason\": \"error at frame 4: "), std::string::npos) << stats;
 	EXPECT_NE(stats.find("\"frames\": 4,"), std::string::npos) << stats;
 	EXPECT_EQ(mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt").size(), 4u);
-	const auto whole = runTool("yesslam", {"--input", sharedFile("data/tum_fr1_desk_9frames"), "--out", d / "whole", "--detector", "none", "--quiet"});
+	const auto whole = runTool("yesslam", {"--input", sharedFile("data/tum_fr1_desk_9frames"), "--out", d / "whole",
+										   "--detector", "none", "--quiet"});
 	ASSERT_EQ(whole.exitCode, 0) << whole.err;
 	EXPECT_NE(readText(d / "whole/stats.json").find("\"complete\": true"), std::string::npos);
 }
@@ -725,9 +799,9 @@ TEST(Tools, DetectionsAndMasksAgreeWhenAFrameCannotBeRead)
 	TempDir d("detect_partway");
 	copyDeskWithATruncatedFifthDepth(d / "seq");
 	const std::string m = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/models/yolo-fastest-1.1/";
-	const auto r = runTool(
-		"yesslam-detect", {"--model", m + "yolo-fastest-1.1.cfg", "--weights", m + "yolo-fastest-1.1.weights", "--names",
-						   m + "coco.names", "--conf", "0.1", "--input", d / "seq", "--out", d / "det", "--quiet"});
+	const auto r = runTool("yesslam-detect", {"--model", m + "yolo-fastest-1.1.cfg", "--weights",
+											  m + "yolo-fastest-1.1.weights", "--names", m + "coco.names", "--conf",
+											  "0.1", "--input", d / "seq", "--out", d / "det", "--quiet"});
 	EXPECT_EQ(r.exitCode, 1);
 	EXPECT_NE(r.err.find("1305031453.505218.png"), std::string::npos) << r.err;
 	ASSERT_TRUE(fs::exists(d / "det/detections.txt"));
@@ -745,8 +819,10 @@ TEST(Tools, DetectHelpListsEveryOutputFormat)
 {
 	// Issue 18 item 5: --format's help listed 5 of the 8 layouts the config accepts.
 	const auto help = runTool("yesslam-detect", {"--help"}).out;
-	const auto line = help.substr(help.find("--format"), help.find('\n', help.find("--format")) - help.find("--format"));
-	for (const auto& f : mrpt_yesslam::yoloOutputFormats()) EXPECT_NE(line.find(f), std::string::npos) << f << " missing in: " << line;
+	const auto line =
+		help.substr(help.find("--format"), help.find('\n', help.find("--format")) - help.find("--format"));
+	for (const auto& f : mrpt_yesslam::yoloOutputFormats())
+		EXPECT_NE(line.find(f), std::string::npos) << f << " missing in: " << line;
 	EXPECT_EQ(mrpt_yesslam::yoloOutputFormats().size(), 8u);
 }
 
@@ -755,11 +831,13 @@ TEST(Tools, EveryToolTakesOutAndOutputAlike)
 	// Issue 30 item 8: tum2rawlog and yesslam-oni name their output --output, the others --out; a
 	// habit from one tool gave "unknown option" in the other. Both spellings work everywhere.
 	TempDir d("out_alias");
-	const std::string desk = std::filesystem::path(sharedFile("data/tum_fr1_desk_9frames/rgb.txt")).parent_path().string();
+	const std::string desk =
+		std::filesystem::path(sharedFile("data/tum_fr1_desk_9frames/rgb.txt")).parent_path().string();
 	const auto conv = runTool("tum2rawlog", {"--input", desk, "--out", d / "desk.rawlog"});
 	EXPECT_EQ(conv.exitCode, 0) << conv.err;
 	EXPECT_TRUE(fs::exists(d / "desk.rawlog"));
-	const auto run = runTool("yesslam", {"--input", desk, "--output", d / "run", "--detector", "none", "--no-dense-map", "--max-frames", "3", "--quiet"});
+	const auto run = runTool("yesslam", {"--input", desk, "--output", d / "run", "--detector", "none", "--no-dense-map",
+										 "--max-frames", "3", "--quiet"});
 	EXPECT_EQ(run.exitCode, 0) << run.err;
 	EXPECT_TRUE(fs::exists(d / "run/trajectory.txt"));
 	const auto bogus = runTool("yesslam", {"--input", desk, "--outt", d / "x"});
@@ -782,8 +860,8 @@ TEST(Tools, BenchesMakeASimulatedSequenceAgainWhenTheSimulatorHasChanged)
 	const auto make = [&]
 	{
 		return runCommand(
-			"bash", {"-c", "BIN='" + std::string(YESSLAM_TOOLS_DIR) + "'; source '" + script + "'; sim_sequence '" + (d / "seq") +
-							   "' --preset static_office --frames 2 --no-rawlog --quiet"});
+			"bash", {"-c", "BIN='" + std::string(YESSLAM_TOOLS_DIR) + "'; source '" + script + "'; sim_sequence '" +
+							   (d / "seq") + "' --preset static_office --frames 2 --no-rawlog --quiet"});
 	};
 	ASSERT_EQ(make().exitCode, 0);
 	EXPECT_NE(readText(d / "seq/meta.json").find("\"model\": \"" + model + "\""), std::string::npos);
@@ -812,7 +890,8 @@ TEST(Tools, ARunWhoseMapNeverStartsFailsAndAnImplausibleDepthScaleIsNamed)
 	// Depth declared 500 units a metre for TUM's 5000: the scene seems 10x farther, beyond what
 	// tracking uses; no map starts.
 	writeText(d / "k500.txt", "517.3 516.5 318.6 255.3 640 480 500\n");
-	const auto far = runTool("yesslam", {"--input", desk, "--out", d / "far", "--detector", "none", "--quiet", "--camera", d / "k500.txt"});
+	const auto far = runTool(
+		"yesslam", {"--input", desk, "--out", d / "far", "--detector", "none", "--quiet", "--camera", d / "k500.txt"});
 	EXPECT_EQ(far.exitCode, 1) << far.out;
 	EXPECT_NE(far.err.find("no map was made"), std::string::npos) << far.err;
 	EXPECT_NE(far.err.find("depth scale"), std::string::npos) << far.err;
@@ -820,7 +899,8 @@ TEST(Tools, ARunWhoseMapNeverStartsFailsAndAnImplausibleDepthScaleIsNamed)
 	// 1000 for 5000: 5x farther, a map starts (the nearest desk is within reach), and the run says
 	// why it should not be trusted.
 	writeText(d / "k1000.txt", "517.3 516.5 318.6 255.3 640 480 1000\n");
-	const auto five = runTool("yesslam", {"--input", desk, "--out", d / "five", "--detector", "none", "--quiet", "--camera", d / "k1000.txt"});
+	const auto five = runTool("yesslam", {"--input", desk, "--out", d / "five", "--detector", "none", "--quiet",
+										  "--camera", d / "k1000.txt"});
 	EXPECT_EQ(five.exitCode, 0) << five.err;
 	EXPECT_NE(five.err.find("farther than RGB-D cameras measure well"), std::string::npos) << five.err;
 	// All-black frames without depth: the same, with their own reason.
@@ -829,14 +909,16 @@ TEST(Tools, ARunWhoseMapNeverStartsFailsAndAnImplausibleDepthScaleIsNamed)
 		cv::imwrite(e.path().string(), cv::Mat::zeros(480, 640, CV_16U));
 	for (const auto& e : fs::directory_iterator(d / "black/rgb"))
 		cv::imwrite(e.path().string(), cv::Mat::zeros(480, 640, CV_8UC3));
-	const auto black = runTool("yesslam", {"--input", d / "black", "--out", d / "blackrun", "--detector", "none", "--quiet"});
+	const auto black =
+		runTool("yesslam", {"--input", d / "black", "--out", d / "blackrun", "--detector", "none", "--quiet"});
 	EXPECT_EQ(black.exitCode, 1);
 	EXPECT_NE(black.err.find("no map was made"), std::string::npos) << black.err;
 	EXPECT_NE(black.err.find("no frame has any depth"), std::string::npos) << black.err;
 	// 5x too small (25000 for 5000): the map starts, a 5x smaller one, and the run says why it
 	// should not be trusted.
 	writeText(d / "k25000.txt", "517.3 516.5 318.6 255.3 640 480 25000\n");
-	const auto near = runTool("yesslam", {"--input", desk, "--out", d / "near", "--detector", "none", "--quiet", "--camera", d / "k25000.txt"});
+	const auto near = runTool("yesslam", {"--input", desk, "--out", d / "near", "--detector", "none", "--quiet",
+										  "--camera", d / "k25000.txt"});
 	EXPECT_EQ(near.exitCode, 0) << near.err;
 	EXPECT_NE(near.err.find("yesslam: warning: the median depth is 0.2"), std::string::npos) << near.err;
 	EXPECT_NE(near.err.find("nearer than RGB-D cameras measure"), std::string::npos) << near.err;
@@ -861,10 +943,13 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 	const std::string desk = sharedFile("data/tum_fr1_desk_9frames");
 	const auto full = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet"});
 	ASSERT_EQ(full.exitCode, 0) << full.err;
-	for (const char* f : {"dense_cloud.ply", "map.ot", "map.bt"}) ASSERT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
-	const auto sparse = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--no-dense-map"});
+	for (const char* f : {"dense_cloud.ply", "map.ot", "map.bt"})
+		ASSERT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
+	const auto sparse =
+		runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--no-dense-map"});
 	ASSERT_EQ(sparse.exitCode, 0) << sparse.err;
-	for (const char* f : {"dense_cloud.ply", "map.ot", "map.bt"}) EXPECT_FALSE(fs::exists(d / ("run/" + std::string(f)))) << f << " of the earlier run survived";
+	for (const char* f : {"dense_cloud.ply", "map.ot", "map.bt"})
+		EXPECT_FALSE(fs::exists(d / ("run/" + std::string(f)))) << f << " of the earlier run survived";
 
 	// Colour and depth 9-15 ms apart (associations.txt): with maxDiff 13.4 ms only some pair.
 	std::size_t unpaired = 0;
@@ -881,57 +966,69 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 	ASSERT_GT(unpaired, 0u);
 	ASSERT_LT(unpaired, 8u);
 	writeText(d / "tight.ini", "[Input]\nmaxDiff = 0.0134\n[Tracking]\ndepthMoment = true\n");
-	const auto tight = runTool("yesslam", {"--input", desk, "--out", d / "tight", "--detector", "none", "--quiet", "--config", d / "tight.ini"});
+	const auto tight = runTool("yesslam", {"--input", desk, "--out", d / "tight", "--detector", "none", "--quiet",
+										   "--config", d / "tight.ini"});
 	ASSERT_EQ(tight.exitCode, 0) << tight.err;
-	EXPECT_NE(tight.err.find("yesslam: warning: " + std::to_string(unpaired) + " colour images have no depth image"), std::string::npos) << tight.err;
+	EXPECT_NE(tight.err.find("yesslam: warning: " + std::to_string(unpaired) + " colour images have no depth image"),
+			  std::string::npos)
+		<< tight.err;
 	EXPECT_NE(tight.err.find("maxDiff 0.0134 s"), std::string::npos) << tight.err;
-	EXPECT_NE(readText(d / "tight/stats.json").find("\"unpaired_frames\": " + std::to_string(unpaired) + ","), std::string::npos);
+	EXPECT_NE(readText(d / "tight/stats.json").find("\"unpaired_frames\": " + std::to_string(unpaired) + ","),
+			  std::string::npos);
 	// Issue 42 item 4: a TUM folder stamps its depth images (depthMoment applies: no word of it),
 	// and its Kinect v1 (a freiburg name beside calibration.txt) has the known 28 ms readout.
 	EXPECT_EQ(tight.err.find("depthMoment"), std::string::npos) << tight.err;
 	EXPECT_NE(readText(d / "tight/config_used.ini").find("rollingShutter = 0.028\n"), std::string::npos);
 
 	// --skip-frames 9 of 9 frames leaves none: refused like 10, before any output.
-	const auto skip = runTool("yesslam", {"--input", desk, "--out", d / "skip", "--skip-frames", "9", "--detector", "none"});
+	const auto skip =
+		runTool("yesslam", {"--input", desk, "--out", d / "skip", "--skip-frames", "9", "--detector", "none"});
 	expectCleanFailure(skip, {"--skip-frames 9", "holds only 9 frames"});
 	EXPECT_FALSE(fs::exists(d / "skip"));
 
 	// A camera file of four numbers: the images' size, and an error about a size names the images.
 	writeText(d / "k4.txt", "517.3 516.5 318.6 255.3\n");
-	const auto four = runTool("yesslam", {"--input", desk, "--out", d / "four", "--detector", "none", "--quiet", "--camera", d / "k4.txt"});
+	const auto four = runTool(
+		"yesslam", {"--input", desk, "--out", d / "four", "--detector", "none", "--quiet", "--camera", d / "k4.txt"});
 	EXPECT_EQ(four.exitCode, 0) << four.err;
 	// A camera file that gives no readout: the camera's shutter is not known, so not corrected;
 	// one that gives it (a line of one number, seconds) is corrected by that.
 	EXPECT_NE(readText(d / "four/config_used.ini").find("rollingShutter = 0\n"), std::string::npos);
 	writeText(d / "k5.txt", "517.3 516.5 318.6 255.3 640 480\n0.2624 -0.9531 -0.0054 0.0026 1.1633\n0.02\n");
-	const auto five = runTool("yesslam", {"--input", desk, "--out", d / "five", "--detector", "none", "--quiet", "--no-dense-map", "--camera", d / "k5.txt"});
+	const auto five = runTool("yesslam", {"--input", desk, "--out", d / "five", "--detector", "none", "--quiet",
+										  "--no-dense-map", "--camera", d / "k5.txt"});
 	EXPECT_EQ(five.exitCode, 0) << five.err;
 	EXPECT_NE(readText(d / "five/config_used.ini").find("rollingShutter = 0.02\n"), std::string::npos);
 	writeText(d / "k4out.txt", "517.3 516.5 900 255.3\n");
-	const auto outside = runTool("yesslam", {"--input", desk, "--out", d / "outside", "--detector", "none", "--quiet", "--camera", d / "k4out.txt"});
+	const auto outside = runTool("yesslam", {"--input", desk, "--out", d / "outside", "--detector", "none", "--quiet",
+											 "--camera", d / "k4out.txt"});
 	expectCleanFailure(outside, {"k4out.txt", "principal point", "640x480 images"});
 
 	// --camera on a rawlog does nothing: said, and not recorded in config_used.ini.
 	const auto conv = runTool("tum2rawlog", {"--input", desk, "--out", d / "desk.rawlog"});
 	ASSERT_EQ(conv.exitCode, 0) << conv.err;
 	writeText(d / "moment.ini", "[Tracking]\ndepthMoment = true\n");
-	const auto raw = runTool(
-		"yesslam", {"--input", d / "desk.rawlog", "--out", d / "raw", "--detector", "none", "--quiet", "--camera", "fr2", "--config", d / "moment.ini"});
+	const auto raw = runTool("yesslam", {"--input", d / "desk.rawlog", "--out", d / "raw", "--detector", "none",
+										 "--quiet", "--camera", "fr2", "--config", d / "moment.ini"});
 	ASSERT_EQ(raw.exitCode, 0) << raw.err;
 	// A rawlog has no depth-image stamps of its own (depthMoment cannot apply: said); its readout is
 	// the one tum2rawlog wrote beside it (desk_camera.txt: the fr1 folder's Kinect, 28 ms), not
 	// --camera's, which is for folders and OpenNI2 input.
-	EXPECT_NE(raw.err.find("[Tracking] depthMoment does nothing for " + (d / "desk.rawlog")), std::string::npos) << raw.err;
+	EXPECT_NE(raw.err.find("[Tracking] depthMoment does nothing for " + (d / "desk.rawlog")), std::string::npos)
+		<< raw.err;
 	EXPECT_NE(readText(d / "raw/config_used.ini").find("rollingShutter = 0.028\n"), std::string::npos);
 	EXPECT_NE(readText(d / "raw/config_used.ini").find("from the recording's camera file"), std::string::npos);
-	EXPECT_NE(raw.err.find("--camera) 'fr2' is for TUM folders and OpenNI2 input and was not used"), std::string::npos) << raw.err;
+	EXPECT_NE(raw.err.find("--camera) 'fr2' is for TUM folders and OpenNI2 input and was not used"), std::string::npos)
+		<< raw.err;
 	EXPECT_EQ(readText(d / "raw/config_used.ini").find("camera = fr2"), std::string::npos);
 
 	// --record of a TUM folder keeps its ground truth beside the recording, where a run finds it.
-	const auto rec = runTool("yesslam", {"--input", desk, "--out", d / "rec", "--detector", "none", "--quiet", "--no-dense-map", "--record", d / "rec.rawlog"});
+	const auto rec = runTool("yesslam", {"--input", desk, "--out", d / "rec", "--detector", "none", "--quiet",
+										 "--no-dense-map", "--record", d / "rec.rawlog"});
 	ASSERT_EQ(rec.exitCode, 0) << rec.err;
 	EXPECT_EQ(readText(d / "rec_groundtruth.txt"), readText(desk + "/groundtruth.txt"));
-	const auto replay = runTool("yesslam", {"--input", d / "rec.rawlog", "--out", d / "replay", "--detector", "none", "--quiet", "--no-dense-map"});
+	const auto replay = runTool("yesslam", {"--input", d / "rec.rawlog", "--out", d / "replay", "--detector", "none",
+											"--quiet", "--no-dense-map"});
 	ASSERT_EQ(replay.exitCode, 0) << replay.err;
 	EXPECT_TRUE(fs::exists(d / "replay/eval.json"));
 }
@@ -939,14 +1036,15 @@ TEST(Tools, ReusedFoldersUnpairedImagesSkipsAndCameraFilesSayWhatHappened)
 // Issue 43 item 5: JSON to /dev/stdout follows the key: value lines, redirected to a file or a pipe.
 TEST(Tools, EvalJsonToStdoutKeepsTheLinesBeforeIt)
 {
-	const std::string gt = sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"), est = sharedFile(kTraj + "evo_fr2_desk_ORB.txt");
+	const std::string gt = sharedFile(kTraj + "evo_fr2_desk_groundtruth.txt"),
+					  est = sharedFile(kTraj + "evo_fr2_desk_ORB.txt");
 	const auto file = runTool("yesslam-eval", {"--gt", gt, "--est", est, "--json", "/dev/stdout"});
 	ASSERT_EQ(file.exitCode, 0) << file.err;
 	EXPECT_EQ(value(file.out, "ate_pairs"), "2223") << file.out;
 	EXPECT_NE(file.out.find("\"ate_rmse\":"), std::string::npos) << file.out;
 	EXPECT_LT(file.out.find("ate_rmse: "), file.out.find("\"ate_rmse\":")) << "the lines first, then the JSON";
-	const auto pipe = runCommand(
-		"sh", {"-c", std::string(YESSLAM_TOOLS_DIR) + "/yesslam-eval --gt '" + gt + "' --est '" + est + "' --json /dev/stdout | cat"});
+	const auto pipe = runCommand("sh", {"-c", std::string(YESSLAM_TOOLS_DIR) + "/yesslam-eval --gt '" + gt +
+												  "' --est '" + est + "' --json /dev/stdout | cat"});
 	ASSERT_EQ(pipe.exitCode, 0) << pipe.err;
 	EXPECT_EQ(value(pipe.out, "ate_pairs"), "2223") << pipe.out;
 	EXPECT_NE(pipe.out.find("\"ate_rmse\":"), std::string::npos) << pipe.out;
@@ -962,9 +1060,9 @@ TEST(Tools, EvalJsonToStdoutKeepsTheLinesBeforeIt)
 TEST(Tools, FarDepthIsWeighedAsTheRealSensorsErrorGrows)
 {
 	TempDir d("tool_far_depth");
-	const auto r = runTool(
-		"yesslam", {"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / "run", "--quiet", "--sequential", "--no-dense-map", "--skip-frames", "150",
-					"--max-frames", "100"});
+	const auto r =
+		runTool("yesslam", {"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / "run", "--quiet", "--sequential",
+							"--no-dense-map", "--skip-frames", "150", "--max-frames", "100"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_EQ(value(r.out, "frames"), "100") << r.out;
 	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.025) << r.out;
@@ -984,11 +1082,20 @@ TEST(Tools, ThePoseDoesNotZigZagAlongWhatFarPointsLeaveFree)
 	writeText(d / "none.ini", "[Tracking]\nmotionPriorSigma = 0\n");
 	const auto run = [&](const std::string& name, const std::vector<std::string>& extra)
 	{
-		std::vector<std::string> args{"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / name, "--quiet", "--sequential", "--no-dense-map", "--max-frames", "100"};
+		std::vector<std::string> args{"--input",
+									  sharedFile("data/bonn_crowd_dev"),
+									  "--out",
+									  d / name,
+									  "--quiet",
+									  "--sequential",
+									  "--no-dense-map",
+									  "--max-frames",
+									  "100"};
 		args.insert(args.end(), extra.begin(), extra.end());
 		const auto r = runTool("yesslam", args);
 		EXPECT_EQ(r.exitCode, 0) << r.err;
-		return std::make_tuple(std::stod(value(r.out, "jitter_median")), std::stod(value(r.out, "step_gt_median")), std::stod(value(r.out, "ate_rmse")));
+		return std::make_tuple(std::stod(value(r.out, "jitter_median")), std::stod(value(r.out, "step_gt_median")),
+							   std::stod(value(r.out, "ate_rmse")));
 	};
 	const auto [jitter, step, ate] = run("held", {"--config", d / "held.ini"});
 	const auto [jitterFree, stepFree, ateFree] = run("free", {"--config", d / "none.ini"});
@@ -1012,7 +1119,17 @@ TEST(Tools, WhilePeopleFillTheViewTheBackgroundBetweenThemStillCarriesThePose)
 	writeText(d / "boxes.ini", "[GeometricCheck]\nboxes = true\n");
 	const auto run = [&](const std::string& name, const std::vector<std::string>& extra)
 	{
-		std::vector<std::string> args{"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / name, "--quiet", "--sequential", "--no-dense-map", "--skip-frames", "125", "--max-frames", "125"};
+		std::vector<std::string> args{"--input",
+									  sharedFile("data/bonn_crowd_dev"),
+									  "--out",
+									  d / name,
+									  "--quiet",
+									  "--sequential",
+									  "--no-dense-map",
+									  "--skip-frames",
+									  "125",
+									  "--max-frames",
+									  "125"};
 		args.insert(args.end(), extra.begin(), extra.end());
 		const auto r = runTool("yesslam", args);
 		EXPECT_EQ(r.exitCode, 0) << r.err;
@@ -1023,7 +1140,8 @@ TEST(Tools, WhilePeopleFillTheViewTheBackgroundBetweenThemStillCarriesThePose)
 	const auto [outBoxes, ateBoxes] = run("boxes", {"--config", d / "boxes.ini"});
 	EXPECT_EQ(value(out, "tracked").substr(0, 4), "125 ") << out;
 	EXPECT_LT(ate, ateBoxes - 0.002) << out << outBoxes;
-	EXPECT_NE(readText(d / "auto/config_used.ini").find("boxes = auto chose false in this run"), std::string::npos) << "config_used.ini: mapping runs without the box part";
+	EXPECT_NE(readText(d / "auto/config_used.ini").find("boxes = auto chose false in this run"), std::string::npos)
+		<< "config_used.ini: mapping runs without the box part";
 }
 
 // Issue 43 item 3: frames.csv marks every keyframe (Algorithm 1 picks earlier frames too), and
@@ -1034,9 +1152,9 @@ TEST(Tools, EveryKeyFrameIsMarkedAndTheTrajectoryCanAgreeWithTheKeyFrames)
 {
 	TempDir d("tool_kf_agree");
 	writeText(d / "own.ini", "[System]\nkeyFrameFramePose = keyframe\n");
-	const auto r = runTool(
-		"yesslam", {"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / "run", "--detector", "none", "--quiet", "--sequential", "--max-frames", "80",
-					"--config", d / "own.ini"});
+	const auto r =
+		runTool("yesslam", {"--input", sharedFile("data/bonn_crowd_dev"), "--out", d / "run", "--detector", "none",
+							"--quiet", "--sequential", "--max-frames", "80", "--config", d / "own.ini"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	std::istringstream csv(readText(d / "run/frames.csv"));
 	std::string line;
@@ -1059,7 +1177,9 @@ TEST(Tools, EveryKeyFrameIsMarkedAndTheTrajectoryCanAgreeWithTheKeyFrames)
 	std::size_t checked = 0;
 	for (const auto& k : kfs)
 	{
-		EXPECT_TRUE(marked.count(k.t) || std::any_of(marked.begin(), marked.end(), [&](double t) { return std::abs(t - k.t) < 1e-6; })) << k.t;
+		EXPECT_TRUE(marked.count(k.t) ||
+					std::any_of(marked.begin(), marked.end(), [&](double t) { return std::abs(t - k.t) < 1e-6; }))
+			<< k.t;
 		for (const auto& p : traj)
 			if (std::abs(p.t - k.t) < 1e-6)
 			{
@@ -1082,7 +1202,8 @@ TEST(Tools, EveryKeyFrameIsMarkedAndTheTrajectoryCanAgreeWithTheKeyFrames)
 TEST(Tools, SmallThingsANewUserNoticed)
 {
 	TempDir d("tool_small43");
-	const auto sim = runTool("yesslam-sim", {"--out", d / "sim", "--preset", "static_office", "--frames", "2", "--no-rawlog"});
+	const auto sim =
+		runTool("yesslam-sim", {"--out", d / "sim", "--preset", "static_office", "--frames", "2", "--no-rawlog"});
 	ASSERT_EQ(sim.exitCode, 0) << sim.err;
 	EXPECT_FALSE(fs::exists(d / "sim/sequence_Images"));
 	EXPECT_FALSE(fs::exists(d / "sim/sequence.rawlog"));
@@ -1092,11 +1213,12 @@ TEST(Tools, SmallThingsANewUserNoticed)
 	ASSERT_EQ(oni.exitCode, 0) << oni.err;
 	EXPECT_NE(oni.err.find(" 3/3 "), std::string::npos) << oni.err;
 	EXPECT_EQ(oni.err.find("/9 "), std::string::npos) << oni.err;
-	const auto cloud = runTool(
-		"yesslam-cloud", {"--input", desk, "--poses", desk + "/groundtruth.txt", "--out", d / "c.3Dscene", "--max-frames", "3"});
+	const auto cloud = runTool("yesslam-cloud", {"--input", desk, "--poses", desk + "/groundtruth.txt", "--out",
+												 d / "c.3Dscene", "--max-frames", "3"});
 	ASSERT_EQ(cloud.exitCode, 0) << cloud.err;
 	EXPECT_NE(cloud.err.find(" 3/3 "), std::string::npos) << cloud.err;
-	const auto run = runTool("yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--world-frame", "optical"});
+	const auto run = runTool(
+		"yesslam", {"--input", desk, "--out", d / "run", "--detector", "none", "--quiet", "--world-frame", "optical"});
 	ASSERT_EQ(run.exitCode, 0) << run.err;
 	for (const char* f : {"trajectory.txt", "keyframes.txt", "trajectory_online.txt"})
 		EXPECT_EQ(readText(d / ("run/" + std::string(f))).find("-0.000000000"), std::string::npos) << f;
@@ -1115,7 +1237,7 @@ TEST(Tools, SmallThingsANewUserNoticed)
 TEST(Tools, AnUndetectedPersonCloseToTheCameraDoesNotCarryThePose)
 {
 	TempDir d("tool_undetected_close");
-	mrpt_yesslam::TSimOptions so;	 // yesslam-sim --preset crowd --real-sensor --seed 1 --frames 560 --depth-offset 0
+	mrpt_yesslam::TSimOptions so;  // yesslam-sim --preset crowd --real-sensor --seed 1 --frames 560 --depth-offset 0
 	so.preset = "crowd";
 	so.realSensor = true;
 	so.seed = 1;
@@ -1124,10 +1246,12 @@ TEST(Tools, AnUndetectedPersonCloseToTheCameraDoesNotCarryThePose)
 	// the real Bonn frames' colour/depth offset since 2026-11-29; this test is about the walker).
 	so.depthOffsetMs = 0;
 	const std::string seq = cachedSequence("tools_crowd_real_sensor_s1_560_sync", so);
-	const auto run = runTool("yesslam", {"--input", seq, "--out", d / "run", "--detector", "yolo", "--quiet", "--sequential", "--no-dense-map", "--no-loop-closure"});
+	const auto run = runTool("yesslam", {"--input", seq, "--out", d / "run", "--detector", "yolo", "--quiet",
+										 "--sequential", "--no-dense-map", "--no-loop-closure"});
 	ASSERT_EQ(run.exitCode, 0) << run.err;
 	// The online poses (what tracking reported then), aligned to the truth over the whole run.
-	const auto ev = runTool("yesslam-eval", {"--gt", seq + "/groundtruth.txt", "--est", d / "run/trajectory_online.txt", "--errors", d / "errors.csv"});
+	const auto ev = runTool("yesslam-eval", {"--gt", seq + "/groundtruth.txt", "--est", d / "run/trajectory_online.txt",
+											 "--errors", d / "errors.csv"});
 	ASSERT_EQ(ev.exitCode, 0) << ev.err;
 	std::istringstream csv(readText(d / "errors.csv"));
 	std::string line;

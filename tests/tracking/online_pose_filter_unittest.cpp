@@ -15,7 +15,10 @@ using namespace mrpt_yesslam;
 namespace
 {
 // A hand-held camera at 30 Hz: walking at 0.3 m/s along x, swaying 5 cm in y with a 2 s period.
-Eigen::Vector3d truePosition(double t) { return {0.3 * t, 0.05 * std::sin(M_PI * t), 0.01 * t}; }
+Eigen::Vector3d truePosition(double t)
+{
+	return {0.3 * t, 0.05 * std::sin(M_PI * t), 0.01 * t};
+}
 
 struct TRun
 {
@@ -52,7 +55,8 @@ double rmsError(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen
 double jitter(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::Vector3d>& truth, std::size_t from)
 {
 	std::vector<double> d;
-	for (std::size_t k = from + 1; k < est.size(); k++) d.push_back(((est[k] - est[k - 1]) - (truth[k] - truth[k - 1])).norm());
+	for (std::size_t k = from + 1; k < est.size(); k++)
+		d.push_back(((est[k] - est[k - 1]) - (truth[k] - truth[k - 1])).norm());
 	std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
 	return d[d.size() / 2];
 }
@@ -78,7 +82,8 @@ TEST(OnlinePoseFilter, TheOrientationIsTheSolvesAndJumpsRestartTheFilter)
 {
 	COnlinePoseFilter f;
 	mrpt::poses::CPose3D out;
-	for (int k = 0; k < 30; k++) out = f.update(k / 30.0, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0.01 * k, 0, 0), true, false);
+	for (int k = 0; k < 30; k++)
+		out = f.update(k / 30.0, mrpt::poses::CPose3D(0.01 * k, 0, 0, 0.01 * k, 0, 0), true, false);
 	EXPECT_NEAR(out.yaw(), 0.29, 1e-12);
 	// A camera jerked 8 cm sideways within a frame: far beyond the gate, the measurement is taken.
 	const mrpt::poses::CPose3D jerked(0.30, 0.08, 0, 0.3, 0, 0);

@@ -22,7 +22,7 @@ struct Scene
 {
 	std::vector<TPoseObservation> obs;
 	std::vector<bool> isOutlier;
-	mrpt::poses::CPose3D truth;	 // T_w_c
+	mrpt::poses::CPose3D truth;  // T_w_c
 };
 
 // Points 1-5 m in front of a camera at `truth`, projected with 0.5 px noise; a share replaced by
@@ -50,7 +50,10 @@ Scene makeScene(const mrpt::img::TCamera& K, double outlierShare, unsigned seed,
 	return s;
 }
 
-double transErr(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b) { return (a - b).translation().norm(); }
+double transErr(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
+{
+	return (a - b).translation().norm();
+}
 double rotErrDeg(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
 {
 	const auto d = (a - b).getRotationMatrix();
@@ -112,7 +115,7 @@ TEST(PoseOptimizer, ItsSolveReachesTheSameRobustMinimumAsCeres)
 	for (std::size_t i = 1; i < s.obs.size(); i += 7) s.obs[i].sigma = 1.44;  // a higher octave
 	const mrpt::poses::CPose3D start = s.truth + mrpt::poses::CPose3D(0.05, -0.04, 0.03, 0.03, 0.02, -0.02);
 	CPoseOptimizer::TOptions one;
-	one.rounds = 1;	 // one solve over every observation: nothing re-classified in between
+	one.rounds = 1;  // one solve over every observation: nothing re-classified in between
 	one.iterationsPerRound = 100;
 	const auto ours = CPoseOptimizer(one).refine(s.obs, K, start);
 
@@ -121,9 +124,9 @@ TEST(PoseOptimizer, ItsSolveReachesTheSameRobustMinimumAsCeres)
 	ceres::Problem problem;
 	const CPoseOptimizer opt(one);
 	for (const auto& o : s.obs)
-		problem.AddResidualBlock(
-			new ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3>(new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy())),
-			new ceres::HuberLoss(std::sqrt(opt.chi2Limit(o))), rv, t);
+		problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3>(
+									 new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy())),
+								 new ceres::HuberLoss(std::sqrt(opt.chi2Limit(o))), rv, t);
 	ceres::Solver::Options so;
 	so.linear_solver_type = ceres::DENSE_QR;
 	so.max_num_iterations = 100;
@@ -171,8 +174,9 @@ TPoseObservation depthObservation()
 TEST(PoseOptimizer, ResidualJacobiansMatchNumeric)
 {
 	const auto K = tumCameraByName("fr3").intrinsics;
-	const TPoseObservation o = depthObservation();	// the RGB-D depth term as well
-	ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3> cost(new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy()));
+	const TPoseObservation o = depthObservation();  // the RGB-D depth term as well
+	ceres::AutoDiffCostFunction<TReprojectionResidual, 3, 3, 3> cost(
+		new TReprojectionResidual(o, K.fx(), K.fy(), K.cx(), K.cy()));
 	double rv[3] = {0.1, -0.2, 0.05}, t[3] = {0.02, 0.1, -0.3};
 	std::vector<double*> params = {rv, t};
 	ceres::NumericDiffOptions nd;
@@ -220,15 +224,18 @@ TEST(PoseOptimizer, ClosedFormJacobianPredictsResidualsUnderALeftPerturbation)
 		d[k] = h;
 		// exp(w) Tcw, then + v: the rotation and translation of the moved world-to-camera pose.
 		const Eigen::Vector3d w = d.head<3>(), v = d.tail<3>();
-		const Eigen::Matrix3d Rd = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+		const Eigen::Matrix3d Rd =
+			w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
 		const Eigen::Matrix3d R = Rd * Tcw.getRotationMatrix().asEigen();
 		const Eigen::Vector3d tr = Rd * Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z()) + v;
-		const auto moved = mrpt::poses::CPose3D::FromRotationAndTranslation(mrpt::math::CMatrixDouble33(R), mrpt::math::CVectorFixedDouble<3>(tr));
+		const auto moved = mrpt::poses::CPose3D::FromRotationAndTranslation(mrpt::math::CMatrixDouble33(R),
+																			mrpt::math::CVectorFixedDouble<3>(tr));
 		Eigen::Vector3d r2;
 		Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J2;
 		reprojectionResidualJacobian(f, moved, r2, J2);
 		const Eigen::Vector3d numeric = (r2 - r) / h;
-		for (int c = 0; c < 3; c++) EXPECT_NEAR(J(c, k), numeric[c], 1e-3 * (1 + std::abs(numeric[c]))) << "row " << c << " column " << k;
+		for (int c = 0; c < 3; c++)
+			EXPECT_NEAR(J(c, k), numeric[c], 1e-3 * (1 + std::abs(numeric[c]))) << "row " << c << " column " << k;
 	}
 	// Behind the camera: the constant residual and no gradient, as the Ceres residual.
 	const mrpt::poses::CPose3D behind = -mrpt::poses::CPose3D(0, 0, 5, 0, 0, 0);
@@ -282,7 +289,8 @@ TEST(PoseOptimizer, AWeakPriorHoldsWhatFarPointsLeaveFreeAndYieldsToAStrongView)
 	CPoseOptimizer free;
 	const TPoseEstimate a = free.refine(sc.obs, K, sc.truth);
 	CPoseOptimizer held;
-	held.setPrior(CPoseOptimizer::TPosePrior{sc.truth + mrpt::poses::CPose3D(0.05, 0, 0, 2 * M_PI / 180, 0, 0), 0.005, 1.0 * M_PI / 180});
+	held.setPrior(CPoseOptimizer::TPosePrior{sc.truth + mrpt::poses::CPose3D(0.05, 0, 0, 2 * M_PI / 180, 0, 0), 0.005,
+											 1.0 * M_PI / 180});
 	const TPoseEstimate b = held.refine(sc.obs, K, sc.truth);
 	ASSERT_TRUE(a.ok && b.ok);
 	EXPECT_LT(transErr(a.cameraInWorld, b.cameraInWorld), 0.001);
@@ -295,7 +303,11 @@ TEST(RelativeMotion, AScaledMotionTurnsOnItsGeodesicAndMovesItsShareOfTheWay)
 	const double deg = M_PI / 180;
 	const mrpt::poses::CPose3D T(0.2, 0.05, -0.01, 30 * deg, 5 * deg, -2 * deg);
 	const auto near = [](const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
-	{ return (a.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen() - b.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen()).norm() < 1e-9; };
+	{
+		return (a.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen() -
+				b.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen())
+				   .norm() < 1e-9;
+	};
 	EXPECT_TRUE(near(scaleMotion(T, 1), T));
 	EXPECT_TRUE(near(scaleMotion(T, 0), mrpt::poses::CPose3D()));
 	// Half the rotation twice is the whole rotation; the translation is its share of the way.

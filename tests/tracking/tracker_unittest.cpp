@@ -40,7 +40,8 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> deskFrames()
 
 // A tracker on `map` (keyframe 0 the reference) that has seen `last` (the motion measured on them)
 // tracks `next` from scratch (not tracked, no pose).
-CTracker::TResult trackAfter(CSparseMap& map, const CTracker::TOptions& o, const std::vector<std::shared_ptr<TFrame>>& last, TFrame& next)
+CTracker::TResult trackAfter(CSparseMap& map, const CTracker::TOptions& o,
+							 const std::vector<std::shared_ptr<TFrame>>& last, TFrame& next)
 {
 	CTracker tracker(o, map, 1.2, CGeometricDynamicCheck::TOptions());
 	tracker.setReferenceKeyFrame(0);
@@ -63,7 +64,10 @@ TEST(Tracker, RealFr1DeskFramesMatchMotionCapture)
 	{
 		const TFrameReport r = sys.processFrame(*obs);
 		EXPECT_TRUE(r.tracked) << "frame " << n;
-		if (n > 0) { EXPECT_GT(r.inliers, 100u) << "frame " << n; }
+		if (n > 0)
+		{
+			EXPECT_GT(r.inliers, 100u) << "frame " << n;
+		}
 		n++;
 	}
 	ASSERT_EQ(n, 9u);
@@ -139,7 +143,8 @@ TEST(Tracker, RecoversAfterAFrameWithoutFeatures)
 	for (int i = 0; i < 4; i++) EXPECT_TRUE(sys.processFrame(*frames[static_cast<std::size_t>(i)]).tracked);
 	// A black frame with no depth (a covered lens): no crash, not tracked, a pose all the same.
 	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
-	const TFrameReport lost = sys.processFrame(black, noDepth, observationTime(*frames[4]) - 0.001, frames[4]->cameraParamsIntensity);
+	const TFrameReport lost =
+		sys.processFrame(black, noDepth, observationTime(*frames[4]) - 0.001, frames[4]->cameraParamsIntensity);
 	EXPECT_FALSE(lost.tracked);
 	for (std::size_t i = 4; i < 9; i++) EXPECT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
 	EXPECT_EQ(sys.trajectory().size(), 10u);
@@ -197,7 +202,9 @@ TEST(Tracker, LostFramesContinueTheLastMotion)
 		CYesSlamSystem sys(o);
 		for (std::size_t i = 0; i < frames.size(); i++)
 			if (i == 4 || i == 5)
-				EXPECT_FALSE(sys.processFrame(black, noDepth, observationTime(*frames[i]), frames[i]->cameraParamsIntensity).tracked);
+				EXPECT_FALSE(
+					sys.processFrame(black, noDepth, observationTime(*frames[i]), frames[i]->cameraParamsIntensity)
+						.tracked);
 			else
 				EXPECT_TRUE(sys.processFrame(*frames[i]).tracked) << i;
 		EXPECT_EQ(sys.stats().lostFrames, 2u);
@@ -248,8 +255,8 @@ TEST(Tracker, ALostFrameCoastsOnTheMeanOfTheLastMotionsNotOnALastJerk)
 		EXPECT_FALSE(lost.tracked);
 		return lost.pose.x();
 	};
-	EXPECT_NEAR(coastedX(3), 0.08 + (0.01 + 0.01 + 0.04) / 3, 1e-6);	 // the mean of the last three steps
-	EXPECT_NEAR(coastedX(1), 0.08 + 0.04, 1e-6);  // the last step alone (the old behaviour)
+	EXPECT_NEAR(coastedX(3), 0.08 + (0.01 + 0.01 + 0.04) / 3, 1e-6);  // the mean of the last three steps
+	EXPECT_NEAR(coastedX(1), 0.08 + 0.04, 1e-6);                      // the last step alone (the old behaviour)
 }
 
 // Issue 40 (e): the velocity that undoes the rolling shutter is the motion over the time the last
@@ -300,8 +307,9 @@ TEST(Tracker, AFrameAfterDroppedOnesIsPredictedOverItsIntervals)
 	std::vector<mrpt::math::TPoint3D> world;
 	std::uniform_real_distribution<double> ux(-3.0, 3.0), uy(-1.0, 1.0), uz(2.8, 3.2);
 	for (int i = 0; i < 400; i++) world.emplace_back(ux(rng), uy(rng), uz(rng));
-	const double dt = 1.0 / 30, turn = 0.03;	// rad per frame
-	const auto poseAt = [&](std::size_t k) { return mrpt::poses::CPose3D(0, 0, 0, 0, turn * static_cast<double>(k), 0); };
+	const double dt = 1.0 / 30, turn = 0.03;  // rad per frame
+	const auto poseAt = [&](std::size_t k)
+	{ return mrpt::poses::CPose3D(0, 0, 0, 0, turn * static_cast<double>(k), 0); };
 	const auto first = observeWorld(0, poseAt(0), world, std::vector<TPointId>(world.size(), -1), rng);
 	// Every frame sees each point with the same descriptor (the map's and the last frame's).
 	const auto frameAt = [&](std::size_t k, bool features)
@@ -317,7 +325,8 @@ TEST(Tracker, AFrameAfterDroppedOnesIsPredictedOverItsIntervals)
 		CSparseMap map;
 		map.addKeyFrame(first, 10.0);
 		auto f = frameAt(4 + dropped, features);
-		const CTracker::TResult r = trackAfter(map, CTracker::TOptions(), {frameAt(0, true), frameAt(1, true), frameAt(2, true), frameAt(3, true)}, *f);
+		const CTracker::TResult r = trackAfter(
+			map, CTracker::TOptions(), {frameAt(0, true), frameAt(1, true), frameAt(2, true), frameAt(3, true)}, *f);
 		return std::make_pair(r, f->pose);
 	};
 	// Without dropped frames the one-step prediction is right.
@@ -334,7 +343,8 @@ TEST(Tracker, AFrameAfterDroppedOnesIsPredictedOverItsIntervals)
 	// Lost there (nothing to match): the camera coasts the four steps.
 	const auto [lost, lostPose] = next(3, false);
 	EXPECT_FALSE(lost.ok);
-	const double coastedDeg = mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log((lostPose - poseAt(7)).getRotationMatrix()).norm());
+	const double coastedDeg =
+		mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log((lostPose - poseAt(7)).getRotationMatrix()).norm());
 	EXPECT_LT(coastedDeg, 0.5) << "coasted " << coastedDeg << " degrees short of the camera";
 }
 
@@ -354,7 +364,8 @@ TEST(Tracker, ASolutionRestingOnTheLastFramesTemporaryPointsIsJudgedByItsMapPoin
 	for (int i = 0; i < 15; i++) wall.emplace_back(2.0 * u(rng), 1.4 * u(rng), 4.0 + 0.3 * u(rng));
 	for (int i = 0; i < 150; i++) person.emplace_back(0.6 * u(rng), 0.45 * u(rng), 2.0 + 0.05 * u(rng));
 	const double dt = 1.0 / 30, step = 0.01, personStep = -0.05;  // m per frame along x
-	const auto cameraAt = [&](std::size_t k) { return mrpt::poses::CPose3D(step * static_cast<double>(k), 0, 0, 0, 0, 0); };
+	const auto cameraAt = [&](std::size_t k)
+	{ return mrpt::poses::CPose3D(step * static_cast<double>(k), 0, 0, 0, 0, 0); };
 	const auto wallFrame = observeWorld(0, cameraAt(0), wall, std::vector<TPointId>(wall.size(), -1), rng);
 	const auto personFrame = observeWorld(0, cameraAt(0), person, std::vector<TPointId>(person.size(), -1), rng);
 	CSparseMap map;
@@ -364,7 +375,9 @@ TEST(Tracker, ASolutionRestingOnTheLastFramesTemporaryPointsIsJudgedByItsMapPoin
 	std::vector<TPointId> wallIds(wall.size(), -1);
 	for (std::size_t j = 0; j < wall.size(); j++)
 		for (std::size_t q = 0; q < kfPts.ids.size(); q++)
-			if (std::abs(kfPts.positions[q].x - wall[j].x) + std::abs(kfPts.positions[q].y - wall[j].y) + std::abs(kfPts.positions[q].z - wall[j].z) < 1e-6)
+			if (std::abs(kfPts.positions[q].x - wall[j].x) + std::abs(kfPts.positions[q].y - wall[j].y) +
+					std::abs(kfPts.positions[q].z - wall[j].z) <
+				1e-6)
 				wallIds[j] = kfPts.ids[q];
 	ASSERT_EQ(std::count(wallIds.begin(), wallIds.end(), -1), 0);
 	// Frame k: the wall (with its map points when `matched`) and the person, who has walked k steps.
@@ -388,7 +401,8 @@ TEST(Tracker, ASolutionRestingOnTheLastFramesTemporaryPointsIsJudgedByItsMapPoin
 		return f;
 	};
 	auto f = frameAt(5, false);
-	const CTracker::TResult r = trackAfter(map, CTracker::TOptions(), {frameAt(1, true), frameAt(2, true), frameAt(3, true), frameAt(4, true)}, *f);
+	const CTracker::TResult r = trackAfter(
+		map, CTracker::TOptions(), {frameAt(1, true), frameAt(2, true), frameAt(3, true), frameAt(4, true)}, *f);
 	EXPECT_GE(r.motionMatches, 100u) << "the test needs the person matched against the last frame";
 	EXPECT_FALSE(r.ok) << "taken " << (f->pose - cameraAt(5)).norm() * 100 << " cm off the camera";
 	EXPECT_TRUE(r.implausible);
@@ -411,7 +425,11 @@ TEST(Tracker, AtTheMapsEdgeAJerkIsJudgedByAllTheCertainInliersTheMapPointsAgreeW
 	for (int i = 0; i < 150; i++) unmapped.emplace_back(0.6 * u(rng), 0.9 * u(rng), 3.0 + 0.3 * u(rng));
 	const double dt = 1.0 / 30, step = 0.01;
 	const mrpt::poses::CPose3D jerk(0.08, 0, 0, 0, mrpt::DEG2RAD(8.0), 0);
-	const auto cameraAt = [&](std::size_t k) { return mrpt::poses::CPose3D(step * static_cast<double>(k), 0, 0, 0, 0, 0) + (k >= 5 ? jerk : mrpt::poses::CPose3D()); };
+	const auto cameraAt = [&](std::size_t k)
+	{
+		return mrpt::poses::CPose3D(step * static_cast<double>(k), 0, 0, 0, 0, 0) +
+			   (k >= 5 ? jerk : mrpt::poses::CPose3D());
+	};
 	std::vector<mrpt::math::TPoint3D> all = mapped;
 	all.insert(all.end(), unmapped.begin(), unmapped.end());
 	const auto first = observeWorld(0, cameraAt(0), mapped, std::vector<TPointId>(mapped.size(), -1), rng);
@@ -436,10 +454,12 @@ TEST(Tracker, AtTheMapsEdgeAJerkIsJudgedByAllTheCertainInliersTheMapPointsAgreeW
 		return f;
 	};
 	auto f = frameAt(5, false);
-	const CTracker::TResult r = trackAfter(map, CTracker::TOptions(), {frameAt(1, true), frameAt(2, true), frameAt(3, true), frameAt(4, true)}, *f);
+	const CTracker::TResult r = trackAfter(
+		map, CTracker::TOptions(), {frameAt(1, true), frameAt(2, true), frameAt(3, true), frameAt(4, true)}, *f);
 	EXPECT_TRUE(r.ok) << "refused " << (f->pose - cameraAt(5)).norm() * 100 << " cm off the camera";
 	EXPECT_FALSE(r.implausible);
-	EXPECT_LT(r.localMatches, CTracker::TOptions().minTrackedInliers) << "the test needs the local map unable to confirm the frame";
+	EXPECT_LT(r.localMatches, CTracker::TOptions().minTrackedInliers)
+		<< "the test needs the local map unable to confirm the frame";
 	EXPECT_LT((f->pose - cameraAt(5)).norm(), 0.005);
 }
 
@@ -455,7 +475,11 @@ TEST(Tracker, ARelocalisationOnEnoughInliersIsNotHeldToTheFailedPrediction)
 	for (int i = 0; i < 400; i++) world.emplace_back(ux(rng), uy(rng), uz(rng));
 	const double dt = 1.0 / 30;
 	const mrpt::poses::CPose3D jerk(0.08, 0, 0, 0, mrpt::DEG2RAD(8.0), 0);
-	const auto cameraAt = [&](std::size_t k) { return mrpt::poses::CPose3D(0.01 * static_cast<double>(k), 0, 0, 0, 0, 0) + (k >= 5 ? jerk : mrpt::poses::CPose3D()); };
+	const auto cameraAt = [&](std::size_t k)
+	{
+		return mrpt::poses::CPose3D(0.01 * static_cast<double>(k), 0, 0, 0, 0, 0) +
+			   (k >= 5 ? jerk : mrpt::poses::CPose3D());
+	};
 	const auto first = observeWorld(0, cameraAt(0), world, std::vector<TPointId>(world.size(), -1), rng);
 	const auto frameAt = [&](std::size_t k)
 	{
@@ -498,7 +522,8 @@ TEST(Tracker, TheDeparturesAllowedGrowWithTheIntervalsSinceTheLastFrame)
 	std::uniform_real_distribution<double> ux(-1.5, 1.5), uy(-1.0, 1.0), uz(2.8, 3.2);
 	for (int i = 0; i < 400; i++) world.emplace_back(ux(rng), uy(rng), uz(rng));
 	const double dt = 1.0 / 30;
-	const auto steady = [&](std::size_t k) { return mrpt::poses::CPose3D(0.01 * static_cast<double>(k), 0, 0, 0, 0, 0); };
+	const auto steady = [&](std::size_t k)
+	{ return mrpt::poses::CPose3D(0.01 * static_cast<double>(k), 0, 0, 0, 0, 0); };
 	const auto first = observeWorld(0, steady(0), world, std::vector<TPointId>(world.size(), -1), rng);
 	const auto frameAt = [&](std::size_t k, const mrpt::poses::CPose3D& pose)
 	{
@@ -514,11 +539,12 @@ TEST(Tracker, TheDeparturesAllowedGrowWithTheIntervalsSinceTheLastFrame)
 		CTracker::TOptions o;
 		o.weakInliers = 100000;
 		o.relocInliers = 0;
-		o.motionPriorSigma = 0;	 // the solve itself, not pulled toward the prediction it is judged by
+		o.motionPriorSigma = 0;  // the solve itself, not pulled toward the prediction it is judged by
 		const std::size_t k = 5 + dropped;
 		const mrpt::poses::CPose3D truth(0.01 * static_cast<double>(k) + 0.08, 0, 0, 0, 0, 0);
 		auto f = frameAt(k, truth);
-		const CTracker::TResult r = trackAfter(map, o, {frameAt(1, steady(1)), frameAt(2, steady(2)), frameAt(3, steady(3)), frameAt(4, steady(4))}, *f);
+		const CTracker::TResult r = trackAfter(
+			map, o, {frameAt(1, steady(1)), frameAt(2, steady(2)), frameAt(3, steady(3)), frameAt(4, steady(4))}, *f);
 		return std::make_pair(r, (f->pose - truth).norm());
 	};
 	const auto [afterGap, offAfterGap] = run(3);
@@ -536,8 +562,8 @@ namespace
 // camera's image plane at depth z0, `w` x `h` m, centred at (cx + offset, cy) in the first camera's
 // frame, seen from camera k (pose T0k relative to the first). Colour and depth are overwritten where
 // the board is in front.
-void paintBoard(cv::Mat& bgr, cv::Mat& depth, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& T0k, const cv::Mat& texture,
-	double cx, double cy, double z0, double w, double h)
+void paintBoard(cv::Mat& bgr, cv::Mat& depth, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& T0k,
+				const cv::Mat& texture, double cx, double cy, double z0, double w, double h)
 {
 	const auto R = T0k.getRotationMatrix();
 	for (int v = 0; v < bgr.rows; v++)
@@ -547,14 +573,15 @@ void paintBoard(cv::Mat& bgr, cv::Mat& depth, const mrpt::img::TCamera& K, const
 			double rd[3];
 			for (int i = 0; i < 3; i++) rd[i] = R(i, 0) * d[0] + R(i, 1) * d[1] + R(i, 2) * d[2];
 			if (std::abs(rd[2]) < 1e-9) continue;
-			const double lambda = (z0 - T0k.z()) / rd[2];	// depth along camera k's axis (d.z = 1)
+			const double lambda = (z0 - T0k.z()) / rd[2];  // depth along camera k's axis (d.z = 1)
 			if (lambda <= 0) continue;
 			const double X = T0k.x() + lambda * rd[0] - (cx - w / 2), Y = T0k.y() + lambda * rd[1] - (cy - h / 2);
 			if (X < 0 || Y < 0 || X >= w || Y >= h) continue;
 			float& z = depth.at<float>(v, u);
 			if (z > 0 && z < lambda) continue;
 			z = static_cast<float>(lambda);
-			bgr.at<cv::Vec3b>(v, u) = texture.at<cv::Vec3b>(static_cast<int>(Y / h * texture.rows), static_cast<int>(X / w * texture.cols));
+			bgr.at<cv::Vec3b>(v, u) =
+				texture.at<cv::Vec3b>(static_cast<int>(Y / h * texture.rows), static_cast<int>(X / w * texture.cols));
 		}
 }
 
@@ -572,7 +599,7 @@ struct TDeskWithBoard
 	{
 		cv::RNG rng(5);
 		rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
-		cv::resize(texture, texture, {160, 240}, 0, 0, cv::INTER_NEAREST);	// 4x4-pixel blocks: corners ORB finds
+		cv::resize(texture, texture, {160, 240}, 0, 0, cv::INTER_NEAREST);  // 4x4-pixel blocks: corners ORB finds
 		Tw0 = poseAt(observationTime(*frames.at(0)));
 	}
 	mrpt::poses::CPose3D poseAt(double t) const
@@ -580,16 +607,22 @@ struct TDeskWithBoard
 		const TStampedPose* best = &gt.front();
 		for (const auto& p : gt)
 			if (std::abs(p.t - t) < std::abs(best->t - t)) best = &p;
-		return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(best->tx, best->ty, best->tz, mrpt::math::CQuaternionDouble(best->qw, best->qx, best->qy, best->qz)));
+		return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(
+			best->tx, best->ty, best->tz, mrpt::math::CQuaternionDouble(best->qw, best->qx, best->qy, best->qz)));
 	}
 	/** Frame k's colour and depth with the board moved `offset` m along x from its place. */
 	std::pair<cv::Mat, cv::Mat> frame(std::size_t k, double offset) const
 	{
-		cv::Mat bgr = frames[k]->intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY), depth = depthInMetres(*frames[k]);
-		paintBoard(bgr, depth, frames[k]->cameraParamsIntensity, poseAt(observationTime(*frames[k])) - Tw0, texture, cx + offset, cy, z0, w, h);
+		cv::Mat bgr = frames[k]->intensityImage.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY),
+				depth = depthInMetres(*frames[k]);
+		paintBoard(bgr, depth, frames[k]->cameraParamsIntensity, poseAt(observationTime(*frames[k])) - Tw0, texture,
+				   cx + offset, cy, z0, w, h);
 		return {bgr, depth};
 	}
-	bool onBoard(const mrpt::math::TPoint3D& p) const { return std::abs(p.z - z0) < 0.05 && std::abs(p.x - cx) < w / 2 + 0.02 && std::abs(p.y - cy) < h / 2 + 0.02; }
+	bool onBoard(const mrpt::math::TPoint3D& p) const
+	{
+		return std::abs(p.z - z0) < 0.05 && std::abs(p.x - cx) < w / 2 + 0.02 && std::abs(p.y - cy) < h / 2 + 0.02;
+	}
 };
 }  // namespace
 
@@ -628,8 +661,11 @@ TEST(Tracker, MapPointsOfAPersonWhoWalksAwayAreErased)
 		};
 		for (std::size_t k = 0; k < frames.size(); k++)
 		{
-			const auto [bgr, depth] = scene.frame(k, k < 4 ? 0.0 : 0.15 * static_cast<double>(k - 3));	// walks away along x
-			EXPECT_TRUE(sys.processFrame(bgr, depth, observationTime(*frames[k]), frames[k]->cameraParamsIntensity).tracked) << k;
+			const auto [bgr, depth] =
+				scene.frame(k, k < 4 ? 0.0 : 0.15 * static_cast<double>(k - 3));  // walks away along x
+			EXPECT_TRUE(
+				sys.processFrame(bgr, depth, observationTime(*frames[k]), frames[k]->cameraParamsIntensity).tracked)
+				<< k;
 			if (k == 3)
 				for (const auto& p : sys.map().points())
 					if (scene.onBoard(p.position)) still.insert(p.id);
@@ -659,15 +695,20 @@ TEST(Tracker, MoverRegionsAgeWhileTrackingIsLost)
 	std::size_t withRegions = 0;
 	for (std::size_t k = 0; k < frames.size(); k++)
 	{
-		const auto [bgr, depth] = scene.frame(k, k < 4 ? 0.0 : 0.02 * static_cast<double>(k - 3));	 // walks away along x
-		EXPECT_TRUE(sys.processFrame(bgr, depth, observationTime(*frames[k]), frames[k]->cameraParamsIntensity).tracked) << k;
+		const auto [bgr, depth] =
+			scene.frame(k, k < 4 ? 0.0 : 0.02 * static_cast<double>(k - 3));  // walks away along x
+		EXPECT_TRUE(sys.processFrame(bgr, depth, observationTime(*frames[k]), frames[k]->cameraParamsIntensity).tracked)
+			<< k;
 		if (!sys.tracker().moverRegions().empty()) withRegions++;
 	}
-	ASSERT_FALSE(sys.tracker().moverRegions().empty()) << "the test needs the walking board found moving (" << withRegions << " frames had regions)";
+	ASSERT_FALSE(sys.tracker().moverRegions().empty())
+		<< "the test needs the walking board found moving (" << withRegions << " frames had regions)";
 	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
 	const double t8 = observationTime(*frames[8]), dt = t8 - observationTime(*frames[7]);
-	for (int k = 1; k <= 6; k++) EXPECT_FALSE(sys.processFrame(black, noDepth, t8 + k * dt, frames[8]->cameraParamsIntensity).tracked);
-	EXPECT_TRUE(sys.tracker().moverRegions().empty()) << sys.tracker().moverRegions().size() << " regions from before the loss are still held";
+	for (int k = 1; k <= 6; k++)
+		EXPECT_FALSE(sys.processFrame(black, noDepth, t8 + k * dt, frames[8]->cameraParamsIntensity).tracked);
+	EXPECT_TRUE(sys.tracker().moverRegions().empty())
+		<< sys.tracker().moverRegions().size() << " regions from before the loss are still held";
 }
 
 TEST(Tracker, AVelocityMeasuredAcrossALoopCorrectionHoldsNoneOfIt)
@@ -692,7 +733,8 @@ TEST(Tracker, AVelocityMeasuredAcrossALoopCorrectionHoldsNoneOfIt)
 	EXPECT_LT((poses[5].asVectorVal() - (T + poses[4]).asVectorVal()).head<3>().norm(), 0.05);
 	// A covered lens: the lost frame coasts on the last motions (fr1_desk moves about 1.5 cm a frame).
 	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
-	EXPECT_FALSE(sys.processFrame(black, noDepth, observationTime(*frames[6]), frames[6]->cameraParamsIntensity).tracked);
+	EXPECT_FALSE(
+		sys.processFrame(black, noDepth, observationTime(*frames[6]), frames[6]->cameraParamsIntensity).tracked);
 	ASSERT_EQ(poses.size(), 7u);
 	const mrpt::poses::CPose3D step = poses[6] - poses[5];
 	EXPECT_LT(step.norm(), 0.05) << "coasted " << step.norm() << " m from the last tracked pose";
@@ -764,7 +806,8 @@ TEST(Tracker, AWeakSolutionFarFromTheMotionModelIsNotTracked)
 	// The whole first frame: a strong solution, taken however far it is (the camera was carried
 	// back, or relocalisation found it).
 	const auto [strong, offStrong, statsStrong] =
-		run(TYesSlamOptions().tracking.weakInliers, frames[0]->intensityImage.asCvMatRef().clone(), depthInMetres(*frames[0]));
+		run(TYesSlamOptions().tracking.weakInliers, frames[0]->intensityImage.asCvMatRef().clone(),
+			depthInMetres(*frames[0]));
 	EXPECT_TRUE(strong.tracked);
 	EXPECT_FALSE(strong.poseRefused);
 	EXPECT_GT(offStrong, 0.06);
@@ -782,7 +825,8 @@ TEST(Tracker, AfterALostFrameAWeakSolutionFarFromTheCoastedPredictionIsNotTracke
 	ASSERT_EQ(frames.size(), 9u);
 	const auto [bgr, depth] = firstFrameThroughAWindow(*frames[0]);
 	const cv::Mat black(480, 640, CV_8UC3, cv::Scalar::all(0)), noDepth(480, 640, CV_32F, cv::Scalar(0));
-	const double t0 = observationTime(*frames[0]), t8 = observationTime(*frames[8]), t9 = t8 + (t8 - observationTime(*frames[7]));
+	const double t0 = observationTime(*frames[0]), t8 = observationTime(*frames[8]),
+				 t9 = t8 + (t8 - observationTime(*frames[7]));
 	const auto run = [&](std::size_t priorLostFrames)
 	{
 		TYesSlamOptions o = realOptions();

@@ -21,7 +21,6 @@ using namespace mrpt_yesslam;
 using namespace yesslam_test;
 namespace fs = std::filesystem;
 
-
 TEST(AtomicFile, RegularFileIsReplacedWithoutLeftovers)
 {
 	TempDir d("atomic_regular");
@@ -38,7 +37,7 @@ TEST(AtomicFile, ASymlinkIsFollowedAndKept)
 	TempDir d("atomic_link");
 	fs::create_directories(d / "data");
 	writeFileAtomically(d / "data/target.txt", std::string("old"));
-	fs::create_symlink("data/target.txt", d / "link.txt");	// relative, as users make them
+	fs::create_symlink("data/target.txt", d / "link.txt");  // relative, as users make them
 	writeFileAtomically(d / "link.txt", std::string("through the link"));
 	EXPECT_TRUE(fs::is_symlink(fs::symlink_status(d / "link.txt")));
 	EXPECT_EQ(readText(d / "data/target.txt"), "through the link");
@@ -124,5 +123,6 @@ TEST(AtomicFile, ADescriptorOfOursIsWrittenAfterWhatItHolds)
 	EXPECT_EQ(text.rfind("lines\n{\"json\": 1}\n", 0), 0u) << text.substr(0, 40);
 	EXPECT_GT(text.size(), 20u) << "the rawlog follows";
 	EXPECT_TRUE(fs::is_regular_file(file));
-	for (const auto& e : fs::directory_iterator(d.path())) EXPECT_EQ(e.path().filename(), "out.txt") << "no temporary file left";
+	for (const auto& e : fs::directory_iterator(d.path()))
+		EXPECT_EQ(e.path().filename(), "out.txt") << "no temporary file left";
 }

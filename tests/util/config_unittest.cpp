@@ -22,7 +22,8 @@ TEST(Config, IniAndYamlGiveTheSameOptions)
 {
 	TempDir d("cfg");
 	writeText(d / "a.ini", "; comment\n[Input]\ncamera = fr1\nmaxDiff = 0.03\nsensorLabel = KINECT\n");
-	writeText(d / "a.yaml", "# comment\nInput:\n  camera: fr1   # trailing comment\n  maxDiff: 0.03\n  sensorLabel: \"KINECT\"\n");
+	writeText(d / "a.yaml",
+			  "# comment\nInput:\n  camera: fr1   # trailing comment\n  maxDiff: 0.03\n  sensorLabel: \"KINECT\"\n");
 	for (const char* f : {"a.ini", "a.yaml"})
 	{
 		SCOPED_TRACE(f);
@@ -43,22 +44,28 @@ TEST(Config, UnknownKeysWarnWrongTypesFail)
 	EXPECT_NE(w[0].find("known: camera, maxDiff, sensorLabel"), std::string::npos);
 	// Key names are case-insensitive, as in MRPT.
 	auto cfg2 = parseConfigText("[Input]\nMAXDIFF = x\n", false, "c.ini");
-	expectInputError(
-		[&] { validateConfigSection(*cfg2, "c.ini", "Input", CInputSource::TOptions::configKeys()); },
-		{"c.ini", "[Input] MAXDIFF = 'x'", "expected a number"});
+	expectInputError([&] { validateConfigSection(*cfg2, "c.ini", "Input", CInputSource::TOptions::configKeys()); },
+					 {"c.ini", "[Input] MAXDIFF = 'x'", "expected a number"});
 	// A missing section means defaults.
 	EXPECT_TRUE(validateConfigSection(*cfg, "c.ini", "Tracking", {{"x", TConfigKey::Type::Number}}).empty());
 	auto cfg3 = parseConfigText("[S]\nn = 2.5\nb = maybe\n", false, "t.ini");
 	expectInputError(
-		[&] { validateConfigSection(*cfg3, "t.ini", "S", {{"n", TConfigKey::Type::Integer}}); }, {"expected a whole number"});
+		[&] {
+			validateConfigSection(*cfg3, "t.ini", "S", {{"n", TConfigKey::Type::Integer}});
+		},
+		{"expected a whole number"});
 	expectInputError(
-		[&] { validateConfigSection(*cfg3, "t.ini", "S", {{"b", TConfigKey::Type::Boolean}}); }, {"expected true or false"});
+		[&] {
+			validateConfigSection(*cfg3, "t.ini", "S", {{"b", TConfigKey::Type::Boolean}});
+		},
+		{"expected true or false"});
 }
 
 TEST(Config, MalformedYamlNamesTheLine)
 {
 	expectInputError([] { parseConfigText("Input:\n  - a\n", true, "c.yaml"); }, {"c.yaml", "line 2", "lists"});
-	expectInputError([] { parseConfigText("Input:\n  camera fr1\n", true, "c.yaml"); }, {"c.yaml", "line 2", "key: value"});
+	expectInputError([] { parseConfigText("Input:\n  camera fr1\n", true, "c.yaml"); },
+					 {"c.yaml", "line 2", "key: value"});
 	expectInputError([] { parseConfigText("  camera: fr1\n", true, "c.yaml"); }, {"outside a section"});
 	expectInputError([] { parseConfigText("camera: fr1\n", true, "c.yaml"); }, {"must be a section"});
 	expectInputError([] { loadConfigFile("/nonexistent/c.yaml"); }, {"/nonexistent/c.yaml", "not found"});
@@ -70,14 +77,15 @@ TEST(Config, EveryDeclaredKeyIsDumped)
 	CInputSource::TOptions o;
 	std::ostringstream ss;
 	o.dumpToTextStream(ss);
-	for (const auto& k : CInputSource::TOptions::configKeys()) EXPECT_NE(ss.str().find(k.name + " "), std::string::npos) << k.name;
+	for (const auto& k : CInputSource::TOptions::configKeys())
+		EXPECT_NE(ss.str().find(k.name + " "), std::string::npos) << k.name;
 }
 
 TEST(Errors, ExceptionSummaryPicksMrptMessage)
 {
-	EXPECT_EQ(
-		exceptionSummary("==== MRPT exception ====\nMessage:  Cannot read object\nLocation: x.cpp:1\nCall stack backtrace:\n[0] 0x1\n"),
-		"Cannot read object");
+	EXPECT_EQ(exceptionSummary("==== MRPT exception ====\nMessage:  Cannot read object\nLocation: x.cpp:1\nCall stack "
+							   "backtrace:\n[0] 0x1\n"),
+			  "Cannot read object");
 	EXPECT_EQ(exceptionSummary("plain message\nsecond"), "plain message");
 	EXPECT_EQ(exceptionSummary(""), "unknown error");
 }
@@ -88,8 +96,8 @@ TEST(Config, ShippedDefaultConfigMatchesTheCode)
 	// missing ones, and the values it states are the code's defaults.
 	const std::string path = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/default.ini";
 	const auto cfg = loadConfigFile(path);
-	auto check = [&](const std::string& section, const std::vector<TConfigKey>& keys, mrpt::config::CLoadableOptions& loaded,
-					 const mrpt::config::CLoadableOptions& defaults)
+	auto check = [&](const std::string& section, const std::vector<TConfigKey>& keys,
+					 mrpt::config::CLoadableOptions& loaded, const mrpt::config::CLoadableOptions& defaults)
 	{
 		SCOPED_TRACE(section);
 		EXPECT_TRUE(validateConfigSection(*cfg, path, section, keys).empty());
@@ -139,16 +147,22 @@ TEST(Config, ShippedSequenceConfigsHaveOnlyKnownKeys)
 		const std::string path = std::string(YESSLAM_SOURCE_DIR) + "/share/mrpt_yesslam/config/" + name;
 		const auto cfg = loadConfigFile(path);
 		const std::vector<std::pair<std::string, std::vector<TConfigKey>>> sections = {
-			{"Input", CInputSource::TOptions::configKeys()},		 {"Detector", CObjectDetector::TOptions::configKeys()},
-			{"DynamicMask", CDynamicObjectMasker::TOptions::configKeys()}, {"ORB", COrbExtractor::TOptions::configKeys()},
+			{"Input", CInputSource::TOptions::configKeys()},
+			{"Detector", CObjectDetector::TOptions::configKeys()},
+			{"DynamicMask", CDynamicObjectMasker::TOptions::configKeys()},
+			{"ORB", COrbExtractor::TOptions::configKeys()},
 			{"GeometricCheck", CGeometricDynamicCheck::TOptions::configKeys()},
-			{"Tracking", CTracker::TOptions::configKeys()},		 {"KeyFrames", CKeyFrameInserter::TOptions::configKeys()},
-			{"LocalMapping", CLocalMapper::TOptions::configKeys()},	 {"System", TYesSlamOptions::TSystem::configKeys()}};
+			{"Tracking", CTracker::TOptions::configKeys()},
+			{"KeyFrames", CKeyFrameInserter::TOptions::configKeys()},
+			{"LocalMapping", CLocalMapper::TOptions::configKeys()},
+			{"System", TYesSlamOptions::TSystem::configKeys()}};
 		std::vector<std::string> all;
 		cfg->getAllSections(all);
 		for (const auto& s : all)
-			EXPECT_TRUE(std::any_of(sections.begin(), sections.end(), [&](const auto& x) { return x.first == s; })) << s;
-		for (const auto& [section, keys] : sections) EXPECT_TRUE(validateConfigSection(*cfg, path, section, keys).empty()) << section;
+			EXPECT_TRUE(std::any_of(sections.begin(), sections.end(), [&](const auto& x) { return x.first == s; }))
+				<< s;
+		for (const auto& [section, keys] : sections)
+			EXPECT_TRUE(validateConfigSection(*cfg, path, section, keys).empty()) << section;
 		TYesSlamOptions o;
 		EXPECT_NO_THROW(o.loadFromFile(path));
 	}
@@ -159,8 +173,8 @@ namespace
 /** Every options struct of a SLAM run, as its table, bound to `o`. */
 std::vector<COptionTable> allTables(TYesSlamOptions& o)
 {
-	return {o.camera.table(),  o.input.table(),	o.detector.table(), o.masker.table(), o.geometric.table(), o.orb.table(),
-			o.tracking.table(), o.keyFrames.table(), o.mapping.table(), o.system.table()};
+	return {o.camera.table(), o.input.table(),    o.detector.table(),  o.masker.table(),  o.geometric.table(),
+			o.orb.table(),    o.tracking.table(), o.keyFrames.table(), o.mapping.table(), o.system.table()};
 }
 }  // namespace
 
@@ -209,7 +223,8 @@ TEST(Config, TheSmoothingKeysAreOutputOptionsAndTheirOldPlaceSaysSo)
 	{
 		SCOPED_TRACE(key);
 		writeText(d / "old.ini", "[Tracking]\n" + key + " = 0\n");
-		expectInputError([&] { TYesSlamOptions().loadFromFile(d / "old.ini"); }, {"old.ini", "[Tracking] " + key, "[Output] " + key});
+		expectInputError([&] { TYesSlamOptions().loadFromFile(d / "old.ini"); },
+						 {"old.ini", "[Tracking] " + key, "[Output] " + key});
 	}
 	writeText(d / "new.ini", "[Output]\nsmoothingWindow = 4\ncorrectionWindow = 0\nlostInterpolate = false\n");
 	TYesSlamOptions o;
@@ -227,7 +242,8 @@ TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
 	// (paper.ini's depthNoise = 0: no depth term) would quietly run with depth: an error names
 	// the file, the old key and the new one.
 	TempDir d("cfg-noise");
-	for (const std::string old : {"[Tracking]\ndepthNoise = 0\n", "[LocalMapping]\ndepthNoise = 0.003\n", "[LoopClosing]\nrefineDepthNoise = 0\n"})
+	for (const std::string old : {"[Tracking]\ndepthNoise = 0\n", "[LocalMapping]\ndepthNoise = 0.003\n",
+								  "[LoopClosing]\nrefineDepthNoise = 0\n"})
 	{
 		SCOPED_TRACE(old);
 		writeText(d / "old.ini", old);
@@ -258,7 +274,7 @@ TEST(Config, TheDepthNoiseIsOneCameraOptionAndItsOldKeysSayWhereItWent)
 	writeText(d / "far.ini", "[Camera]\nfarDepth = 3\n");
 	o.loadFromFile(d / "far.ini");
 	EXPECT_TRUE(o.camera.measures(2.99));
-	EXPECT_FALSE(o.camera.measures(3.01));	// ORB-SLAM2's close/far split
+	EXPECT_FALSE(o.camera.measures(3.01));  // ORB-SLAM2's close/far split
 	EXPECT_FALSE(o.camera.measures(0));
 	o.camera.farDepth = 0;
 	EXPECT_TRUE(o.camera.measures(12.0));  // 0: every depth
@@ -270,7 +286,8 @@ TEST(Config, NegativeCountsAndOutOfRangeValuesAreErrors)
 {
 	TempDir d("cfg-range");
 	const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
-		{"[Tracking]\nlocalKeyFrames = -1\n", {"bad.ini", "[Tracking] localKeyFrames = '-1'", "whole number in [1, 10000]"}},
+		{"[Tracking]\nlocalKeyFrames = -1\n",
+		 {"bad.ini", "[Tracking] localKeyFrames = '-1'", "whole number in [1, 10000]"}},
 		{"[System]\nframeBuffer = -3\n", {"[System] frameBuffer", "whole number"}},
 		{"[LocalMapping]\nfuseKeyFrames = 2.5\n", {"fuseKeyFrames", "whole number"}},
 		{"[Input]\nprefetch = 65\n", {"[Input] prefetch = '65'", "in [0, 64]"}},
@@ -310,14 +327,14 @@ TEST(Config, CommentsAfterValuesAreNotPartOfThem)
 	// Issue 18 item 2: "maxDiff = 0.02  ; pairing window" failed as "expected a number".
 	TempDir d("cfg_inline");
 	writeText(d / "c.ini",
-		"; a whole-line comment\n"
-		"[Input]\n"
-		"maxDiff = 0.03  ; TUM rgb/depth pairing window, s\n"
-		"[Tracking]\n"
-		"maxDepth = 5\t# far enough\n"
-		"motionRadius = 12 // pixels\n"
-		"[Detector]\n"
-		"dynamicClasses = \"person; chair\"  ; quoted: the ';' inside stays\n");
+			  "; a whole-line comment\n"
+			  "[Input]\n"
+			  "maxDiff = 0.03  ; TUM rgb/depth pairing window, s\n"
+			  "[Tracking]\n"
+			  "maxDepth = 5\t# far enough\n"
+			  "motionRadius = 12 // pixels\n"
+			  "[Detector]\n"
+			  "dynamicClasses = \"person; chair\"  ; quoted: the ';' inside stays\n");
 	TYesSlamOptions o;
 	o.loadFromFile(d / "c.ini");
 	EXPECT_DOUBLE_EQ(o.input.maxDiff, 0.03);
@@ -343,7 +360,7 @@ TEST(Config, IgnoredLinesAndUnknownSectionsWarn)
 	o.loadFromFile(d / "c.ini");
 	const std::string err = testing::internal::GetCapturedStderr();
 	EXPECT_NE(err.find("unknown section [Trackng]"), std::string::npos) << err;
-	EXPECT_NE(err.find("Tracking"), std::string::npos) << err;	 // the known ones are listed
+	EXPECT_NE(err.find("Tracking"), std::string::npos) << err;  // the known ones are listed
 	EXPECT_EQ(o.orb.numFeatures, 900);
 }
 
@@ -351,9 +368,12 @@ TEST(Config, IgnoredLinesAndUnknownSectionsWarn)
 // warns once (not again as a garbled "unknown section"), and warnings carry the tool's name.
 TEST(Config, AKeySetTwiceAndABrokenSectionWarnOnceWithTheToolsName)
 {
-	const auto w = iniStructureWarnings("[ORB]\nnumFeatures = 900\n[Tracking]\nmaxDepth = 5\n[orb]\nNumFeatures = 1000\n", "c.ini");
+	const auto w = iniStructureWarnings(
+		"[ORB]\nnumFeatures = 900\n[Tracking]\nmaxDepth = 5\n[orb]\nNumFeatures = 1000\n", "c.ini");
 	ASSERT_EQ(w.size(), 1u);
-	EXPECT_NE(w[0].find("c.ini:6: 'NumFeatures' is set again (first on line 2): the last value is used"), std::string::npos) << w[0];
+	EXPECT_NE(w[0].find("c.ini:6: 'NumFeatures' is set again (first on line 2): the last value is used"),
+			  std::string::npos)
+		<< w[0];
 	TempDir d("cfg_twice");
 	writeText(d / "c.ini", "[Tracking\nmaxDepth = 5\n[ORB]\nnumFeatures = 900\n");
 	TYesSlamOptions o;

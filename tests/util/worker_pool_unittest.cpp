@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 TEST(WorkerPool, OneWorkerRunsTasksInOrderAndHandsBackResultsAndErrors)
 {
 	CWorkerPool pool(1);
-	std::vector<int> order;	 // touched only by the single worker
+	std::vector<int> order;  // touched only by the single worker
 	std::vector<std::future<int>> results;
 	for (int i = 0; i < 50; i++)
 		results.push_back(pool.submit(
@@ -49,10 +49,10 @@ TEST(WorkerPool, BoundedQueueHoldsTheProducerBack)
 	CWorkerPool pool(1, 2);
 	std::promise<void> gate;
 	std::shared_future<void> open = gate.get_future().share();
-	auto first = pool.submit([open] { open.wait(); });	// runs, and blocks the worker
+	auto first = pool.submit([open] { open.wait(); });  // runs, and blocks the worker
 	std::this_thread::sleep_for(std::chrono::milliseconds(50));
 	pool.submit([] {});
-	pool.submit([] {});	 // two waiting: the queue is full
+	pool.submit([] {});  // two waiting: the queue is full
 	std::atomic<bool> submitted{false};
 	std::thread producer(
 		[&]

@@ -40,7 +40,8 @@ double writerWait(double seconds)
 			std::unique_lock<Mutex> lk(m);
 			in = true;
 		});
-	while (!in && std::chrono::steady_clock::now() - t0 < std::chrono::duration<double>(seconds)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+	while (!in && std::chrono::steady_clock::now() - t0 < std::chrono::duration<double>(seconds))
+		std::this_thread::sleep_for(std::chrono::milliseconds(1));
 	const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	stop = true;
 	for (auto& t : readers) t.join();

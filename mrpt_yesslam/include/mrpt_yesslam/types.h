@@ -9,10 +9,10 @@ namespace mrpt_yesslam
 /** One detected object (paper eq. 1: class, confidence, box) in image pixels. */
 struct TDetection
 {
-	int classId = -1;  //!< index into the detector's class names
-	float score = 0;  //!< confidence in [0,1]
-	cv::Rect2f box;	 //!< x, y (top-left), width, height in pixels of the input image
-	int instanceId = -1;  //!< from a detections file that has one (simulator ground truth); else -1
+	int classId = -1;      //!< index into the detector's class names
+	float score = 0;       //!< confidence in [0,1]
+	cv::Rect2f box;        //!< x, y (top-left), width, height in pixels of the input image
+	int instanceId = -1;   //!< from a detections file that has one (simulator ground truth); else -1
 	bool dynamic = false;  //!< its class is in the configured set of dynamic classes
 };
 

@@ -59,7 +59,8 @@ void CKeyFrame::serialize(std::ostream& o) const
 	std::vector<std::uint8_t> dyn, desc;
 	if (features)
 	{
-		for (const auto& k : features->keypoints) kps.push_back({k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave});
+		for (const auto& k : features->keypoints)
+			kps.push_back({k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave});
 		depth = features->depth;
 		dyn.assign(features->dynamic.begin(), features->dynamic.end());
 		const cv::Mat d = features->descriptors.isContinuous() ? features->descriptors : features->descriptors.clone();
@@ -113,8 +114,9 @@ CKeyFrame CKeyFrame::deserialize(std::istream& i)
 	// Projection divides by fx, fy and sizes grids by the image: a map with other values would give
 	// NaN poses or empty grids far from where it was read.
 	const auto& K = kf.camera;
-	bool intrinsicsOk = K.ncols > 0 && K.nrows > 0 && K.ncols <= 100000 && K.nrows <= 100000 && std::isfinite(K.fx()) && std::isfinite(K.fy()) &&
-						K.fx() > 0 && K.fy() > 0 && std::isfinite(K.cx()) && std::isfinite(K.cy());
+	bool intrinsicsOk = K.ncols > 0 && K.nrows > 0 && K.ncols <= 100000 && K.nrows <= 100000 && std::isfinite(K.fx()) &&
+						std::isfinite(K.fy()) && K.fx() > 0 && K.fy() > 0 && std::isfinite(K.cx()) &&
+						std::isfinite(K.cy());
 	for (int k = 0; k < 5; k++) intrinsicsOk = intrinsicsOk && std::isfinite(K.dist[k]);
 	if (!intrinsicsOk) throw std::runtime_error("keyframe camera intrinsics not finite and positive");
 	auto f = std::make_shared<TFeatures>();
@@ -130,7 +132,8 @@ CKeyFrame CKeyFrame::deserialize(std::istream& i)
 	const std::size_t n = f->keypoints.size();
 	if (f->depth.size() != n || f->dynamic.size() != n || desc.size() != 32 * n)
 		throw std::runtime_error("keyframe feature arrays of different lengths");
-	f->descriptors = n ? cv::Mat(static_cast<int>(n), 32, CV_8U, const_cast<std::uint8_t*>(desc.data())).clone() : cv::Mat(0, 32, CV_8U);
+	f->descriptors = n ? cv::Mat(static_cast<int>(n), 32, CV_8U, const_cast<std::uint8_t*>(desc.data())).clone()
+					   : cv::Mat(0, 32, CV_8U);
 	kf.features = f;
 	const auto bgr = getVector<std::uint8_t>(i, "keyframe colours");
 	if (bgr.size() % 3) throw std::runtime_error("keyframe colour list of wrong length");

@@ -17,7 +17,8 @@ void CMapPoint::serialize(std::ostream& o) const
 	put(o, position.y);
 	put(o, position.z);
 	std::vector<std::uint8_t> d;
-	if (!descriptor.empty()) d.assign(descriptor.ptr<std::uint8_t>(0), descriptor.ptr<std::uint8_t>(0) + descriptor.total());
+	if (!descriptor.empty())
+		d.assign(descriptor.ptr<std::uint8_t>(0), descriptor.ptr<std::uint8_t>(0) + descriptor.total());
 	putVector(o, d);
 	for (int c = 0; c < 3; c++) put<std::uint8_t>(o, color[c]);
 	std::vector<std::uint64_t> obs;
@@ -46,7 +47,9 @@ CMapPoint CMapPoint::deserialize(std::istream& i)
 	// Exactly one ORB row: the matcher stacks point descriptors into one matrix by row, so an empty
 	// one shifts every later point's row (reads out of bounds) and another length throws in tracking.
 	const auto d = getVector<std::uint8_t>(i, "map point descriptor", 1024);
-	if (d.size() != 32) throw std::runtime_error("map point descriptor of " + std::to_string(d.size()) + " bytes, not one 32-byte ORB descriptor");
+	if (d.size() != 32)
+		throw std::runtime_error("map point descriptor of " + std::to_string(d.size()) +
+								 " bytes, not one 32-byte ORB descriptor");
 	p.descriptor = cv::Mat(1, 32, CV_8U, const_cast<std::uint8_t*>(d.data())).clone();
 	for (int c = 0; c < 3; c++) p.color[c] = get<std::uint8_t>(i, "map point colour");
 	const auto obs = getVector<std::uint64_t>(i, "map point observations");

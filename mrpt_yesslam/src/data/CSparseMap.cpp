@@ -104,7 +104,10 @@ CSparseMap::TPin::~TPin()
 	if (map_) map_->unpinKeyFrame(id_);
 }
 
-CSparseMap::TPin CSparseMap::pinned(TKeyFrameId id) { return pinKeyFrame(id) ? TPin(this, id) : TPin(); }
+CSparseMap::TPin CSparseMap::pinned(TKeyFrameId id)
+{
+	return pinKeyFrame(id) ? TPin(this, id) : TPin();
+}
 
 TKeyFrameId CSparseMap::goodAncestor(TKeyFrameId id) const
 {
@@ -159,15 +162,16 @@ TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& id
 	return s_->pointsOfKeyFrames(ids);
 }
 
-TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids, TKeyFrameId posed, mrpt::poses::CPose3D& pose) const
+TLocalMapPoints CSparseMap::pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids, TKeyFrameId posed,
+											  mrpt::poses::CPose3D& pose) const
 {
 	ReadLock lk(mtx_);
 	pose = s_->pose(posed);
 	return s_->pointsOfKeyFrames(ids);
 }
 
-std::vector<TKeyFrameId> CSparseMap::localKeyFrames(
-	const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours) const
+std::vector<TKeyFrameId> CSparseMap::localKeyFrames(const std::vector<TPointId>& seeds, TKeyFrameId fallback,
+													std::size_t maxKeyFrames, std::size_t neighbours) const
 {
 	ReadLock lk(mtx_);
 	return sparse_map::localKeyFrames(*s_, seeds, fallback, maxKeyFrames, neighbours);
@@ -199,7 +203,8 @@ std::size_t CSparseMap::numKeyFramePoints(TKeyFrameId id, std::size_t minObserva
 	std::size_t n = 0;
 	for (TPointId pid : it->second->mapPoints)
 		if (pid >= 0)
-			if (auto pit = s_->points.find(pid); pit != s_->points.end() && !pit->second.bad && pit->second.observations.size() >= minObservations)
+			if (auto pit = s_->points.find(pid);
+				pit != s_->points.end() && !pit->second.bad && pit->second.observations.size() >= minObservations)
 				n++;
 	return n;
 }
@@ -212,9 +217,8 @@ TLocalMapPoints CSparseMap::pointsById(const std::vector<TPointId>& ids) const
 	return out;
 }
 
-std::size_t CSparseMap::countTracking(
-	const std::vector<TPointId>& visible, const std::vector<TPointId>& found, const std::vector<TPointId>& seenThrough,
-	int seeThroughFrames)
+std::size_t CSparseMap::countTracking(const std::vector<TPointId>& visible, const std::vector<TPointId>& found,
+									  const std::vector<TPointId>& seenThrough, int seeThroughFrames)
 {
 	WriteLock lk(mtx_);
 	return sparse_map::countTracking(*s_, visible, found, seenThrough, seeThroughFrames);
@@ -232,8 +236,8 @@ std::size_t CSparseMap::numRecentPoints() const
 	return s_->recent.size();
 }
 
-std::vector<TKeyFrameId> CSparseMap::cullRedundantKeyFrames(
-	TKeyFrameId currentKf, double redundantRatio, std::size_t minOtherObservers, double maxDepth)
+std::vector<TKeyFrameId> CSparseMap::cullRedundantKeyFrames(TKeyFrameId currentKf, double redundantRatio,
+															std::size_t minOtherObservers, double maxDepth)
 {
 	WriteLock lk(mtx_);
 	return sparse_map::cullRedundantKeyFrames(*s_, currentKf, redundantRatio, minOtherObservers, maxDepth);
@@ -243,7 +247,7 @@ bool CSparseMap::eraseKeyFrame(TKeyFrameId id)
 {
 	WriteLock lk(mtx_);
 	auto it = s_->keyFrames.find(id);
-	if (it == s_->keyFrames.end() || it->second->bad || !it->second->parent) return false;	 // the root stays
+	if (it == s_->keyFrames.end() || it->second->bad || !it->second->parent) return false;  // the root stays
 	s_->eraseKeyFrame(*it->second);
 	return true;
 }
@@ -278,9 +282,9 @@ TBundleWindow CSparseMap::bundleWindow(TKeyFrameId id, std::size_t numCovisible,
 	return sparse_map::bundleWindow(*s_, id, numCovisible, maxFixed);
 }
 
-bool CSparseMap::applyBundle(
-	const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+bool CSparseMap::applyBundle(const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+							 const std::vector<mrpt::math::TPoint3D>& positions,
+							 const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
 {
 	WriteLock lk(mtx_);
 	return sparse_map::applyBundle(*s_, w, poses, positions, outliers);
@@ -322,9 +326,9 @@ TBundleWindow CSparseMap::globalBundleWindow() const
 	return sparse_map::globalBundleWindow(*s_);
 }
 
-bool CSparseMap::applyGlobalBundle(
-	const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+bool CSparseMap::applyGlobalBundle(const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+								   const std::vector<mrpt::math::TPoint3D>& positions,
+								   const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
 {
 	WriteLock lk(mtx_);
 	return sparse_map::applyGlobalBundle(*s_, w, poses, positions, outliers);

@@ -51,19 +51,21 @@ std::vector<std::pair<TKeyFrameId, TKeyFrameId>> essentialGraph(const TSparseMap
 	return {edges.begin(), edges.end()};
 }
 
-void correct(
-	TSparseMapStore& s, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate, const std::set<TPointId>& skip)
+void correct(TSparseMapStore& s, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate,
+			 const std::set<TPointId>& skip)
 {
 	// Each moved keyframe's correction D = T_new (T_old)^-1, applied to what moves with it.
 	std::map<TKeyFrameId, mrpt::poses::CPose3D> delta;
 	for (const auto& [id, p] : poses)
-		if (auto it = s.keyFrames.find(id); it != s.keyFrames.end() && !it->second->bad) delta[id] = p + (-it->second->pose);
+		if (auto it = s.keyFrames.find(id); it != s.keyFrames.end() && !it->second->bad)
+			delta[id] = p + (-it->second->pose);
 	if (propagate)
 		for (const auto& [id, kf] : s.keyFrames)
 		{
 			if (kf->bad || delta.count(id)) continue;
 			std::optional<TKeyFrameId> a = kf->parent;
-			for (std::size_t hops = 0; a && !delta.count(*a) && hops <= s.keyFrames.size(); hops++) a = s.keyFrames.at(*a)->parent;
+			for (std::size_t hops = 0; a && !delta.count(*a) && hops <= s.keyFrames.size(); hops++)
+				a = s.keyFrames.at(*a)->parent;
 			if (a && delta.count(*a)) delta[id] = delta.at(*a);
 		}
 	if (!propagate) s.correctedBy.clear();

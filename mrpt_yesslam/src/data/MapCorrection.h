@@ -15,6 +15,6 @@ std::vector<std::pair<TKeyFrameId, TKeyFrameId>> essentialGraph(const TSparseMap
 /** Sets keyframe poses and moves points (see CSparseMap::applyCorrection); `propagate` false: only
  * the listed keyframes move, and the points they observe (CSparseMap::correctKeyFrames). Points in
  * `skip` keep their position. Starts a new correction generation. */
-void correct(
-	TSparseMapStore& s, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate, const std::set<TPointId>& skip = {});
+void correct(TSparseMapStore& s, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses, bool propagate,
+			 const std::set<TPointId>& skip = {});
 }  // namespace mrpt_yesslam::sparse_map

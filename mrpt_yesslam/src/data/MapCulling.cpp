@@ -11,9 +11,8 @@ namespace
 constexpr TKeyFrameId kRecentKeyFrames = 3;
 }  // namespace
 
-std::size_t countTracking(
-	TSparseMapStore& s, const std::vector<TPointId>& visible, const std::vector<TPointId>& found, const std::vector<TPointId>& seenThrough,
-	int seeThroughFrames)
+std::size_t countTracking(TSparseMapStore& s, const std::vector<TPointId>& visible, const std::vector<TPointId>& found,
+						  const std::vector<TPointId>& seenThrough, int seeThroughFrames)
 {
 	for (TPointId id : visible)
 		if (auto it = s.points.find(id); it != s.points.end()) it->second.visible++;
@@ -37,7 +36,8 @@ std::size_t countTracking(
 	return erased;
 }
 
-std::size_t cullRecentPoints(TSparseMapStore& s, TKeyFrameId currentKf, double minFoundRatio, std::size_t minObservations)
+std::size_t cullRecentPoints(TSparseMapStore& s, TKeyFrameId currentKf, double minFoundRatio,
+							 std::size_t minObservations)
 {
 	std::size_t culled = 0;
 	std::deque<TPointId> keep;
@@ -63,8 +63,8 @@ std::size_t cullRecentPoints(TSparseMapStore& s, TKeyFrameId currentKf, double m
 	return culled;
 }
 
-std::vector<TKeyFrameId> cullRedundantKeyFrames(
-	TSparseMapStore& s, TKeyFrameId currentKf, double redundantRatio, std::size_t minOtherObservers, double maxDepth)
+std::vector<TKeyFrameId> cullRedundantKeyFrames(TSparseMapStore& s, TKeyFrameId currentKf, double redundantRatio,
+												std::size_t minOtherObservers, double maxDepth)
 {
 	std::vector<TKeyFrameId> erased;
 	const auto cit = s.keyFrames.find(currentKf);
@@ -87,7 +87,7 @@ std::vector<TKeyFrameId> cullRedundantKeyFrames(
 			const auto pit = s.points.find(pid);
 			if (pit == s.points.end() || pit->second.bad) continue;
 			const float z = kf.features->depth[i];
-			if (!(z > 0) || z > maxDepth) continue;	 // RGB-D: only close points count (ORB-SLAM2)
+			if (!(z > 0) || z > maxDepth) continue;  // RGB-D: only close points count (ORB-SLAM2)
 			numPoints++;
 			const CMapPoint& p = pit->second;
 			if (p.observations.size() <= minOtherObservers) continue;

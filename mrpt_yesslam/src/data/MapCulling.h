@@ -7,12 +7,12 @@
 namespace mrpt_yesslam::sparse_map
 {
 /** See CSparseMap::countTracking. */
-std::size_t countTracking(
-	TSparseMapStore& s, const std::vector<TPointId>& visible, const std::vector<TPointId>& found, const std::vector<TPointId>& seenThrough,
-	int seeThroughFrames);
+std::size_t countTracking(TSparseMapStore& s, const std::vector<TPointId>& visible, const std::vector<TPointId>& found,
+						  const std::vector<TPointId>& seenThrough, int seeThroughFrames);
 /** See CSparseMap::cullRecentPoints. */
-std::size_t cullRecentPoints(TSparseMapStore& s, TKeyFrameId currentKf, double minFoundRatio, std::size_t minObservations);
+std::size_t cullRecentPoints(TSparseMapStore& s, TKeyFrameId currentKf, double minFoundRatio,
+							 std::size_t minObservations);
 /** See CSparseMap::cullRedundantKeyFrames. */
-std::vector<TKeyFrameId> cullRedundantKeyFrames(
-	TSparseMapStore& s, TKeyFrameId currentKf, double redundantRatio, std::size_t minOtherObservers, double maxDepth);
+std::vector<TKeyFrameId> cullRedundantKeyFrames(TSparseMapStore& s, TKeyFrameId currentKf, double redundantRatio,
+												std::size_t minOtherObservers, double maxDepth);
 }  // namespace mrpt_yesslam::sparse_map

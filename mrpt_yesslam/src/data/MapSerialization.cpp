@@ -42,7 +42,8 @@ std::unique_ptr<TSparseMapStore> deserialize(std::istream& in)
 	for (std::uint64_t k = 0; k < nk; k++)
 	{
 		auto kf = std::make_shared<CKeyFrame>(CKeyFrame::deserialize(in));
-		if (kf->id >= nextKf || !kfs.emplace(kf->id, kf).second) throw std::runtime_error("keyframe id out of place reading map");
+		if (kf->id >= nextKf || !kfs.emplace(kf->id, kf).second)
+			throw std::runtime_error("keyframe id out of place reading map");
 	}
 	const auto np = get<std::uint64_t>(in, "map point count");
 	if (np > (1u << 28)) throw std::runtime_error("implausible point count reading map");
@@ -61,7 +62,8 @@ std::unique_ptr<TSparseMapStore> deserialize(std::istream& in)
 		for (const auto& [k, kp] : p.observations)
 		{
 			const auto it = kfs.find(k);
-			if (it == kfs.end() || it->second->bad || kp >= it->second->mapPoints.size() || it->second->mapPoints[kp] != id)
+			if (it == kfs.end() || it->second->bad || kp >= it->second->mapPoints.size() ||
+				it->second->mapPoints[kp] != id)
 				throw std::runtime_error("map point observation does not match its keyframe reading map");
 		}
 	std::size_t goodKfs = 0;
@@ -105,7 +107,8 @@ std::unique_ptr<TSparseMapStore> deserialize(std::istream& in)
 	};
 	for (const auto& [id, kf] : kfs)
 	{
-		if (!finite(kf->pose) || !finite(kf->poseInParent)) throw std::runtime_error("keyframe pose not finite reading map");
+		if (!finite(kf->pose) || !finite(kf->poseInParent))
+			throw std::runtime_error("keyframe pose not finite reading map");
 		TKeyFrameId at = id;
 		for (std::size_t hops = 0; kfs.at(at)->parent; hops++)
 		{

@@ -8,8 +8,8 @@
 
 namespace mrpt_yesslam::sparse_map
 {
-std::vector<TKeyFrameId> localKeyFrames(
-	const TSparseMapStore& s, const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours)
+std::vector<TKeyFrameId> localKeyFrames(const TSparseMapStore& s, const std::vector<TPointId>& seeds,
+										TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours)
 {
 	std::unordered_map<TKeyFrameId, int> shared;
 	for (TPointId pid : seeds)
@@ -19,10 +19,13 @@ std::vector<TKeyFrameId> localKeyFrames(
 	// Most shared first; ties to the newer keyframe (closer in time to the frame).
 	std::vector<std::pair<int, TKeyFrameId>> order;
 	for (const auto& [k, n] : shared) order.emplace_back(n, k);
-	std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second > b.second; });
+	std::sort(order.begin(), order.end(),
+			  [](const auto& a, const auto& b)
+			  { return a.first != b.first ? a.first > b.first : a.second > b.second; });
 	std::vector<TKeyFrameId> out;
 	std::unordered_set<TKeyFrameId> in;
-	const auto add = [&](TKeyFrameId k) {
+	const auto add = [&](TKeyFrameId k)
+	{
 		if (out.size() >= maxKeyFrames || in.count(k)) return;
 		const auto it = s.keyFrames.find(k);
 		if (it == s.keyFrames.end() || it->second->bad) return;
@@ -123,22 +126,24 @@ TBundleWindow globalBundleWindow(const TSparseMapStore& s)
 	return w;
 }
 
-bool applyBundle(
-	TSparseMapStore& s, const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+bool applyBundle(TSparseMapStore& s, const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+				 const std::vector<mrpt::math::TPoint3D>& positions,
+				 const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
 {
 	if (w.generation != s.generation) return false;
 	for (const auto& [k, p] : poses)
 		if (auto it = s.keyFrames.find(k); it != s.keyFrames.end() && !it->second->bad) it->second->pose = p;
 	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
-		if (auto it = s.points.find(w.points[i]); it != s.points.end() && !it->second.bad) it->second.position = positions[i];
+		if (auto it = s.points.find(w.points[i]); it != s.points.end() && !it->second.bad)
+			it->second.position = positions[i];
 	s.eraseOutliers(outliers);
 	return true;
 }
 
-bool applyGlobalBundle(
-	TSparseMapStore& s, const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-	const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
+bool applyGlobalBundle(TSparseMapStore& s, const TBundleWindow& w,
+					   const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+					   const std::vector<mrpt::math::TPoint3D>& positions,
+					   const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers)
 {
 	if (w.generation != s.generation) return false;
 	// Keyframes and points made since the copy follow their ancestors' correction (ORB-SLAM2's
@@ -146,7 +151,8 @@ bool applyGlobalBundle(
 	const std::set<TPointId> optimised(w.points.begin(), w.points.end());
 	correct(s, poses, true, optimised);
 	for (std::size_t i = 0; i < w.points.size() && i < positions.size(); i++)
-		if (auto it = s.points.find(w.points[i]); it != s.points.end() && !it->second.bad) it->second.position = positions[i];
+		if (auto it = s.points.find(w.points[i]); it != s.points.end() && !it->second.bad)
+			it->second.position = positions[i];
 	s.eraseOutliers(outliers);
 	return true;
 }

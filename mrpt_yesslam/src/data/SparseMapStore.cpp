@@ -9,9 +9,9 @@ namespace
 {
 // A bad point stays resolvable (a fused one through replacedBy) until this many keyframes have been
 // inserted after it went bad, then it is forgotten; whatever still names it then (a long global BA's
-// window, an old buffered frame) finds nothing and skips it, as it skips any bad point. Keeping every point ever made grew the table without bound (a 3000-frame
-// run held 28,061 dead points beside 4,814 live ones) and made every lookup of tracking's local map
-// slower as the run went on (ORB-SLAM2 never frees them at all).
+// window, an old buffered frame) finds nothing and skips it, as it skips any bad point. Keeping every point ever made
+// grew the table without bound (a 3000-frame run held 28,061 dead points beside 4,814 live ones) and made every lookup
+// of tracking's local map slower as the run went on (ORB-SLAM2 never frees them at all).
 constexpr TKeyFrameId kForgetBadPointsAfter = 3;
 }  // namespace
 
@@ -32,7 +32,8 @@ void TSparseMapStore::appendPoint(TLocalMapPoints& out, const CMapPoint& p) cons
 		const auto it = keyFrames.find(k);
 		if (it == keyFrames.end() || it->second->bad) continue;
 		const CKeyFrame& kf = *it->second;
-		const mrpt::math::TPoint3D d(p.position.x - kf.pose.x(), p.position.y - kf.pose.y(), p.position.z - kf.pose.z());
+		const mrpt::math::TPoint3D d(p.position.x - kf.pose.x(), p.position.y - kf.pose.y(),
+									 p.position.z - kf.pose.z());
 		const double len = d.norm();
 		if (!(len > 0)) continue;
 		n += d * (1.0 / len);
@@ -191,7 +192,8 @@ void TSparseMapStore::rebuildConnections()
 			{
 				if (a == b) continue;
 				const auto ka = keyFrames.find(a), kb = keyFrames.find(b);
-				if (ka != keyFrames.end() && kb != keyFrames.end() && !ka->second->bad && !kb->second->bad) ka->second->connections[b]++;
+				if (ka != keyFrames.end() && kb != keyFrames.end() && !ka->second->bad && !kb->second->bad)
+					ka->second->connections[b]++;
 			}
 	}
 	reorderDirty();

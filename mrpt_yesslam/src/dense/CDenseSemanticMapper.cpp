@@ -26,31 +26,52 @@ namespace mrpt_yesslam
 COptionTable CDenseSemanticMapper::TOptions::table()
 {
 	COptionTable t("DenseMapping");
-	t.flag("enabled", enabled, "build the dense labelled cloud and the semantic OctoMap from the keyframes (--no-dense-map: false)");
+	t.flag("enabled", enabled,
+		   "build the dense labelled cloud and the semantic OctoMap from the keyframes (--no-dense-map: false)");
 	t.integer("pixelStep", pixelStep, 1, 16, "back-project every n-th pixel of each row and column");
 	t.real("minDepth", minDepth, 0, 100, "nearer depth is ignored, m");
 	t.real("maxDepth", maxDepth, 0.1, 100, "farther depth is ignored (and rays end there), m");
-	t.real("maxDepthJump", maxDepthJump, 0, 10, "a pixel differing from a neighbour by more than this share of its depth is a flying pixel (left out)");
-	t.text("dynamicExclusion", dynamicExclusion, "box: leave out the dynamic mask and the grown box of every dynamic detection; mask: the mask only; none: people go into the map (what --no-dynamic-filter sets)", {"box", "mask", "none"});
+	t.real("maxDepthJump", maxDepthJump, 0, 10,
+		   "a pixel differing from a neighbour by more than this share of its depth is a flying pixel (left out)");
+	t.text("dynamicExclusion", dynamicExclusion,
+		   "box: leave out the dynamic mask and the grown box of every dynamic detection; mask: the mask only; none: "
+		   "people go into the map (what --no-dynamic-filter sets)",
+		   {"box", "mask", "none"});
 	t.real("dynamicBoxGrow", dynamicBoxGrow, 0, 1, "box exclusion: share of the box size added on every side");
-	t.integer("dynamicHoldKeyFrames", dynamicHoldKeyFrames, 0, 100, "box exclusion: the dynamic boxes of this many previous keyframes are left out too (a person the detector misses for a while)");
+	t.integer("dynamicHoldKeyFrames", dynamicHoldKeyFrames, 0, 100,
+			  "box exclusion: the dynamic boxes of this many previous keyframes are left out too (a person the "
+			  "detector misses for a while)");
 	t.real("voxelSize", voxelSize, 0.001, 1, "grid of the dense cloud and of label fusion, m");
 	t.real("labelProbMin", labelProbMin, 0.5, 1, "p(class) a detection of score 0 gives its pixels (eq. 29)");
 	t.real("labelProbMax", labelProbMax, 0.5, 1, "p(class) a detection of score 1 gives its pixels (eq. 29)");
-	t.text("labelMethod", labelMethod, "segments: a static object is the smooth-surface segments inside its box (not running on past it); fill: the masker's depth flood fill from one seed (the paper's)", {"segments", "fill"});
-	t.real("labelDepthRange", labelDepthRange, 0, 100, "fill: label fills never take depth farther than this from their seed's, m (0 = no limit)");
-	t.real("segmentNormalAngle", segmentNormalAngle, 1, 90, "segments: neighbours whose normals differ by more degrees are different surfaces");
-	t.real("segmentMarginShare", segmentMarginShare, 0, 1, "segments: a segment with more than this share of its pixels in the margin around the box is background");
+	t.text("labelMethod", labelMethod,
+		   "segments: a static object is the smooth-surface segments inside its box (not running on past it); fill: "
+		   "the masker's depth flood fill from one seed (the paper's)",
+		   {"segments", "fill"});
+	t.real("labelDepthRange", labelDepthRange, 0, 100,
+		   "fill: label fills never take depth farther than this from their seed's, m (0 = no limit)");
+	t.real("segmentNormalAngle", segmentNormalAngle, 1, 90,
+		   "segments: neighbours whose normals differ by more degrees are different surfaces");
+	t.real("segmentMarginShare", segmentMarginShare, 0, 1,
+		   "segments: a segment with more than this share of its pixels in the margin around the box is background");
 	t.real("backgroundProb", backgroundProb, 0.01, 0.999, "p(background) of a pixel outside every detection (eq. 29)");
-	t.integer("outlierNeighbours", outlierNeighbours, 0, 100, "statistical outlier removal: neighbours per point (0 = off)");
-	t.real("outlierStdDev", outlierStdDev, 0, 100, "remove points whose mean neighbour distance exceeds the mean by this many standard deviations");
+	t.integer("outlierNeighbours", outlierNeighbours, 0, 100,
+			  "statistical outlier removal: neighbours per point (0 = off)");
+	t.real("outlierStdDev", outlierStdDev, 0, 100,
+		   "remove points whose mean neighbour distance exceeds the mean by this many standard deviations");
 	t.real("octomapResolution", octomapResolution, 0.005, 10, "OctoMap voxel size, m (--octomap-resolution)");
 	t.real("probHit", probHit, 0.5, 1, "OctoMap: occupancy probability of a ray's end");
 	t.real("probMiss", probMiss, 0, 0.5, "OctoMap: occupancy probability of the cells a ray passes");
-	t.real("occupancyThreshold", occupancyThreshold, 0.55, 0.999, "OctoMap: occupied above this probability (0.8: two keyframes' hits; above 0.51, what a seen but unconfirmed surface keeps)");
-	t.real("clearMargin", clearMargin, 0, 1, "OctoMap: a ray marks space free only up to this far before the surface it measured, m (depth noise, thinning)");
+	t.real("occupancyThreshold", occupancyThreshold, 0.55, 0.999,
+		   "OctoMap: occupied above this probability (0.8: two keyframes' hits; above 0.51, what a seen but "
+		   "unconfirmed surface keeps)");
+	t.real("clearMargin", clearMargin, 0, 1,
+		   "OctoMap: a ray marks space free only up to this far before the surface it measured, m (depth noise, "
+		   "thinning)");
 	t.integer("minObservations", minObservations, 1, 1000, "dense cloud: keyframes that must see a voxel");
-	t.count("buildSlabPoints", buildSlabPoints, 1000, std::size_t{1} << 34, "final build: stored points sorted by voxel at a time (32 bytes each; fewer = less memory, more passes; the same map)");
+	t.count("buildSlabPoints", buildSlabPoints, 1000, std::size_t{1} << 34,
+			"final build: stored points sorted by voxel at a time (32 bytes each; fewer = less memory, more passes; "
+			"the same map)");
 	t.count("queue", queue, 1, 1000, "parallel mode: keyframes waiting for the dense stage before tracking waits");
 	return t;
 }
@@ -89,9 +110,9 @@ cv::Vec3b labelColour(TSemLabel label)
 	// 20 well separated colours (Kelly's list, BGR) cycled over the labels: neighbouring COCO
 	// classes (desk 60, tv 62, keyboard 66) get different ones.
 	static const cv::Vec3b kPalette[20] = {
-		{0, 179, 255}, {117, 62, 128}, {0, 104, 255}, {204, 161, 166}, {34, 0, 193}, {98, 189, 206}, {118, 112, 129},
-		{52, 125, 0}, {142, 118, 246}, {117, 83, 0}, {122, 117, 255}, {151, 55, 83}, {0, 142, 255}, {126, 40, 179},
-		{0, 200, 244}, {24, 16, 127}, {0, 170, 147}, {21, 51, 89}, {19, 58, 241}, {40, 44, 35}};
+		{0, 179, 255}, {117, 62, 128},  {0, 104, 255}, {204, 161, 166}, {34, 0, 193},  {98, 189, 206}, {118, 112, 129},
+		{52, 125, 0},  {142, 118, 246}, {117, 83, 0},  {122, 117, 255}, {151, 55, 83}, {0, 142, 255},  {126, 40, 179},
+		{0, 200, 244}, {24, 16, 127},   {0, 170, 147}, {21, 51, 89},    {19, 58, 241}, {40, 44, 35}};
 	return kPalette[(label - 1) % 20];
 }
 
@@ -102,10 +123,11 @@ struct CDenseSemanticMapper::TPackedCloud
 		std::int16_t x, y, z;  //!< keyframe frame, in steps of the mapper's unit_
 		std::uint8_t b, g, r;
 		TSemLabel label;
-		std::uint8_t prob;	//!< labelProb x 255 (0 = no label evidence)
+		std::uint8_t prob;  //!< labelProb x 255 (0 = no label evidence)
 	};
 	static_assert(sizeof(TPoint) == 12, "12 bytes a point unpacked");
-	static constexpr std::size_t kPlanes = 11;	//!< bytes a point, planar: x, y, z deltas (low, high), b, g, r, label, prob
+	static constexpr std::size_t kPlanes =
+		11;  //!< bytes a point, planar: x, y, z deltas (low, high), b, g, r, label, prob
 
 	std::size_t size = 0;  //!< points
 	/** The points DEFLATEd as planes of bytes, each coordinate as its difference from the point
@@ -125,7 +147,8 @@ struct CDenseSemanticMapper::TPackedCloud
 			const std::int16_t v[3] = {p.x, p.y, p.z};
 			for (int a = 0; a < 3; a++)
 			{
-				const auto d = static_cast<std::uint16_t>(static_cast<std::uint16_t>(v[a]) - static_cast<std::uint16_t>(prev[a]));
+				const auto d =
+					static_cast<std::uint16_t>(static_cast<std::uint16_t>(v[a]) - static_cast<std::uint16_t>(prev[a]));
 				planes[(2 * a) * n + i] = static_cast<std::uint8_t>(d & 0xFF);
 				planes[(2 * a + 1) * n + i] = static_cast<std::uint8_t>(d >> 8);
 				prev[a] = v[a];
@@ -148,16 +171,20 @@ struct CDenseSemanticMapper::TPackedCloud
 		planes.resize(n * kPlanes);
 		// Only this mapper's own packing is ever read (nothing loads it from a file): failing here
 		// means memory was corrupted or no decompressor could be had.
-		if (!inflateBytes(bytes, planes.data(), planes.size())) throw std::runtime_error("dense map: a stored keyframe cloud could not be unpacked (out of memory?)");
+		if (!inflateBytes(bytes, planes.data(), planes.size()))
+			throw std::runtime_error("dense map: a stored keyframe cloud could not be unpacked (out of memory?)");
 		out.resize(n);
 		std::uint16_t acc[3] = {0, 0, 0};
 		for (std::size_t i = 0; i < n; i++)
 		{
 			TPoint& p = out[i];
 			for (int a = 0; a < 3; a++)
-				acc[a] = static_cast<std::uint16_t>(acc[a] + (planes[(2 * a) * n + i] | (planes[(2 * a + 1) * n + i] << 8)));
-			// (uint16 -> int16 above 32767 wraps, as the packing's uint16 differences assume: GCC and Clang define it so.)
-			p.x = static_cast<std::int16_t>(acc[0]), p.y = static_cast<std::int16_t>(acc[1]), p.z = static_cast<std::int16_t>(acc[2]);
+				acc[a] =
+					static_cast<std::uint16_t>(acc[a] + (planes[(2 * a) * n + i] | (planes[(2 * a + 1) * n + i] << 8)));
+			// (uint16 -> int16 above 32767 wraps, as the packing's uint16 differences assume: GCC and Clang define it
+			// so.)
+			p.x = static_cast<std::int16_t>(acc[0]), p.y = static_cast<std::int16_t>(acc[1]),
+			p.z = static_cast<std::int16_t>(acc[2]);
 			p.b = planes[6 * n + i], p.g = planes[7 * n + i], p.r = planes[8 * n + i];
 			p.label = planes[9 * n + i], p.prob = planes[10 * n + i];
 		}
@@ -175,7 +202,8 @@ CObjectSegmenter::TParams segmenterParams(const CDenseSemanticMapper::TOptions& 
 }
 }  // namespace
 
-CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObjectMasker::TOptions& masker, int numClasses)
+CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObjectMasker::TOptions& masker,
+										   int numClasses)
 	: opts_(o),
 	  masker_(labelFillOptions(masker, o.labelDepthRange)),
 	  segmenter_(segmenterParams(o)),
@@ -186,9 +214,11 @@ CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObje
 	if (o.labelMethod != "segments" && o.labelMethod != "fill")
 		throw InputError("", "[DenseMapping] labelMethod must be segments or fill, got '" + o.labelMethod + "'");
 	if (!(o.maxDepth > o.minDepth)) throw InputError("", "[DenseMapping] maxDepth must exceed minDepth");
-	if (!(o.labelProbMax >= o.labelProbMin)) throw InputError("", "[DenseMapping] labelProbMax must be >= labelProbMin");
+	if (!(o.labelProbMax >= o.labelProbMin))
+		throw InputError("", "[DenseMapping] labelProbMax must be >= labelProbMin");
 	if (o.dynamicExclusion != "box" && o.dynamicExclusion != "mask" && o.dynamicExclusion != "none")
-		throw InputError("", "[DenseMapping] dynamicExclusion must be box, mask or none, got '" + o.dynamicExclusion + "'");
+		throw InputError("",
+						 "[DenseMapping] dynamicExclusion must be box, mask or none, got '" + o.dynamicExclusion + "'");
 	if (!(o.octomapResolution > 0)) throw InputError("", "[DenseMapping] octomapResolution must be > 0");
 	// The octree is built from the filtered cloud: finer than its grid it holds no more detail, only
 	// more nodes (0.005 m took 85 s and 3.8 GB for 30 frames, with fewer occupied voxels than 0.02 m).
@@ -197,15 +227,18 @@ CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObje
 		char b[320];
 		std::snprintf(
 			b, sizeof(b),
-			"[DenseMapping] octomapResolution (--octomap-resolution) %.3g m is finer than the dense cloud's voxelSize %.3g m it is built "
+			"[DenseMapping] octomapResolution (--octomap-resolution) %.3g m is finer than the dense cloud's voxelSize "
+			"%.3g m it is built "
 			"from: it would add no detail, only time and memory; use %.3g m or coarser (or a finer voxelSize)",
 			o.octomapResolution, o.voxelSize, o.voxelSize);
 		throw InputError("", b);
 	}
-	if (numClasses_ + 1 > 256) throw InputError("", "the dense map stores labels in one byte: at most 255 detector classes");
+	if (numClasses_ + 1 > 256)
+		throw InputError("", "the dense map stores labels in one byte: at most 255 detector classes");
 }
 
-TObjectLabels CDenseSemanticMapper::labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& objects) const
+TObjectLabels CDenseSemanticMapper::labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera,
+												const std::vector<TDetection>& objects) const
 {
 	if (opts_.labelMethod == "segments") return segmenter_.segment(depth, camera, objects);
 	const TDynamicMask seg = masker_.segmentAll(depth, objects);
@@ -215,7 +248,10 @@ TObjectLabels CDenseSemanticMapper::labelPixels(const cv::Mat& depth, const mrpt
 	return r;
 }
 
-TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const { return keyFrameCloud(f, {}); }
+TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f) const
+{
+	return keyFrameCloud(f, {});
+}
 
 TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f, const std::vector<cv::Rect2f>& heldBoxes) const
 {
@@ -231,12 +267,14 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f, const std::v
 	for (const auto& d : f.detections)
 		if (!d.dynamic) objects.push_back(d);
 	// Larger boxes first: a keyboard's fill is drawn over the desk's that may have run onto it.
-	std::stable_sort(objects.begin(), objects.end(), [](const TDetection& a, const TDetection& b) { return a.box.area() > b.box.area(); });
+	std::stable_sort(objects.begin(), objects.end(),
+					 [](const TDetection& a, const TDetection& b) { return a.box.area() > b.box.area(); });
 	const TObjectLabels seg = labelPixels(depth, f.camera, objects);
 
 	// What never goes in: tracking's dynamic mask, and (box) every dynamic detection's grown box.
-	cv::Mat excluded = f.images->dynamicMask.empty() || opts_.dynamicExclusion == "none" ? cv::Mat::zeros(depth.size(), CV_8U)
-																						  : f.images->dynamicMask.clone();
+	cv::Mat excluded = f.images->dynamicMask.empty() || opts_.dynamicExclusion == "none"
+						   ? cv::Mat::zeros(depth.size(), CV_8U)
+						   : f.images->dynamicMask.clone();
 	if (opts_.dynamicExclusion == "box")
 	{
 		std::vector<cv::Rect2f> boxes = heldBoxes;
@@ -286,9 +324,9 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f, const std::v
 			}
 			if (edge) continue;
 		}
-		const cv::Point3f p(
-			static_cast<float>((undist[i].x - cx) * z / fx), static_cast<float>((undist[i].y - cy) * z / fy), z);	// eq. 25
-		if (!seen.emplace(voxelKey(p, inv), c.xyz.size()).second) continue;  // thinned: one point per voxel
+		const cv::Point3f p(static_cast<float>((undist[i].x - cx) * z / fx),
+							static_cast<float>((undist[i].y - cy) * z / fy), z);  // eq. 25
+		if (!seen.emplace(voxelKey(p, inv), c.xyz.size()).second) continue;       // thinned: one point per voxel
 		c.xyz.push_back(p);
 		c.bgr.push_back(bgr.at<cv::Vec3b>(v, u));
 		const int inst = seg.instance.at<std::uint16_t>(v, u) - 1;
@@ -296,7 +334,9 @@ TKeyFrameCloud CDenseSemanticMapper::keyFrameCloud(const TFrame& f, const std::v
 		{
 			const TDetection& d = objects[static_cast<std::size_t>(inst)];
 			c.label.push_back(static_cast<TSemLabel>(std::min(d.classId + 1, 255)));
-			c.labelProb.push_back(static_cast<float>(opts_.labelProbMin + (opts_.labelProbMax - opts_.labelProbMin) * std::clamp(static_cast<double>(d.score), 0.0, 1.0)));
+			c.labelProb.push_back(
+				static_cast<float>(opts_.labelProbMin + (opts_.labelProbMax - opts_.labelProbMin) *
+															std::clamp(static_cast<double>(d.score), 0.0, 1.0)));
 		}
 		else if (seg.unknown.at<uchar>(v, u))
 		{
@@ -381,7 +421,8 @@ std::size_t CDenseSemanticMapper::numStoredPoints() const
 	return n;
 }
 
-std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf, std::size_t step) const
+std::vector<cv::Point3f> CDenseSemanticMapper::worldPoints(
+	const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf, std::size_t step) const
 {
 	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds;
 	{
@@ -454,7 +495,8 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	for (const auto& [id, c] : clouds) list.emplace_back(poseOf(id), c.get());
 	const double inv = 1.0 / opts_.voxelSize;
 	const float unit = static_cast<float>(unit_);
-	const auto worldPoint = [&](std::uint32_t cloud, const TPoint& p) {
+	const auto worldPoint = [&](std::uint32_t cloud, const TPoint& p)
+	{
 		return transform(list[cloud].first, cv::Point3f(p.x, p.y, p.z) * unit);  // eq. 26
 	};
 	const auto columnOf = [](std::int64_t key) { return key >> 42; };  // voxelKey's x field
@@ -465,31 +507,38 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	// colours and labels go into the octree once it is done). At the end of a run the stages are idle,
 	// so the two share the cores the run had (the octree was about 60 % of the build).
 	// (Deferred into get() if no thread can be started.)
-	auto octreeBuilt = std::async(std::launch::async | std::launch::deferred, [&] {
-		std::vector<TPoint> points;
-		std::vector<std::uint8_t> planes;
-		for (std::uint32_t ci = 0; ci < list.size(); ci++)
+	auto octreeBuilt = std::async(
+		std::launch::async | std::launch::deferred,
+		[&]
 		{
-			const auto& [T, c] = list[ci];
-			c->unpack(points, planes);
-			octomap::Pointcloud scan;
-			scan.reserve(points.size());
-			for (const TPoint& p : points)
+			std::vector<TPoint> points;
+			std::vector<std::uint8_t> planes;
+			for (std::uint32_t ci = 0; ci < list.size(); ci++)
 			{
-				const cv::Point3f w = worldPoint(ci, p);
-				scan.push_back(w.x, w.y, w.z);
+				const auto& [T, c] = list[ci];
+				c->unpack(points, planes);
+				octomap::Pointcloud scan;
+				scan.reserve(points.size());
+				for (const TPoint& p : points)
+				{
+					const cv::Point3f w = worldPoint(ci, p);
+					scan.push_back(w.x, w.y, w.z);
+				}
+				// Ray casting from the camera: cells passed are observed free (a person's old place too).
+				m.octree->insertScan(
+					scan,
+					octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())),
+					opts_.clearMargin, opts_.voxelSize);
 			}
-			// Ray casting from the camera: cells passed are observed free (a person's old place too).
-			m.octree->insertScan(scan, octomap::point3d(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z())), opts_.clearMargin, opts_.voxelSize);
-		}
-		m.octree->updateInnerOccupancy();
-	});
+			m.octree->updateInnerOccupancy();
+		});
 	// Points per column of voxels (for the slabs), and each cloud's first and last column: a slab's
 	// pass skips the clouds with no point in it instead of unpacking and transforming them again.
 	std::vector<TPoint> points;
 	std::vector<std::uint8_t> planes;
 	std::map<std::int64_t, std::size_t> perColumn;
-	std::vector<std::pair<std::int64_t, std::int64_t>> cloudColumns(list.size(), {std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()});
+	std::vector<std::pair<std::int64_t, std::int64_t>> cloudColumns(
+		list.size(), {std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()});
 	for (std::uint32_t ci = 0; ci < list.size(); ci++)
 	{
 		list[ci].second->unpack(points, planes);
@@ -540,10 +589,13 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 				for (std::uint32_t i = 0; i < points.size(); i++)
 				{
 					const std::int64_t key = voxelKey(worldPoint(ci, points[i]), inv);
-					if (columnOf(key) >= slabs[s].first && columnOf(key) <= slabs[s].second) refs.push_back({key, ci, i, points[i]});
+					if (columnOf(key) >= slabs[s].first && columnOf(key) <= slabs[s].second)
+						refs.push_back({key, ci, i, points[i]});
 				}
 			}
-			std::sort(refs.begin(), refs.end(), [](const TPointRef& a, const TPointRef& b) { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
+			std::sort(refs.begin(), refs.end(),
+					  [](const TPointRef& a, const TPointRef& b)
+					  { return std::tie(a.key, a.cloud, a.index) < std::tie(b.key, b.cloud, b.index); });
 			for (std::size_t i = 0; i < refs.size();)
 			{
 				TVoxel v;
@@ -571,18 +623,23 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	// the centres of the voxels seen often enough, for the outlier filter; the second sums them again,
 	// with their labels, and writes each kept voxel's point into the cloud.
 	std::vector<cv::Point3f> centres;
-	forEachVoxel(false, [&](const TVoxel& v) {
-		m.voxelsBeforeFilter++;
-		if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations)) centres.push_back(centreOf(v));
-	});
+	forEachVoxel(false,
+				 [&](const TVoxel& v)
+				 {
+					 m.voxelsBeforeFilter++;
+					 if (v.keyFrames >= static_cast<std::uint32_t>(opts_.minObservations))
+						 centres.push_back(centreOf(v));
+				 });
 	centres.shrink_to_fit();
 
 	// Statistical outlier removal on MRPT's KD-tree. The cloud in a fixed order: by position.
 	std::vector<std::uint32_t> idx(centres.size());
 	std::iota(idx.begin(), idx.end(), 0);
-	std::sort(idx.begin(), idx.end(), [&](std::uint32_t a, std::uint32_t b) {
-		return std::tie(centres[a].z, centres[a].y, centres[a].x) < std::tie(centres[b].z, centres[b].y, centres[b].x);
-	});
+	std::sort(idx.begin(), idx.end(),
+			  [&](std::uint32_t a, std::uint32_t b) {
+				  return std::tie(centres[a].z, centres[a].y, centres[a].x) <
+						 std::tie(centres[b].z, centres[b].y, centres[b].x);
+			  });
 	std::vector<bool> keep(centres.size(), true);
 	const std::size_t kn = static_cast<std::size_t>(opts_.outlierNeighbours);
 	if (kn > 0 && centres.size() > kn + 1)
@@ -597,10 +654,12 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		{
 			pm.kdTreeNClosestPoint3DIdx(centres[i].x, centres[i].y, centres[i].z, kn + 1, nn, d2);
 			double s = 0;
-			for (std::size_t j = 1; j < d2.size(); j++) s += std::sqrt(static_cast<double>(d2[j]));	// [0] is the point itself
+			for (std::size_t j = 1; j < d2.size(); j++)
+				s += std::sqrt(static_cast<double>(d2[j]));  // [0] is the point itself
 			meanDist[i] = d2.size() > 1 ? s / static_cast<double>(d2.size() - 1) : 0;
 		}
-		const double mean = std::accumulate(meanDist.begin(), meanDist.end(), 0.0) / static_cast<double>(meanDist.size());
+		const double mean =
+			std::accumulate(meanDist.begin(), meanDist.end(), 0.0) / static_cast<double>(meanDist.size());
 		double var = 0;
 		for (const double d : meanDist) var += (d - mean) * (d - mean);
 		const double limit = mean + opts_.outlierStdDev * std::sqrt(var / static_cast<double>(meanDist.size()));
@@ -635,23 +694,27 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 		TLabelBelief belief;
 	};
 	std::unordered_map<octomap::OcTreeKey, TCell, octomap::OcTreeKey::KeyHash> cells;
-	std::size_t i = 0;	// the voxel's index among those seen often enough (as in the first pass)
-	forEachVoxel(true, [&](const TVoxel& v) {
-		if (v.keyFrames < static_cast<std::uint32_t>(opts_.minObservations)) return;
-		const std::uint32_t at = place[i++];
-		if (at == kDropped) return;
-		const auto [label, prob] = v.belief.best(K);
-		c.xyz[at] = centreOf(v);
-		c.bgr[at] = cv::Vec3b(static_cast<uchar>(v.b / v.n), static_cast<uchar>(v.g / v.n), static_cast<uchar>(v.r / v.n));
-		c.label[at] = label;
-		c.labelProb[at] = static_cast<float>(prob);
-		c.observations[at] = v.keyFrames;
-		octomap::OcTreeKey key;
-		if (!keyGrid.coordToKeyChecked(octomap::point3d(c.xyz[at].x, c.xyz[at].y, c.xyz[at].z), key)) return;
-		TCell& cell = cells[key];
-		cell.b += v.b, cell.g += v.g, cell.r += v.r, cell.n += v.n;
-		cell.belief.merge(v.belief);
-	});
+	std::size_t i = 0;  // the voxel's index among those seen often enough (as in the first pass)
+	forEachVoxel(true,
+				 [&](const TVoxel& v)
+				 {
+					 if (v.keyFrames < static_cast<std::uint32_t>(opts_.minObservations)) return;
+					 const std::uint32_t at = place[i++];
+					 if (at == kDropped) return;
+					 const auto [label, prob] = v.belief.best(K);
+					 c.xyz[at] = centreOf(v);
+					 c.bgr[at] = cv::Vec3b(static_cast<uchar>(v.b / v.n), static_cast<uchar>(v.g / v.n),
+										   static_cast<uchar>(v.r / v.n));
+					 c.label[at] = label;
+					 c.labelProb[at] = static_cast<float>(prob);
+					 c.observations[at] = v.keyFrames;
+					 octomap::OcTreeKey key;
+					 if (!keyGrid.coordToKeyChecked(octomap::point3d(c.xyz[at].x, c.xyz[at].y, c.xyz[at].z), key))
+						 return;
+					 TCell& cell = cells[key];
+					 cell.b += v.b, cell.g += v.g, cell.r += v.r, cell.n += v.n;
+					 cell.belief.merge(v.belief);
+				 });
 	if (i != centres.size()) throw std::logic_error("CDenseSemanticMapper::build: the two passes saw different voxels");
 	octreeBuilt.get();
 	for (const auto& [key, cell] : cells)

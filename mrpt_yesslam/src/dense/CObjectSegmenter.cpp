@@ -26,7 +26,8 @@ struct TSegment
 
 }  // namespace
 
-TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& dets) const
+TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::TCamera& camera,
+										const std::vector<TDetection>& dets) const
 {
 	TObjectLabels r;
 	r.instance = cv::Mat::zeros(depth.size(), CV_16U);
@@ -44,13 +45,14 @@ TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::T
 	std::vector<cv::Vec3f>& P = scratch.P;
 	std::vector<cv::Vec3f>& N = scratch.N;
 	P.resize(static_cast<std::size_t>(W * H));
-	N.assign(P.size(), cv::Vec3f(0, 0, 0));	 // 0 = no normal
+	N.assign(P.size(), cv::Vec3f(0, 0, 0));  // 0 = no normal
 	auto at = [&](int x, int y) { return static_cast<std::size_t>(y * W + x); };
 	for (int y = 0; y < H; y++)
 		for (int x = 0; x < W; x++)
 		{
 			const float z = depth.at<float>(y * f, x * f);
-			P[at(x, y)] = z > 0 && std::isfinite(z) ? cv::Vec3f((x * f - cx) * z / fx, (y * f - cy) * z / fy, z) : cv::Vec3f(0, 0, 0);
+			P[at(x, y)] = z > 0 && std::isfinite(z) ? cv::Vec3f((x * f - cx) * z / fx, (y * f - cy) * z / fy, z)
+													: cv::Vec3f(0, 0, 0);
 		}
 	// Depth is smoothed first, within surfaces only (neighbours within 4 % of the pixel's depth, a
 	// separable edge-preserving mean over 7 x 7 samples): structured-light depth is quantised in
@@ -96,7 +98,8 @@ TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::T
 	for (int y = s; y < H - s; y++)
 		for (int x = s; x < W - s; x++)
 		{
-			const cv::Vec3f &a = P[at(x + s, y)], &b = P[at(x - s, y)], &c = P[at(x, y + s)], &d = P[at(x, y - s)], &p = P[at(x, y)];
+			const cv::Vec3f &a = P[at(x + s, y)], &b = P[at(x - s, y)], &c = P[at(x, y + s)], &d = P[at(x, y - s)],
+							&p = P[at(x, y)];
 			if (p[2] <= 0 || a[2] <= 0 || b[2] <= 0 || c[2] <= 0 || d[2] <= 0) continue;
 			const float edge = 0.25f * p[2];
 			if (std::abs(a[2] - b[2]) > edge || std::abs(c[2] - d[2]) > edge) continue;
@@ -226,7 +229,8 @@ TObjectLabels CObjectSegmenter::segment(const cv::Mat& depth, const mrpt::img::T
 		if (!any)
 		{
 			// Nothing found: no evidence either way (not "background") where no other box spoke.
-			const cv::Rect full = cv::Rect(inner.x * f, inner.y * f, inner.width * f, inner.height * f) & cv::Rect(0, 0, depth.cols, depth.rows);
+			const cv::Rect full = cv::Rect(inner.x * f, inner.y * f, inner.width * f, inner.height * f) &
+								  cv::Rect(0, 0, depth.cols, depth.rows);
 			r.unknown(full).setTo(255);
 			continue;
 		}

@@ -62,7 +62,8 @@ void CSemanticOcTree::updateNodeLogOdds(CSemanticOcTreeNode* node, const float& 
 	if (seen && node->getLogOdds() < kSeenLogOdds) node->setLogOdds(kSeenLogOdds);
 }
 
-void CSemanticOcTree::insertScan(const octomap::Pointcloud& scan, const octomap::point3d& origin, double clearMargin, double pointSpacing)
+void CSemanticOcTree::insertScan(const octomap::Pointcloud& scan, const octomap::point3d& origin, double clearMargin,
+								 double pointSpacing)
 {
 	// As OctoMap's discretised insertion: one ray per hit cell, to its centre.
 	octomap::KeySet hits, reached, passed;
@@ -98,7 +99,8 @@ void CSemanticOcTree::insertScan(const octomap::Pointcloud& scan, const octomap:
 		const octomap::point3d d = e - origin;
 		const double len = d.norm();
 		if (!(len > clearMargin)) continue;
-		if (computeRayKeys(origin, origin + d * static_cast<float>((len - clearMargin) / len), ray)) passed.insert(ray.begin(), ray.end());
+		if (computeRayKeys(origin, origin + d * static_cast<float>((len - clearMargin) / len), ray))
+			passed.insert(ray.begin(), ray.end());
 	}
 	for (const auto& k : passed)
 		if (!hits.count(k) && !reached.count(k)) updateNode(k, false, true);
@@ -144,7 +146,7 @@ void CSemanticOcTree::updateInnerSemanticsRecurs(CSemanticOcTreeNode* node, unsi
 		mass[c->label] += c->labelProb;
 	}
 	node->updateOccupancyChildren();
-	if (n == 0) return;	 // free space: no colour or label to show
+	if (n == 0) return;  // free space: no colour or label to show
 	node->r = static_cast<std::uint8_t>(r / n);
 	node->g = static_cast<std::uint8_t>(g / n);
 	node->b = static_cast<std::uint8_t>(b / n);
@@ -191,13 +193,15 @@ std::optional<double> checkStructure(const std::string& path, std::istream& in)
 	if (line != "data" || !haveSize || !haveRes || id.empty())
 		throw InputError(path, "corrupt OctoMap header (needs id, size, res and data lines)");
 	if (id != "YesSlamSemanticOcTree")
-		throw InputError(path, "holds an octree of type " + id + ", not a yesslam semantic octree (YesSlamSemanticOcTree)");
+		throw InputError(path,
+						 "holds an octree of type " + id + ", not a yesslam semantic octree (YesSlamSemanticOcTree)");
 	const std::streamoff start = in.tellg();
 	in.seekg(0, std::ios::end);
 	const std::streamoff bytes = in.tellg() - start;
 	constexpr std::streamoff kNode = 13;  // record + child bits
 	if (size == 0 || bytes != static_cast<std::streamoff>(size) * kNode)
-		throw InputError(path, "corrupt or truncated OctoMap file: " + std::to_string(bytes) + " bytes of tree data for " + std::to_string(size) + " nodes");
+		throw InputError(path, "corrupt or truncated OctoMap file: " + std::to_string(bytes) +
+								   " bytes of tree data for " + std::to_string(size) + " nodes");
 	std::string data(static_cast<std::size_t>(bytes), '\0');
 	in.seekg(start);
 	in.read(data.data(), bytes);
@@ -220,7 +224,9 @@ std::optional<double> checkStructure(const std::string& path, std::istream& in)
 			pending.push_back(__builtin_popcount(bits));
 		}
 	}
-	if (nodes != size) throw InputError(path, "corrupt OctoMap file: " + std::to_string(nodes) + " nodes in the tree, " + std::to_string(size) + " in its header");
+	if (nodes != size)
+		throw InputError(path, "corrupt OctoMap file: " + std::to_string(nodes) + " nodes in the tree, " +
+								   std::to_string(size) + " in its header");
 	in.clear();
 	in.seekg(0);
 	return threshold;

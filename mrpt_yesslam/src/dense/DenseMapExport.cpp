@@ -33,8 +33,8 @@ void put(std::string& s, const T& v)
 }
 }  // namespace
 
-void writeDenseCloudPly(
-	const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names, const std::string& what, const std::string& frame)
+void writeDenseCloudPly(const std::string& path, const TDenseCloud& c, const std::vector<std::string>& names,
+						const std::string& what, const std::string& frame)
 {
 	std::ostringstream h;
 	h << "ply\nformat binary_little_endian 1.0\ncomment mrpt_yesslam " << what << "\n";
@@ -98,7 +98,8 @@ TDenseCloud readDenseCloudPly(const std::string& path)
 		float pr;
 		std::uint32_t o;
 		get(x.x), get(x.y), get(x.z), get(col[2]), get(col[1]), get(col[0]), get(l), get(pr), get(o);
-		c.xyz.push_back(x), c.bgr.push_back(col), c.label.push_back(l), c.labelProb.push_back(pr), c.observations.push_back(o);
+		c.xyz.push_back(x), c.bgr.push_back(col), c.label.push_back(l), c.labelProb.push_back(pr),
+			c.observations.push_back(o);
 	}
 	return c;
 }
@@ -116,9 +117,9 @@ namespace
 // node its bytes and node count.
 struct TBtSubtree
 {
-	unsigned code = 0;	//!< 0 unknown, 1 occupied, 2 free, 3 inner
+	unsigned code = 0;  //!< 0 unknown, 1 occupied, 2 free, 3 inner
 	std::string bytes;
-	std::size_t nodes = 0;	//!< nodes below it that OctoMap's reader creates
+	std::size_t nodes = 0;  //!< nodes below it that OctoMap's reader creates
 };
 
 constexpr unsigned kBtUnknown = 0, kBtOccupied = 1, kBtFree = 2, kBtInner = 3;
@@ -153,7 +154,8 @@ TBtSubtree btChildren(const CSemanticOcTree& tree, const CSemanticOcTreeNode& no
 	}
 	TBtSubtree out;
 	// Eight occupied or eight free children are one leaf; all unknown is no node.
-	const bool same = std::all_of(child.begin(), child.end(), [&](const TBtSubtree& c) { return c.code == child[0].code && c.code != kBtInner; });
+	const bool same = std::all_of(child.begin(), child.end(),
+								  [&](const TBtSubtree& c) { return c.code == child[0].code && c.code != kBtInner; });
 	if (same)
 	{
 		out.code = child[0].code;
@@ -205,13 +207,15 @@ void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 		}
 	}
 	std::ostringstream s(std::ios::binary);
-	s << "# Octomap OcTree binary file\n# occupancy of a yesslam semantic map (labels: map.ot); unknown: surfaces seen but not confirmed\n";
+	s << "# Octomap OcTree binary file\n# occupancy of a yesslam semantic map (labels: map.ot); unknown: surfaces seen "
+		 "but not confirmed\n";
 	s << "id OcTree\nsize " << size << "\nres " << tree.getResolution() << "\ndata\n";
 	s << data;
 	writeFileAtomically(path, s.str());
 }
 
-mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree, const std::vector<std::string>& names, bool byLabel)
+mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree,
+													  const std::vector<std::string>& names, bool byLabel)
 {
 	auto set = mrpt::opengl::CSetOfObjects::Create();
 	set->setName("octomap");
@@ -231,10 +235,13 @@ mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tre
 		cv::Vec3b col = byLabel ? labelColour(n.label) : cv::Vec3b(n.b, n.g, n.r);
 		vox->push_back_Voxel(
 			mrpt::opengl::VOXEL_SET_OCCUPIED,
-			mrpt::opengl::COctoMapVoxels::TVoxel(mrpt::math::TPoint3Df(c.x(), c.y(), c.z()), it.getSize(), mrpt::img::TColor(col[2], col[1], col[0])));
+			mrpt::opengl::COctoMapVoxels::TVoxel(mrpt::math::TPoint3Df(c.x(), c.y(), c.z()), it.getSize(),
+												 mrpt::img::TColor(col[2], col[1], col[0])));
 		present[n.label]++;
-		minx = std::min<double>(minx, c.x()), miny = std::min<double>(miny, c.y()), minz = std::min<double>(minz, c.z());
-		maxx = std::max<double>(maxx, c.x()), maxy = std::max<double>(maxy, c.y()), maxz = std::max<double>(maxz, c.z());
+		minx = std::min<double>(minx, c.x()), miny = std::min<double>(miny, c.y()),
+		minz = std::min<double>(minz, c.z());
+		maxx = std::max<double>(maxx, c.x()), maxy = std::max<double>(maxy, c.y()),
+		maxz = std::max<double>(maxz, c.z());
 	}
 	if (present.empty()) return set;
 	vox->setBoundingBox({minx, miny, minz}, {maxx, maxy, maxz});

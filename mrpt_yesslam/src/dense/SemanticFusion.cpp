@@ -55,7 +55,8 @@ double TLabelBelief::probability(TSemLabel l, int numLabels) const
 std::pair<TSemLabel, double> TLabelBelief::best(int numLabels) const
 {
 	if (extra.empty()) return {0, 1.0 / std::max(1, numLabels)};
-	auto it = std::max_element(extra.begin(), extra.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+	auto it =
+		std::max_element(extra.begin(), extra.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
 	// A label observed only against the evidence (p < 0.5 of a 2-label world) could be below base.
 	if (it->second < 0)
 	{

@@ -21,13 +21,15 @@ std::vector<TDetectionRecord> parseDetectionsText(const std::string& text, const
 		const std::string where = "line " + std::to_string(i + 1) + ": ";
 		const auto f = splitFields(lines[i]);
 		if (f.size() != 7 && f.size() != 8)
-			throw InputError(
-				name, where + "expected 'timestamp class_id score x y w h [instance_id]', found " + std::to_string(f.size()) + " fields");
+			throw InputError(name, where + "expected 'timestamp class_id score x y w h [instance_id]', found " +
+									   std::to_string(f.size()) + " fields");
 		double v[8] = {0, 0, 0, 0, 0, 0, 0, -1};
 		for (std::size_t k = 0; k < f.size(); k++)
 			if (!parseFiniteDouble(f[k], v[k]))
-				throw InputError(name, where + "field " + std::to_string(k + 1) + " '" + f[k] + "' is not a finite number");
-		if (v[1] < 0 || v[1] != std::floor(v[1]) || v[1] > 1e6) throw InputError(name, where + "class_id must be a non-negative integer");
+				throw InputError(name,
+								 where + "field " + std::to_string(k + 1) + " '" + f[k] + "' is not a finite number");
+		if (v[1] < 0 || v[1] != std::floor(v[1]) || v[1] > 1e6)
+			throw InputError(name, where + "class_id must be a non-negative integer");
 		if (v[2] < 0 || v[2] > 1) throw InputError(name, where + "score must be in [0,1]");
 		if (v[5] <= 0 || v[6] <= 0) throw InputError(name, where + "box width and height must be positive");
 		for (int k = 3; k < 7; k++)
@@ -39,7 +41,8 @@ std::vector<TDetectionRecord> parseDetectionsText(const std::string& text, const
 		r.line = i + 1;
 		r.det.classId = static_cast<int>(v[1]);
 		r.det.score = static_cast<float>(v[2]);
-		r.det.box = cv::Rect2f(static_cast<float>(v[3]), static_cast<float>(v[4]), static_cast<float>(v[5]), static_cast<float>(v[6]));
+		r.det.box = cv::Rect2f(static_cast<float>(v[3]), static_cast<float>(v[4]), static_cast<float>(v[5]),
+							   static_cast<float>(v[6]));
 		r.det.instanceId = static_cast<int>(v[7]);
 		out.push_back(r);
 	}
@@ -52,9 +55,8 @@ void writeDetectionsFile(const std::string& path, const std::vector<TDetectionRe
 	char buf[256];
 	for (const auto& r : records)
 	{
-		std::snprintf(
-			buf, sizeof(buf), "%.6f %d %.4f %.2f %.2f %.2f %.2f %d\n", r.t, r.det.classId, r.det.score, r.det.box.x, r.det.box.y,
-			r.det.box.width, r.det.box.height, r.det.instanceId);
+		std::snprintf(buf, sizeof(buf), "%.6f %d %.4f %.2f %.2f %.2f %.2f %d\n", r.t, r.det.classId, r.det.score,
+					  r.det.box.x, r.det.box.y, r.det.box.width, r.det.box.height, r.det.instanceId);
 		s += buf;
 	}
 	writeFileAtomically(path, s);
@@ -72,7 +74,8 @@ CDetectionsFileDetector::CDetectionsFileDetector(const TOptions& o) : CObjectDet
 	{
 		names = readClassNames(o.names);
 		if (static_cast<std::size_t>(maxClass) >= names.size())
-			throw InputError(o.file, "class id " + std::to_string(maxClass) + " but " + o.names + " has only " + std::to_string(names.size()) + " names");
+			throw InputError(o.file, "class id " + std::to_string(maxClass) + " but " + o.names + " has only " +
+										 std::to_string(names.size()) + " names");
 	}
 	else
 	{
@@ -113,9 +116,8 @@ std::vector<TDetection> CDetectionsFileDetector::detectImpl(const cv::Mat& bgr, 
 	for (const auto& r : best->second)
 	{
 		if ((r.det.box & image).area() <= 0)
-			throw InputError(
-				path_, "line " + std::to_string(r.line) + ": box lies outside the " + std::to_string(bgr.cols) + "x" +
-						   std::to_string(bgr.rows) + " image");
+			throw InputError(path_, "line " + std::to_string(r.line) + ": box lies outside the " +
+										std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) + " image");
 		out.push_back(r.det);
 	}
 	return out;

@@ -20,7 +20,8 @@ namespace mrpt_yesslam
 {
 const std::vector<std::string>& yoloOutputFormats()
 {
-	static const std::vector<std::string> f{"auto", "darknet", "yolov5", "yolov7", "yolov8", "yolox", "fastestdet", "nanodet"};
+	static const std::vector<std::string> f{"auto",   "darknet", "yolov5",     "yolov7",
+											"yolov8", "yolox",   "fastestdet", "nanodet"};
 	return f;
 }
 
@@ -33,13 +34,16 @@ COptionTable CObjectDetector::TOptions::table()
 	t.text("weights", weights, "yolo darknet: .weights");
 	t.text("names", names, "class names file, one per line (COCO order for COCO models)");
 	t.text("format", format, "yolo output layout", yoloOutputFormats());
-	t.integer("inputSize", inputSize, 0, 4096, "network input side in pixels; 0 = from the model (darknet cfg) or found by probing");
+	t.integer("inputSize", inputSize, 0, 4096,
+			  "network input side in pixels; 0 = from the model (darknet cfg) or found by probing");
 	t.real("confThreshold", confThreshold, 0, 1, "boxes below this confidence are dropped (the paper: 0.6)");
 	t.real("nmsThreshold", nmsThreshold, 0, 1, "class-wise non-maximum suppression IoU");
 	t.text("dynamicClasses", dynamicClasses, "comma-separated class names treated as dynamic");
 	t.text("file", file, "file backend: detections.txt (empty = the one beside the input)");
 	t.real("fileMaxDiff", fileMaxDiff, 0, kBig, "file backend: largest frame/detection stamp difference, s");
-	t.integer("threads", threads, 0, 256, "OpenCV threads for inference (process-wide); 0 = every core but two (the frame thread and the mapping stages), at least one");
+	t.integer("threads", threads, 0, 256,
+			  "OpenCV threads for inference (process-wide); 0 = every core but two (the frame thread and the mapping "
+			  "stages), at least one");
 	return t;
 }
 
@@ -57,7 +61,8 @@ void CObjectDetector::setClassNames(std::vector<std::string> names, const std::s
 	{
 		const auto it = std::find(names_.begin(), names_.end(), want);
 		if (it == names_.end())
-			throw InputError(source, "dynamic class '" + want + "' is not among the " + std::to_string(names_.size()) + " class names");
+			throw InputError(source, "dynamic class '" + want + "' is not among the " + std::to_string(names_.size()) +
+										 " class names");
 		dynamicIds_.insert(static_cast<int>(it - names_.begin()));
 	}
 }
@@ -97,9 +102,8 @@ std::vector<std::string> readClassNames(const std::string& path, std::size_t exp
 	}
 	if (names.empty()) throw InputError(path, "class names file is empty");
 	if (expected > 0 && names.size() != expected)
-		throw InputError(
-			path, "has " + std::to_string(names.size()) + " class names but the model outputs " + std::to_string(expected) +
-					  " classes");
+		throw InputError(path, "has " + std::to_string(names.size()) + " class names but the model outputs " +
+								   std::to_string(expected) + " classes");
 	return names;
 }
 
@@ -137,7 +141,8 @@ std::unique_ptr<CObjectDetector> createObjectDetector(const CObjectDetector::TOp
 {
 	CObjectDetector::TOptions o = opts;
 	if (o.backend == "yolo") useShippedModel(o);
-	if (!(o.confThreshold >= 0 && o.confThreshold <= 1)) throw InputError("", "[Detector] confThreshold must be in [0,1]");
+	if (!(o.confThreshold >= 0 && o.confThreshold <= 1))
+		throw InputError("", "[Detector] confThreshold must be in [0,1]");
 	if (!(o.nmsThreshold > 0 && o.nmsThreshold <= 1)) throw InputError("", "[Detector] nmsThreshold must be in (0,1]");
 	if (o.backend == "yolo") return std::make_unique<CYoloDnnDetector>(o);
 	if (o.backend == "file") return std::make_unique<CDetectionsFileDetector>(o);

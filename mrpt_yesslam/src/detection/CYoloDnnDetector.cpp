@@ -23,7 +23,8 @@ std::size_t darknetWeightsBytes(const std::string& cfgPath)
 	std::vector<std::pair<std::string, std::map<std::string, std::string>>> sections;
 	for (std::string line : splitLines(readTextFile(cfgPath)))
 	{
-		line.erase(std::remove_if(line.begin(), line.end(), [](unsigned char c) { return std::isspace(c); }), line.end());
+		line.erase(std::remove_if(line.begin(), line.end(), [](unsigned char c) { return std::isspace(c); }),
+				   line.end());
 		if (line.empty() || line[0] == '#' || line[0] == ';') continue;
 		if (line[0] == '[')
 			sections.push_back({line.substr(1, line.find(']') - 1), {}});
@@ -36,7 +37,7 @@ std::size_t darknetWeightsBytes(const std::string& cfgPath)
 		return it == kv.end() ? dflt : std::strtol(it->second.c_str(), nullptr, 10);
 	};
 	if (sections.empty() || (sections[0].first != "net" && sections[0].first != "network")) return 0;
-	std::vector<long> channels;	 // output channels of each layer
+	std::vector<long> channels;  // output channels of each layer
 	long c = integer(sections[0].second, "channels", 3);
 	std::size_t floats = 0;
 	for (std::size_t i = 1; i < sections.size(); i++)
@@ -44,8 +45,10 @@ std::size_t darknetWeightsBytes(const std::string& cfgPath)
 		const auto& [type, kv] = sections[i];
 		if (type == "convolutional")
 		{
-			const long n = integer(kv, "filters", 1), size = integer(kv, "size", 1), groups = std::max(1L, integer(kv, "groups", 1));
-			floats += static_cast<std::size_t>(n * (integer(kv, "batch_normalize", 0) ? 4 : 1) + n * (c / groups) * size * size);
+			const long n = integer(kv, "filters", 1), size = integer(kv, "size", 1),
+					   groups = std::max(1L, integer(kv, "groups", 1));
+			floats += static_cast<std::size_t>(n * (integer(kv, "batch_normalize", 0) ? 4 : 1) +
+											   n * (c / groups) * size * size);
 			c = n;
 		}
 		else if (type == "route")
@@ -68,7 +71,7 @@ std::size_t darknetWeightsBytes(const std::string& cfgPath)
 			return 0;
 		channels.push_back(c);
 	}
-	return 20 + 4 * floats;	 // header: major, minor, revision (int32) and images seen (int64)
+	return 20 + 4 * floats;  // header: major, minor, revision (int32) and images seen (int64)
 }
 
 namespace
@@ -96,7 +99,8 @@ int darknetInputSize(const std::string& cfg)
 		for (char c : l)
 			if (c != ' ' && c != '\t') t += c;
 		double v;
-		if (t.rfind("width=", 0) == 0 && parseFiniteDouble(t.substr(6), v) && v >= 32 && v <= 4096) return static_cast<int>(v);
+		if (t.rfind("width=", 0) == 0 && parseFiniteDouble(t.substr(6), v) && v >= 32 && v <= 4096)
+			return static_cast<int>(v);
 	}
 	return 416;
 }
@@ -114,18 +118,12 @@ std::string CYoloDnnDetector::formatName(Format f)
 {
 	switch (f)
 	{
-		case Format::Darknet:
-			return "darknet";
-		case Format::YoloV5:
-			return "yolov5";
-		case Format::YoloV8:
-			return "yolov8";
-		case Format::YoloX:
-			return "yolox";
-		case Format::FastestDet:
-			return "fastestdet";
-		case Format::NanoDet:
-			return "nanodet";
+		case Format::Darknet: return "darknet";
+		case Format::YoloV5: return "yolov5";
+		case Format::YoloV8: return "yolov8";
+		case Format::YoloX: return "yolox";
+		case Format::FastestDet: return "fastestdet";
+		case Format::NanoDet: return "nanodet";
 	}
 	return "?";
 }
@@ -152,11 +150,12 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 		{
 			if (o.weights.empty()) throw InputError(o.model, "darknet model needs [Detector] weights (.weights file)");
 			if (!fs::is_regular_file(o.weights, ec)) throw InputError(o.weights, "weights file not found");
-			if (const std::size_t expected = darknetWeightsBytes(o.model); expected && fs::file_size(o.weights, ec) != expected)
-				throw InputError(
-					o.weights, "weights do not match " + fs::path(o.model).filename().string() + " (that network needs " +
-								   std::to_string(expected) + " bytes, the file has " + std::to_string(fs::file_size(o.weights, ec)) +
-								   "): weights of another model?");
+			if (const std::size_t expected = darknetWeightsBytes(o.model);
+				expected && fs::file_size(o.weights, ec) != expected)
+				throw InputError(o.weights, "weights do not match " + fs::path(o.model).filename().string() +
+												" (that network needs " + std::to_string(expected) +
+												" bytes, the file has " + std::to_string(fs::file_size(o.weights, ec)) +
+												"): weights of another model?");
 			net_ = cv::dnn::readNetFromDarknet(o.model, o.weights);
 			format_ = Format::Darknet;
 		}
@@ -167,7 +166,8 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 	}
 	catch (const cv::Exception& e)
 	{
-		throw InputError(ext == ".cfg" ? o.model + " + " + o.weights : o.model, "cannot load model (" + exceptionSummary(e.what()) + ")");
+		throw InputError(ext == ".cfg" ? o.model + " + " + o.weights : o.model,
+						 "cannot load model (" + exceptionSummary(e.what()) + ")");
 	}
 	if (net_.empty()) throw InputError(o.model, "cannot load model (empty network)");
 	net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
@@ -178,10 +178,12 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 	{
 		static const std::map<std::string, Format> byName = {
 			{"darknet", Format::Darknet}, {"yolov5", Format::YoloV5}, {"yolov7", Format::YoloV5},
-			{"yolov8", Format::YoloV8},	  {"yolox", Format::YoloX},		{"fastestdet", Format::FastestDet},
+			{"yolov8", Format::YoloV8},   {"yolox", Format::YoloX},   {"fastestdet", Format::FastestDet},
 			{"nanodet", Format::NanoDet}};
 		const auto it = byName.find(o.format);
-		if (it == byName.end()) throw InputError(o.model, "unknown [Detector] format '" + o.format + "' (auto, darknet, yolov5, yolov7, yolov8, yolox)");
+		if (it == byName.end())
+			throw InputError(
+				o.model, "unknown [Detector] format '" + o.format + "' (auto, darknet, yolov5, yolov7, yolov8, yolox)");
 		format_ = it->second;
 	}
 
@@ -213,9 +215,9 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 			{
 				std::string shapes;
 				for (const auto& m : outs) shapes += (shapes.empty() ? "" : " ") + shapeText(m);
-				throw InputError(
-					o.model, "output shape " + shapes + " is not a YOLO layout this reader knows (set [Detector] format; "
-					"YOLOv7 must be exported without NMS)");
+				throw InputError(o.model, "output shape " + shapes +
+											  " is not a YOLO layout this reader knows (set [Detector] format; "
+											  "YOLOv7 must be exported without NMS)");
 			}
 			size_ = s;
 			break;
@@ -225,7 +227,9 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 			lastError = exceptionSummary(e.what());
 		}
 	}
-	if (size_ == 0) throw InputError(o.model, "the network does not run at input size(s) tried (" + lastError + "); set [Detector] inputSize");
+	if (size_ == 0)
+		throw InputError(
+			o.model, "the network does not run at input size(s) tried (" + lastError + "); set [Detector] inputSize");
 	setClassNames(readClassNames(o.names, static_cast<std::size_t>(numClasses_)), o.names);
 }
 
@@ -350,17 +354,21 @@ std::vector<cv::Mat> CYoloDnnDetector::forward(const cv::Mat& blob)
 	return outs;
 }
 
-std::vector<cv::Mat> CYoloDnnDetector::rawOutputs(const cv::Mat& bgr, TFit& fit) { return forward(makeBlob(bgr, size_, fit)); }
+std::vector<cv::Mat> CYoloDnnDetector::rawOutputs(const cv::Mat& bgr, TFit& fit)
+{
+	return forward(makeBlob(bgr, size_, fit));
+}
 
 std::vector<TDetection> CYoloDnnDetector::detectImpl(const cv::Mat& bgr, double)
 {
 	TFit fit;
 	const auto outs = forward(makeBlob(bgr, size_, fit));
-	return decode(outs, format_, size_, numClasses_, fit, static_cast<float>(opts_.confThreshold), static_cast<float>(opts_.nmsThreshold));
+	return decode(outs, format_, size_, numClasses_, fit, static_cast<float>(opts_.confThreshold),
+				  static_cast<float>(opts_.nmsThreshold));
 }
 
-std::vector<TDetection> CYoloDnnDetector::decode(
-	const std::vector<cv::Mat>& outs, Format format, int inputSize, int numClasses, const TFit& fit, float thr, float nms)
+std::vector<TDetection> CYoloDnnDetector::decode(const std::vector<cv::Mat>& outs, Format format, int inputSize,
+												 int numClasses, const TFit& fit, float thr, float nms)
 {
 	std::vector<TDetection> cands;
 	// Adds a candidate from a box centre/size in network-input pixels.
@@ -374,9 +382,9 @@ std::vector<TDetection> CYoloDnnDetector::decode(
 		TDetection d;
 		d.classId = best;
 		d.score = score;
-		d.box = cv::Rect2f(
-			static_cast<float>((cx - w / 2 - fit.dx) / fit.sx), static_cast<float>((cy - h / 2 - fit.dy) / fit.sy),
-			static_cast<float>(w / fit.sx), static_cast<float>(h / fit.sy));
+		d.box = cv::Rect2f(static_cast<float>((cx - w / 2 - fit.dx) / fit.sx),
+						   static_cast<float>((cy - h / 2 - fit.dy) / fit.sy), static_cast<float>(w / fit.sx),
+						   static_cast<float>(h / fit.sy));
 		cands.push_back(d);
 	};
 	const float S = static_cast<float>(inputSize);
@@ -405,7 +413,7 @@ std::vector<TDetection> CYoloDnnDetector::decode(
 		}
 		case Format::YoloV8:
 		{
-			const cv::Mat m = outs[0].reshape(1, outs[0].size[1]).t();	// [N, 4+C]
+			const cv::Mat m = outs[0].reshape(1, outs[0].size[1]).t();  // [N, 4+C]
 			for (int r = 0; r < m.rows; r++)
 			{
 				const float* p = m.ptr<float>(r);
@@ -446,7 +454,8 @@ std::vector<TDetection> CYoloDnnDetector::decode(
 					auto ch = [&](int c) { return base[static_cast<std::size_t>(c) * plane + at]; };
 					const float obj = ch(0);
 					if (obj <= 0) continue;
-					for (int c = 5; c < C; c++) cls[static_cast<std::size_t>(c - 5)] = std::pow(std::max(0.f, ch(c)), 0.4f);
+					for (int c = 5; c < C; c++)
+						cls[static_cast<std::size_t>(c - 5)] = std::pow(std::max(0.f, ch(c)), 0.4f);
 					const float cx = (col + std::tanh(ch(1))) / W * S, cy = (row + std::tanh(ch(2))) / H * S;
 					const float w = 1.f / (1.f + std::exp(-ch(3))) * S, h = 1.f / (1.f + std::exp(-ch(4))) * S;
 					add(cx, cy, w, h, cls.data(), std::pow(obj, 0.6f));
@@ -499,7 +508,8 @@ std::vector<TDetection> CYoloDnnDetector::decode(
 	}
 	// Class-wise non-maximum suppression.
 	std::map<int, std::vector<int>> byClass;
-	for (int i = 0; i < static_cast<int>(cands.size()); i++) byClass[cands[static_cast<std::size_t>(i)].classId].push_back(i);
+	for (int i = 0; i < static_cast<int>(cands.size()); i++)
+		byClass[cands[static_cast<std::size_t>(i)].classId].push_back(i);
 	std::vector<TDetection> out;
 	for (const auto& [cls, idx] : byClass)
 	{

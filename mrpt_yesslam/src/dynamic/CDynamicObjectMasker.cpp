@@ -13,10 +13,16 @@ namespace mrpt_yesslam
 COptionTable CDynamicObjectMasker::TOptions::table()
 {
 	COptionTable t("DynamicMask");
-	t.text("method", method, "edge_fill: the paper's Laplacian-enhanced fill; fill: plain depth flood fill; box: the whole box", {"edge_fill", "fill", "box"});
-	t.real("loDiff", loDiff, 0, 10, "fill tolerance towards the camera between neighbours, m (the paper's 5 grey levels: about 0.13)");
+	t.text("method", method,
+		   "edge_fill: the paper's Laplacian-enhanced fill; fill: plain depth flood fill; box: the whole box",
+		   {"edge_fill", "fill", "box"});
+	t.real("loDiff", loDiff, 0, 10,
+		   "fill tolerance towards the camera between neighbours, m (the paper's 5 grey levels: about 0.13)");
 	t.real("upDiff", upDiff, 0, 10, "fill tolerance away from the camera between neighbours, m");
-	t.text("fillCompare", fillCompare, "neighbour: each pixel against its filled neighbour (floating range, capped by maxDepthRange); seed: against the seed (eq. 2 as written, fixed range)", {"neighbour", "seed"});
+	t.text("fillCompare", fillCompare,
+		   "neighbour: each pixel against its filled neighbour (floating range, capped by maxDepthRange); seed: "
+		   "against the seed (eq. 2 as written, fixed range)",
+		   {"neighbour", "seed"});
 	t.real("laplacianGain", laplacianGain, 0, 100, "k in f - k * lap(f) (eq. 4)");
 	t.integer("laplacianKernel", laplacianKernel, 1, 7, "aperture of the Laplacian (1, 3, 5, 7)");
 	t.real("blurSigma", blurSigma, 0, 100, "sigma of the Gaussian blur (eq. 5), pixels at the fill resolution");
@@ -24,11 +30,14 @@ COptionTable CDynamicObjectMasker::TOptions::table()
 	t.real("maxFillRatio", maxFillRatio, 0, 1, "a fill covering more of the box than this leaked: use the box");
 	t.real("minFillRatio", minFillRatio, 0, 1, "a fill covering less of the box than this failed: use the box");
 	t.flag("fallbackToBox", fallbackToBox, "on a failed fill mask the whole box (false: mask nothing)");
-	t.integer("dilatePixels", dilatePixels, 0, 100, "grow each object's mask by about this many full-resolution pixels");
+	t.integer("dilatePixels", dilatePixels, 0, 100,
+			  "grow each object's mask by about this many full-resolution pixels");
 	t.real("maxDepth", maxDepth, 0.1, 100, "depth beyond this is treated as missing, m");
-	t.real("maxDepthRange", maxDepthRange, 0, 100, "the fill never takes depth farther than this from the seed's, m (0 = no limit)");
+	t.real("maxDepthRange", maxDepthRange, 0, 100,
+		   "the fill never takes depth farther than this from the seed's, m (0 = no limit)");
 	t.integer("downsample", downsample, 1, 4, "fill at 1/downsample of the image side (1 = full resolution)");
-	t.integer("holdFrames", holdFrames, 0, 300, "a missed dynamic object stays masked this many frames after its last detection (0 = off)");
+	t.integer("holdFrames", holdFrames, 0, 300,
+			  "a missed dynamic object stays masked this many frames after its last detection (0 = off)");
 	t.real("holdGrow", holdGrow, 0, 1, "each frame a held box grows by this share of its size on every side");
 	return t;
 }
@@ -98,8 +107,8 @@ cv::Mat CDynamicObjectMasker::prepare(const cv::Mat& depth) const
 	return d;
 }
 
-bool CDynamicObjectMasker::fillBox(
-	const cv::Mat& raw, const cv::Rect& box, cv::Mat& out, cv::Rect& outRoi, cv::Point& seed) const
+bool CDynamicObjectMasker::fillBox(const cv::Mat& raw, const cv::Rect& box, cv::Mat& out, cv::Rect& outRoi,
+								   cv::Point& seed) const
 {
 	// The fill may leave the box by a margin, never more.
 	const int mx = static_cast<int>(std::round(box.width * opts_.boxMargin));
@@ -117,8 +126,8 @@ bool CDynamicObjectMasker::fillBox(
 	const cv::Mat sub = prepared(roi - off);
 
 	// Seed: dominant (preferably nearest) depth mode of the box's central part, pixel nearest the centre.
-	const cv::Rect centre(
-		box.x + box.width * 3 / 10, box.y + box.height / 5, std::max(1, box.width * 2 / 5), std::max(1, box.height * 2 / 5));
+	const cv::Rect centre(box.x + box.width * 3 / 10, box.y + box.height / 5, std::max(1, box.width * 2 / 5),
+						  std::max(1, box.height * 2 / 5));
 	const cv::Rect c = centre & roi;
 	const double binW = 0.05;
 	std::vector<int> hist(static_cast<std::size_t>(opts_.maxDepth / binW) + 2, 0);
@@ -170,15 +179,15 @@ bool CDynamicObjectMasker::fillBox(
 		// from the seed's depth. Tested on the raw depth, which sharpening has not moved.
 		const float z0 = raw.at<float>(seed);
 		const cv::Mat rs = raw(roi);
-		fm(cv::Rect(1, 1, roi.width, roi.height)).setTo(1, (rs < z0 - opts_.maxDepthRange) | (rs > z0 + opts_.maxDepthRange));
+		fm(cv::Rect(1, 1, roi.width, roi.height))
+			.setTo(1, (rs < z0 - opts_.maxDepthRange) | (rs > z0 + opts_.maxDepthRange));
 	}
 	// Eq. 2 compares every pixel with the seed (OpenCV's fixed range); comparing with the filled
 	// neighbour instead follows a body that bends away from the camera (our default, with the
 	// maxDepthRange cap above against runs along the floor).
 	const int range = opts_.fillCompare == "seed" ? cv::FLOODFILL_FIXED_RANGE : 0;
-	cv::floodFill(
-		sub, fm, seed - roi.tl(), cv::Scalar(), nullptr, cv::Scalar(opts_.loDiff), cv::Scalar(opts_.upDiff),
-		4 | cv::FLOODFILL_MASK_ONLY | range | (255 << 8));
+	cv::floodFill(sub, fm, seed - roi.tl(), cv::Scalar(), nullptr, cv::Scalar(opts_.loDiff), cv::Scalar(opts_.upDiff),
+				  4 | cv::FLOODFILL_MASK_ONLY | range | (255 << 8));
 	cv::Mat filled = fm(cv::Rect(1, 1, roi.width, roi.height)) == 255;
 	// Sharpening and blur make the object's own outermost pixels differ from their neighbours, so the
 	// fill stops a pixel or two short of the silhouette. Grow it back, one 4-neighbour layer at a
@@ -230,7 +239,7 @@ bool CDynamicObjectMasker::fillBox(
 	cv::findContours(filled.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
 	cv::drawContours(filled, contours, -1, cv::Scalar(255), cv::FILLED);
 	const double ratio = cv::countNonZero(filled((box - roi.tl()) & cv::Rect(0, 0, roi.width, roi.height))) /
-		std::max(1.0, static_cast<double>(box.area()));
+						 std::max(1.0, static_cast<double>(box.area()));
 	if (ratio > opts_.maxFillRatio || ratio < opts_.minFillRatio) return false;
 	out = filled;
 	outRoi = roi;
@@ -246,12 +255,15 @@ std::vector<TDetection> CDynamicObjectMasker::withHeld(const std::vector<TDetect
 	for (const auto& h : held_)
 	{
 		// Seen again (the same class overlapping its last box): the new detection replaces it.
-		const bool seen = std::any_of(
-			dets.begin(), dets.end(), [&](const TDetection& d) { return d.dynamic && d.classId == h.det.classId && boxIoU(d.box, h.det.box) >= 0.3; });
+		const bool seen =
+			std::any_of(dets.begin(), dets.end(),
+						[&](const TDetection& d)
+						{ return d.dynamic && d.classId == h.det.classId && boxIoU(d.box, h.det.box) >= 0.3; });
 		if (seen || h.age >= opts_.holdFrames) continue;
 		TDetection g = h.det;
 		const float k = static_cast<float>(opts_.holdGrow * (h.age + 1));
-		g.box = cv::Rect2f(g.box.x - k * g.box.width, g.box.y - k * g.box.height, g.box.width * (1 + 2 * k), g.box.height * (1 + 2 * k));
+		g.box = cv::Rect2f(g.box.x - k * g.box.width, g.box.y - k * g.box.height, g.box.width * (1 + 2 * k),
+						   g.box.height * (1 + 2 * k));
 		all.push_back(g);
 		held.push_back(true);
 		next.push_back({h.det, h.age + 1});
@@ -274,8 +286,8 @@ TDynamicMask CDynamicObjectMasker::segmentAll(const cv::Mat& depth, const std::v
 	return segment(depth, dets, std::vector<bool>(dets.size(), false), false);
 }
 
-TDynamicMask CDynamicObjectMasker::segment(
-	const cv::Mat& depth, const std::vector<TDetection>& dets, const std::vector<bool>& held, bool onlyDynamic) const
+TDynamicMask CDynamicObjectMasker::segment(const cv::Mat& depth, const std::vector<TDetection>& dets,
+										   const std::vector<bool>& held, bool onlyDynamic) const
 {
 	TDynamicMask r;
 	r.mask = cv::Mat::zeros(depth.size(), CV_8U);
@@ -301,10 +313,11 @@ TDynamicMask CDynamicObjectMasker::segment(
 		{
 			if (onlyDynamic && !d.dynamic) continue;
 			const double mx = d.box.width * opts_.boxMargin / f + pad, my = d.box.height * opts_.boxMargin / f + pad;
-			const cv::Rect s = cv::Rect(
-								   cv::Point(static_cast<int>(std::floor(d.box.x / f - mx)), static_cast<int>(std::floor(d.box.y / f - my))),
-								   cv::Point(static_cast<int>(std::ceil(d.box.br().x / f + mx)), static_cast<int>(std::ceil(d.box.br().y / f + my)))) &
-				small;
+			const cv::Rect s = cv::Rect(cv::Point(static_cast<int>(std::floor(d.box.x / f - mx)),
+												  static_cast<int>(std::floor(d.box.y / f - my))),
+										cv::Point(static_cast<int>(std::ceil(d.box.br().x / f + mx)),
+												  static_cast<int>(std::ceil(d.box.br().y / f + my)))) &
+							   small;
 			if (s.area() <= 0) continue;
 			const cv::Rect full = cv::Rect(s.x * f, s.y * f, s.width * f, s.height * f) & image;
 			cv::Mat part;
@@ -331,7 +344,8 @@ TDynamicMask CDynamicObjectMasker::segment(
 		bool ok = false;
 		if (opts_.method != "box")
 		{
-			const cv::Rect small = cv::Rect(box.x / f, box.y / f, std::max(1, box.width / f), std::max(1, box.height / f)) &
+			const cv::Rect small =
+				cv::Rect(box.x / f, box.y / f, std::max(1, box.width / f), std::max(1, box.height / f)) &
 				cv::Rect(0, 0, raw.cols, raw.rows);
 			cv::Mat objS;
 			cv::Rect atS;
@@ -342,7 +356,7 @@ TDynamicMask CDynamicObjectMasker::segment(
 				// mask is then scaled up, so this costs 1/f^2 of a full-resolution dilation.
 				const int rad = (opts_.dilatePixels + f - 1) / f;
 				const cv::Rect grown = cv::Rect(atS.x - rad, atS.y - rad, atS.width + 2 * rad, atS.height + 2 * rad) &
-					cv::Rect(0, 0, raw.cols, raw.rows);
+									   cv::Rect(0, 0, raw.cols, raw.rows);
 				cv::Mat big = cv::Mat::zeros(grown.size(), CV_8U);
 				objS.copyTo(big(atS - grown.tl()));
 				cv::dilate(big, big, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * rad + 1, 2 * rad + 1)));

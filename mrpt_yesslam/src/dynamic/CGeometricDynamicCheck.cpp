@@ -10,25 +10,47 @@ namespace
 {
 // Two depths belong to different surfaces (a person in front of the wall): the one rule for the
 // mover check's groups and for the regions it hands to the next frames.
-bool depthGap(double a, double b) { return std::abs(a - b) > std::max(0.15, 0.1 * std::min(a, b)); }
+bool depthGap(double a, double b)
+{
+	return std::abs(a - b) > std::max(0.15, 0.1 * std::min(a, b));
+}
 }  // namespace
 
 COptionTable CGeometricDynamicCheck::TOptions::table()
 {
 	COptionTable t("GeometricCheck");
-	t.flag("enabled", enabled, "the geometric check beside the mask: uncertain keypoints (where a mover was found; with boxes, inside a dynamic box) join the pose only if they agree with the pose from the others, and the mover check (false: every unmasked keypoint is trusted, as the paper)");
-	t.text("boxes", boxes, "keypoints inside a dynamic detection box (grown by boxMargin) but outside its mask are uncertain: they join a pose only where the certain ones' pose agrees, and never start a map point (false: the mask and the mover check judge them); auto: true for localisation in a loaded map (--localize-only: the map cannot cull what people left in it), false when mapping", {"auto", "true", "false"});
+	t.flag("enabled", enabled,
+		   "the geometric check beside the mask: uncertain keypoints (where a mover was found; with boxes, inside a "
+		   "dynamic box) join the pose only if they agree with the pose from the others, and the mover check (false: "
+		   "every unmasked keypoint is trusted, as the paper)");
+	t.text("boxes", boxes,
+		   "keypoints inside a dynamic detection box (grown by boxMargin) but outside its mask are uncertain: they "
+		   "join a pose only where the certain ones' pose agrees, and never start a map point (false: the mask and the "
+		   "mover check judge them); auto: true for localisation in a loaded map (--localize-only: the map cannot cull "
+		   "what people left in it), false when mapping",
+		   {"auto", "true", "false"});
 	t.real("boxMargin", boxMargin, 0, 1, "a dynamic box grows by this share of its size on every side");
-	t.count("minCertainInliers", minCertainInliers, 4, 100000, "fewer inliers outside every dynamic box: the check stands aside for the frame");
-	t.count("minBlindedCertain", minBlindedCertain, 0, 100000, "a frame with too few certain matches and more uncertain ones gets a pose from at least this many certain ones when the uncertain ones agreeing with it bring minCertainInliers inliers; else it is lost (0: always lost)");
-	t.flag("movers", movers, "box-free check for movers no detector reports: a depth-coherent group of matches that the pose from the others cannot explain leaves the solve");
+	t.count("minCertainInliers", minCertainInliers, 4, 100000,
+			"fewer inliers outside every dynamic box: the check stands aside for the frame");
+	t.count(
+		"minBlindedCertain", minBlindedCertain, 0, 100000,
+		"a frame with too few certain matches and more uncertain ones gets a pose from at least this many certain ones "
+		"when the uncertain ones agreeing with it bring minCertainInliers inliers; else it is lost (0: always lost)");
+	t.flag("movers", movers,
+		   "box-free check for movers no detector reports: a depth-coherent group of matches that the pose from the "
+		   "others cannot explain leaves the solve");
 	t.real("moverCell", moverCell, 4, 10000, "image cell side of the mover check's groups, pixels");
-	t.real("moverChi2", moverChi2, 1, 1e6, "a group misses when n |mean whitened residual|^2 under the pose from the others exceeds this; the worst such group ...");
-	t.real("moverShift", moverShift, 0, 100, "... moves (leaves the solve) when its mean displacement under that pose is at least this, m (else the others are tested again without it)");
+	t.real("moverChi2", moverChi2, 1, 1e6,
+		   "a group misses when n |mean whitened residual|^2 under the pose from the others exceeds this; the worst "
+		   "such group ...");
+	t.real("moverShift", moverShift, 0, 100,
+		   "... moves (leaves the solve) when its mean displacement under that pose is at least this, m (else the "
+		   "others are tested again without it)");
 	return t;
 }
 
-void CGeometricDynamicCheck::classify(TFeatures& f, const std::vector<TDetection>& detections, const cv::Size& image) const
+void CGeometricDynamicCheck::classify(TFeatures& f, const std::vector<TDetection>& detections,
+									  const cv::Size& image) const
 {
 	f.uncertain.assign(f.keypoints.size(), false);
 	if (!opts_.enabled || !opts_.boxesOn()) return;
@@ -36,7 +58,8 @@ void CGeometricDynamicCheck::classify(TFeatures& f, const std::vector<TDetection
 	for (const auto& d : detections)
 		if (d.dynamic)
 		{
-			const float mx = static_cast<float>(opts_.boxMargin) * d.box.width, my = static_cast<float>(opts_.boxMargin) * d.box.height;
+			const float mx = static_cast<float>(opts_.boxMargin) * d.box.width,
+						my = static_cast<float>(opts_.boxMargin) * d.box.height;
 			boxes.push_back(cv::Rect2f(d.box.x - mx, d.box.y - my, d.box.width + 2 * mx, d.box.height + 2 * my) &
 							cv::Rect2f(0, 0, static_cast<float>(image.width), static_cast<float>(image.height)));
 		}
@@ -61,7 +84,7 @@ std::vector<CGeometricDynamicCheck::TMoverRegion> CGeometricDynamicCheck::moverR
 		if (i < f.depth.size() && f.depth[i] > 0) v.push_back(i);
 	std::sort(v.begin(), v.end(), [&](std::size_t a, std::size_t b) { return f.depth[a] < f.depth[b]; });
 	std::vector<TMoverRegion> out;
-	std::vector<cv::Vec4f> ext;	 // x0, y0, x1, y1 of each region
+	std::vector<cv::Vec4f> ext;  // x0, y0, x1, y1 of each region
 	for (std::size_t k = 0; k < v.size(); k++)
 	{
 		const float z = f.depth[v[k]];
@@ -76,7 +99,8 @@ std::vector<CGeometricDynamicCheck::TMoverRegion> CGeometricDynamicCheck::moverR
 		e = cv::Vec4f(std::min(e[0], p.x), std::min(e[1], p.y), std::max(e[2], p.x), std::max(e[3], p.y));
 		out.back().zMax = z;
 	}
-	for (std::size_t k = 0; k < out.size(); k++) out[k].box = cv::Rect2f(ext[k][0], ext[k][1], ext[k][2] - ext[k][0], ext[k][3] - ext[k][1]);
+	for (std::size_t k = 0; k < out.size(); k++)
+		out[k].box = cv::Rect2f(ext[k][0], ext[k][1], ext[k][2] - ext[k][0], ext[k][3] - ext[k][1]);
 	return out;
 }
 
@@ -87,7 +111,8 @@ void CGeometricDynamicCheck::markMovers(TFeatures& f, const std::vector<TMoverRe
 	constexpr float kDepthMargin = 0.3f;
 	for (const auto& r : regions)
 	{
-		const float mx = static_cast<float>(opts_.boxMargin) * r.box.width + 8, my = static_cast<float>(opts_.boxMargin) * r.box.height + 8;
+		const float mx = static_cast<float>(opts_.boxMargin) * r.box.width + 8,
+					my = static_cast<float>(opts_.boxMargin) * r.box.height + 8;
 		const cv::Rect2f b(r.box.x - mx, r.box.y - my, r.box.width + 2 * mx, r.box.height + 2 * my);
 		for (std::size_t i = 0; i < f.keypoints.size(); i++)
 		{
@@ -98,13 +123,14 @@ void CGeometricDynamicCheck::markMovers(TFeatures& f, const std::vector<TMoverRe
 	}
 }
 
-TPoseEstimate CGeometricDynamicCheck::refine(
-	const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const std::vector<bool>& uncertain,
-	const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, TStats* stats) const
+TPoseEstimate CGeometricDynamicCheck::refine(const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs,
+											 const std::vector<bool>& uncertain, const mrpt::img::TCamera& K,
+											 const mrpt::poses::CPose3D& guess, TStats* stats) const
 {
 	TStats st;
 	std::vector<std::size_t> certainIdx, uncertainIdx;
-	for (std::size_t i = 0; i < obs.size(); i++) (i < uncertain.size() && uncertain[i] ? uncertainIdx : certainIdx).push_back(i);
+	for (std::size_t i = 0; i < obs.size(); i++)
+		(i < uncertain.size() && uncertain[i] ? uncertainIdx : certainIdx).push_back(i);
 	st.certain = certainIdx.size();
 	st.uncertain = uncertainIdx.size();
 	const auto plain = [&]
@@ -132,7 +158,8 @@ TPoseEstimate CGeometricDynamicCheck::refine(
 		{
 			if (opts_.minBlindedCertain > 0 && certainIdx.size() >= opts_.minBlindedCertain)
 			{
-				TPoseEstimate e = certainFirst(optimizer, obs, certainIdx, uncertainIdx, K, guess, opts_.minBlindedCertain, opts_.minCertainInliers, st);
+				TPoseEstimate e = certainFirst(optimizer, obs, certainIdx, uncertainIdx, K, guess,
+											   opts_.minBlindedCertain, opts_.minCertainInliers, st);
 				if (e.ok)
 				{
 					if (stats) *stats = st;
@@ -154,10 +181,12 @@ TPoseEstimate CGeometricDynamicCheck::refine(
 	return e;
 }
 
-TPoseEstimate CGeometricDynamicCheck::certainFirst(
-	const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const std::vector<std::size_t>& certainIdx,
-	const std::vector<std::size_t>& uncertainIdx, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, std::size_t minFirst,
-	std::size_t minTotal, TStats& st) const
+TPoseEstimate CGeometricDynamicCheck::certainFirst(const CPoseOptimizer& optimizer,
+												   const std::vector<TPoseObservation>& obs,
+												   const std::vector<std::size_t>& certainIdx,
+												   const std::vector<std::size_t>& uncertainIdx,
+												   const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess,
+												   std::size_t minFirst, std::size_t minTotal, TStats& st) const
 {
 	TPoseEstimate failed;
 	failed.inlier.assign(obs.size(), false);
@@ -258,7 +287,8 @@ std::vector<std::vector<std::size_t>> CGeometricDynamicCheck::depthCoherentGroup
 					if ((dr == 0 && dc <= 0) || c + dc < 0 || c + dc >= cols || r + dr >= rows) continue;
 					for (std::size_t a : cellNodes[static_cast<std::size_t>(c + cols * r)])
 						for (std::size_t b : cellNodes[static_cast<std::size_t>(c + dc + cols * (r + dr))])
-							if (!depthGap(median(nodes[a]), median(nodes[b]))) parent[findRoot(parent, a)] = findRoot(parent, b);
+							if (!depthGap(median(nodes[a]), median(nodes[b])))
+								parent[findRoot(parent, a)] = findRoot(parent, b);
 				}
 	std::vector<std::vector<std::size_t>> groups;
 	std::vector<std::size_t> slot(nodes.size(), nodes.size());
@@ -276,9 +306,10 @@ std::vector<std::vector<std::size_t>> CGeometricDynamicCheck::depthCoherentGroup
 	return groups;
 }
 
-TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
-	const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, TPoseEstimate e,
-	TStats& st) const
+TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(const CPoseOptimizer& optimizer,
+														   const std::vector<TPoseObservation>& obs,
+														   const mrpt::img::TCamera& K, TPoseEstimate e,
+														   TStats& st) const
 {
 	if (!opts_.enabled || !opts_.movers || !e.ok) return e;
 	const std::size_t n = obs.size();
@@ -304,7 +335,8 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 		for (std::size_t i = 0; i < n; i++)
 		{
 			if (!e.inlier[i] || removed[i]) continue;
-			reprojectionResidualJacobian(TReprojectionResidual(obs[i], K.fx(), K.fy(), K.cx(), K.cy()), Tcw, res[i], jac[i]);
+			reprojectionResidualJacobian(TReprojectionResidual(obs[i], K.fx(), K.fy(), K.cx(), K.cy()), Tcw, res[i],
+										 jac[i]);
 			H += jac[i].transpose() * jac[i];
 			b += jac[i].transpose() * res[i];
 			use[i] = true;
@@ -357,7 +389,8 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 				const Eigen::Vector3d r = res[i] + jac[i] * step;
 				const auto& o = obs[i];
 				mean += r;
-				shift += Eigen::Vector3d(r[0] * o.sigma * o.depth / K.fx(), r[1] * o.sigma * o.depth / K.fy(), r[2] * o.sigmaZ);
+				shift += Eigen::Vector3d(r[0] * o.sigma * o.depth / K.fx(), r[1] * o.sigma * o.depth / K.fy(),
+										 r[2] * o.sigmaZ);
 			}
 			const double m = static_cast<double>(g.size());
 			mean /= m;
@@ -396,7 +429,8 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 			for (std::size_t gi = 0; gi < groups.size(); gi++)
 			{
 				double stat = 0, size = 0;
-				if (gi != held && test(gi, held, stat, size) && stat > opts_.moverChi2 && size >= opts_.moverShift && stat > worst)
+				if (gi != held && test(gi, held, stat, size) && stat > opts_.moverChi2 && size >= opts_.moverShift &&
+					stat > worst)
 				{
 					worst = stat;
 					worstGroup = gi;
@@ -425,4 +459,3 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(
 	return e;
 }
 }  // namespace mrpt_yesslam
-

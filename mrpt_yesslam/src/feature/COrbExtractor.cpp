@@ -17,10 +17,13 @@ COptionTable COrbExtractor::TOptions::table()
 	COptionTable t("ORB");
 	t.integer("numFeatures", numFeatures, 10, 100000, "keypoints per frame");
 	t.integer("numLevels", numLevels, 1, 16, "pyramid levels");
-	t.real("scaleFactor", scaleFactor, 1.001, 1.999, "pyramid scale between levels (search windows and sigmas follow it)");
-	t.integer("fastThreshold", fastThreshold, 1, 100, "FAST threshold: low (ORB-SLAM's retry value) so weak texture still gives corners");
+	t.real("scaleFactor", scaleFactor, 1.001, 1.999,
+		   "pyramid scale between levels (search windows and sigmas follow it)");
+	t.integer("fastThreshold", fastThreshold, 1, 100,
+			  "FAST threshold: low (ORB-SLAM's retry value) so weak texture still gives corners");
 	t.integer("cellSize", cellSize, 8, 1024, "grid cell side in pixels of each pyramid level");
-	t.flag("excludeMasked", excludeMasked, "false: keypoints in the mask are detected and flagged dynamic (eq. 3); true: not detected there");
+	t.flag("excludeMasked", excludeMasked,
+		   "false: keypoints in the mask are detected and flagged dynamic (eq. 3); true: not detected there");
 	return t;
 }
 
@@ -46,7 +49,10 @@ std::vector<int> levelShares(int total, double scale, int levels)
 
 // Where level `octave`'s pixel coordinates lie in the image, less those coordinates times the
 // scale: the pyramid is resized about pixel centres, so level pixel x lies at (x + 0.5) s - 0.5.
-float pixelCentreOffset(double scaleFactor, int octave) { return 0.5f * (static_cast<float>(std::pow(scaleFactor, octave)) - 1.f); }
+float pixelCentreOffset(double scaleFactor, int octave)
+{
+	return 0.5f * (static_cast<float>(std::pow(scaleFactor, octave)) - 1.f);
+}
 }  // namespace
 
 COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
@@ -59,7 +65,8 @@ COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 	// Detect generously; the grid then keeps an even subset.
 	// One level: it describes each level's keypoints on the level image detect() already made, where
 	// OpenCV's multi-level compute() rebuilt the whole pyramid first (a third of its time, issue 41).
-	describer_ = cv::ORB::create(o.numFeatures, static_cast<float>(o.scaleFactor), 1, 19, 0, 2, cv::ORB::FAST_SCORE, 31, o.fastThreshold);
+	describer_ = cv::ORB::create(o.numFeatures, static_cast<float>(o.scaleFactor), 1, 19, 0, 2, cv::ORB::FAST_SCORE, 31,
+								 o.fastThreshold);
 	// ORB-SLAM's quota per level: geometric in the scale, so each level gets features in proportion
 	// to its area; the candidates before the grid are OpenCV's ORB split of four times the budget
 	// (what orb_->detect kept when it detected, before our own detection replaced it).
@@ -71,8 +78,10 @@ COrbExtractor::COrbExtractor(const TOptions& o) : opts_(o)
 	// turned half the angles by a degree or more against OpenCV's, and the descriptors with them).
 	const int r = kHalfPatch;
 	discHalfWidth_.assign(static_cast<std::size_t>(r + 2), 0);
-	const int below = static_cast<int>(std::floor(r * std::sqrt(2.0) / 2 + 1)), above = static_cast<int>(std::ceil(r * std::sqrt(2.0) / 2));
-	for (int v = 0; v <= below; v++) discHalfWidth_[static_cast<std::size_t>(v)] = static_cast<int>(std::lround(std::sqrt(double(r * r - v * v))));
+	const int below = static_cast<int>(std::floor(r * std::sqrt(2.0) / 2 + 1)),
+			  above = static_cast<int>(std::ceil(r * std::sqrt(2.0) / 2));
+	for (int v = 0; v <= below; v++)
+		discHalfWidth_[static_cast<std::size_t>(v)] = static_cast<int>(std::lround(std::sqrt(double(r * r - v * v))));
 	for (int v = r, u = 0; v >= above; v--, u++)
 	{
 		while (discHalfWidth_[static_cast<std::size_t>(u)] == discHalfWidth_[static_cast<std::size_t>(u + 1)]) u++;
@@ -91,7 +100,8 @@ namespace
 // A well-mixed number from a keypoint's pixel (splitmix64's finaliser): an order without a side.
 std::uint64_t positionHash(const cv::Point2f& p)
 {
-	std::uint64_t z = (static_cast<std::uint64_t>(std::lround(p.x * 16)) << 32) ^ static_cast<std::uint64_t>(std::lround(p.y * 16));
+	std::uint64_t z =
+		(static_cast<std::uint64_t>(std::lround(p.x * 16)) << 32) ^ static_cast<std::uint64_t>(std::lround(p.y * 16));
 	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
 	z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
 	return z ^ (z >> 31);
@@ -112,7 +122,8 @@ bool depthIsSmoothAround(const cv::Mat& depth, int x, int y, float z)
 }
 }  // namespace
 
-std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::Mat& keepMask, std::vector<cv::Mat>& pyramid) const
+std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::Mat& keepMask,
+												std::vector<cv::Mat>& pyramid) const
 {
 	// What OpenCV's ORB detect did, without its two costs we do not need (issue 41: ORB was the
 	// frame thread's largest stage): the orientation of all four thousand candidates (only the
@@ -120,7 +131,7 @@ std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::M
 	// resized from the one above, INTER_LINEAR_EXACT, sizes rounded as OpenCV's), same FAST
 	// (9/16 with non-maximum suppression, OpenCV's SIMD code), same 19-pixel level border and
 	// per-level candidate count by FAST score, so the keypoints are those it found.
-	constexpr int kBorder = 19;	 // OpenCV ORB's edgeThreshold: the descriptor's patch fits
+	constexpr int kBorder = 19;  // OpenCV ORB's edgeThreshold: the descriptor's patch fits
 	std::vector<cv::KeyPoint> out;
 	pyramid.clear();
 	cv::Mat level = grey;
@@ -140,19 +151,19 @@ std::vector<cv::KeyPoint> COrbExtractor::detect(const cv::Mat& grey, const cv::M
 		cv::FAST(level, kps, opts_.fastThreshold, true, cv::FastFeatureDetector::TYPE_9_16);
 		cv::KeyPointsFilter::runByImageBorder(kps, level.size(), kBorder);
 		if (!keepMask.empty())
-			kps.erase(
-				std::remove_if(
-					kps.begin(), kps.end(),
-					[&](const cv::KeyPoint& k)
-					{
-						// Where the corner is in the image (the pixel-centre correction extract()
-						// applies later), so that flagDynamic() would judge it the same way.
-						const float off = pixelCentreOffset(opts_.scaleFactor, l);
-						const int x = std::min(keepMask.cols - 1, cvRound(k.pt.x * static_cast<float>(scale) + off)),
-								  y = std::min(keepMask.rows - 1, cvRound(k.pt.y * static_cast<float>(scale) + off));
-						return keepMask.at<uchar>(y, x) == 0;
-					}),
-				kps.end());
+			kps.erase(std::remove_if(kps.begin(), kps.end(),
+									 [&](const cv::KeyPoint& k)
+									 {
+										 // Where the corner is in the image (the pixel-centre correction extract()
+										 // applies later), so that flagDynamic() would judge it the same way.
+										 const float off = pixelCentreOffset(opts_.scaleFactor, l);
+										 const int x = std::min(keepMask.cols - 1,
+																cvRound(k.pt.x * static_cast<float>(scale) + off)),
+												   y = std::min(keepMask.rows - 1,
+																cvRound(k.pt.y * static_cast<float>(scale) + off));
+										 return keepMask.at<uchar>(y, x) == 0;
+									 }),
+					  kps.end());
 		cv::KeyPointsFilter::retainBest(kps, candidatesPerLevel_[static_cast<std::size_t>(l)]);
 		for (auto& k : kps)
 		{
@@ -196,7 +207,8 @@ cv::Mat COrbExtractor::describe(const std::vector<cv::Mat>& pyramid, const std::
 	// simulated frames; our pyramid's sizes are OpenCV's for 640x480 at scale 1.2).
 	cv::Mat out(static_cast<int>(keypoints.size()), 32, CV_8U);
 	std::vector<std::vector<std::size_t>> ofLevel(pyramid.size());
-	for (std::size_t i = 0; i < keypoints.size(); i++) ofLevel[static_cast<std::size_t>(keypoints[i].octave)].push_back(i);
+	for (std::size_t i = 0; i < keypoints.size(); i++)
+		ofLevel[static_cast<std::size_t>(keypoints[i].octave)].push_back(i);
 	for (std::size_t l = 0; l < pyramid.size(); l++)
 	{
 		if (ofLevel[l].empty()) continue;
@@ -214,8 +226,10 @@ cv::Mat COrbExtractor::describe(const std::vector<cv::Mat>& pyramid, const std::
 		cv::Mat d;
 		describer_->compute(pyramid[l], kps, d);
 		// compute() drops keypoints too close to the border; detect() kept none there.
-		if (d.rows != static_cast<int>(ofLevel[l].size())) throw std::logic_error("COrbExtractor: a keypoint was not described");
-		for (std::size_t j = 0; j < ofLevel[l].size(); j++) d.row(static_cast<int>(j)).copyTo(out.row(static_cast<int>(ofLevel[l][j])));
+		if (d.rows != static_cast<int>(ofLevel[l].size()))
+			throw std::logic_error("COrbExtractor: a keypoint was not described");
+		for (std::size_t j = 0; j < ofLevel[l].size(); j++)
+			d.row(static_cast<int>(j)).copyTo(out.row(static_cast<int>(ofLevel[l][j])));
 	}
 	return out;
 }
@@ -245,12 +259,14 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 		const auto& kps = byLevel[level];
 		const double scale = std::pow(opts_.scaleFactor, static_cast<double>(level));
 		const double cell = opts_.cellSize * scale;
-		const int cols = std::max(1, static_cast<int>(std::ceil(grey.cols / cell))), rows = std::max(1, static_cast<int>(std::ceil(grey.rows / cell)));
+		const int cols = std::max(1, static_cast<int>(std::ceil(grey.cols / cell))),
+				  rows = std::max(1, static_cast<int>(std::ceil(grey.rows / cell)));
 		// Cells in row-major order, the order the round-robin below visits them in.
 		std::vector<std::vector<cv::KeyPoint>> cells(static_cast<std::size_t>(cols * rows));
 		for (const auto& k : kps)
 		{
-			const int cx = std::min(cols - 1, static_cast<int>(k.pt.x / cell)), cy = std::min(rows - 1, static_cast<int>(k.pt.y / cell));
+			const int cx = std::min(cols - 1, static_cast<int>(k.pt.x / cell)),
+					  cy = std::min(rows - 1, static_cast<int>(k.pt.y / cell));
 			cells[static_cast<std::size_t>(cy * cols + cx)].push_back(k);
 		}
 		for (auto& v : cells)
@@ -259,10 +275,11 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 			// nor favours a side of the cell (broken by row, the top rows of every cell won). Which
 			// of the tied corners is kept moves a whole run's ATE by chance: four hashes gave the Bonn
 			// slice 13.4-14.8 mm and sim_crowd 5.9-6.8 (sequential), about what OpenCV's own order gave.
-			std::sort(
-				v.begin(), v.end(),
-				[](const cv::KeyPoint& a, const cv::KeyPoint& b)
-				{ return a.response != b.response ? a.response > b.response : positionHash(a.pt) < positionHash(b.pt); });
+			std::sort(v.begin(), v.end(),
+					  [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+						  return a.response != b.response ? a.response > b.response
+														  : positionHash(a.pt) < positionHash(b.pt);
+					  });
 		const int quota = perLevel_[level];
 		int taken = 0;
 		for (std::size_t round = 0; taken < quota; round++)
@@ -301,7 +318,8 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 	out.depth.assign(out.keypoints.size(), 0.f);
 	out.dynamic.assign(out.keypoints.size(), false);
 	if (!depth.empty())
-		for (std::size_t i = 0; i < out.keypoints.size(); i++) out.depth[i] = depthAt(depth, out.keypoints[i].pt.x, out.keypoints[i].pt.y);
+		for (std::size_t i = 0; i < out.keypoints.size(); i++)
+			out.depth[i] = depthAt(depth, out.keypoints[i].pt.x, out.keypoints[i].pt.y);
 	flagDynamic(out, mask);
 	return out;
 }
@@ -329,7 +347,8 @@ void COrbExtractor::flagDynamic(TFeatures& f, const cv::Mat& mask)
 	if (mask.empty()) return;
 	for (std::size_t i = 0; i < f.keypoints.size(); i++)
 	{
-		const int x = static_cast<int>(std::lround(f.keypoints[i].pt.x)), y = static_cast<int>(std::lround(f.keypoints[i].pt.y));
+		const int x = static_cast<int>(std::lround(f.keypoints[i].pt.x)),
+				  y = static_cast<int>(std::lround(f.keypoints[i].pt.y));
 		if (x >= 0 && y >= 0 && x < mask.cols && y < mask.rows) f.dynamic[i] = mask.at<uchar>(y, x) != 0;
 	}
 }

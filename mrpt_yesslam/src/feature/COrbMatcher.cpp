@@ -40,9 +40,10 @@ std::vector<TMatch> uniqueBy(const std::vector<TMatch>& m, std::size_t n, std::s
 
 }  // namespace
 
-std::vector<TMatch> COrbMatcher::searchByProjection(
-	const TFrame& frame, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius,
-	std::vector<std::size_t>* inView, bool skipMatched, double scaleFactor, bool viewChecks) const
+std::vector<TMatch> COrbMatcher::searchByProjection(const TFrame& frame, const mrpt::poses::CPose3D& Twc,
+													const TLocalMapPoints& points, double radius,
+													std::vector<std::size_t>* inView, bool skipMatched,
+													double scaleFactor, bool viewChecks) const
 {
 	std::vector<TMatch> found;
 	if (inView) inView->clear();
@@ -88,7 +89,8 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 		{
 			const double dx = P.x - Twc.x(), dy = P.y - Twc.y(), dz = P.z - Twc.z();
 			const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-			const double maxD = points.refDistances[j] * levelScale[static_cast<std::size_t>(std::clamp(points.refOctaves[j], 0, 15))];
+			const double maxD =
+				points.refDistances[j] * levelScale[static_cast<std::size_t>(std::clamp(points.refOctaves[j], 0, 15))];
 			const double minD = maxD / levelScale[static_cast<std::size_t>(maxOctave)];
 			if (!(dist > 0) || dist < 0.8 * minD || dist > 1.2 * maxD) continue;
 			const auto& n = points.normals[j];
@@ -101,8 +103,10 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 		TBestTwo two;
 		// The cells to scan: as far as the coarsest level searched reaches.
 		const double rMax = radius * levelScale[static_cast<std::size_t>(levelHi)];
-		const int x0 = std::max(0, static_cast<int>((u - rMax) / cell)), x1 = std::min(gw - 1, static_cast<int>((u + rMax) / cell));
-		const int y0 = std::max(0, static_cast<int>((v - rMax) / cell)), y1 = std::min(gh - 1, static_cast<int>((v + rMax) / cell));
+		const int x0 = std::max(0, static_cast<int>((u - rMax) / cell)),
+				  x1 = std::min(gw - 1, static_cast<int>((u + rMax) / cell));
+		const int y0 = std::max(0, static_cast<int>((v - rMax) / cell)),
+				  y1 = std::min(gh - 1, static_cast<int>((v + rMax) / cell));
 		for (int gy = y0; gy <= y1; gy++)
 			for (int gx = x0; gx <= x1; gx++)
 				for (int i : grid[static_cast<std::size_t>(gy * gw + gx)])
@@ -111,7 +115,8 @@ std::vector<TMatch> COrbMatcher::searchByProjection(
 					if (views && (kp.octave < levelLo || kp.octave > levelHi)) continue;
 					// ORB-SLAM scales the window with the keypoint's pyramid level (with the
 					// predicted level, with that one).
-					const double r = radius * levelScale[static_cast<std::size_t>(views ? levelHi : std::clamp(kp.octave, 0, 15))];
+					const double r =
+						radius * levelScale[static_cast<std::size_t>(views ? levelHi : std::clamp(kp.octave, 0, 15))];
 					const double du = kp.pt.x - u, dv = kp.pt.y - v;
 					if (du * du + dv * dv > r * r) continue;
 					two.add(orbDistance(d, frame.features.descriptors.ptr<unsigned char>(i)), i);
@@ -131,7 +136,8 @@ std::vector<TMatch> COrbMatcher::matchBruteForce(const TFrame& frame, const cv::
 		if (F.dynamic[i]) continue;
 		const unsigned char* d = F.descriptors.ptr<unsigned char>(static_cast<int>(i));
 		TBestTwo two;
-		for (int j = 0; j < pointDescriptors.rows; j++) two.add(orbDistance(d, pointDescriptors.ptr<unsigned char>(j)), j);
+		for (int j = 0; j < pointDescriptors.rows; j++)
+			two.add(orbDistance(d, pointDescriptors.ptr<unsigned char>(j)), j);
 		if (two.accepted(maxDist_, ratio_)) found.push_back({i, static_cast<std::size_t>(two.index), two.best});
 	}
 	// One keypoint per point as well.

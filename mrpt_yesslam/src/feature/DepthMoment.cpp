@@ -6,8 +6,8 @@
 
 namespace mrpt_yesslam
 {
-std::size_t moveDepthToColourMoment(
-	TFeatures& f, const cv::Mat& depth, const CPinholeCamera& K, const mrpt::poses::CPose3D& depthCamera)
+std::size_t moveDepthToColourMoment(TFeatures& f, const cv::Mat& depth, const CPinholeCamera& K,
+									const mrpt::poses::CPose3D& depthCamera)
 {
 	std::size_t lost = 0;
 	for (std::size_t i = 0; i < f.keypoints.size(); i++)

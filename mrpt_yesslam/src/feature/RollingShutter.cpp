@@ -18,7 +18,7 @@ void unrollShutter(TFeatures& f, const CPinholeCamera& K, const mrpt::poses::CPo
 		cv::KeyPoint& kp = f.keypoints[i];
 		// The row as recorded (distorted) tells when it was read.
 		const double row = K.distort(kp.pt.x, kp.pt.y).y;
-		const double a = row / K.height() - 0.5;  // readouts after the middle row
+		const double a = row / K.height() - 0.5;                       // readouts after the middle row
 		const mrpt::poses::CPose3D rowCamera = scaledTwist(twist, a);  // in the middle row's camera
 		const bool hasDepth = f.depth[i] > 0;
 		const cv::Point3d X = K.backProject(kp.pt.x, kp.pt.y, hasDepth ? f.depth[i] : farDepth);

@@ -4,8 +4,8 @@
 
 namespace mrpt_yesslam
 {
-TAlignment alignPositions(
-	const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data, bool sim3)
+TAlignment alignPositions(const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data,
+						  bool sim3)
 {
 	const std::size_t n = model.size();
 	Eigen::Vector3d mm = Eigen::Vector3d::Zero(), md = Eigen::Vector3d::Zero();

@@ -15,10 +15,12 @@ namespace mrpt_yesslam
 COptionTable CPoseOptimizer::TOptions::table()
 {
 	COptionTable t("Tracking");
-	t.real("chi2Threshold", chi2Threshold, 0.1, 1000, "pose from static features (eq. 7): Huber reprojection error, outliers re-classified above this chi-square");
+	t.real("chi2Threshold", chi2Threshold, 0.1, 1000,
+		   "pose from static features (eq. 7): Huber reprojection error, outliers re-classified above this chi-square");
 	t.integer("rounds", rounds, 1, 100, "optimise, re-classify outliers, repeat");
 	t.integer("iterationsPerRound", iterationsPerRound, 1, 1000, "Levenberg-Marquardt iterations per round");
-	t.integer("ransacIterations", ransacIterations, 1, 100000, "PnP RANSAC iterations (initialisation, relocalisation)");
+	t.integer("ransacIterations", ransacIterations, 1, 100000,
+			  "PnP RANSAC iterations (initialisation, relocalisation)");
 	t.real("ransacPixels", ransacPixels, 0.1, 100, "PnP RANSAC inlier threshold, pixels");
 	t.count("minInliers", minInliers, 3, 100000, "fewer inliers: the pose is not trusted");
 	return t;
@@ -53,19 +55,21 @@ bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T*
 
 template bool TReprojectionResidual::operator()<double>(const double* const, const double* const, double*) const;
 // Automatic differentiation of the residual checks the analytic Jacobian the solve uses (tests).
-template bool TReprojectionResidual::operator()<ceres::Jet<double, 6>>(
-	const ceres::Jet<double, 6>* const, const ceres::Jet<double, 6>* const, ceres::Jet<double, 6>*) const;
+template bool TReprojectionResidual::operator()<ceres::Jet<double, 6>>(const ceres::Jet<double, 6>* const,
+																	   const ceres::Jet<double, 6>* const,
+																	   ceres::Jet<double, 6>*) const;
 
 namespace
 {
 // Residual and (optionally) its Jacobian with respect to a left perturbation of the pose, at the
 // point already in the camera frame: shared by the geometric check's linearisation and the
 // pose solve below, so both see one model.
-void residualAt(const TReprojectionResidual& f, double x, double y, double z, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>* J)
+void residualAt(const TReprojectionResidual& f, double x, double y, double z, Eigen::Vector3d& r,
+				Eigen::Matrix<double, 3, 6, Eigen::RowMajor>* J)
 {
 	if (z <= 1e-6)
 	{
-		r << 1e3, 1e3, 0.0;	 // as the residual itself: constant behind the camera
+		r << 1e3, 1e3, 0.0;  // as the residual itself: constant behind the camera
 		if (J) J->setZero();
 		return;
 	}
@@ -75,8 +79,8 @@ void residualAt(const TReprojectionResidual& f, double x, double y, double z, Ei
 	if (!J) return;
 	// d r / d X_c
 	Eigen::Matrix3d dr;
-	dr << f.fx * iz * f.invSigma, 0, -f.fx * x * iz * iz * f.invSigma, 0, f.fy * iz * f.invSigma, -f.fy * y * iz * iz * f.invSigma, 0, 0,
-		f.depth > 0 ? f.invSigmaZ : 0.0;
+	dr << f.fx * iz * f.invSigma, 0, -f.fx * x * iz * iz * f.invSigma, 0, f.fy * iz * f.invSigma,
+		-f.fy * y * iz * iz * f.invSigma, 0, 0, f.depth > 0 ? f.invSigmaZ : 0.0;
 	// d X_c / d (w, v) = [ -[X_c]x  I ]
 	Eigen::Matrix3d skew;
 	skew << 0, -z, y, z, 0, -x, -y, x, 0;
@@ -85,8 +89,8 @@ void residualAt(const TReprojectionResidual& f, double x, double y, double z, Ei
 }
 }  // namespace
 
-void reprojectionResidualJacobian(
-	const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J)
+void reprojectionResidualJacobian(const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r,
+								  Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J)
 {
 	double x, y, z;
 	Tcw.composePoint(f.X.x(), f.X.y(), f.X.z(), x, y, z);
@@ -99,7 +103,7 @@ void cameraPoseToParams(const mrpt::poses::CPose3D& Twc, double rvec[3], double 
 	const auto R = Tcw.getRotationMatrix();
 	double Rm[9];
 	for (int i = 0; i < 3; i++)
-		for (int j = 0; j < 3; j++) Rm[j * 3 + i] = R(i, j);	// column-major for ceres
+		for (int j = 0; j < 3; j++) Rm[j * 3 + i] = R(i, j);  // column-major for ceres
 	ceres::RotationMatrixToAngleAxis(Rm, rvec);
 	t[0] = Tcw.x();
 	t[1] = Tcw.y();
@@ -124,7 +128,8 @@ mrpt::poses::CPose3D cameraPoseFromParams(const double rvec[3], const double t[3
 namespace
 {
 // Chi-square of each observation (squared whitened residual) at a pose.
-std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const double rv[3], const double t[3])
+std::vector<double> chi2All(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const double rv[3],
+							const double t[3])
 {
 	std::vector<double> c(obs.size());
 	for (std::size_t i = 0; i < obs.size(); i++)
@@ -144,17 +149,20 @@ const CPoseOptimizer::TPosePrior* usablePrior(const std::optional<CPoseOptimizer
 }
 
 // The prior as world-to-camera (rotation Rp, translation tp) and its information per axis.
-void priorFrame(const CPoseOptimizer::TPosePrior& p, Eigen::Matrix3d& Rp, Eigen::Vector3d& tp, Eigen::Matrix<double, 6, 1>& info)
+void priorFrame(const CPoseOptimizer::TPosePrior& p, Eigen::Matrix3d& Rp, Eigen::Vector3d& tp,
+				Eigen::Matrix<double, 6, 1>& info)
 {
 	const mrpt::poses::CPose3D Tcw = -p.cameraInWorld;
 	Rp = Tcw.getRotationMatrix().asEigen();
 	tp = Eigen::Vector3d(Tcw.x(), Tcw.y(), Tcw.z());
-	info << Eigen::Vector3d::Constant(1.0 / (p.sigmaR * p.sigmaR)), Eigen::Vector3d::Constant(1.0 / (p.sigmaT * p.sigmaT));
+	info << Eigen::Vector3d::Constant(1.0 / (p.sigmaR * p.sigmaR)),
+		Eigen::Vector3d::Constant(1.0 / (p.sigmaT * p.sigmaT));
 }
 
 // The deviation of world-to-camera (Rc, tc) from the prior's, in the left perturbation's terms:
 // rotation log(Rc Rp^T), translation tc - Rc Rp^T tp.
-Eigen::Matrix<double, 6, 1> priorDeviationAt(const Eigen::Matrix3d& Rp, const Eigen::Vector3d& tp, const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
+Eigen::Matrix<double, 6, 1> priorDeviationAt(const Eigen::Matrix3d& Rp, const Eigen::Vector3d& tp,
+											 const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
 {
 	const Eigen::Matrix3d D = Rc * Rp.transpose();
 	const Eigen::AngleAxisd aa(D);
@@ -164,8 +172,8 @@ Eigen::Matrix<double, 6, 1> priorDeviationAt(const Eigen::Matrix3d& Rp, const Ei
 }
 }  // namespace
 
-bool CPoseOptimizer::priorTerm(
-	const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation, Eigen::Matrix<double, 6, 1>& information) const
+bool CPoseOptimizer::priorTerm(const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation,
+							   Eigen::Matrix<double, 6, 1>& information) const
 {
 	const TPosePrior* p = usablePrior(prior_);
 	if (!p) return false;
@@ -177,9 +185,8 @@ bool CPoseOptimizer::priorTerm(
 	return true;
 }
 
-void CPoseOptimizer::solveRound(
-	const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit, const std::vector<bool>& use, Eigen::Matrix3d& R,
-	Eigen::Vector3d& t) const
+void CPoseOptimizer::solveRound(const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit,
+								const std::vector<bool>& use, Eigen::Matrix3d& R, Eigen::Vector3d& t) const
 {
 	// Levenberg-Marquardt on the six pose parameters with the analytic Jacobian (left
 	// perturbation), Huber-weighted with the chi-square limit as its corner, as ORB-SLAM2's g2o pose
@@ -200,7 +207,8 @@ void CPoseOptimizer::solveRound(
 	Vec6 priorInfo = Vec6::Zero();
 	if (const TPosePrior* p = usablePrior(prior_)) priorFrame(*p, Rp, tp, priorInfo);
 	const bool hasPrior = priorInfo.squaredNorm() > 0;
-	const auto priorDeviation = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc) { return priorDeviationAt(Rp, tp, Rc, tc); };
+	const auto priorDeviation = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
+	{ return priorDeviationAt(Rp, tp, Rc, tc); };
 	const auto cost = [&](const Eigen::Matrix3d& Rc, const Eigen::Vector3d& tc)
 	{
 		double c = 0;
@@ -257,7 +265,8 @@ void CPoseOptimizer::solveRound(
 			if (!dx.allFinite()) return;
 			const Eigen::Vector3d w = dx.head<3>();
 			const double angle = w.norm();
-			const Eigen::Matrix3d dR = angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+			const Eigen::Matrix3d dR =
+				angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
 			const Eigen::Matrix3d R1 = dR * R;
 			const Eigen::Vector3d t1 = dR * t + dx.tail<3>();
 			const double c1 = cost(R1, t1);
@@ -276,9 +285,8 @@ void CPoseOptimizer::solveRound(
 	}
 }
 
-TPoseEstimate CPoseOptimizer::refine(
-	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial,
-	const std::vector<bool>* start) const
+TPoseEstimate CPoseOptimizer::refine(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
+									 const mrpt::poses::CPose3D& initial, const std::vector<bool>* start) const
 {
 	TPoseEstimate out;
 	if (start && start->size() == obs.size())
@@ -297,7 +305,7 @@ TPoseEstimate CPoseOptimizer::refine(
 	{
 		double Rm[9];
 		ceres::AngleAxisToRotationMatrix(rv, Rm);
-		R = Eigen::Map<const Eigen::Matrix3d>(Rm);	// column-major, as ceres writes it
+		R = Eigen::Map<const Eigen::Matrix3d>(Rm);  // column-major, as ceres writes it
 	}
 	Eigen::Vector3d tv(t[0], t[1], t[2]);
 	for (int round = 0; round < std::max(1, opts_.rounds); round++)
@@ -345,25 +353,25 @@ double CPoseOptimizer::chi2Limit(const TPoseObservation& o) const
 	return o.sigmaZ > 0 && o.depth > 0 ? opts_.chi2Threshold * (7.815 / 5.991) : opts_.chi2Threshold;
 }
 
-std::vector<double> CPoseOptimizer::chi2(
-	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const
+std::vector<double> CPoseOptimizer::chi2(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
+										 const mrpt::poses::CPose3D& Twc) const
 {
 	double rv[3], t[3];
 	cameraPoseToParams(Twc, rv, t);
 	return chi2All(obs, K, rv, t);
 }
 
-std::vector<bool> CPoseOptimizer::consistent(
-	const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const
+std::vector<bool> CPoseOptimizer::consistent(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
+											 const mrpt::poses::CPose3D& Twc) const
 {
 	const auto c = chi2(obs, K, Twc);
 	std::vector<bool> out(obs.size());
-	for (std::size_t i = 0; i < obs.size(); i++)
-		out[i] = c[i] <= chi2Limit(obs[i]);
+	for (std::size_t i = 0; i < obs.size(); i++) out[i] = c[i] <= chi2Limit(obs[i]);
 	return out;
 }
 
-TPoseEstimate CPoseOptimizer::solvePnPRansac(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K) const
+TPoseEstimate CPoseOptimizer::solvePnPRansac(const std::vector<TPoseObservation>& obs,
+											 const mrpt::img::TCamera& K) const
 {
 	TPoseEstimate out;
 	out.inlier.assign(obs.size(), false);
@@ -381,13 +389,12 @@ TPoseEstimate CPoseOptimizer::solvePnPRansac(const std::vector<TPoseObservation>
 	bool ok = false;
 	try
 	{
-		ok = cv::solvePnPRansac(
-			P, p, Km, cv::noArray(), rvec, tvec, false, opts_.ransacIterations, static_cast<float>(opts_.ransacPixels), 0.99, inl,
-			cv::SOLVEPNP_EPNP);
+		ok = cv::solvePnPRansac(P, p, Km, cv::noArray(), rvec, tvec, false, opts_.ransacIterations,
+								static_cast<float>(opts_.ransacPixels), 0.99, inl, cv::SOLVEPNP_EPNP);
 	}
 	catch (const cv::Exception&)
 	{
-		ok = false;	 // degenerate configurations make OpenCV throw: no pose, not a crash
+		ok = false;  // degenerate configurations make OpenCV throw: no pose, not a crash
 	}
 	if (!ok || inl.size() < opts_.minInliers) return out;
 	for (int i : inl) out.inlier[static_cast<std::size_t>(i)] = true;

@@ -20,8 +20,8 @@ struct Candidate
 	}
 };
 
-std::vector<std::pair<std::size_t, std::size_t>> greedy(
-	std::vector<Candidate>& cands, const std::vector<double>& first, std::size_t nFirst, std::size_t nSecond)
+std::vector<std::pair<std::size_t, std::size_t>> greedy(std::vector<Candidate>& cands, const std::vector<double>& first,
+														std::size_t nFirst, std::size_t nSecond)
 {
 	std::sort(cands.begin(), cands.end());
 	std::vector<char> usedA(nFirst, 0), usedB(nSecond, 0);
@@ -32,15 +32,16 @@ std::vector<std::pair<std::size_t, std::size_t>> greedy(
 		usedA[c.ia] = usedB[c.ib] = 1;
 		out.emplace_back(c.ia, c.ib);
 	}
-	std::sort(
-		out.begin(), out.end(),
-		[&](const auto& x, const auto& y) { return std::tie(first[x.first], x.first) < std::tie(first[y.first], y.first); });
+	std::sort(out.begin(), out.end(),
+			  [&](const auto& x, const auto& y)
+			  { return std::tie(first[x.first], x.first) < std::tie(first[y.first], y.first); });
 	return out;
 }
 }  // namespace
 
-std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
-	const std::vector<double>& first, const std::vector<double>& second, double offset, double maxDiff)
+std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(const std::vector<double>& first,
+																	 const std::vector<double>& second, double offset,
+																	 double maxDiff)
 {
 	// Sort `second` by b + offset, then for each a scan the window around a. The window bounds are
 	// widened by a tiny slack and every candidate is re-tested with the exact expression of
@@ -69,8 +70,9 @@ std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
 	return greedy(cands, first, first.size(), second.size());
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> associateTimestampsQuadratic(
-	const std::vector<double>& first, const std::vector<double>& second, double offset, double maxDiff)
+std::vector<std::pair<std::size_t, std::size_t>> associateTimestampsQuadratic(const std::vector<double>& first,
+																			  const std::vector<double>& second,
+																			  double offset, double maxDiff)
 {
 	std::vector<Candidate> cands;
 	for (std::size_t ia = 0; ia < first.size(); ia++)

@@ -21,10 +21,13 @@ namespace mrpt_yesslam
 COptionTable CInputSource::TOptions::table()
 {
 	COptionTable t("Input");
-	t.text("camera", camera, "TUM folders: fr1, fr2, fr3 or a camera file; empty = calibration.txt in the folder, else the freiburg name in its path");
+	t.text("camera", camera,
+		   "TUM folders: fr1, fr2, fr3 or a camera file; empty = calibration.txt in the folder, else the freiburg name "
+		   "in its path");
 	t.real("maxDiff", maxDiff, 0, 1, "TUM folders: largest rgb/depth stamp difference to pair them, s (associate.py)");
 	t.text("sensorLabel", sensorLabel, "rawlogs: only frames with this sensor label (empty = all 3D range scans)");
-	t.integer("prefetch", prefetch, 0, 64, "frames decoded ahead on a reader thread (0 = read in the processing thread)");
+	t.integer("prefetch", prefetch, 0, 64,
+			  "frames decoded ahead on a reader thread (0 = read in the processing thread)");
 	return t;
 }
 
@@ -62,7 +65,8 @@ std::optional<double> statedReadout(const std::string& inputPath)
 	std::smatch m;
 	if (!std::regex_search(text, m, readout)) return 0.0;
 	double ms = 0;
-	if (!parseFiniteDouble(m[1].str(), ms) || ms < 0) throw InputError(meta.string(), "readout_ms is not a duration: '" + m[1].str() + "'");
+	if (!parseFiniteDouble(m[1].str(), ms) || ms < 0)
+		throw InputError(meta.string(), "readout_ms is not a duration: '" + m[1].str() + "'");
 	return ms * 1e-3;
 }
 
@@ -78,10 +82,10 @@ std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputS
 	std::error_code ec;
 	// --camera for OpenNI2 input is the camera the source uses (over a recording's camera file and
 	// the device's own field of view): its readout, when it gives one, is the run's.
-	if (isOpenNI2Input(inputPath) && !opts.camera.empty())
-		try
+	if (isOpenNI2Input(inputPath) && !opts.camera.empty()) try
 		{
-			const TRgbdCamera c = fs::is_regular_file(opts.camera, ec) ? readCameraFile(opts.camera) : tumCameraByName(opts.camera);
+			const TRgbdCamera c =
+				fs::is_regular_file(opts.camera, ec) ? readCameraFile(opts.camera) : tumCameraByName(opts.camera);
 			if (c.readout >= 0) return TReadout{c.readout, c.readoutSource};
 		}
 		catch (const InputError&)
@@ -89,14 +93,16 @@ std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputS
 			// Opening the source says what is wrong with it.
 		}
 	// A recording (a rawlog, an .oni) with its camera file beside it (recordingCameraPath).
-	const std::string file = isOpenNI2Input(inputPath) ? (inputPath.size() > 8 ? inputPath.substr(8) : std::string()) : inputPath;
+	const std::string file =
+		isOpenNI2Input(inputPath) ? (inputPath.size() > 8 ? inputPath.substr(8) : std::string()) : inputPath;
 	if (!file.empty() && fs::is_regular_file(file, ec))
 		if (const std::string side = recordingCameraPath(file); fs::is_regular_file(side, ec))
-			if (const TRgbdCamera c = readCameraFile(side); c.readout >= 0) return TReadout{c.readout, "the recording's camera file " + side};
+			if (const TRgbdCamera c = readCameraFile(side); c.readout >= 0)
+				return TReadout{c.readout, "the recording's camera file " + side};
 	if (isOpenNI2Input(inputPath))
 	{
 		// A camera: its readout from its name and USB ids (the one the URI names, else the first).
-		if (!file.empty() && fs::exists(file, ec)) return std::nullopt;	 // a recording without its camera file
+		if (!file.empty() && fs::exists(file, ec)) return std::nullopt;  // a recording without its camera file
 		try
 		{
 			const auto devices = listOpenNI2Devices();
@@ -110,11 +116,13 @@ std::optional<TReadout> knownReadout(const std::string& inputPath, const CInputS
 		}
 		return std::nullopt;
 	}
-	if (const auto stated = statedReadout(inputPath)) return TReadout{*stated, "the sequence's meta.json (yesslam-sim)"};
+	if (const auto stated = statedReadout(inputPath))
+		return TReadout{*stated, "the sequence's meta.json (yesslam-sim)"};
 	if (!fs::is_directory(inputPath, ec)) return std::nullopt;
 	try
 	{
-		if (const TRgbdCamera c = resolveTumCamera(opts.camera, inputPath); c.readout >= 0) return TReadout{c.readout, c.readoutSource};
+		if (const TRgbdCamera c = resolveTumCamera(opts.camera, inputPath); c.readout >= 0)
+			return TReadout{c.readout, c.readoutSource};
 	}
 	catch (const InputError&)
 	{

@@ -13,9 +13,8 @@ double steadySeconds()
 }
 }  // namespace
 
-CLiveSource::CLiveSource(
-	std::unique_ptr<CInputSource> source, std::size_t slots, bool dropWhenBehind,
-	std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured)
+CLiveSource::CLiveSource(std::unique_ptr<CInputSource> source, std::size_t slots, bool dropWhenBehind,
+						 std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured)
 	: source_(std::move(source)),
 	  sizeHint_(source_->sizeHint()),
 	  path_(source_->path()),
@@ -48,7 +47,7 @@ void CLiveSource::captureLoop()
 		while (!stop_)
 		{
 			auto obs = source_->next();
-			unpaired_ = source_->skipped();	 // the source is read on this thread only
+			unpaired_ = source_->skipped();  // the source is read on this thread only
 			if (!obs) break;
 			if (onCaptured_) onCaptured_(obs);
 			std::unique_lock<std::mutex> lk(mtx_);
@@ -70,7 +69,7 @@ void CLiveSource::captureLoop()
 			captured_++;
 			if (stop_)
 			{
-				dropped_++;	 // captured while the run stopped: never delivered
+				dropped_++;  // captured while the run stopped: never delivered
 				break;
 			}
 			waiting_.push_back(std::move(obs));
@@ -119,7 +118,8 @@ TLiveStats CLiveSource::stats() const
 	s.dropped = dropped_;
 	s.waiting = waiting_.size();
 	s.unpaired = unpaired_;
-	if (captured_ > 1 && lastCapture_ > firstCapture_) s.captureFps = static_cast<double>(captured_ - 1) / (lastCapture_ - firstCapture_);
+	if (captured_ > 1 && lastCapture_ > firstCapture_)
+		s.captureFps = static_cast<double>(captured_ - 1) / (lastCapture_ - firstCapture_);
 	return s;
 }
 }  // namespace mrpt_yesslam

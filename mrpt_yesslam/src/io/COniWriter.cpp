@@ -36,12 +36,14 @@ enum : std::uint32_t
 	kNodeAdded = 0x0D,
 	kSeekTable = 0x0E
 };
-constexpr std::uint32_t kRecordMagic = 0x0052494E;	// "NIR\0"
+constexpr std::uint32_t kRecordMagic = 0x0052494E;  // "NIR\0"
 constexpr std::uint32_t kNodeDepth = 2, kNodeImage = 3;
 constexpr std::uint32_t codecId(char a, char b, char c, char d)
 {
-	return static_cast<std::uint32_t>(static_cast<unsigned char>(a)) | static_cast<std::uint32_t>(static_cast<unsigned char>(b)) << 8 |
-		static_cast<std::uint32_t>(static_cast<unsigned char>(c)) << 16 | static_cast<std::uint32_t>(static_cast<unsigned char>(d)) << 24;
+	return static_cast<std::uint32_t>(static_cast<unsigned char>(a)) |
+		   static_cast<std::uint32_t>(static_cast<unsigned char>(b)) << 8 |
+		   static_cast<std::uint32_t>(static_cast<unsigned char>(c)) << 16 |
+		   static_cast<std::uint32_t>(static_cast<unsigned char>(d)) << 24;
 }
 constexpr std::uint32_t kCodecNone = codecId('N', 'O', 'N', 'E');
 constexpr std::size_t kHeaderSize = 28, kFileHeaderSize = 24;
@@ -97,20 +99,33 @@ COniWriter::~COniWriter()
 	}
 }
 
-void COniWriter::writeRecord(std::uint32_t type, std::uint32_t node, std::uint64_t undo, const std::string& fields, const void* payload, std::size_t payloadSize)
+void COniWriter::writeRecord(std::uint32_t type, std::uint32_t node, std::uint64_t undo, const std::string& fields,
+							 const void* payload, std::size_t payloadSize)
 {
 	TBytes h;
-	h.put(kRecordMagic).put(type).put(node).put(static_cast<std::uint32_t>(kHeaderSize + fields.size())).put(static_cast<std::uint32_t>(payloadSize)).put(undo);
+	h.put(kRecordMagic)
+		.put(type)
+		.put(node)
+		.put(static_cast<std::uint32_t>(kHeaderSize + fields.size()))
+		.put(static_cast<std::uint32_t>(payloadSize))
+		.put(undo);
 	out_.write(h.b.data(), static_cast<std::streamsize>(h.b.size()));
 	out_.write(fields.data(), static_cast<std::streamsize>(fields.size()));
 	if (payloadSize) out_.write(static_cast<const char*>(payload), static_cast<std::streamsize>(payloadSize));
 	if (!out_) throw InputError(path_, "write failed (disk full?)");
 }
 
-void COniWriter::nodeAdded(const TNode& n, std::uint32_t frames, std::uint64_t minStamp, std::uint64_t maxStamp, std::uint64_t seekTable)
+void COniWriter::nodeAdded(const TNode& n, std::uint32_t frames, std::uint64_t minStamp, std::uint64_t maxStamp,
+						   std::uint64_t seekTable)
 {
 	TBytes f;
-	f.str(n.depth ? "Depth" : "Image").put(n.depth ? kNodeDepth : kNodeImage).put(kCodecNone).put(frames).put(minStamp).put(maxStamp).put(seekTable);
+	f.str(n.depth ? "Depth" : "Image")
+		.put(n.depth ? kNodeDepth : kNodeImage)
+		.put(kCodecNone)
+		.put(frames)
+		.put(minStamp)
+		.put(maxStamp)
+		.put(seekTable);
 	writeRecord(kNodeAdded, n.id, 0, f.b, nullptr, 0);
 }
 
@@ -129,7 +144,7 @@ void COniWriter::newData(TNode& n, std::uint64_t stamp, const void* data, std::s
 {
 	const std::uint64_t pos = static_cast<std::uint64_t>(out_.tellp());
 	TBytes f;
-	f.put(stamp).put(static_cast<std::uint32_t>(n.stamps.size() + 1));	// frame ids start at 1
+	f.put(stamp).put(static_cast<std::uint32_t>(n.stamps.size() + 1));  // frame ids start at 1
 	writeRecord(kNewData, n.id, n.lastDataPos, f.b, data, size);
 	n.lastDataPos = pos;
 	n.stamps.push_back(stamp);
@@ -146,7 +161,13 @@ void COniWriter::start(const mrpt::obs::CObservation3DRangeScan& first)
 	depthFactor_ = unit100um_ ? std::round(per100um) : static_cast<double>(first.rangeUnits) / 1e-3;
 
 	TBytes fh;
-	fh.raw("NI10", 4).put(std::uint8_t{1}).put(std::uint8_t{0}).put(std::uint16_t{1}).put(std::uint32_t{0}).put(~std::uint64_t{0}).put(std::uint32_t{2});
+	fh.raw("NI10", 4)
+		.put(std::uint8_t{1})
+		.put(std::uint8_t{0})
+		.put(std::uint16_t{1})
+		.put(std::uint32_t{0})
+		.put(~std::uint64_t{0})
+		.put(std::uint32_t{2});
 	out_.write(fh.b.data(), static_cast<std::streamsize>(fh.b.size()));
 
 	const auto& cam = first.cameraParamsIntensity;
@@ -175,7 +196,7 @@ void COniWriter::start(const mrpt::obs::CObservation3DRangeScan& first)
 		n->fpsPositions.push_back(static_cast<std::uint64_t>(out_.tellp()) - 4);
 		property(*n, "xnMapOutputMode", mode, sizeof(mode), false);
 		n->fpsPositions.push_back(static_cast<std::uint64_t>(out_.tellp()) - 4);
-		const std::uint32_t supported = n->depth ? 8u : 1u;	 // bit 3: 16-bit grey; bit 0: RGB24
+		const std::uint32_t supported = n->depth ? 8u : 1u;  // bit 3: 16-bit grey; bit 0: RGB24
 		property(*n, "xnSupportedPixelFormats", &supported, 4, false);
 		const std::uint64_t xnFormat = n->depth ? kXnGray16 : kXnRgb24;
 		property(*n, "xnPixelFormat", &xnFormat, 8, true);
@@ -202,7 +223,8 @@ void COniWriter::start(const mrpt::obs::CObservation3DRangeScan& first)
 void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs, const TOniStreams& streams)
 {
 	if (!streams.depth && !streams.colour) return;
-	if (!(streams.colourDelay >= 0 && streams.colourDelay < 1)) throw InputError(path_, "colour delay must be in [0, 1) s");
+	if (!(streams.colourDelay >= 0 && streams.colourDelay < 1))
+		throw InputError(path_, "colour delay must be in [0, 1) s");
 	validateRgbdObservation(obs, path_);
 	if (!started_)
 	{
@@ -211,19 +233,21 @@ void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs, const TOni
 	}
 	// The depth factor was chosen from the first frame: another unit would be stored wrongly scaled.
 	if (obs.rangeUnits != firstUnits_)
-		throw InputError(
-			path_, "frame " + std::to_string(frames_) + " has depth in units of " + std::to_string(obs.rangeUnits) + " m, the recording " +
-					   std::to_string(firstUnits_) + " m (one recording has one depth unit)");
+		throw InputError(path_, "frame " + std::to_string(frames_) + " has depth in units of " +
+									std::to_string(obs.rangeUnits) + " m, the recording " +
+									std::to_string(firstUnits_) + " m (one recording has one depth unit)");
 	if (obs.rangeImage.cols() != width_ || obs.rangeImage.rows() != height_)
-		throw InputError(path_, "frame " + std::to_string(frames_) + " is " + std::to_string(obs.rangeImage.cols()) + "x" +
-									std::to_string(obs.rangeImage.rows()) + ", the recording " + std::to_string(width_) + "x" + std::to_string(height_));
+		throw InputError(path_, "frame " + std::to_string(frames_) + " is " + std::to_string(obs.rangeImage.cols()) +
+									"x" + std::to_string(obs.rangeImage.rows()) + ", the recording " +
+									std::to_string(width_) + "x" + std::to_string(height_));
 	const double t = observationTime(obs);
 	if (!(t >= 0)) throw InputError(path_, "frame " + std::to_string(frames_) + " has a negative time");
 	const std::uint64_t stamp = static_cast<std::uint64_t>(std::llround(t * 1e6));
 	const std::uint64_t colourStamp = stamp + static_cast<std::uint64_t>(std::llround(streams.colourDelay * 1e6));
 	if ((streams.depth && !depth_.stamps.empty() && stamp <= depth_.stamps.back()) ||
 		(streams.colour && !color_.stamps.empty() && colourStamp <= color_.stamps.back()))
-		throw InputError(path_, "frame " + std::to_string(frames_) + " is not later than the one before (OpenNI2 plays frames in time order)");
+		throw InputError(path_, "frame " + std::to_string(frames_) +
+									" is not later than the one before (OpenNI2 plays frames in time order)");
 
 	depthBuf_.resize(static_cast<std::size_t>(width_) * height_);
 	for (int r = 0; r < height_; r++)
@@ -253,7 +277,8 @@ void COniWriter::write(const mrpt::obs::CObservation3DRangeScan& obs, const TOni
 std::uintmax_t COniWriter::finish()
 {
 	if (frames_ == 0) throw InputError(path_, "no frame to write");
-	if (depth_.stamps.empty() || color_.stamps.empty()) throw InputError(path_, "no frame of one of the streams (depth and colour are both needed)");
+	if (depth_.stamps.empty() || color_.stamps.empty())
+		throw InputError(path_, "no frame of one of the streams (depth and colour are both needed)");
 	for (TNode* n : {&depth_, &color_})
 	{
 		writeRecord(kNodeRemoved, n->id, n->addedPos, {}, nullptr, 0);
@@ -262,7 +287,8 @@ std::uintmax_t COniWriter::finish()
 		// frame 0: frame ids start at 1.
 		TBytes table;
 		table.put(std::uint64_t{0}).put(std::uint32_t{0}).put(std::uint64_t{0});
-		for (std::size_t i = 0; i < n->stamps.size(); i++) table.put(n->stamps[i]).put(std::uint32_t{0}).put(n->positions[i]);
+		for (std::size_t i = 0; i < n->stamps.size(); i++)
+			table.put(n->stamps[i]).put(std::uint32_t{0}).put(n->positions[i]);
 		writeRecord(kSeekTable, n->id, 0, {}, table.b.data(), table.b.size());
 		// The node record again, now with its frame count, time range and seek table.
 		const auto end = out_.tellp();
@@ -303,9 +329,10 @@ std::uintmax_t COniWriter::finish()
 	return fs::file_size(path_);
 }
 
-TOniConversion convertToOni(
-	const std::string& input, const std::string& output, const CInputSource::TOptions& inputOptions, std::size_t maxFrames,
-	const std::function<void(std::size_t, std::size_t)>& progress, const std::function<bool()>& cancel)
+TOniConversion convertToOni(const std::string& input, const std::string& output,
+							const CInputSource::TOptions& inputOptions, std::size_t maxFrames,
+							const std::function<void(std::size_t, std::size_t)>& progress,
+							const std::function<bool()>& cancel)
 {
 	TOniConversion r;
 	auto src = openInputSource(input, inputOptions);
@@ -314,10 +341,11 @@ TOniConversion convertToOni(
 	{
 		std::error_code ec;
 		fs::create_directories(outDir, ec);
-		if (!fs::is_directory(outDir)) throw InputError(output, "cannot create its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+		if (!fs::is_directory(outDir))
+			throw InputError(output, "cannot create its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	}
 	COniWriter w(output);
-	std::optional<TRgbdCamera> camera;	// the input's, from its first frame (a TUM folder: its camera model)
+	std::optional<TRgbdCamera> camera;  // the input's, from its first frame (a TUM folder: its camera model)
 	while (!(maxFrames && r.frames >= maxFrames))
 	{
 		if (cancel && cancel())
@@ -360,7 +388,9 @@ TOniConversion convertToOni(
 	if (camera && r.frames > 0)
 	{
 		r.cameraFile = recordingCameraPath(output);
-		writeFileAtomically(r.cameraFile, formatCameraFile(*camera, "the camera of " + fs::path(output).filename().string() + " (yesslam-oni, from " + input + ")"));
+		writeFileAtomically(r.cameraFile,
+							formatCameraFile(*camera, "the camera of " + fs::path(output).filename().string() +
+														  " (yesslam-oni, from " + input + ")"));
 	}
 	const std::string gt = findGroundTruthFor(input);
 	if (!gt.empty())

@@ -51,14 +51,19 @@ class CShortLink
 		if (ec || !openNI2CanOpenAsIs(base + "/yesslam-oni-XXXXXX/recording.oni")) base = "/tmp";
 		std::string tmpl = base + "/yesslam-oni-XXXXXX";
 		if (!::mkdtemp(tmpl.data()))
-			throw InputError(target, "its path is not plain ASCII or is too long for OpenNI2, and no temporary folder for a short link to it could be made in " + base);
+			throw InputError(target,
+							 "its path is not plain ASCII or is too long for OpenNI2, and no temporary folder for a "
+							 "short link to it could be made in " +
+								 base);
 		dir_ = tmpl;
 		link_ = dir_ + "/recording.oni";
 		fs::create_symlink(fs::absolute(target), link_, ec);
 		if (ec)
 		{
 			remove();
-			throw InputError(target, "its path is not plain ASCII or is too long for OpenNI2, and a short link to it failed: " + ec.message());
+			throw InputError(target,
+							 "its path is not plain ASCII or is too long for OpenNI2, and a short link to it failed: " +
+								 ec.message());
 		}
 	}
 	~CShortLink() { remove(); }
@@ -82,22 +87,25 @@ void initOpenNI2()
 {
 	static std::once_flag once;
 	static std::string problem;
-	std::call_once(
-		once,
-		[]
-		{
-			if (openni::OpenNI::initialize() != openni::STATUS_OK)
-				problem = "cannot initialise OpenNI2: " + oneLine(openni::OpenNI::getExtendedError());
-		});
+	std::call_once(once,
+				   []
+				   {
+					   if (openni::OpenNI::initialize() != openni::STATUS_OK)
+						   problem = "cannot initialise OpenNI2: " + oneLine(openni::OpenNI::getExtendedError());
+				   });
 	if (!problem.empty()) throw InputError(kWhere, problem);
 }
 
 std::string modeText(const openni::VideoMode& m)
 {
-	return std::to_string(m.getResolutionX()) + "x" + std::to_string(m.getResolutionY()) + "@" + std::to_string(m.getFps());
+	return std::to_string(m.getResolutionX()) + "x" + std::to_string(m.getResolutionY()) + "@" +
+		   std::to_string(m.getFps());
 }
 
-bool isDepthFormat(openni::PixelFormat f) { return f == openni::PIXEL_FORMAT_DEPTH_1_MM || f == openni::PIXEL_FORMAT_DEPTH_100_UM; }
+bool isDepthFormat(openni::PixelFormat f)
+{
+	return f == openni::PIXEL_FORMAT_DEPTH_1_MM || f == openni::PIXEL_FORMAT_DEPTH_100_UM;
+}
 
 // Picks the stream's mode of the wanted size and rate in an accepted pixel format.
 void chooseMode(openni::VideoStream& s, int w, int h, int fps, bool depth, const std::string& what)
@@ -107,19 +115,22 @@ void chooseMode(openni::VideoStream& s, int w, int h, int fps, bool depth, const
 	for (int i = 0; i < modes.getSize(); i++)
 	{
 		const openni::VideoMode& m = modes[i];
-		const bool format = depth ? isDepthFormat(m.getPixelFormat()) : m.getPixelFormat() == openni::PIXEL_FORMAT_RGB888;
+		const bool format =
+			depth ? isDepthFormat(m.getPixelFormat()) : m.getPixelFormat() == openni::PIXEL_FORMAT_RGB888;
 		if (!format) continue;
 		if (offered.find(modeText(m)) == std::string::npos) offered += (offered.empty() ? "" : ", ") + modeText(m);
 		if (m.getResolutionX() == w && m.getResolutionY() == h && m.getFps() == fps)
 		{
 			if (s.setVideoMode(m) != openni::STATUS_OK)
-				throw InputError(kWhere, "the " + what + " stream refused " + modeText(m) + ": " + oneLine(openni::OpenNI::getExtendedError()));
+				throw InputError(kWhere, "the " + what + " stream refused " + modeText(m) + ": " +
+											 oneLine(openni::OpenNI::getExtendedError()));
 			return;
 		}
 	}
-	throw InputError(
-		kWhere, "the " + what + " stream has no " + std::to_string(w) + "x" + std::to_string(h) + "@" + std::to_string(fps) +
-			" mode (offered: " + (offered.empty() ? "none in a usable format" : offered) + "; use --width/--height/--fps)");
+	throw InputError(kWhere, "the " + what + " stream has no " + std::to_string(w) + "x" + std::to_string(h) + "@" +
+								 std::to_string(fps) +
+								 " mode (offered: " + (offered.empty() ? "none in a usable format" : offered) +
+								 "; use --width/--height/--fps)");
 }
 }  // namespace
 
@@ -140,7 +151,7 @@ double CDeviceClock::toHost(std::uint64_t deviceMicros, double hostNow)
 
 struct COpenNI2Source::TImpl
 {
-	std::unique_ptr<CShortLink> link;	//!< declared first: outlives the device that reads through it
+	std::unique_ptr<CShortLink> link;  //!< declared first: outlives the device that reads through it
 	openni::Device device;
 	openni::VideoStream depth, color;
 	openni::VideoFrameRef lastDepth, lastColor;
@@ -172,19 +183,25 @@ std::vector<TOpenNI2Device> listOpenNI2Devices()
 std::optional<double> deviceReadout(const TOpenNI2Device& d)
 {
 	std::string words = d.vendor + " " + d.name;
-	std::transform(words.begin(), words.end(), words.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	std::transform(words.begin(), words.end(), words.begin(),
+				   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
 	// A Kinect v2 / Kinect for Xbox One (time of flight, libfreenect2's driver) is another design.
-	if (words.find("v2") != std::string::npos || words.find("one") != std::string::npos || (d.usbVendorId == 0x045e && d.usbProductId >= 0x02c4))
+	if (words.find("v2") != std::string::npos || words.find("one") != std::string::npos ||
+		(d.usbVendorId == 0x045e && d.usbProductId >= 0x02c4))
 		return std::nullopt;
 	// USB ids: PrimeSense 0x1d27 (Xtion, Carmine); Microsoft 0x045e with the Kinect v1 camera's
 	// products 0x02ae (Xbox 360) and 0x02bf (Kinect for Windows).
-	const bool primeSense = d.usbVendorId == 0x1d27 || (d.usbVendorId == 0x045e && (d.usbProductId == 0x02ae || d.usbProductId == 0x02bf));
+	const bool primeSense =
+		d.usbVendorId == 0x1d27 || (d.usbVendorId == 0x045e && (d.usbProductId == 0x02ae || d.usbProductId == 0x02bf));
 	for (const char* n : {"primesense", "xtion", "carmine", "kinect", "ps1080"})
 		if (primeSense || words.find(n) != std::string::npos) return sensorReadout("primesense");
 	return std::nullopt;
 }
 
-bool isOpenNI2Input(const std::string& input) { return input == "openni2" || input.rfind("openni2:", 0) == 0; }
+bool isOpenNI2Input(const std::string& input)
+{
+	return input == "openni2" || input.rfind("openni2:", 0) == 0;
+}
 
 COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl>())
 {
@@ -199,8 +216,9 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 		const auto devices = listOpenNI2Devices();
 		if (devices.empty())
 			throw InputError(
-				kWhere, "no OpenNI2 device found (is the camera plugged in - see lsusb - and may this user open it? "
-						"Debian's libopenni2-0 installs the udev rules; replug after installing)");
+				kWhere,
+				"no OpenNI2 device found (is the camera plugged in - see lsusb - and may this user open it? "
+				"Debian's libopenni2-0 installs the udev rules; replug after installing)");
 		if (uri.empty()) uri = devices.front().uri;
 	}
 	if (file && !openNI2CanOpenAsIs(uri))
@@ -211,15 +229,17 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 	if (impl_->device.open(uri.c_str()) != openni::STATUS_OK)
 	{
 		const std::string why = oneLine(openni::OpenNI::getExtendedError());
-		throw InputError(
-			file ? o.uri : kWhere, file ? "OpenNI2's file driver cannot play it (not an OpenNI recording, or cut short)"
-										: "cannot open device " + uri + (why.empty() ? std::string() : ": " + why));
+		throw InputError(file ? o.uri : kWhere,
+						 file ? "OpenNI2's file driver cannot play it (not an OpenNI recording, or cut short)"
+							  : "cannot open device " + uri + (why.empty() ? std::string() : ": " + why));
 	}
 	auto& dev = impl_->device;
 	if (!dev.hasSensor(openni::SENSOR_DEPTH) || !dev.hasSensor(openni::SENSOR_COLOR))
 		throw InputError(file ? o.uri : kWhere, "needs both a depth and a colour stream");
-	if (impl_->depth.create(dev, openni::SENSOR_DEPTH) != openni::STATUS_OK || impl_->color.create(dev, openni::SENSOR_COLOR) != openni::STATUS_OK)
-		throw InputError(file ? o.uri : kWhere, std::string("cannot create the streams: ") + oneLine(openni::OpenNI::getExtendedError()));
+	if (impl_->depth.create(dev, openni::SENSOR_DEPTH) != openni::STATUS_OK ||
+		impl_->color.create(dev, openni::SENSOR_COLOR) != openni::STATUS_OK)
+		throw InputError(file ? o.uri : kWhere,
+						 std::string("cannot create the streams: ") + oneLine(openni::OpenNI::getExtendedError()));
 	if (!file)
 	{
 		chooseMode(impl_->depth, o.width, o.height, o.fps, true, "depth");
@@ -240,10 +260,13 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 		impl_->colorFrames = pc->getNumberOfFrames(impl_->color);
 	}
 	const openni::VideoMode dm = impl_->depth.getVideoMode(), cm = impl_->color.getVideoMode();
-	if (!isDepthFormat(dm.getPixelFormat())) throw InputError(file ? o.uri : kWhere, "the depth stream is not in millimetres or 100 um units");
-	if (cm.getPixelFormat() != openni::PIXEL_FORMAT_RGB888) throw InputError(file ? o.uri : kWhere, "the colour stream is not RGB888");
+	if (!isDepthFormat(dm.getPixelFormat()))
+		throw InputError(file ? o.uri : kWhere, "the depth stream is not in millimetres or 100 um units");
+	if (cm.getPixelFormat() != openni::PIXEL_FORMAT_RGB888)
+		throw InputError(file ? o.uri : kWhere, "the colour stream is not RGB888");
 	if (dm.getResolutionX() != cm.getResolutionX() || dm.getResolutionY() != cm.getResolutionY())
-		throw InputError(file ? o.uri : kWhere, "depth (" + modeText(dm) + ") and colour (" + modeText(cm) + ") differ in size: depth must be registered to colour");
+		throw InputError(file ? o.uri : kWhere, "depth (" + modeText(dm) + ") and colour (" + modeText(cm) +
+													") differ in size: depth must be registered to colour");
 
 	// A recording's own camera file (recordingCameraPath: its distortion and readout, which an
 	// .oni cannot hold) unless --camera names another.
@@ -260,8 +283,10 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 			camera_.intrinsics.nrows = static_cast<uint32_t>(cm.getResolutionY());
 			camera_.sizeGiven = true;
 		}
-		if (camera_.intrinsics.ncols != static_cast<uint32_t>(cm.getResolutionX()) || camera_.intrinsics.nrows != static_cast<uint32_t>(cm.getResolutionY()))
-			throw InputError(cameraSpec, "the camera is " + std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows) + ", the stream " + modeText(cm));
+		if (camera_.intrinsics.ncols != static_cast<uint32_t>(cm.getResolutionX()) ||
+			camera_.intrinsics.nrows != static_cast<uint32_t>(cm.getResolutionY()))
+			throw InputError(cameraSpec, "the camera is " + std::to_string(camera_.intrinsics.ncols) + "x" +
+											 std::to_string(camera_.intrinsics.nrows) + ", the stream " + modeText(cm));
 	}
 	else
 	{
@@ -269,20 +294,24 @@ COpenNI2Source::COpenNI2Source(const TOptions& o) : impl_(std::make_unique<TImpl
 		// file through --camera is more accurate).
 		const double w = cm.getResolutionX(), h = cm.getResolutionY();
 		const double hf = impl_->color.getHorizontalFieldOfView(), vf = impl_->color.getVerticalFieldOfView();
-		if (!(hf > 0.1 && hf < 3.0 && vf > 0.1 && vf < 3.0)) throw InputError(file ? o.uri : kWhere, "the device reports no field of view: give intrinsics with --camera");
+		if (!(hf > 0.1 && hf < 3.0 && vf > 0.1 && vf < 3.0))
+			throw InputError(file ? o.uri : kWhere,
+							 "the device reports no field of view: give intrinsics with --camera");
 		camera_.intrinsics.ncols = static_cast<uint32_t>(w);
 		camera_.intrinsics.nrows = static_cast<uint32_t>(h);
-		camera_.intrinsics.setIntrinsicParamsFromValues(w / (2 * std::tan(hf / 2)), h / (2 * std::tan(vf / 2)), (w - 1) / 2, (h - 1) / 2);
+		camera_.intrinsics.setIntrinsicParamsFromValues(w / (2 * std::tan(hf / 2)), h / (2 * std::tan(vf / 2)),
+														(w - 1) / 2, (h - 1) / 2);
 		camera_.name = "openni2 field of view";
 	}
 	camera_.depthScale = dm.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_1_MM ? 1000.0 : 10000.0;
 	camera_.intrinsics.focalLengthMeters = 0;
 
 	if (impl_->depth.start() != openni::STATUS_OK || impl_->color.start() != openni::STATUS_OK)
-		throw InputError(file ? o.uri : kWhere, std::string("cannot start the streams: ") + oneLine(openni::OpenNI::getExtendedError()));
+		throw InputError(file ? o.uri : kWhere,
+						 std::string("cannot start the streams: ") + oneLine(openni::OpenNI::getExtendedError()));
 	impl_->start = std::chrono::steady_clock::now();
-	description_ = std::string(dev.getDeviceInfo().getVendor()) + " " + dev.getDeviceInfo().getName() + ", depth " + modeText(dm) +
-		", colour " + modeText(cm) + (file ? " (recording)" : "");
+	description_ = std::string(dev.getDeviceInfo().getVendor()) + " " + dev.getDeviceInfo().getName() + ", depth " +
+				   modeText(dm) + ", colour " + modeText(cm) + (file ? " (recording)" : "");
 	timeoutMs_ = static_cast<int>(o.timeoutSeconds * 1000);
 	// A file that falls silent has ended (OpenNI2's player may skip its last frames when they are
 	// not read in time): a second, not the timeout meant for an unplugged camera.
@@ -303,9 +332,15 @@ COpenNI2Source::~COpenNI2Source()
 	impl_->device.close();
 }
 
-bool COpenNI2Source::isFile() const { return impl_->device.isFile(); }
+bool COpenNI2Source::isFile() const
+{
+	return impl_->device.isFile();
+}
 
-std::size_t COpenNI2Source::sizeHint() const { return impl_->depthFrames > 0 ? static_cast<std::size_t>(impl_->depthFrames) : 0; }
+std::size_t COpenNI2Source::sizeHint() const
+{
+	return impl_->depthFrames > 0 ? static_cast<std::size_t>(impl_->depthFrames) : 0;
+}
 
 mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
 {
@@ -363,7 +398,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
 			(ready == 0 ? I.depthRead : I.colorRead)++;
 		}
 		if (!I.lastDepth.isValid() || !I.lastColor.isValid()) continue;
-		const double td = static_cast<double>(I.lastDepth.getTimestamp()), tc = static_cast<double>(I.lastColor.getTimestamp());
+		const double td = static_cast<double>(I.lastDepth.getTimestamp()),
+					 tc = static_cast<double>(I.lastColor.getTimestamp());
 		if (std::abs(td - tc) <= halfPeriod) break;
 		unpaired_++;
 		(td < tc ? I.lastDepth : I.lastColor).release();
@@ -375,16 +411,21 @@ mrpt::obs::CObservation3DRangeScan::Ptr COpenNI2Source::next()
 	}
 	const openni::VideoFrameRef& d = I.lastDepth;
 	const openni::VideoFrameRef& c = I.lastColor;
-	const cv::Mat depth16(d.getHeight(), d.getWidth(), CV_16U, const_cast<void*>(d.getData()), static_cast<std::size_t>(d.getStrideInBytes()));
-	const cv::Mat rgb(c.getHeight(), c.getWidth(), CV_8UC3, const_cast<void*>(c.getData()), static_cast<std::size_t>(c.getStrideInBytes()));
+	const cv::Mat depth16(d.getHeight(), d.getWidth(), CV_16U, const_cast<void*>(d.getData()),
+						  static_cast<std::size_t>(d.getStrideInBytes()));
+	const cv::Mat rgb(c.getHeight(), c.getWidth(), CV_8UC3, const_cast<void*>(c.getData()),
+					  static_cast<std::size_t>(c.getStrideInBytes()));
 	cv::Mat bgr;
 	cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
 	// A device's timestamps count from its own start: they are mapped once onto the host's clock
 	// (CDeviceClock), so frames keep the device's spacing, not the jitter of their arrival. A
 	// recording keeps the times it holds (yesslam-oni writes the source's Unix times, so ground
 	// truth and detection files still match).
-	const double t = file ? static_cast<double>(d.getTimestamp()) * 1e-6
-						  : clock_.toHost(d.getTimestamp(), std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+	const double t =
+		file
+			? static_cast<double>(d.getTimestamp()) * 1e-6
+			: clock_.toHost(d.getTimestamp(),
+							std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
 	auto obs = makeRgbdObservation(t, bgr, depth16.clone(), camera_, "OPENNI2");
 	// Each pair is used once.
 	I.lastDepth.release();

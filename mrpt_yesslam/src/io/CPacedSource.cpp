@@ -7,7 +7,8 @@
 
 namespace mrpt_yesslam
 {
-CPacedSource::CPacedSource(std::unique_ptr<CInputSource> source, double speed) : source_(std::move(source)), speed_(speed)
+CPacedSource::CPacedSource(std::unique_ptr<CInputSource> source, double speed)
+	: source_(std::move(source)), speed_(speed)
 {
 	if (!(speed > 0)) throw InputError("", "the playback speed must be > 0");
 }
@@ -27,7 +28,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr CPacedSource::next()
 	// Against the first frame's time, not the previous one's: reading time does not accumulate.
 	// A frame stamped earlier than the first (out of order) is delivered at once.
 	const double due = std::max(0.0, (t - firstStamp_) / speed_);
-	std::this_thread::sleep_until(start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(due)));
+	std::this_thread::sleep_until(
+		start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(due)));
 	return obs;
 }
 }  // namespace mrpt_yesslam

@@ -70,7 +70,8 @@ CRawlogSource::CRawlogSource(const std::string& path, const TOptions& opts) : pa
 	// the folder and file name without a separator and so misses "<dir>/<name>_Images".
 	const fs::path p(path);
 	const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-	for (const std::string& cand : {p.stem().string() + "_Images", p.stem().string() + "_images", std::string("Images")})
+	for (const std::string& cand :
+		 {p.stem().string() + "_Images", p.stem().string() + "_images", std::string("Images")})
 		if (fs::is_directory(dir / cand, ec))
 		{
 			imagesDir_ = (dir / cand).string();
@@ -101,8 +102,8 @@ mrpt::serialization::CSerializable::Ptr CRawlogSource::readObject()
 	{
 		budget.release();  // the message below must not fail for lack of budget
 		if (file_->getPosition() == before) return nullptr;
-		throw InputError(
-			path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" + exceptionSummary(e.what()) + ")");
+		throw InputError(path_, "corrupt or truncated rawlog at entry " + std::to_string(entries_ + 1) + " (" +
+									exceptionSummary(e.what()) + ")");
 	}
 }
 
@@ -154,9 +155,10 @@ mrpt::obs::CObservation3DRangeScan::Ptr CRawlogSource::next()
 			{
 				if (entries_ == 0) throw InputError(path_, "not a rawlog, or a rawlog with no entries");
 				throw InputError(
-					path_, "no RGB-D frames (CObservation3DRangeScan with colour and depth" +
-							   (opts_.sensorLabel.empty() ? std::string() : " and sensor label '" + opts_.sensorLabel + "'") +
-							   ") among its " + std::to_string(entries_) + " entries");
+					path_,
+					"no RGB-D frames (CObservation3DRangeScan with colour and depth" +
+						(opts_.sensorLabel.empty() ? std::string() : " and sensor label '" + opts_.sensorLabel + "'") +
+						") among its " + std::to_string(entries_) + " entries");
 			}
 			return nullptr;
 		}
@@ -176,7 +178,8 @@ mrpt::obs::CObservation3DRangeScan::Ptr CRawlogSource::next()
 		// The folder in full: MRPT resolves it against the working directory, which is rarely where
 		// the user thinks it looked.
 		std::error_code ec;
-		const std::string dir = fs::absolute(imagesDir_.empty() ? fs::path(".") : fs::path(imagesDir_), ec).lexically_normal().string();
+		const std::string dir =
+			fs::absolute(imagesDir_.empty() ? fs::path(".") : fs::path(imagesDir_), ec).lexically_normal().string();
 		if (!fs::is_directory(dir, ec))
 			throw InputError(where, "cannot load external data: the images folder '" + dir + "' does not exist");
 		throw InputError(where, "cannot load external data (looked in '" + dir + "'): " + exceptionSummary(e.what()));

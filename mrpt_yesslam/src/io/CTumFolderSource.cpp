@@ -15,7 +15,10 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-std::vector<TTumListEntry> readTumFileList(const std::string& path) { return parseTumFileList(readTextFile(path), path); }
+std::vector<TTumListEntry> readTumFileList(const std::string& path)
+{
+	return parseTumFileList(readTextFile(path), path);
+}
 
 std::vector<TTumListEntry> parseTumFileList(const std::string& text, const std::string& path)
 {
@@ -30,8 +33,7 @@ std::vector<TTumListEntry> parseTumFileList(const std::string& text, const std::
 		const std::string where = "line " + std::to_string(i + 1) + ": ";
 		if (f.size() < 2) throw InputError(path, where + "expected 'timestamp filename'");
 		TTumListEntry e;
-		if (!parseFiniteDouble(f[0], e.t))
-			throw InputError(path, where + "'" + f[0] + "' is not a finite timestamp");
+		if (!parseFiniteDouble(f[0], e.t)) throw InputError(path, where + "'" + f[0] + "' is not a finite timestamp");
 		if (!out.empty() && e.t < out.back().t)
 			throw InputError(
 				path, where + "timestamp " + f[0] + " is earlier than the line before; TUM lists are in time order");
@@ -61,10 +63,9 @@ CTumFolderSource::CTumFolderSource(const std::string& folder, const TOptions& op
 	for (const auto& e : depth) td.push_back(e.t);
 	const auto matches = associateTimestamps(tr, td, 0.0, opts.maxDiff);
 	if (matches.empty())
-		throw InputError(
-			rgbList, "no image has a depth.txt entry within " + std::to_string(opts.maxDiff) +
-						 " s (rgb " + std::to_string(tr.front()) + ".." + std::to_string(tr.back()) + ", depth " +
-						 std::to_string(td.front()) + ".." + std::to_string(td.back()) + ")");
+		throw InputError(rgbList, "no image has a depth.txt entry within " + std::to_string(opts.maxDiff) + " s (rgb " +
+									  std::to_string(tr.front()) + ".." + std::to_string(tr.back()) + ", depth " +
+									  std::to_string(td.front()) + ".." + std::to_string(td.back()) + ")");
 	for (const auto& [i, j] : matches)
 	{
 		TTumFrame fr;
@@ -81,8 +82,8 @@ CTumFolderSource::CTumFolderSource(const std::string& folder, const TOptions& op
 std::optional<double> CTumFolderSource::depthTime(double colourTime) const
 {
 	// frames_ is in colour-time order and never changes after construction (thread-safe to read).
-	const auto it = std::lower_bound(
-		frames_.begin(), frames_.end(), colourTime - 1e-5, [](const TTumFrame& f, double t) { return f.tRgb < t; });
+	const auto it = std::lower_bound(frames_.begin(), frames_.end(), colourTime - 1e-5,
+									 [](const TTumFrame& f, double t) { return f.tRgb < t; });
 	if (it == frames_.end() || std::abs(it->tRgb - colourTime) > 1e-5) return std::nullopt;
 	return it->tDepth;
 }
@@ -102,12 +103,13 @@ mrpt::obs::CObservation3DRangeScan::Ptr CTumFolderSource::next()
 		throw InputError(fr.depthPath, "depth image is 8-bit; TUM depth must be 16-bit (raw / 5000 = metres)");
 	if (depth.depth() == CV_32F || depth.depth() == CV_64F)
 		throw InputError(
-			fr.depthPath, "depth image holds floating-point values (metres?); expected 16-bit integers (raw / 5000 = metres)");
+			fr.depthPath,
+			"depth image holds floating-point values (metres?); expected 16-bit integers (raw / 5000 = metres)");
 	if (depth.depth() != CV_16U) throw InputError(fr.depthPath, "depth image is not 16-bit unsigned");
 	if (depth.size() != bgr.size())
-		throw InputError(
-			fr.depthPath, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-							  " but its colour image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows));
+		throw InputError(fr.depthPath, "depth image is " + std::to_string(depth.cols) + "x" +
+										   std::to_string(depth.rows) + " but its colour image is " +
+										   std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows));
 	if (!camera_.sizeGiven)
 	{
 		// A camera file without a size: the images give it (the first one; the rest must agree).
@@ -117,16 +119,16 @@ mrpt::obs::CObservation3DRangeScan::Ptr CTumFolderSource::next()
 		sizeFromImage_ = true;
 		const double cx = camera_.intrinsics.cx(), cy = camera_.intrinsics.cy();
 		if (!(cx > 0 && cy > 0 && cx < bgr.cols && cy < bgr.rows))
-			throw InputError(
-				camera_.name, "principal point (" + std::to_string(cx) + ", " + std::to_string(cy) + ") lies outside the " +
-								  std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) + " images of " + folder_);
+			throw InputError(camera_.name, "principal point (" + std::to_string(cx) + ", " + std::to_string(cy) +
+											   ") lies outside the " + std::to_string(bgr.cols) + "x" +
+											   std::to_string(bgr.rows) + " images of " + folder_);
 	}
 	if (static_cast<unsigned>(bgr.cols) != camera_.intrinsics.ncols ||
 		static_cast<unsigned>(bgr.rows) != camera_.intrinsics.nrows)
-		throw InputError(
-			fr.rgbPath, "image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
-							(sizeFromImage_ ? " but the first image was " : " but camera '" + camera_.name + "' is ") +
-							std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows));
+		throw InputError(fr.rgbPath,
+						 "image is " + std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
+							 (sizeFromImage_ ? " but the first image was " : " but camera '" + camera_.name + "' is ") +
+							 std::to_string(camera_.intrinsics.ncols) + "x" + std::to_string(camera_.intrinsics.nrows));
 	return makeRgbdObservation(fr.tRgb, bgr, depth, camera_);
 }
 }  // namespace mrpt_yesslam

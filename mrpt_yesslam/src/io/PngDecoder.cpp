@@ -60,7 +60,8 @@ bool unfilterRow(std::uint8_t type, std::uint8_t* row, const std::uint8_t* prev,
 			return true;
 		case 3:
 			for (std::size_t i = 0; i < bpp; i++) row[i] = static_cast<std::uint8_t>(row[i] + (prev[i] >> 1));
-			for (std::size_t i = bpp; i < n; i++) row[i] = static_cast<std::uint8_t>(row[i] + ((row[i - bpp] + prev[i]) >> 1));
+			for (std::size_t i = bpp; i < n; i++)
+				row[i] = static_cast<std::uint8_t>(row[i] + ((row[i - bpp] + prev[i]) >> 1));
 			return true;
 		case 4:
 			for (std::size_t i = 0; i < bpp; i++) row[i] = static_cast<std::uint8_t>(row[i] + prev[i]);
@@ -89,17 +90,21 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 	const std::uint8_t* ihdr = data + 8;
 	if (bigEndian32(ihdr) != 13 || std::memcmp(ihdr + 4, "IHDR", 4) != 0) return notHere;
 	const std::uint32_t width = bigEndian32(ihdr + 8), height = bigEndian32(ihdr + 12);
-	const int bitDepth = ihdr[16], colourType = ihdr[17], compression = ihdr[18], filter = ihdr[19], interlace = ihdr[20];
+	const int bitDepth = ihdr[16], colourType = ihdr[17], compression = ihdr[18], filter = ihdr[19],
+			  interlace = ihdr[20];
 	// The kinds RGB-D datasets store, as OpenCV's decoder gives them for these flags (it also
 	// turns grey into BGR for IMREAD_COLOR and 16 bits into 8: left to it).
 	int type = -1;
-	if (colourType == 2 && bitDepth == 8 && (imreadFlags == cv::IMREAD_COLOR || imreadFlags == cv::IMREAD_UNCHANGED)) type = CV_8UC3;
+	if (colourType == 2 && bitDepth == 8 && (imreadFlags == cv::IMREAD_COLOR || imreadFlags == cv::IMREAD_UNCHANGED))
+		type = CV_8UC3;
 	if (colourType == 0 && bitDepth == 8 && imreadFlags == cv::IMREAD_UNCHANGED) type = CV_8UC1;
 	if (colourType == 0 && bitDepth == 16 && imreadFlags == cv::IMREAD_UNCHANGED) type = CV_16UC1;
 	// libpng refuses sides over a million pixels: left to it (and its message).
-	if (type < 0 || compression != 0 || filter != 0 || interlace != 0 || width == 0 || height == 0 || width > 1000000 || height > 1000000)
+	if (type < 0 || compression != 0 || filter != 0 || interlace != 0 || width == 0 || height == 0 || width > 1000000 ||
+		height > 1000000)
 		return notHere;
-	const std::size_t channels = type == CV_8UC3 ? 3 : 1, bytesPerPixel = channels * static_cast<std::size_t>(bitDepth / 8);
+	const std::size_t channels = type == CV_8UC3 ? 3 : 1,
+					  bytesPerPixel = channels * static_cast<std::size_t>(bitDepth / 8);
 	const std::size_t rowBytes = static_cast<std::size_t>(width) * bytesPerPixel;
 	// A header claiming more than 1 GiB of pixels is left to OpenCV's limits and messages.
 	if (rowBytes > (std::size_t(1) << 30) / height) return notHere;
@@ -119,13 +124,16 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 		if (length > size - at - 12) return damaged("a chunk runs past the end of the file");
 		const bool idat = std::memcmp(chunkType, "IDAT", 4) == 0, iend = std::memcmp(chunkType, "IEND", 4) == 0;
 		const bool critical = chunkType[0] >= 'A' && chunkType[0] <= 'Z';
-		if (std::memcmp(chunkType, "tRNS", 4) == 0 || std::memcmp(chunkType, "eXIf", 4) == 0 || (critical && !idat && !iend)) return notHere;
+		if (std::memcmp(chunkType, "tRNS", 4) == 0 || std::memcmp(chunkType, "eXIf", 4) == 0 ||
+			(critical && !idat && !iend))
+			return notHere;
 		if (!idat && seenIdat) idatDone = true;
 		if (idat)
 		{
 			if (idatDone) return notHere;
 			seenIdat = true;
-			if (libdeflate_crc32(0, chunkType, 4 + length) != bigEndian32(chunkType + 4 + length)) return damaged("CRC error in IDAT");
+			if (libdeflate_crc32(0, chunkType, 4 + length) != bigEndian32(chunkType + 4 + length))
+				return damaged("CRC error in IDAT");
 			stream.insert(stream.end(), chunkType + 4, chunkType + 4 + length);
 		}
 		if (iend)
@@ -152,8 +160,9 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 	} release;
 	raw.resize(stride * height);
 	libdeflate_decompressor* d = threadDecompressor();  // the reader thread decodes; tests may decode from several
-	if (!d) return notHere;	 // out of memory: OpenCV may still manage
-	const libdeflate_result z = libdeflate_zlib_decompress(d, stream.data(), stream.size(), raw.data(), raw.size(), nullptr);
+	if (!d) return notHere;                             // out of memory: OpenCV may still manage
+	const libdeflate_result z =
+		libdeflate_zlib_decompress(d, stream.data(), stream.size(), raw.data(), raw.size(), nullptr);
 	// More data than the image needs: libpng only warns and decodes it, so OpenCV does.
 	if (z == LIBDEFLATE_INSUFFICIENT_SPACE) return notHere;
 	if (z != LIBDEFLATE_SUCCESS) return damaged("the compressed image data is corrupt or too short");
@@ -162,12 +171,14 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 	{
 		std::uint8_t* row = raw.data() + y * stride;
 		const std::uint8_t* prev = y ? raw.data() + (y - 1) * stride + 1 : zeros.data();
-		if (!unfilterRow(row[0], row + 1, prev, rowBytes, bytesPerPixel)) return damaged("unknown row filter type " + std::to_string(row[0]));
+		if (!unfilterRow(row[0], row + 1, prev, rowBytes, bytesPerPixel))
+			return damaged("unknown row filter type " + std::to_string(row[0]));
 	}
 
 	TPngDecodeResult r;
 	r.handled = true;
-	const cv::Mat rows(static_cast<int>(height), static_cast<int>(width), type == CV_16UC1 ? CV_8UC2 : type, raw.data() + 1, stride);
+	const cv::Mat rows(static_cast<int>(height), static_cast<int>(width), type == CV_16UC1 ? CV_8UC2 : type,
+					   raw.data() + 1, stride);
 	if (type == CV_8UC3)
 		cv::cvtColor(rows, r.image, cv::COLOR_RGB2BGR);
 	else if (type == CV_8UC1)
@@ -180,7 +191,8 @@ TPngDecodeResult decodePng(const std::uint8_t* data, std::size_t size, int imrea
 		{
 			const std::uint8_t* in = rows.ptr<std::uint8_t>(y);
 			auto* out = r.image.ptr<std::uint16_t>(y);
-			for (int x = 0; x < r.image.cols; x++) out[x] = static_cast<std::uint16_t>((in[2 * x] << 8) | in[2 * x + 1]);
+			for (int x = 0; x < r.image.cols; x++)
+				out[x] = static_cast<std::uint16_t>((in[2 * x] << 8) | in[2 * x + 1]);
 		}
 	}
 	return r;
@@ -195,7 +207,8 @@ cv::Mat readImageFile(const std::string& path, int imreadFlags, const std::strin
 	const std::streamoff size = f.tellg();
 	std::vector<std::uint8_t> bytes(size > 0 ? static_cast<std::size_t>(size) : 0);
 	f.seekg(0);
-	if (size <= 0 || !f.read(reinterpret_cast<char*>(bytes.data()), size)) throw InputError(path, "cannot decode " + what + " (empty or unreadable file)");
+	if (size <= 0 || !f.read(reinterpret_cast<char*>(bytes.data()), size))
+		throw InputError(path, "cannot decode " + what + " (empty or unreadable file)");
 	// A complete PNG ends with its IEND chunk: checked first, for a precise message for the most
 	// common damage (a copy cut short), and so that libpng prints nothing of its own to stderr.
 	static const std::uint8_t iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};

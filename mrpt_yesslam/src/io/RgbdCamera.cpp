@@ -13,9 +13,8 @@ namespace mrpt_yesslam
 {
 namespace
 {
-TRgbdCamera makeCamera(
-	const std::string& name, double fx, double fy, double cx, double cy, const double dist[5], unsigned w = 640,
-	unsigned h = 480, double depthScale = 5000.0)
+TRgbdCamera makeCamera(const std::string& name, double fx, double fy, double cx, double cy, const double dist[5],
+					   unsigned w = 640, unsigned h = 480, double depthScale = 5000.0)
 {
 	TRgbdCamera c;
 	c.name = name;
@@ -85,10 +84,12 @@ bool isBonnDatasetPath(const std::string& path)
 {
 	namespace fs = std::filesystem;
 	fs::path p = fs::absolute(fs::path(path)).lexically_normal();
-	if (p.filename().empty()) p = p.parent_path();	// "x/rgbd_bonn_y/" and "."
+	if (p.filename().empty()) p = p.parent_path();  // "x/rgbd_bonn_y/" and "."
 	std::error_code ec;
 	// A folder by its own name; a file (groundtruth.txt) by its folder's name and its own.
-	const std::string names = fs::is_directory(p, ec) ? p.filename().string() : p.parent_path().filename().string() + "/" + p.filename().string();
+	const std::string names = fs::is_directory(p, ec)
+								  ? p.filename().string()
+								  : p.parent_path().filename().string() + "/" + p.filename().string();
 	return lower(names).find("bonn") != std::string::npos;
 }
 
@@ -113,7 +114,10 @@ std::string tumCameraNameFromPath(const std::string& folder)
 	return {};
 }
 
-TRgbdCamera readCameraFile(const std::string& path) { return parseCameraFile(readTextFile(path), path); }
+TRgbdCamera readCameraFile(const std::string& path)
+{
+	return parseCameraFile(readTextFile(path), path);
+}
 
 TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 {
@@ -134,13 +138,15 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 			{
 				namedReadout = sensorReadout(fields[0]);
 				if (!namedReadout)
-					throw InputError(path, "line " + std::to_string(i + 1) + ": unknown sensor '" + fields[0] + "' for the readout (known: " + kSensorNames + "; or seconds)");
+					throw InputError(path, "line " + std::to_string(i + 1) + ": unknown sensor '" + fields[0] +
+											   "' for the readout (known: " + kSensorNames + "; or seconds)");
 				rows.push_back({*namedReadout});
 				continue;
 			}
 		}
 		if (worded && fields.size() != 1)
-			throw InputError(path, "line " + std::to_string(i + 1) + ": 'readout' takes one value: seconds or a sensor (" + kSensorNames + ")");
+			throw InputError(path, "line " + std::to_string(i + 1) +
+									   ": 'readout' takes one value: seconds or a sensor (" + kSensorNames + ")");
 		std::vector<double> row;
 		for (const auto& f : fields)
 		{
@@ -150,12 +156,12 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 		}
 		rows.push_back(row);
 	}
-	if (rows.empty()) throw InputError(path, "camera file has no numbers (expected 'fx fy cx cy [width height [depth_scale]]')");
+	if (rows.empty())
+		throw InputError(path, "camera file has no numbers (expected 'fx fy cx cy [width height [depth_scale]]')");
 	const auto& r = rows[0];
 	if (r.size() != 4 && r.size() != 6 && r.size() != 7)
-		throw InputError(
-			path, "first line must be 'fx fy cx cy [width height [depth_scale]]', found " + std::to_string(r.size()) +
-					  " numbers");
+		throw InputError(path, "first line must be 'fx fy cx cy [width height [depth_scale]]', found " +
+								   std::to_string(r.size()) + " numbers");
 	double dist[5] = {0, 0, 0, 0, 0};
 	double readout = -1;
 	bool distortionRead = false;
@@ -164,7 +170,9 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 		if (rows[k].size() == 1 && readout < 0)
 		{
 			if (!(rows[k][0] >= 0 && rows[k][0] <= 0.1))
-				throw InputError(path, "the readout line must give the rolling-shutter readout in seconds, 0 to 0.1 (Kinect v1 and Xtion: 0.028; 0 = global shutter)");
+				throw InputError(path,
+								 "the readout line must give the rolling-shutter readout in seconds, 0 to 0.1 (Kinect "
+								 "v1 and Xtion: 0.028; 0 = global shutter)");
 			readout = rows[k][0];
 		}
 		else if ((rows[k].size() == 5 || rows[k].size() == 4) && !distortionRead && k == 1)
@@ -173,9 +181,11 @@ TRgbdCamera parseCameraFile(const std::string& text, const std::string& path)
 			distortionRead = true;
 		}
 		else
-			throw InputError(
-				path, "after 'fx fy cx cy [width height [depth_scale]]' come at most the distortion 'k1 k2 p1 p2 [k3]' and a readout line of one "
-					  "number (seconds); line " + std::to_string(k + 1) + " of the numbers has " + std::to_string(rows[k].size()));
+			throw InputError(path,
+							 "after 'fx fy cx cy [width height [depth_scale]]' come at most the distortion 'k1 k2 p1 "
+							 "p2 [k3]' and a readout line of one "
+							 "number (seconds); line " +
+								 std::to_string(k + 1) + " of the numbers has " + std::to_string(rows[k].size()));
 	}
 	if (r[0] <= 0 || r[1] <= 0) throw InputError(path, "focal lengths must be positive");
 	unsigned w = 640, h = 480;
@@ -222,7 +232,8 @@ std::string formatCameraFile(const TRgbdCamera& c, const std::string& comment)
 	if (c.readout >= 0)
 	{
 		std::snprintf(b, sizeof b, "readout %.9g\n", c.readout);
-		out += "# the colour camera's rolling-shutter readout, seconds (" + (c.readoutSource.empty() ? std::string("as recorded") : "from " + c.readoutSource) + ")\n";
+		out += "# the colour camera's rolling-shutter readout, seconds (" +
+			   (c.readoutSource.empty() ? std::string("as recorded") : "from " + c.readoutSource) + ")\n";
 		out += b;
 	}
 	return out;
@@ -241,8 +252,8 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 		}
 		catch (const InputError&)
 		{
-			throw InputError(
-				spec, "--camera is neither a known camera name (fr1, fr2, fr3) nor an existing camera file");
+			throw InputError(spec,
+							 "--camera is neither a known camera name (fr1, fr2, fr3) nor an existing camera file");
 		}
 	}
 	const fs::path calib = fs::path(folder) / "calibration.txt";
@@ -255,7 +266,9 @@ TRgbdCamera resolveTumCamera(const std::string& spec, const std::string& folder)
 		if (c.readout < 0 && (isBonnDatasetPath(folder) || !tumCameraNameFromPath(folder).empty()))
 		{
 			c.readout = kPrimeSenseReadout;
-			c.readoutSource = std::string("the folder's name (") + (isBonnDatasetPath(folder) ? "Bonn RGB-D Dynamic: ASUS Xtion" : "TUM freiburg: Kinect v1") + ")";
+			c.readoutSource =
+				std::string("the folder's name (") +
+				(isBonnDatasetPath(folder) ? "Bonn RGB-D Dynamic: ASUS Xtion" : "TUM freiburg: Kinect v1") + ")";
 		}
 		return c;
 	}

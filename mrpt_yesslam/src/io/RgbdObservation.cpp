@@ -12,9 +12,9 @@
 
 namespace mrpt_yesslam
 {
-mrpt::obs::CObservation3DRangeScan::Ptr makeRgbdObservation(
-	double timestamp, const cv::Mat& bgr, const cv::Mat& depth16, const TRgbdCamera& camera,
-	const std::string& sensorLabel)
+mrpt::obs::CObservation3DRangeScan::Ptr makeRgbdObservation(double timestamp, const cv::Mat& bgr,
+															const cv::Mat& depth16, const TRgbdCamera& camera,
+															const std::string& sensorLabel)
 {
 	auto obs = mrpt::obs::CObservation3DRangeScan::Create();
 	obs->timestamp = mrpt::Clock::fromDouble(timestamp);
@@ -47,12 +47,13 @@ void validateRgbdObservation(const mrpt::obs::CObservation3DRangeScan& obs, cons
 	if (w == 0 || h == 0) throw InputError(where, "colour image is empty");
 	if (obs.rangeImage.cols() == 0 || obs.rangeImage.rows() == 0) throw InputError(where, "depth image is empty");
 	if (static_cast<size_t>(obs.rangeImage.cols()) != w || static_cast<size_t>(obs.rangeImage.rows()) != h)
-		throw InputError(
-			where, "depth image is " + std::to_string(obs.rangeImage.cols()) + "x" +
-					   std::to_string(obs.rangeImage.rows()) + " but colour image is " + std::to_string(w) + "x" +
-					   std::to_string(h) + " (registered depth of the same size is required)");
+		throw InputError(where, "depth image is " + std::to_string(obs.rangeImage.cols()) + "x" +
+									std::to_string(obs.rangeImage.rows()) + " but colour image is " +
+									std::to_string(w) + "x" + std::to_string(h) +
+									" (registered depth of the same size is required)");
 	if (!std::isfinite(obs.rangeUnits) || obs.rangeUnits <= 0)
-		throw InputError(where, "depth units (rangeUnits) must be a positive number, got " + std::to_string(obs.rangeUnits));
+		throw InputError(where,
+						 "depth units (rangeUnits) must be a positive number, got " + std::to_string(obs.rangeUnits));
 	const auto& K = obs.cameraParamsIntensity;
 	if (!(K.fx() > 0) || !(K.fy() > 0) || !std::isfinite(K.cx()) || !std::isfinite(K.cy()))
 		throw InputError(where, "camera intrinsics are not valid (fx, fy must be positive)");
@@ -62,7 +63,8 @@ double medianDepth(const mrpt::obs::CObservation3DRangeScan& obs, int step)
 {
 	step = std::max(step, 1);
 	std::vector<std::uint16_t> raw;
-	raw.reserve(static_cast<std::size_t>(obs.rangeImage.rows() / step + 1) * static_cast<std::size_t>(obs.rangeImage.cols() / step + 1));
+	raw.reserve(static_cast<std::size_t>(obs.rangeImage.rows() / step + 1) *
+				static_cast<std::size_t>(obs.rangeImage.cols() / step + 1));
 	for (int r = 0; r < obs.rangeImage.rows(); r += step)
 		for (int c = 0; c < obs.rangeImage.cols(); c += step)
 			if (obs.rangeImage(r, c) > 0) raw.push_back(obs.rangeImage(r, c));
@@ -80,11 +82,15 @@ std::string implausibleDepthReason(double d)
 	char b[300];
 	if (d <= 0) return "no frame has any depth (all depth pixels are 0)";
 	if (d < 0.35)
-		std::snprintf(
-			b, sizeof(b), "the median depth is %.2f m, nearer than RGB-D cameras measure (about 0.4-4.5 m): is the depth scale right (TUM: 5000, OpenNI: 1000 units a metre)?", d);
+		std::snprintf(b, sizeof(b),
+					  "the median depth is %.2f m, nearer than RGB-D cameras measure (about 0.4-4.5 m): is the depth "
+					  "scale right (TUM: 5000, OpenNI: 1000 units a metre)?",
+					  d);
 	else if (d > 4.5)
-		std::snprintf(
-			b, sizeof(b), "the median depth is %.1f m, farther than RGB-D cameras measure well (about 0.4-4.5 m): is the depth scale right (TUM: 5000, OpenNI: 1000 units a metre)?", d);
+		std::snprintf(b, sizeof(b),
+					  "the median depth is %.1f m, farther than RGB-D cameras measure well (about 0.4-4.5 m): is the "
+					  "depth scale right (TUM: 5000, OpenNI: 1000 units a metre)?",
+					  d);
 	else
 		return {};
 	return b;
@@ -102,5 +108,8 @@ cv::Mat depthInMetres(const mrpt::obs::CObservation3DRangeScan& obs)
 	return d;
 }
 
-double observationTime(const mrpt::obs::CObservation& obs) { return mrpt::Clock::toDouble(obs.timestamp); }
+double observationTime(const mrpt::obs::CObservation& obs)
+{
+	return mrpt::Clock::toDouble(obs.timestamp);
+}
 }  // namespace mrpt_yesslam

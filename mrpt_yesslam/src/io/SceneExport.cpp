@@ -14,9 +14,9 @@
 
 namespace mrpt_yesslam
 {
-mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(
-	CInputSource& src, const TTrajectory& posesIn, const TSceneExportOptions& o, TSceneExportSummary& sum,
-	const std::function<void(std::size_t)>& progress)
+mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(CInputSource& src, const TTrajectory& posesIn,
+													 const TSceneExportOptions& o, TSceneExportSummary& sum,
+													 const std::function<void(std::size_t)>& progress)
 {
 	const TTrajectory poses = uniqueSortedByTime(posesIn);
 	if (poses.empty()) throw InputError("", "no poses to place the frames with");
@@ -59,10 +59,10 @@ mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(
 				if (z <= 0 || z > o.maxDepth) continue;
 				const mrpt::math::TPoint3D pc((u - K.cx()) * z / K.fx(), (v - K.cy()) * z / K.fy(), z);
 				const auto pw = T.composePoint(pc);
-				const cv::Vec3b bgr = img.channels() == 3 ? img.at<cv::Vec3b>(v, u) : cv::Vec3b::all(img.at<uchar>(v, u));
-				cloud->push_back(
-					static_cast<float>(pw.x), static_cast<float>(pw.y), static_cast<float>(pw.z), bgr[2] / 255.f,
-					bgr[1] / 255.f, bgr[0] / 255.f);
+				const cv::Vec3b bgr =
+					img.channels() == 3 ? img.at<cv::Vec3b>(v, u) : cv::Vec3b::all(img.at<uchar>(v, u));
+				cloud->push_back(static_cast<float>(pw.x), static_cast<float>(pw.y), static_cast<float>(pw.z),
+								 bgr[2] / 255.f, bgr[1] / 255.f, bgr[0] / 255.f);
 				sum.points++;
 			}
 		const mrpt::math::TPoint3D c(T.x(), T.y(), T.z());
@@ -83,11 +83,10 @@ mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(
 
 void saveSceneAtomically(const mrpt::opengl::COpenGLScene& scene, const std::string& path)
 {
-	writeFileAtomically(
-		path,
-		[&](const std::string& tmp)
-		{
-			if (!scene.saveToFile(tmp)) throw InputError(path, "cannot write scene");
-		});
+	writeFileAtomically(path,
+						[&](const std::string& tmp)
+						{
+							if (!scene.saveToFile(tmp)) throw InputError(path, "cannot write scene");
+						});
 }
 }  // namespace mrpt_yesslam

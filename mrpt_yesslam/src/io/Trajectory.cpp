@@ -26,7 +26,7 @@ mrpt::poses::CPose3D TStampedPose::asPose() const
 TTrajectory uniqueSortedByTime(const TTrajectory& traj)
 {
 	std::map<double, TStampedPose> m;
-	for (const auto& p : traj) m[p.t] = p;	// later lines win, like a Python dict
+	for (const auto& p : traj) m[p.t] = p;  // later lines win, like a Python dict
 	TTrajectory out;
 	out.reserve(m.size());
 	for (const auto& kv : m) out.push_back(kv.second);
@@ -40,7 +40,8 @@ mrpt::poses::CPose3D interpolatePose(const mrpt::poses::CPose3D& a, const mrpt::
 	const auto w = mrpt::poses::Lie::SO<3>::log(dR);
 	mrpt::poses::CPose3D p;
 	p.setRotationMatrix(mrpt::math::CMatrixDouble33(
-		Ra.asEigen() * mrpt::poses::Lie::SO<3>::exp(mrpt::poses::Lie::SO<3>::tangent_vector(w.asEigen() * s)).asEigen()));
+		Ra.asEigen() *
+		mrpt::poses::Lie::SO<3>::exp(mrpt::poses::Lie::SO<3>::tangent_vector(w.asEigen() * s)).asEigen()));
 	p.x((1 - s) * a.x() + s * b.x());
 	p.y((1 - s) * a.y() + s * b.y());
 	p.z((1 - s) * a.z() + s * b.z());
@@ -65,7 +66,8 @@ void interpolateUntracked(TTrajectory& traj, const std::vector<bool>& tracked)
 			const TStampedPose a = traj[i - 1], b = traj[j];
 			const mrpt::poses::CPose3D pa = a.asPose(), pb = b.asPose();
 			for (std::size_t k = i; k < j; k++)
-				traj[k] = TStampedPose::fromPose(traj[k].t, interpolatePose(pa, pb, std::clamp((traj[k].t - a.t) / (b.t - a.t), 0.0, 1.0)));
+				traj[k] = TStampedPose::fromPose(
+					traj[k].t, interpolatePose(pa, pb, std::clamp((traj[k].t - a.t) / (b.t - a.t), 0.0, 1.0)));
 		}
 		i = j;
 	}
@@ -97,13 +99,13 @@ TTrajectory parseTumTrajectory(const std::string& text, const std::string& name)
 		const std::string where = "line " + std::to_string(i + 1) + ": ";
 		const auto f = splitFields(lines[i]);
 		if (f.size() != 8)
-			throw InputError(
-				name, where + "expected 8 numbers (timestamp tx ty tz qx qy qz qw), found " + std::to_string(f.size()) +
-						  " fields");
+			throw InputError(name, where + "expected 8 numbers (timestamp tx ty tz qx qy qz qw), found " +
+									   std::to_string(f.size()) + " fields");
 		double v[8];
 		for (int k = 0; k < 8; k++)
 			if (!parseFiniteDouble(f[k], v[k]))
-				throw InputError(name, where + "field " + std::to_string(k + 1) + " '" + f[k] + "' is not a finite number");
+				throw InputError(name,
+								 where + "field " + std::to_string(k + 1) + " '" + f[k] + "' is not a finite number");
 		TStampedPose p;
 		p.t = v[0];
 		p.tx = v[1];
@@ -120,7 +122,10 @@ TTrajectory parseTumTrajectory(const std::string& text, const std::string& name)
 	return traj;
 }
 
-TTrajectory readTumTrajectory(const std::string& path) { return parseTumTrajectory(readTextFile(path), path); }
+TTrajectory readTumTrajectory(const std::string& path)
+{
+	return parseTumTrajectory(readTextFile(path), path);
+}
 
 std::string formatTumTrajectory(const TTrajectory& traj, const std::string& header)
 {
@@ -133,9 +138,8 @@ std::string formatTumTrajectory(const TTrajectory& traj, const std::string& head
 	const auto z = withoutNegativeZero;  // issue 43: no "-0.000000000"
 	for (const auto& p : traj)
 	{
-		std::snprintf(
-			buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.t, z(p.tx), z(p.ty), z(p.tz), z(p.qx), z(p.qy), z(p.qz),
-			z(p.qw));
+		std::snprintf(buf, sizeof(buf), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.t, z(p.tx), z(p.ty), z(p.tz),
+					  z(p.qx), z(p.qy), z(p.qz), z(p.qw));
 		out += buf;
 	}
 	return out;

@@ -15,9 +15,9 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-TTumToRawlogSummary convertTumToRawlog(
-	const TTumToRawlogOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress,
-	const std::function<bool()>& cancel)
+TTumToRawlogSummary convertTumToRawlog(const TTumToRawlogOptions& opts,
+									   const std::function<void(std::size_t, std::size_t)>& progress,
+									   const std::function<bool()>& cancel)
 {
 	if (opts.output.empty()) throw InputError("", "no output rawlog given");
 	CTumFolderSource src(opts.folder, opts.input);
@@ -30,7 +30,9 @@ TTumToRawlogSummary convertTumToRawlog(
 	const fs::path outDir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
 	// Made when missing, as yesslam --out does (issue 43).
 	if (!fs::is_directory(outDir, ec)) fs::create_directories(outDir, ec);
-	if (!fs::is_directory(outDir)) throw InputError(opts.output, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+	if (!fs::is_directory(outDir))
+		throw InputError(opts.output,
+						 "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	if (opts.externalImages)
 	{
 		// The folder name MRPT's CRawlog::detectImagesDirectory looks for first.
@@ -40,8 +42,7 @@ TTumToRawlogSummary convertTumToRawlog(
 		sum.imagesDir = imgDir.string();
 	}
 
-	const std::size_t total =
-		opts.maxFrames > 0 ? std::min(opts.maxFrames, src.frames().size()) : src.frames().size();
+	const std::size_t total = opts.maxFrames > 0 ? std::min(opts.maxFrames, src.frames().size()) : src.frames().size();
 	CRawlogWriter writer(opts.output);
 	std::uintmax_t imageBytes = 0;
 	while (sum.frames < total)
@@ -76,7 +77,8 @@ TTumToRawlogSummary convertTumToRawlog(
 	sum.bytes = writer.commit() + imageBytes;
 	// The camera goes with the recording: a replay of the rawlog keeps the readout (issue 62 item 5).
 	sum.cameraFile = recordingCameraPath(opts.output);
-	writeFileAtomically(sum.cameraFile, formatCameraFile(src.camera(), "the camera of " + out.filename().string() + " (tum2rawlog, from " + opts.folder + ")"));
+	writeFileAtomically(sum.cameraFile, formatCameraFile(src.camera(), "the camera of " + out.filename().string() +
+																		   " (tum2rawlog, from " + opts.folder + ")"));
 
 	const fs::path gt = fs::path(opts.folder) / "groundtruth.txt";
 	if (fs::is_regular_file(gt, ec))
@@ -85,13 +87,12 @@ TTumToRawlogSummary convertTumToRawlog(
 		const auto traj = readTumTrajectory(gt.string());
 		(void)traj;
 		const fs::path dst = outDir / (out.stem().string() + "_groundtruth.txt");
-		writeFileAtomically(
-			dst.string(),
-			[&](const std::string& tmp)
-			{
-				fs::copy_file(gt, tmp, fs::copy_options::overwrite_existing, ec);
-				if (ec) throw InputError(dst.string(), "cannot write (" + ec.message() + ")");
-			});
+		writeFileAtomically(dst.string(),
+							[&](const std::string& tmp)
+							{
+								fs::copy_file(gt, tmp, fs::copy_options::overwrite_existing, ec);
+								if (ec) throw InputError(dst.string(), "cannot write (" + ec.message() + ")");
+							});
 		sum.groundTruth = dst.string();
 	}
 	return sum;

@@ -19,10 +19,10 @@ namespace mrpt_yesslam
 {
 namespace
 {
-constexpr double kMaxTiltDeg = 45;	 // a floor's normal from the first camera's up
-constexpr double kMinBelow = 0.2, kMaxBelow = 4.0;	// m: where a floor can lie under the first camera
-constexpr double kPlaneTol = 0.02;	// m: a point on a plane (depth noise at 2-3 m)
-constexpr std::size_t kMaxPoints = 40000;  // enough for a plane, cheap at the end of a run
+constexpr double kMaxTiltDeg = 45;                  // a floor's normal from the first camera's up
+constexpr double kMinBelow = 0.2, kMaxBelow = 4.0;  // m: where a floor can lie under the first camera
+constexpr double kPlaneTol = 0.02;                  // m: a point on a plane (depth noise at 2-3 m)
+constexpr std::size_t kMaxPoints = 40000;           // enough for a plane, cheap at the end of a run
 
 // The unit normal of the least-squares plane through `pts`, turned towards `up`.
 Eigen::Vector3d planeNormal(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& up)
@@ -38,31 +38,41 @@ Eigen::Vector3d planeNormal(const std::vector<Eigen::Vector3d>& pts, const Eigen
 }
 }  // namespace
 
-const char* worldFrameName(TWorldFrame::EKind kind) { return kind == TWorldFrame::EKind::ZUp ? "zup" : "optical"; }
+const char* worldFrameName(TWorldFrame::EKind kind)
+{
+	return kind == TWorldFrame::EKind::ZUp ? "zup" : "optical";
+}
 
 std::string TWorldFrame::describe() const
 {
 	std::string s;
 	if (kind == EKind::Optical)
-		s = "world frame: optical (the first keyframe's camera: x right, y down, z forward; [System] worldFrame = optical)";
+		s = "world frame: optical (the first keyframe's camera: x right, y down, z forward; [System] worldFrame = "
+			"optical)";
 	else if (floorSeen)
 	{
 		char buf[160];
 		std::snprintf(buf, sizeof(buf), "; the first camera %.3f m above it", cameraHeight);
-		s = std::string("world frame: zup (x forward, y left, z up), levelled by the floor plane: floor at z = 0, origin under the first camera") + buf;
+		s = std::string(
+				"world frame: zup (x forward, y left, z up), levelled by the floor plane: floor at z = 0, origin under "
+				"the first camera") +
+			buf;
 	}
 	else
-		s = "world frame: zup (x forward, y left, z up), levelled by the first camera's axes (no floor seen): origin at the first camera";
+		s = "world frame: zup (x forward, y left, z up), levelled by the first camera's axes (no floor seen): origin "
+			"at the first camera";
 	mrpt::math::CQuaternionDouble q;
 	worldFromMap.getAsQuaternion(q);
 	char buf[200];
-	std::snprintf(
-		buf, sizeof(buf), "\nT_world_map: %.9f %.9f %.9f %.9f %.9f %.9f %.9f", withoutNegativeZero(worldFromMap.x()), withoutNegativeZero(worldFromMap.y()),
-		withoutNegativeZero(worldFromMap.z()), withoutNegativeZero(q.x()), withoutNegativeZero(q.y()), withoutNegativeZero(q.z()), withoutNegativeZero(q.r()));
+	std::snprintf(buf, sizeof(buf), "\nT_world_map: %.9f %.9f %.9f %.9f %.9f %.9f %.9f",
+				  withoutNegativeZero(worldFromMap.x()), withoutNegativeZero(worldFromMap.y()),
+				  withoutNegativeZero(worldFromMap.z()), withoutNegativeZero(q.x()), withoutNegativeZero(q.y()),
+				  withoutNegativeZero(q.z()), withoutNegativeZero(q.r()));
 	return s + buf + " (map = the first keyframe's camera, optical axes)";
 }
 
-TWorldFrame estimateZUpWorldFrame(const std::vector<mrpt::math::TPoint3D>& points, const mrpt::poses::CPose3D& firstCamera)
+TWorldFrame estimateZUpWorldFrame(const std::vector<mrpt::math::TPoint3D>& points,
+								  const mrpt::poses::CPose3D& firstCamera)
 {
 	const Eigen::Matrix3d R0 = firstCamera.getRotationMatrix().asEigen();
 	const Eigen::Vector3d c(firstCamera.x(), firstCamera.y(), firstCamera.z());
@@ -177,7 +187,7 @@ std::optional<mrpt::poses::CPose3D> readWorldFromMap(const std::string& path)
 	std::string line;
 	while (std::getline(f, line))
 	{
-		if (line.empty() || line[0] != '#') break;	// the header comes first
+		if (line.empty() || line[0] != '#') break;  // the header comes first
 		const auto k = line.find("T_world_map:");
 		if (k == std::string::npos) continue;
 		std::istringstream in(line.substr(k + 12));

@@ -15,7 +15,8 @@ void CRecentFrames::push(std::shared_ptr<const TFrame> frame, const TAnchor& anc
 
 std::shared_ptr<const TFrame> CRecentFrames::tracked(std::size_t frameId, const CSparseMap& map) const
 {
-	const auto it = std::find_if(frames_.begin(), frames_.end(), [&](const TEntry& e) { return e.frame->id == frameId; });
+	const auto it =
+		std::find_if(frames_.begin(), frames_.end(), [&](const TEntry& e) { return e.frame->id == frameId; });
 	if (it == frames_.end() || !it->frame->tracked) return nullptr;
 	// Placed where the map is now (ORB-SLAM2 inserts at once and has no such window).
 	const mrpt::poses::CPose3D now = it->anchor.poseIn(map);

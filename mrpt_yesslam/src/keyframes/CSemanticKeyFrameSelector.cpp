@@ -18,8 +18,10 @@ COptionTable CSemanticKeyFrameSelector::TOptions::table()
 	t.integer("gridRows", gridRows, 1, 64, "semantic regions down the image");
 	t.real("gamma", gamma, 0, 1, "eq. 10 weight of the Jaccard similarity J against eta");
 	t.integer("interval", interval, 1, 1000, "N_I: frames per keyframe interval (Algorithm 1)");
-	t.integer("shortInterval", shortInterval, 1, 1000, "N_I after excessiveFrames consecutive frames with D >= maxMotion");
-	t.integer("excessiveFrames", excessiveFrames, 1, 1000, "consecutive frames of excessive motion that shorten the interval");
+	t.integer("shortInterval", shortInterval, 1, 1000,
+			  "N_I after excessiveFrames consecutive frames with D >= maxMotion");
+	t.integer("excessiveFrames", excessiveFrames, 1, 1000,
+			  "consecutive frames of excessive motion that shorten the interval");
 	t.real("minMotion", minMotion, 0, 100, "D_min (m + rad): frames moving less are not candidates");
 	t.real("maxMotion", maxMotion, 0, 100, "D_max (m + rad): excessive motion");
 	t.real("minStaticRatio", minStaticRatio, 0, 1, "frames with N_sp <= this x N_p are skipped");
@@ -28,7 +30,8 @@ COptionTable CSemanticKeyFrameSelector::TOptions::table()
 	return t;
 }
 
-std::vector<std::set<int>> semanticRegionVectors(const std::vector<TDetection>& dets, cv::Size image, int cols, int rows)
+std::vector<std::set<int>> semanticRegionVectors(const std::vector<TDetection>& dets, cv::Size image, int cols,
+												 int rows)
 {
 	std::vector<std::set<int>> v(static_cast<std::size_t>(std::max(1, cols) * std::max(1, rows)));
 	if (image.width <= 0 || image.height <= 0) return v;
@@ -63,7 +66,7 @@ double areaSimilarity(const std::vector<TDetection>& cur, const std::vector<TDet
 	double aCur = 0, aRef = 0;
 	for (const auto& d : cur) aCur += d.box.area();
 	for (const auto& d : ref) aRef += d.box.area();
-	if (aCur + aRef <= 0) return asWritten ? 0.5 : 1.0;	 // no boxes in either frame: identical
+	if (aCur + aRef <= 0) return asWritten ? 0.5 : 1.0;  // no boxes in either frame: identical
 	// Pair boxes of the same class greedily by overlap: the "corresponding target boxes".
 	struct P
 	{
@@ -93,12 +96,12 @@ double areaSimilarity(const std::vector<TDetection>& cur, const std::vector<TDet
 double motionAmplitude(const Eigen::Matrix3d& R, const Eigen::Vector3d& t)
 {
 	const double c = std::clamp((R.trace() - 1.0) / 2.0, -1.0, 1.0);
-	const double angle = std::acos(c);	// in [0, pi]
+	const double angle = std::acos(c);  // in [0, pi]
 	return t.norm() + std::min(2.0 * M_PI - angle, angle);
 }
 
-bool rigidMotionFromPoints(
-	const std::vector<Eigen::Vector3d>& cur, const std::vector<Eigen::Vector3d>& ref, Eigen::Matrix3d& R, Eigen::Vector3d& t)
+bool rigidMotionFromPoints(const std::vector<Eigen::Vector3d>& cur, const std::vector<Eigen::Vector3d>& ref,
+						   Eigen::Matrix3d& R, Eigen::Vector3d& t)
 {
 	if (cur.size() != ref.size() || cur.size() < 3) return false;
 	// Degenerate (collinear) point sets have no unique rotation.
@@ -119,7 +122,8 @@ bool rigidMotionFromPoints(
 CSemanticKeyFrameSelector::CSemanticKeyFrameSelector(const TOptions& o) : opts_(o), intervalLen_(o.interval)
 {
 	if (o.gridCols < 1 || o.gridRows < 1) throw InputError("", "[KeyFrames] gridCols and gridRows must be >= 1");
-	if (o.interval < 1 || o.shortInterval < 1) throw InputError("", "[KeyFrames] interval and shortInterval must be >= 1");
+	if (o.interval < 1 || o.shortInterval < 1)
+		throw InputError("", "[KeyFrames] interval and shortInterval must be >= 1");
 	if (!(o.gamma >= 0 && o.gamma <= 1)) throw InputError("", "[KeyFrames] gamma must be in [0,1]");
 	if (!(o.minMotion < o.maxMotion)) throw InputError("", "[KeyFrames] minMotion must be below maxMotion");
 }
@@ -142,16 +146,17 @@ void CSemanticKeyFrameSelector::restart(const TKeyFrameInput& f)
 double CSemanticKeyFrameSelector::similarityToReference(const TKeyFrameInput& f) const
 {
 	if (!ref_) return 1.0;
-	const double J = jaccardSimilarity(
-		semanticRegionVectors(f.detections, f.imageSize, opts_.gridCols, opts_.gridRows),
-		semanticRegionVectors(ref_->detections, ref_->imageSize, opts_.gridCols, opts_.gridRows));
+	const double J =
+		jaccardSimilarity(semanticRegionVectors(f.detections, f.imageSize, opts_.gridCols, opts_.gridRows),
+						  semanticRegionVectors(ref_->detections, ref_->imageSize, opts_.gridCols, opts_.gridRows));
 	const double eta = areaSimilarity(f.detections, ref_->detections, opts_.etaAsWritten);
 	return globalSimilarity(J, eta, opts_.gamma);
 }
 
 std::optional<CSemanticKeyFrameSelector::TDecision> CSemanticKeyFrameSelector::addFrame(const TKeyFrameInput& f)
 {
-	const bool enoughStatic = static_cast<double>(f.numStatic) > opts_.minStaticRatio * static_cast<double>(f.numFeatures);
+	const bool enoughStatic =
+		static_cast<double>(f.numStatic) > opts_.minStaticRatio * static_cast<double>(f.numFeatures);
 	if (!ref_)
 	{
 		// The first keyframe: the first frame good enough to track from.
@@ -174,7 +179,7 @@ std::optional<CSemanticKeyFrameSelector::TDecision> CSemanticKeyFrameSelector::a
 		excessive_ = 0;
 		if (f.motion > opts_.minMotion) shortMode_ = false;
 	}
-	if (!enoughStatic) return std::nullopt;	 // line 13: not inserted into the interval
+	if (!enoughStatic) return std::nullopt;  // line 13: not inserted into the interval
 	inInterval_++;
 	if (f.motion > opts_.minMotion)
 	{

@@ -15,9 +15,12 @@ COptionTable CLoopCloser::TOptions::table()
 {
 	COptionTable t("LoopClosing");
 	t.append(detection.table());
-	t.integer("essentialWeight", essentialWeight, 0, 100000, "covisibility edges of at least this weight join the essential graph (ORB-SLAM2: 100)");
-	t.integer("poseGraphIterations", poseGraphIterations, 1, 10000, "Ceres iterations of the pose graph (ORB-SLAM2: 20)");
-	t.flag("globalBundleAdjustment", globalBundleAdjustment, "bundle-adjust every keyframe and point after each loop correction");
+	t.integer("essentialWeight", essentialWeight, 0, 100000,
+			  "covisibility edges of at least this weight join the essential graph (ORB-SLAM2: 100)");
+	t.integer("poseGraphIterations", poseGraphIterations, 1, 10000,
+			  "Ceres iterations of the pose graph (ORB-SLAM2: 20)");
+	t.flag("globalBundleAdjustment", globalBundleAdjustment,
+		   "bundle-adjust every keyframe and point after each loop correction");
 	t.integer("globalIterations", globalIterations, 1, 10000, "Ceres iterations of the global BA (ORB-SLAM2: 10)");
 	t.real("fuseRadius", fuseRadius, 0.5, 100, "loop fusion search radius, pixels at level 0 (ORB-SLAM2: 4)");
 	return t;
@@ -56,8 +59,9 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 		for (const auto& [other, w] : map_.keyFrame(g).connections) linksBefore[g].insert(other);
 	}
 	c.groupKeyFrames = corrected.size();
-	c.correctionMetres = std::sqrt(
-		std::pow(correctedPose.x() - Tcur.x(), 2) + std::pow(correctedPose.y() - Tcur.y(), 2) + std::pow(correctedPose.z() - Tcur.z(), 2));
+	c.correctionMetres =
+		std::sqrt(std::pow(correctedPose.x() - Tcur.x(), 2) + std::pow(correctedPose.y() - Tcur.y(), 2) +
+				  std::pow(correctedPose.z() - Tcur.z(), 2));
 	map_.correctKeyFrames(corrected);
 
 	// 2. Loop fusion: the matched place's points into the corrected group.
@@ -72,7 +76,8 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 		if (g == loop.current || !corrected.count(g)) continue;
 		const CKeyFrame kf = map_.keyFrame(g);
 		if (kf.bad) continue;
-		const auto found = fuseCandidates(kf, corrected.at(g), pts, opts_.fuseRadius, opts_.detection.maxHamming, scaleFactor_, depthNoise_);
+		const auto found = fuseCandidates(kf, corrected.at(g), pts, opts_.fuseRadius, opts_.detection.maxHamming,
+										  scaleFactor_, depthNoise_);
 		cands.insert(cands.end(), found.begin(), found.end());
 	}
 	c.fused = map_.fuse(cands);
@@ -84,12 +89,14 @@ TLoopCorrection CLoopCloser::correct(const TLoop& loop)
 	for (const auto& k : map_.keyFramePoses())
 		if (!k.bad) now[k.id] = k.pose;
 	auto old = [&](TKeyFrameId k) { return before.count(k) ? before.at(k) : now.at(k); };
-	std::set<std::pair<TKeyFrameId, TKeyFrameId>> links{{std::min(loop.current, loop.matched), std::max(loop.current, loop.matched)}};
+	std::set<std::pair<TKeyFrameId, TKeyFrameId>> links{
+		{std::min(loop.current, loop.matched), std::max(loop.current, loop.matched)}};
 	for (const auto g : group)
 	{
 		if (!now.count(g)) continue;
 		for (const auto& [other, w] : map_.keyFrame(g).connections)
-			if (!groupSet.count(other) && !linksBefore[g].count(other) && now.count(other)) links.insert({std::min(g, other), std::max(g, other)});
+			if (!groupSet.count(other) && !linksBefore[g].count(other) && now.count(other))
+				links.insert({std::min(g, other), std::max(g, other)});
 	}
 	c.loopLinks = links.size() - 1;
 	std::vector<TPoseGraphEdge> edges;

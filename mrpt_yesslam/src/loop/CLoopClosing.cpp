@@ -14,10 +14,13 @@
 
 namespace mrpt_yesslam
 {
-CLoopClosing::CLoopClosing(
-	std::unique_ptr<CLoopDetector> detector, std::unique_ptr<CLoopCloser> closer, bool globalBundle, CSparseMap& map,
-	CWriterFirstMutex& mapUpdate, bool parallel)
-	: detector_(std::move(detector)), closer_(std::move(closer)), globalBundle_(globalBundle), map_(map), mapUpdate_(mapUpdate)
+CLoopClosing::CLoopClosing(std::unique_ptr<CLoopDetector> detector, std::unique_ptr<CLoopCloser> closer,
+						   bool globalBundle, CSparseMap& map, CWriterFirstMutex& mapUpdate, bool parallel)
+	: detector_(std::move(detector)),
+	  closer_(std::move(closer)),
+	  globalBundle_(globalBundle),
+	  map_(map),
+	  mapUpdate_(mapUpdate)
 {
 	if (parallel)
 	{
@@ -38,7 +41,7 @@ bool CLoopClosing::submit(TKeyFrameId kf)
 	// Pinned from here to its correction, so that culling on the next keyframes (local mapping,
 	// while this stage works) cannot erase it under the loop (issue 40 b); closeLoops adopts the pin.
 	CSparseMap::TPin pin = map_.pinned(kf);
-	if (!pin) return false;	 // culled already
+	if (!pin) return false;  // culled already
 	if (!loopStage_)
 	{
 		pin.release();
@@ -48,7 +51,7 @@ bool CLoopClosing::submit(TKeyFrameId kf)
 	// Detection and correction on their own stage (ORB-SLAM2's LoopClosing thread): local mapping
 	// goes on with the next keyframes meanwhile instead of waiting for them.
 	std::lock_guard<std::mutex> lk(loopTasksMtx_);
-	loopStage_->submitInto(loopTasks_, [this, kf] { closeLoops(kf); });	 // if it throws, `pin` is undone
+	loopStage_->submitInto(loopTasks_, [this, kf] { closeLoops(kf); });  // if it throws, `pin` is undone
 	pin.release();
 	return true;
 }
@@ -69,7 +72,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 	if (loop)
 	{
 		matchedPin = map_.pinned(loop->matched);
-		if (!matchedPin) loop.reset();	// culled during detection (it was not in the current one's local window)
+		if (!matchedPin) loop.reset();  // culled during detection (it was not in the current one's local window)
 	}
 	if (loop && hook_) hook_(*loop);
 	std::optional<double> correctMs;
@@ -102,11 +105,13 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 		// An accepted loop whose correction never came (a keyframe gone) is no loop closed.
 		if (detected && !loop)
 			for (auto& c : candidates)
-				if (c.query == detected->first && c.candidate == detected->second && std::string(c.stage) == "accepted") c.stage = "dropped";
+				if (c.query == detected->first && c.candidate == detected->second && std::string(c.stage) == "accepted")
+					c.stage = "dropped";
 		// The first kCandidateRecords (the file is for analysis; an hours-long run must not grow with it).
 		constexpr std::size_t kCandidateRecords = 100000;
 		const std::size_t room = kCandidateRecords - std::min(kCandidateRecords, candidates_.size());
-		candidates_.insert(candidates_.end(), candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(std::min(room, candidates.size())));
+		candidates_.insert(candidates_.end(), candidates.begin(),
+						   candidates.begin() + static_cast<std::ptrdiff_t>(std::min(room, candidates.size())));
 		if (loop)
 		{
 			loops_.push_back(*loop);
@@ -123,7 +128,7 @@ void CLoopClosing::closeLoops(TKeyFrameId kf)
 bool CLoopClosing::runGlobalBundle()
 {
 	const auto t0 = SteadyClock::now();
-	const TBundleStats st = closer_->globalBundleAdjust(&mapUpdate_);	// write-back exclusive
+	const TBundleStats st = closer_->globalBundleAdjust(&mapUpdate_);  // write-back exclusive
 	const double ms = msSince(t0);
 #if defined(__GLIBC__)
 	// The global problem (every keyframe and point, a cost and a loss per observation, Ceres'
@@ -139,7 +144,7 @@ bool CLoopClosing::runGlobalBundle()
 	if (st.applied) stats_.globalBundleApplied++;
 	if (st.cancelled) stats_.globalBundleCancelled++;
 	stats_.stageMs["global_ba"].push_back(ms);
-	return st.cancelled || (!st.applied && st.keyFrames > 0);	// an empty map has nothing to apply
+	return st.cancelled || (!st.applied && st.keyFrames > 0);  // an empty map has nothing to apply
 }
 
 void CLoopClosing::requestGlobalBundle()
@@ -161,7 +166,7 @@ void CLoopClosing::requestGlobalBundle()
 	}
 	catch (...)
 	{
-		gbaRunning_ = gbaPending_ = false;	// never queued: the next request starts one
+		gbaRunning_ = gbaPending_ = false;  // never queued: the next request starts one
 		throw;
 	}
 }
@@ -215,7 +220,8 @@ void CLoopClosing::collect(bool wait)
 		std::deque<std::future<void>> ready;
 		{
 			std::lock_guard<std::mutex> lk(loopTasksMtx_);
-			while (!loopTasks_.empty() && (wait || loopTasks_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready))
+			while (!loopTasks_.empty() &&
+				   (wait || loopTasks_.front().wait_for(std::chrono::seconds(0)) == std::future_status::ready))
 			{
 				ready.push_back(std::move(loopTasks_.front()));
 				loopTasks_.pop_front();
@@ -259,9 +265,15 @@ void CLoopClosing::waitForGlobalBundle()
 	}
 }
 
-bool CLoopClosing::settle() noexcept { return waitForTasks(loopTasks_, &loopTasksMtx_) | waitForTasks(gbaTasks_, &gbaMtx_); }
+bool CLoopClosing::settle() noexcept
+{
+	return waitForTasks(loopTasks_, &loopTasksMtx_) | waitForTasks(gbaTasks_, &gbaMtx_);
+}
 
-void CLoopClosing::setSessionStart(TKeyFrameId id) { detector_->setSessionStart(id); }
+void CLoopClosing::setSessionStart(TKeyFrameId id)
+{
+	detector_->setSessionStart(id);
+}
 
 TLoopStageStats CLoopClosing::stats() const
 {

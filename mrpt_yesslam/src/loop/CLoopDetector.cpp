@@ -17,34 +17,51 @@ COptionTable CLoopDetector::TOptions::table()
 {
 	COptionTable t("LoopClosing");
 	t.flag("enabled", enabled, "detect and close loops (--no-loop-closure sets false)");
-	t.text("vocabulary", vocabulary, "ORB vocabulary file (yesslam-vocab); empty = the shipped share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc");
-	t.integer("directLevel", directLevel, 0, 10, "tree depth of the direct index used to match keyframes (ORB-SLAM2: 2 of 6 levels)");
-	t.integer("covisibleWeight", covisibleWeight, 0, 100000, "N_cov: keyframes sharing more map points with the current one are covisible, never loop candidates");
-	t.real("alphaRich", alphaRich, 0, 1, "eq. 20: weight of the BoW score in S_Loop when the keyframe has at least richObjects semantic objects");
+	t.text("vocabulary", vocabulary,
+		   "ORB vocabulary file (yesslam-vocab); empty = the shipped share/mrpt_yesslam/vocabulary/orb_k10_L5.yvoc");
+	t.integer("directLevel", directLevel, 0, 10,
+			  "tree depth of the direct index used to match keyframes (ORB-SLAM2: 2 of 6 levels)");
+	t.integer("covisibleWeight", covisibleWeight, 0, 100000,
+			  "N_cov: keyframes sharing more map points with the current one are covisible, never loop candidates");
+	t.real("alphaRich", alphaRich, 0, 1,
+		   "eq. 20: weight of the BoW score in S_Loop when the keyframe has at least richObjects semantic objects");
 	t.real("alphaPoor", alphaPoor, 0, 1, "eq. 20: weight of the BoW score in S_Loop with fewer objects");
-	t.flag("normaliseBow", normaliseBow, "divide s_BoW by the keyframe's best score with its covisible keyframes before eq. 19 (DBoW2's normalised score), so it weighs as much as S_G");
+	t.flag("normaliseBow", normaliseBow,
+		   "divide s_BoW by the keyframe's best score with its covisible keyframes before eq. 19 (DBoW2's normalised "
+		   "score), so it weighs as much as S_G");
 	t.count("richObjects", richObjects, 0, 1000, "N_sw threshold of eq. 20 (static semantic objects in the keyframe)");
-	t.count("consistency", consistency, 1, 100, "N_c: consecutive keyframes whose candidate groups must overlap (eq. 21-22)");
-	t.real("minLoopAge", minLoopAge, 0, 1e6, "candidates must be at least this many seconds older than the keyframe (a place left moments ago is tracking's, not a loop)");
+	t.count("consistency", consistency, 1, 100,
+			"N_c: consecutive keyframes whose candidate groups must overlap (eq. 21-22)");
+	t.real("minLoopAge", minLoopAge, 0, 1e6,
+		   "candidates must be at least this many seconds older than the keyframe (a place left moments ago is "
+		   "tracking's, not a loop)");
 	t.count("minKeyFrames", minKeyFrames, 0, 1000000, "no loop detection before the map has this many keyframes");
-	t.text("matching", matching, "how a loop pair's keypoints are first matched: all (every static keypoint with depth against every other) or bow (within the vocabulary's direct-index nodes, ORB-SLAM2's SearchByBoW)", {"all", "bow"});
-	t.integer("maxHamming", maxHamming, 0, 256, "largest descriptor distance when matching keyframes (ORB-SLAM2's TH_LOW)");
+	t.text("matching", matching,
+		   "how a loop pair's keypoints are first matched: all (every static keypoint with depth against every other) "
+		   "or bow (within the vocabulary's direct-index nodes, ORB-SLAM2's SearchByBoW)",
+		   {"all", "bow"});
+	t.integer("maxHamming", maxHamming, 0, 256,
+			  "largest descriptor distance when matching keyframes (ORB-SLAM2's TH_LOW)");
 	t.real("ratio", ratio, 0.1, 1, "nearest / second-nearest descriptor distance ratio when matching keyframes");
 	t.count("minMatches", minMatches, 3, 100000, "matched keypoints with depth needed to try RANSAC");
 	t.count("minInliers", minInliers, 3, 100000, "RANSAC inliers needed to accept the transform");
 	t.count("ransacIterations", ransacIterations, 1, 1000000, "RANSAC iterations of the 3D-3D transform");
-	t.count("minSeedInliers", minSeedInliers, 3, 100000, "RANSAC inliers that let guided matching look for more (minInliers must then agree)");
-	t.real("guidedRadius", guidedRadius, 0, 100, "guided matching search radius after RANSAC, pixels at level 0 (ORB-SLAM2's SearchBySim3: 7.5; 0 = none)");
-	t.integer("guidedHamming", guidedHamming, 0, 256, "guided matching's largest descriptor distance (ORB-SLAM2's TH_HIGH)");
-	t.count("minProjectionMatches", minProjectionMatches, 0, 100000, "map points of the loop's place matched with the corrected pose, needed to accept");
+	t.count("minSeedInliers", minSeedInliers, 3, 100000,
+			"RANSAC inliers that let guided matching look for more (minInliers must then agree)");
+	t.real("guidedRadius", guidedRadius, 0, 100,
+		   "guided matching search radius after RANSAC, pixels at level 0 (ORB-SLAM2's SearchBySim3: 7.5; 0 = none)");
+	t.integer("guidedHamming", guidedHamming, 0, 256,
+			  "guided matching's largest descriptor distance (ORB-SLAM2's TH_HIGH)");
+	t.count("minProjectionMatches", minProjectionMatches, 0, 100000,
+			"map points of the loop's place matched with the corrected pose, needed to accept");
 	t.real("projectionRadius", projectionRadius, 0.5, 1000, "pixel radius (level 0) of that search");
 	return t;
 }
 
-CLoopDetector::CLoopDetector(
-	const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
-	std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic, double scaleFactor,
-	double maxDepth, const TDepthNoise& depthNoise)
+CLoopDetector::CLoopDetector(const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
+							 std::shared_ptr<const CBowDatabase> database,
+							 const CSemanticKeyFrameSelector::TOptions& semantic, double scaleFactor, double maxDepth,
+							 const TDepthNoise& depthNoise)
 	: opts_(opts),
 	  map_(map),
 	  vocabulary_(std::move(vocabulary)),
@@ -82,9 +99,8 @@ double CLoopDetector::semanticSimilarity(const CKeyFrame& a, const CKeyFrame& b)
 {
 	const auto da = staticDetections(a), db = staticDetections(b);
 	const cv::Size size(static_cast<int>(a.camera.ncols), static_cast<int>(a.camera.nrows));
-	const double J = jaccardSimilarity(
-		semanticRegionVectors(da, size, semantic_.gridCols, semantic_.gridRows),
-		semanticRegionVectors(db, size, semantic_.gridCols, semantic_.gridRows));
+	const double J = jaccardSimilarity(semanticRegionVectors(da, size, semantic_.gridCols, semantic_.gridRows),
+									   semanticRegionVectors(db, size, semantic_.gridCols, semantic_.gridRows));
 	return globalSimilarity(J, areaSimilarity(da, db, semantic_.etaAsWritten), semantic_.gamma);
 }
 
@@ -189,7 +205,8 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 		for (const auto n : map_.covisible(c.keyFrame, 1000000, opts_.covisibleWeight)) g.members.insert(n);
 		std::size_t best = 0;
 		for (const auto& prev : groups_)
-			if (std::any_of(g.members.begin(), g.members.end(), [&](TKeyFrameId m) { return prev.members.count(m) != 0; }))
+			if (std::any_of(g.members.begin(), g.members.end(),
+							[&](TKeyFrameId m) { return prev.members.count(m) != 0; }))
 				best = std::max(best, prev.consistency);
 		g.consistency = best + 1;
 		if (g.consistency >= opts_.consistency) consistent.push_back(c.keyFrame);
@@ -212,7 +229,8 @@ std::optional<TLoop> CLoopDetector::detect(TKeyFrameId id)
 	return std::nullopt;
 }
 
-std::optional<TLoop> CLoopDetector::verifyRecorded(TKeyFrameId id, TKeyFrameId candidate, const std::map<TKeyFrameId, std::size_t>& recordOf)
+std::optional<TLoop> CLoopDetector::verifyRecorded(TKeyFrameId id, TKeyFrameId candidate,
+												   const std::map<TKeyFrameId, std::size_t>& recordOf)
 {
 	TLoopCandidate outcome;
 	auto loop = verify(id, candidate, &outcome);
@@ -238,7 +256,10 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	if (a.bad || b.bad || !a.bow || !b.bow || !a.features || !b.features) return stop("gone", 0);
 	const TFeatures &fa = *a.features, &fb = *b.features;
 	const auto distance = [&](std::size_t i, std::size_t j)
-	{ return orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)), fb.descriptors.ptr<unsigned char>(static_cast<int>(j))); };
+	{
+		return orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)),
+						   fb.descriptors.ptr<unsigned char>(static_cast<int>(j)));
+	};
 	// 1. Keypoints with depth matched: every usable pair ([LoopClosing] matching = all), or within
 	// the nodes of the direct index (bow, ORB-SLAM2's SearchByBoW). The direct index is ORB-SLAM2's
 	// shortcut for 1000-2000 monocular keypoints; an RGB-D keyframe with people in view keeps 100-300
@@ -364,12 +385,14 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	if (opts_.guidedRadius > 0)
 	{
 		std::vector<std::vector<std::size_t>> grid;  // b's usable keypoints in 32-px cells
-		const int cell = 32, gw = static_cast<int>(b.camera.ncols) / cell + 1, gh = static_cast<int>(b.camera.nrows) / cell + 1;
+		const int cell = 32, gw = static_cast<int>(b.camera.ncols) / cell + 1,
+				  gh = static_cast<int>(b.camera.nrows) / cell + 1;
 		grid.resize(static_cast<std::size_t>(gw * gh));
 		for (std::size_t j = 0; j < fb.keypoints.size(); j++)
 			if (fb.usable(j, maxDepth_))
 			{
-				const int gx = std::clamp(static_cast<int>(fb.keypoints[j].pt.x) / cell, 0, gw - 1), gy = std::clamp(static_cast<int>(fb.keypoints[j].pt.y) / cell, 0, gh - 1);
+				const int gx = std::clamp(static_cast<int>(fb.keypoints[j].pt.x) / cell, 0, gw - 1),
+						  gy = std::clamp(static_cast<int>(fb.keypoints[j].pt.y) / cell, 0, gh - 1);
 				grid[static_cast<std::size_t>(gy * gw + gx)].push_back(j);
 			}
 		TNearestForB bestForB;
@@ -382,8 +405,10 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 			if (!Kb.project(q.x(), q.y(), q.z(), u, v)) continue;
 			const double r = opts_.guidedRadius * sigmaOf(fa.keypoints[i]);
 			TBestTwo two;
-			for (int gy = std::max(0, static_cast<int>((v - r) / cell)); gy <= std::min(gh - 1, static_cast<int>((v + r) / cell)); gy++)
-				for (int gx = std::max(0, static_cast<int>((u - r) / cell)); gx <= std::min(gw - 1, static_cast<int>((u + r) / cell)); gx++)
+			for (int gy = std::max(0, static_cast<int>((v - r) / cell));
+				 gy <= std::min(gh - 1, static_cast<int>((v + r) / cell)); gy++)
+				for (int gx = std::max(0, static_cast<int>((u - r) / cell));
+					 gx <= std::min(gw - 1, static_cast<int>((u + r) / cell)); gx++)
 					for (const auto j : grid[static_cast<std::size_t>(gy * gw + gx)])
 					{
 						const auto& kb = fb.keypoints[j];
@@ -452,7 +477,8 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	f.features = fa;
 	f.mapPoints.assign(fa.keypoints.size(), -1);
 	const COrbMatcher matcher(opts_.maxHamming, opts_.ratio);
-	const auto found = matcher.searchByProjection(f, loop.correctedPose, pts, opts_.projectionRadius, nullptr, false, scaleFactor_);
+	const auto found =
+		matcher.searchByProjection(f, loop.correctedPose, pts, opts_.projectionRadius, nullptr, false, scaleFactor_);
 	if (found.size() < opts_.minProjectionMatches) return stop("projection", found.size());
 	// 6. The pose re-solved on what that search found, as tracking solves a frame on its local map
 	// (ORB-SLAM2 stops at the count; its loop edge keeps the Sim3 fit's pose). The search's pairs

@@ -74,8 +74,10 @@ std::map<TKeyFrameId, mrpt::poses::CPose3D> optimisePoseGraph(
 		if (ia == params.end() || ib == params.end()) continue;
 		// The transform from b's frame to a's frame is the pose of camera b seen from camera a,
 		// T_w_a^-1 T_w_b: the edge's relative pose as it is.
-		auto* cost = new ceres::AutoDiffCostFunction<TRelativePoseCost, 6, 3, 3, 3, 3>(new TRelativePoseCost(e.relative, e.weight));
-		problem.AddResidualBlock(cost, nullptr, ia->second.data(), ia->second.data() + 3, ib->second.data(), ib->second.data() + 3);
+		auto* cost = new ceres::AutoDiffCostFunction<TRelativePoseCost, 6, 3, 3, 3, 3>(
+			new TRelativePoseCost(e.relative, e.weight));
+		problem.AddResidualBlock(cost, nullptr, ia->second.data(), ia->second.data() + 3, ib->second.data(),
+								 ib->second.data() + 3);
 	}
 	for (const auto id : fixed)
 		if (auto it = params.find(id); it != params.end() && problem.HasParameterBlock(it->second.data()))

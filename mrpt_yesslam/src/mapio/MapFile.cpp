@@ -16,7 +16,7 @@ namespace mrpt_yesslam
 namespace
 {
 constexpr char kMagic[8] = {'Y', 'E', 'S', 'S', 'L', 'A', 'M', 'M'};
-constexpr std::size_t kHeader = 8 + 4 + 8;	// magic, version, vocabulary fingerprint
+constexpr std::size_t kHeader = 8 + 4 + 8;  // magic, version, vocabulary fingerprint
 
 std::string hex(std::uint64_t v)
 {
@@ -26,8 +26,8 @@ std::string hex(std::uint64_t v)
 }
 }  // namespace
 
-void saveMapFile(
-	const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree, const TWorldFrame& frame)
+void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint,
+				 const CSemanticOcTree* octree, const TWorldFrame& frame)
 {
 	std::ostringstream o(std::ios::binary);
 	o.write(kMagic, 8);
@@ -61,7 +61,8 @@ void saveMapFile(
 	writeFileAtomically(path, buf);
 }
 
-TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint, std::unique_ptr<CSemanticOcTree>* octree)
+TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint,
+						 std::unique_ptr<CSemanticOcTree>* octree)
 {
 	std::ifstream f(path, std::ios::binary | std::ios::ate);
 	if (!f) throw InputError(path, "cannot open the map file");
@@ -70,13 +71,15 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 	std::string buf(static_cast<std::size_t>(size), '\0');
 	f.seekg(0);
 	if (!f.read(buf.data(), static_cast<std::streamsize>(size))) throw InputError(path, "cannot read the map file");
-	if (size < 8 || std::memcmp(buf.data(), kMagic, 8) != 0) throw InputError(path, "not a yesslam map (save one with yesslam --save-map)");
+	if (size < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
+		throw InputError(path, "not a yesslam map (save one with yesslam --save-map)");
 	if (size < kHeader + 8) throw InputError(path, "map file is truncated");
 	TMapFileInfo info;
 	info.bytes = size;
 	std::memcpy(&info.version, buf.data() + 8, 4);
 	if (info.version == 0 || info.version > kMapFileVersion)
-		throw InputError(path, "map format version " + std::to_string(info.version) + ", this build reads up to " + std::to_string(kMapFileVersion));
+		throw InputError(path, "map format version " + std::to_string(info.version) + ", this build reads up to " +
+								   std::to_string(kMapFileVersion));
 	std::uint64_t stored;
 	std::memcpy(&stored, buf.data() + size - 8, 8);
 	if (binio::checksum(buf.data(), size - 8) != stored)
@@ -86,8 +89,9 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 	// computed from their descriptors at load, or relocalisation goes without words); two different
 	// vocabularies are not: what the map's place recognition was tuned and checked with would change.
 	if (info.vocabularyFingerprint && vocabularyFingerprint && info.vocabularyFingerprint != vocabularyFingerprint)
-		throw InputError(path, "the map was saved with another vocabulary (fingerprint " + hex(info.vocabularyFingerprint) + ", this run's " +
-								   hex(vocabularyFingerprint) + "); load it with the vocabulary it was made with ([LoopClosing] vocabulary)");
+		throw InputError(path, "the map was saved with another vocabulary (fingerprint " +
+								   hex(info.vocabularyFingerprint) + ", this run's " + hex(vocabularyFingerprint) +
+								   "); load it with the vocabulary it was made with ([LoopClosing] vocabulary)");
 	std::istringstream in(buf.substr(kHeader, size - kHeader - 8), std::ios::binary);
 	std::unique_ptr<CSemanticOcTree> tree;
 	// Read aside and put in place only once the octree section has been read too.
@@ -101,7 +105,8 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 		if (info.octreeBytes)
 		{
 			std::string ot(static_cast<std::size_t>(info.octreeBytes), '\0');
-			if (!in.read(ot.data(), static_cast<std::streamsize>(ot.size()))) throw std::runtime_error("truncated semantic octree");
+			if (!in.read(ot.data(), static_cast<std::streamsize>(ot.size())))
+				throw std::runtime_error("truncated semantic octree");
 			std::istringstream os(ot, std::ios::binary);
 			tree = CSemanticOcTree::read(os, "its semantic octree");
 			if (!(threshold > 0 && threshold < 1)) throw std::runtime_error("occupancy threshold out of (0, 1)");
@@ -125,7 +130,8 @@ TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t
 			mrpt::math::CVectorFixedDouble<3> t;
 			for (int k = 0; k < 9; k++) R(k / 3, k % 3) = v[k];
 			for (int k = 0; k < 3; k++) t[k] = v[9 + k];
-			if ((R.asEigen() * R.asEigen().transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.asEigen().determinant() < 0)
+			if ((R.asEigen() * R.asEigen().transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+				R.asEigen().determinant() < 0)
 				throw std::runtime_error("export frame's rotation is not a rotation");
 			info.worldFrame.worldFromMap = mrpt::poses::CPose3D(R, t);
 		}

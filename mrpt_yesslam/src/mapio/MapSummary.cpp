@@ -8,7 +8,8 @@
 
 namespace mrpt_yesslam
 {
-TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames, const mrpt::poses::CPose3D& worldFromMap)
+TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames,
+						 const mrpt::poses::CPose3D& worldFromMap)
 {
 	TMapSummary s;
 	std::map<int, std::size_t> seen;
@@ -49,8 +50,11 @@ TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& 
 	}
 	if (!s.points) s.min = s.max = {0, 0, 0};
 	for (const auto& [c, n] : seen)
-		s.classes.emplace_back(c >= 0 && static_cast<std::size_t>(c) < classNames.size() ? classNames[c] : "class " + std::to_string(c), n);
-	std::stable_sort(s.classes.begin(), s.classes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+		s.classes.emplace_back(
+			c >= 0 && static_cast<std::size_t>(c) < classNames.size() ? classNames[c] : "class " + std::to_string(c),
+			n);
+	std::stable_sort(s.classes.begin(), s.classes.end(),
+					 [](const auto& a, const auto& b) { return a.second > b.second; });
 	return s;
 }
 
@@ -58,17 +62,18 @@ std::string formatMapSummary(const TMapSummary& s)
 {
 	char buf[512];
 	std::string out;
-	std::snprintf(buf, sizeof(buf), "keyframes:    %zu (%zu erased ones kept for their poses)\n", s.keyFrames, s.erasedKeyFrames);
+	std::snprintf(buf, sizeof(buf), "keyframes:    %zu (%zu erased ones kept for their poses)\n", s.keyFrames,
+				  s.erasedKeyFrames);
 	out += buf;
 	std::snprintf(buf, sizeof(buf), "map points:   %zu\n", s.points);
 	out += buf;
-	std::snprintf(
-		buf, sizeof(buf), "extent:       x %.2f..%.2f  y %.2f..%.2f  z %.2f..%.2f m (%.2f x %.2f x %.2f m)\n", s.min.x, s.max.x, s.min.y,
-		s.max.y, s.min.z, s.max.z, s.max.x - s.min.x, s.max.y - s.min.y, s.max.z - s.min.z);
+	std::snprintf(buf, sizeof(buf), "extent:       x %.2f..%.2f  y %.2f..%.2f  z %.2f..%.2f m (%.2f x %.2f x %.2f m)\n",
+				  s.min.x, s.max.x, s.min.y, s.max.y, s.min.z, s.max.z, s.max.x - s.min.x, s.max.y - s.min.y,
+				  s.max.z - s.min.z);
 	out += buf;
-	std::snprintf(
-		buf, sizeof(buf), "time span:    %.1f s of keyframes, %.2f m from keyframe to keyframe, %zu loop edges\n", s.lastTime - s.firstTime,
-		s.pathLength, s.loopEdges);
+	std::snprintf(buf, sizeof(buf),
+				  "time span:    %.1f s of keyframes, %.2f m from keyframe to keyframe, %zu loop edges\n",
+				  s.lastTime - s.firstTime, s.pathLength, s.loopEdges);
 	out += buf;
 	out += "labels:      ";
 	if (s.classes.empty()) out += " none";
@@ -93,7 +98,8 @@ TDenseCloud mapPointCloud(const CSparseMap& map, const mrpt::poses::CPose3D& wor
 	return c;
 }
 
-std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution, const mrpt::poses::CPose3D& worldFromMap)
+std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution,
+											  const mrpt::poses::CPose3D& worldFromMap)
 {
 	auto tree = std::make_unique<CSemanticOcTree>(resolution);
 	// One hit (0.7) is occupied: the map's points are already the confirmed ones. A point that later
@@ -110,7 +116,10 @@ std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double reso
 			cloud.push_back(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
 		}
 		// As the dense map's octree: rays clear space up to a voxel before each point.
-		tree->insertScan(cloud, octomap::point3d(static_cast<float>(pose.x()), static_cast<float>(pose.y()), static_cast<float>(pose.z())), resolution);
+		tree->insertScan(
+			cloud,
+			octomap::point3d(static_cast<float>(pose.x()), static_cast<float>(pose.y()), static_cast<float>(pose.z())),
+			resolution);
 	}
 	tree->updateInnerOccupancy();
 	return tree;

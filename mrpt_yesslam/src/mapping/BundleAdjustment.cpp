@@ -63,7 +63,8 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			// 14.6 -> 11.5 mm; the simulator's presets within +-3 %, fr1 3.1 / 3.2 mm). Tracking
 			// keeps the level-0 model: scaled there too, the dev slice got worse (21.3 mm).
 			const double sigmaZ = useDepth ? o.depthNoise.sigma(z, sigma) : 0.0;
-			costs.emplace_back(TRgbdReprojectionCost(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(), K.fy(), K.cx(), K.cy()));
+			costs.emplace_back(TRgbdReprojectionCost(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(),
+													 K.fy(), K.cx(), K.cy()));
 			all.push_back({i, k, useDepth});
 		}
 	st.observations = all.size();
@@ -79,7 +80,8 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 	{
 		const Obs& ob = all[j];
 		double* pp = poseParams.at(ob.kf);
-		problem.AddResidualBlock(&costs[j], ob.hasDepth ? &lossWithDepth : &lossWithoutDepth, pp, pp + 3, X[ob.point].data());
+		problem.AddResidualBlock(&costs[j], ob.hasDepth ? &lossWithDepth : &lossWithoutDepth, pp, pp + 3,
+								 X[ob.point].data());
 	}
 	// A point that no keyframe of the window measured with depth is constrained only by its rays,
 	// and with a short baseline (a still camera: walking_static) not at all along them: Ceres then
@@ -148,7 +150,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 	if (sum.termination_type == ceres::USER_FAILURE)
 	{
 		st.cancelled = true;
-		return sol;	 // stale: nothing to write back
+		return sol;  // stale: nothing to write back
 	}
 
 	// Observations that are still outliers after the solve are removed from the map (ORB-SLAM2).

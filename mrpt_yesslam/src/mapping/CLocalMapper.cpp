@@ -21,18 +21,23 @@ COptionTable CLocalMapper::TOptions::table()
 	t.count("covisibleKeyFrames", covisibleKeyFrames, 0, 1000, "keyframes optimised besides the new one");
 	t.count("maxFixedKeyFrames", maxFixedKeyFrames, 0, 1000, "other keyframes seeing the points, held fixed");
 	t.integer("iterations", iterations, 1, 1000, "Ceres iterations");
-	t.real("cullFoundRatio", cullFoundRatio, 0, 1, "young points found in fewer than this share of the frames that should see them are culled");
+	t.real("cullFoundRatio", cullFoundRatio, 0, 1,
+		   "young points found in fewer than this share of the frames that should see them are culled");
 	t.count("cullMinObservations", cullMinObservations, 0, 1000, "young points seen by fewer keyframes are culled");
-	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000, "neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, docs/benchmarks.md)");
+	t.count("fuseKeyFrames", fuseKeyFrames, 0, 1000,
+			"neighbours searched for duplicate points (ORB-SLAM2 RGB-D: 10); 0 = no fusion (it cost accuracy, "
+			"docs/benchmarks.md)");
 	t.real("fuseRadius", fuseRadius, 0.5, 100, "fusion search radius, pixels at level 0 (x scale^octave)");
 	t.integer("fuseMaxHamming", fuseMaxHamming, 0, 256, "fusion: largest descriptor distance (ORB-SLAM2's TH_LOW)");
 	t.flag("keyFrameCulling", keyFrameCulling, "erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)");
 	t.real("redundantRatio", redundantRatio, 0, 1, "a keyframe goes when more than this share of its close points ...");
-	t.count("redundantObservers", redundantObservers, 1, 1000, "... is seen by at least this many other keyframes at the same or finer scale");
+	t.count("redundantObservers", redundantObservers, 1, 1000,
+			"... is seen by at least this many other keyframes at the same or finer scale");
 	return t;
 }
 
-CLocalMapper::CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor, double maxDepth, const TDepthNoise& depthNoise)
+CLocalMapper::CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor, double maxDepth,
+						   const TDepthNoise& depthNoise)
 	: opts_(opts), map_(map), scaleFactor_(scaleFactor), maxDepth_(maxDepth), noise_(depthNoise)
 {
 }
@@ -55,7 +60,8 @@ std::size_t CLocalMapper::fuseWithNeighbours(TKeyFrameId kfId)
 	std::vector<TFuseCandidate> cands;
 	auto search = [&](const TLocalMapPoints& pts, const CKeyFrame& into)
 	{
-		const auto c = fuseCandidates(into, into.pose, pts, opts_.fuseRadius, opts_.fuseMaxHamming, scaleFactor_, noise_);
+		const auto c =
+			fuseCandidates(into, into.pose, pts, opts_.fuseRadius, opts_.fuseMaxHamming, scaleFactor_, noise_);
 		cands.insert(cands.end(), c.begin(), c.end());
 	};
 	const CKeyFrame cur = map_.keyFrame(kfId);
@@ -64,13 +70,13 @@ std::size_t CLocalMapper::fuseWithNeighbours(TKeyFrameId kfId)
 	for (TKeyFrameId n : neighbours)
 	{
 		const CKeyFrame nk = map_.keyFrame(n);
-		search(curPts, nk);	 // the new keyframe's points into each neighbour
+		search(curPts, nk);  // the new keyframe's points into each neighbour
 		for (TPointId p : nk.mapPoints)
 			if (p >= 0) neighbourIds.push_back(p);
 	}
 	std::sort(neighbourIds.begin(), neighbourIds.end());
 	neighbourIds.erase(std::unique(neighbourIds.begin(), neighbourIds.end()), neighbourIds.end());
-	search(map_.pointsById(neighbourIds), cur);	 // the neighbours' points into the new keyframe
+	search(map_.pointsById(neighbourIds), cur);  // the neighbours' points into the new keyframe
 	return map_.fuse(cands);
 }
 

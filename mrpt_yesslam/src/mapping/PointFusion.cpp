@@ -6,9 +6,9 @@
 
 namespace mrpt_yesslam
 {
-std::vector<TFuseCandidate> fuseCandidates(
-	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& pts, double radius, int maxHamming,
-	double scaleFactor, const TDepthNoise& depthNoise)
+std::vector<TFuseCandidate> fuseCandidates(const CKeyFrame& into, const mrpt::poses::CPose3D& Twc,
+										   const TLocalMapPoints& pts, double radius, int maxHamming,
+										   double scaleFactor, const TDepthNoise& depthNoise)
 {
 	std::vector<TFuseCandidate> cands;
 	if (pts.ids.empty() || !into.features) return cands;

@@ -12,7 +12,10 @@ namespace mrpt_yesslam
 {
 namespace
 {
-void removeId(std::vector<TKeyFrameId>& v, TKeyFrameId id) { v.erase(std::remove(v.begin(), v.end(), id), v.end()); }
+void removeId(std::vector<TKeyFrameId>& v, TKeyFrameId id)
+{
+	v.erase(std::remove(v.begin(), v.end(), id), v.end());
+}
 }  // namespace
 
 void CBowDatabase::add(TKeyFrameId id, std::shared_ptr<const TBow> bow)
@@ -48,8 +51,8 @@ std::shared_ptr<const TBow> CBowDatabase::bow(TKeyFrameId id) const
 	return it == bows_.end() ? nullptr : it->second;
 }
 
-std::vector<TBowCandidate> CBowDatabase::query(
-	const TBowVector& q, const std::set<TKeyFrameId>& exclude, double minCommonRatio, std::size_t minCommonWords) const
+std::vector<TBowCandidate> CBowDatabase::query(const TBowVector& q, const std::set<TKeyFrameId>& exclude,
+											   double minCommonRatio, std::size_t minCommonWords) const
 {
 	std::lock_guard lk(mtx_);
 	std::unordered_map<TKeyFrameId, std::size_t> common;
@@ -63,12 +66,14 @@ std::vector<TBowCandidate> CBowDatabase::query(
 	std::vector<TBowCandidate> out;
 	for (const auto& [id, n] : common)
 		if (n >= need) out.push_back({id, n, CVocabulary::score(q, bows_.at(id)->words)});
-	std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.score != b.score ? a.score > b.score : a.keyFrame < b.keyFrame; });
+	std::sort(out.begin(), out.end(),
+			  [](const auto& a, const auto& b)
+			  { return a.score != b.score ? a.score > b.score : a.keyFrame < b.keyFrame; });
 	return out;
 }
 
-std::vector<TBowCandidate> groupCandidates(
-	const std::vector<TBowCandidate>& cands, const CSparseMap& map, std::size_t neighbours, double keepRatio)
+std::vector<TBowCandidate> groupCandidates(const std::vector<TBowCandidate>& cands, const CSparseMap& map,
+										   std::size_t neighbours, double keepRatio)
 {
 	std::map<TKeyFrameId, const TBowCandidate*> byId;
 	for (const auto& c : cands) byId[c.keyFrame] = &c;
@@ -83,14 +88,17 @@ std::vector<TBowCandidate> groupCandidates(
 			if (const auto it = byId.find(n); it != byId.end())
 			{
 				g.groupScore += it->second->score;
-				if (it->second->score > g.score) g.keyFrame = n, g.score = it->second->score, g.commonWords = it->second->commonWords;
+				if (it->second->score > g.score)
+					g.keyFrame = n, g.score = it->second->score, g.commonWords = it->second->commonWords;
 			}
 		best = std::max(best, g.groupScore);
 		groups.push_back(g);
 	}
 	std::vector<TBowCandidate> out;
 	std::set<TKeyFrameId> taken;
-	std::sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) { return a.groupScore != b.groupScore ? a.groupScore > b.groupScore : a.keyFrame < b.keyFrame; });
+	std::sort(groups.begin(), groups.end(),
+			  [](const auto& a, const auto& b)
+			  { return a.groupScore != b.groupScore ? a.groupScore > b.groupScore : a.keyFrame < b.keyFrame; });
 	for (const auto& g : groups)
 		if (g.groupScore >= keepRatio * best && taken.insert(g.keyFrame).second) out.push_back(g);
 	return out;

@@ -58,7 +58,6 @@ TDesc majority(const std::vector<TDesc>& all, const std::vector<std::uint32_t>& 
 	return c;
 }
 
-
 constexpr char kMagic[8] = {'Y', 'E', 'S', 'V', 'O', 'C', 'A', 'B'};
 }  // namespace
 
@@ -73,8 +72,9 @@ namespace
 {
 // One level of k-majority clustering of `members` into at most k clusters (empty ones dropped).
 // DBoW2's rule: a set of at most k descriptors gives one cluster per descriptor.
-std::vector<std::pair<TDesc, std::vector<std::uint32_t>>> cluster(
-	const std::vector<TDesc>& all, const std::vector<std::uint32_t>& members, int k, int maxIterations, std::mt19937_64& rng)
+std::vector<std::pair<TDesc, std::vector<std::uint32_t>>> cluster(const std::vector<TDesc>& all,
+																  const std::vector<std::uint32_t>& members, int k,
+																  int maxIterations, std::mt19937_64& rng)
 {
 	std::vector<std::pair<TDesc, std::vector<std::uint32_t>>> out;
 	if (members.size() <= static_cast<std::size_t>(k))
@@ -95,7 +95,7 @@ std::vector<std::pair<TDesc, std::vector<std::uint32_t>>> cluster(
 	while (centres.size() < static_cast<std::size_t>(k))
 	{
 		const double total = std::accumulate(d2.begin(), d2.end(), 0.0);
-		if (total <= 0) break;	// fewer distinct descriptors than k
+		if (total <= 0) break;  // fewer distinct descriptors than k
 		double r = std::uniform_real_distribution<double>(0, total)(rng);
 		std::size_t pick = 0;
 		for (; pick + 1 < members.size(); pick++)
@@ -140,18 +140,20 @@ std::vector<std::pair<TDesc, std::vector<std::uint32_t>>> cluster(
 }
 }  // namespace
 
-CVocabulary CVocabulary::train(
-	const std::vector<cv::Mat>& images, const TTrainOptions& o, const std::function<void(std::size_t, std::size_t)>& progress)
+CVocabulary CVocabulary::train(const std::vector<cv::Mat>& images, const TTrainOptions& o,
+							   const std::function<void(std::size_t, std::size_t)>& progress)
 {
 	if (o.branching < 2 || o.branching > 255) throw InputError("", "vocabulary branching factor must be 2..255");
 	if (o.levels < 1 || o.levels > 10) throw InputError("", "vocabulary levels must be 1..10");
-	if (std::pow(double(o.branching), double(o.levels)) > 4e9) throw InputError("", "vocabulary too large: branching^levels must stay below 4e9 words");
+	if (std::pow(double(o.branching), double(o.levels)) > 4e9)
+		throw InputError("", "vocabulary too large: branching^levels must stay below 4e9 words");
 	if (o.maxIterations < 1) throw InputError("", "vocabulary k-majority iterations must be at least 1");
 	std::vector<TDesc> all;
 	for (const auto& m : images)
 	{
 		if (m.empty()) continue;
-		if (m.type() != CV_8U || m.cols != 32) throw InputError("", "vocabulary training needs ORB descriptors (32-byte CV_8U rows)");
+		if (m.type() != CV_8U || m.cols != 32)
+			throw InputError("", "vocabulary training needs ORB descriptors (32-byte CV_8U rows)");
 		for (int r = 0; r < m.rows; r++) all.push_back(toDesc(m.ptr<std::uint8_t>(r)));
 	}
 	if (all.empty()) throw InputError("", "no descriptors to train a vocabulary from");
@@ -181,7 +183,8 @@ CVocabulary CVocabulary::train(
 	};
 	std::atomic<std::size_t> next{0}, done{0};
 	std::mutex progressMtx;
-	const unsigned nThreads = std::max(1u, std::min<unsigned>(o.threads > 0 ? o.threads : std::thread::hardware_concurrency(), top.size()));
+	const unsigned nThreads =
+		std::max(1u, std::min<unsigned>(o.threads > 0 ? o.threads : std::thread::hardware_concurrency(), top.size()));
 	auto worker = [&]
 	{
 		try
@@ -201,7 +204,7 @@ CVocabulary CVocabulary::train(
 		}
 		catch (...)
 		{
-			next = top.size();	// the other workers stop after their subtree
+			next = top.size();  // the other workers stop after their subtree
 			throw;
 		}
 	};
@@ -310,13 +313,14 @@ std::uint32_t CVocabulary::word(const std::uint8_t* descriptor, std::uint32_t* n
 	return wordOfNode_[n];
 }
 
-void CVocabulary::transform(
-	const cv::Mat& descriptors, TBowVector& bow, TFeatureVector* direct, int directLevel, const std::vector<bool>& use) const
+void CVocabulary::transform(const cv::Mat& descriptors, TBowVector& bow, TFeatureVector* direct, int directLevel,
+							const std::vector<bool>& use) const
 {
 	bow.clear();
 	if (direct) direct->clear();
 	if (descriptors.empty() || numWords() == 0) return;
-	if (descriptors.type() != CV_8U || descriptors.cols != 32) throw std::invalid_argument("CVocabulary::transform needs 32-byte ORB descriptors");
+	if (descriptors.type() != CV_8U || descriptors.cols != 32)
+		throw std::invalid_argument("CVocabulary::transform needs 32-byte ORB descriptors");
 	bow.reserve(descriptors.rows);
 	for (int r = 0; r < descriptors.rows; r++)
 	{
@@ -424,9 +428,11 @@ CVocabulary CVocabulary::load(const std::string& path)
 	if (size > (std::size_t(1) << 31)) throw InputError(path, "not a yesslam vocabulary (larger than 2 GB)");
 	std::string buf(size, '\0');
 	f.seekg(0);
-	if (!f.read(buf.data(), static_cast<std::streamsize>(size))) throw InputError(path, "cannot read the vocabulary file");
+	if (!f.read(buf.data(), static_cast<std::streamsize>(size)))
+		throw InputError(path, "cannot read the vocabulary file");
 	if (size < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
-		throw InputError(path, "not a yesslam vocabulary (train one with yesslam-vocab; DBoW2/DBoW3 files are not read)");
+		throw InputError(path,
+						 "not a yesslam vocabulary (train one with yesslam-vocab; DBoW2/DBoW3 files are not read)");
 	if (size < 8 + 8 + 4 * 6 + 8) throw InputError(path, "vocabulary file is truncated");
 	std::uint64_t stored;
 	std::memcpy(&stored, buf.data() + size - 8, 8);
@@ -445,18 +451,22 @@ CVocabulary CVocabulary::load(const std::string& path)
 	};
 	const auto version = get32();
 	if (version == 0 || version > kFileVersion)
-		throw InputError(path, "vocabulary format version " + std::to_string(version) + ", this build reads up to " + std::to_string(kFileVersion));
-	if (binio::checksum(buf.data(), size - 8) != stored) throw InputError(path, "vocabulary file is corrupt (checksum mismatch)");
+		throw InputError(path, "vocabulary format version " + std::to_string(version) + ", this build reads up to " +
+								   std::to_string(kFileVersion));
+	if (binio::checksum(buf.data(), size - 8) != stored)
+		throw InputError(path, "vocabulary file is corrupt (checksum mismatch)");
 	CVocabulary v;
 	v.k_ = static_cast<int>(get32());
 	v.levels_ = static_cast<int>(get32());
 	get(&v.trainingImages_, 8);
 	const auto nodes = get32(), words = get32(), descLen = get32();
-	if (nodes == 0 || words == 0 || words > nodes || descLen > (1u << 20) || v.k_ < 2 || v.k_ > 255 || v.levels_ < 1 || v.levels_ > 10)
+	if (nodes == 0 || words == 0 || words > nodes || descLen > (1u << 20) || v.k_ < 2 || v.k_ > 255 || v.levels_ < 1 ||
+		v.levels_ > 10)
 		throw InputError(path, "vocabulary header is inconsistent");
 	v.description_.resize(descLen);
 	get(v.description_.data(), descLen);
-	if (pos + std::size_t(nodes) * (32 + 4 + 1 + 4) + std::size_t(words) * 4 != size - 8) throw InputError(path, "vocabulary file has the wrong size for its header");
+	if (pos + std::size_t(nodes) * (32 + 4 + 1 + 4) + std::size_t(words) * 4 != size - 8)
+		throw InputError(path, "vocabulary file has the wrong size for its header");
 	v.desc_.resize(nodes);
 	v.firstChild_.resize(nodes);
 	v.numChildren_.resize(nodes);

@@ -17,7 +17,8 @@ namespace
 bool isImageFile(const fs::path& p)
 {
 	auto ext = p.extension().string();
-	std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	std::transform(ext.begin(), ext.end(), ext.begin(),
+				   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
 	for (const char* e : {".png", ".jpg", ".jpeg", ".bmp", ".ppm", ".pgm", ".tif", ".tiff", ".webp"})
 		if (ext == e) return true;
 	return false;
@@ -46,8 +47,9 @@ double secondsSince(std::chrono::steady_clock::time_point t0)
 }
 }  // namespace
 
-std::vector<cv::Mat> collectTrainingDescriptors(
-	const TVocabTrainingOptions& o, const std::function<void(std::size_t)>& progress, const std::function<bool()>& stop)
+std::vector<cv::Mat> collectTrainingDescriptors(const TVocabTrainingOptions& o,
+												const std::function<void(std::size_t)>& progress,
+												const std::function<bool()>& stop)
 {
 	if (o.inputs.empty()) throw InputError("", "no training input given");
 	if (o.step < 1) throw InputError("", "the frame step must be at least 1");
@@ -72,7 +74,8 @@ std::vector<cv::Mat> collectTrainingDescriptors(
 			for (auto it = fs::recursive_directory_iterator(p, fs::directory_options::skip_permission_denied, ec);
 				 !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
 				if (it->is_regular_file(ec) && isImageFile(it->path())) files.push_back(it->path());
-			if (files.empty()) throw InputError(in, "no images (png, jpg, bmp, ppm, pgm, tif, webp) and no rgb.txt in this folder");
+			if (files.empty())
+				throw InputError(in, "no images (png, jpg, bmp, ppm, pgm, tif, webp) and no rgb.txt in this folder");
 			const std::size_t before = out.size();
 			std::sort(files.begin(), files.end());
 			for (const auto& f : files)
@@ -83,12 +86,14 @@ std::vector<cv::Mat> collectTrainingDescriptors(
 				add(img);
 				taken++;
 			}
-			if (out.size() == before && !stopped()) throw InputError(in, "only depth images (16-bit) in this folder, no photographs");
+			if (out.size() == before && !stopped())
+				throw InputError(in, "only depth images (16-bit) in this folder, no photographs");
 		}
 		else if (fs::is_regular_file(p, ec) && isImageFile(p))
 		{
 			const cv::Mat img = readPhoto(in);
-			if (img.empty()) throw InputError(in, "a 16-bit single-channel image (a depth map) has no texture to train on");
+			if (img.empty())
+				throw InputError(in, "a 16-bit single-channel image (a depth map) has no texture to train on");
 			add(img);
 		}
 		else
@@ -109,27 +114,36 @@ std::vector<cv::Mat> collectTrainingDescriptors(
 	return out;
 }
 
-CVocabulary trainVocabulary(
-	const TVocabTrainingOptions& o, TVocabTrainingSummary* summary,
-	const std::function<void(const std::string&, std::size_t, std::size_t)>& progress, const std::function<bool()>& stop)
+CVocabulary trainVocabulary(const TVocabTrainingOptions& o, TVocabTrainingSummary* summary,
+							const std::function<void(const std::string&, std::size_t, std::size_t)>& progress,
+							const std::function<bool()>& stop)
 {
 	TVocabTrainingSummary s;
 	auto t0 = std::chrono::steady_clock::now();
-	const auto descriptors =
-		collectTrainingDescriptors(o, [&](std::size_t n) { if (progress) progress("extract", n, 0); }, stop);
+	const auto descriptors = collectTrainingDescriptors(
+		o,
+		[&](std::size_t n)
+		{
+			if (progress) progress("extract", n, 0);
+		},
+		stop);
 	s.interrupted = stop && stop();
 	s.extractSeconds = secondsSince(t0);
 	s.images = descriptors.size();  // replaced by the images that gave descriptors once trained
 	for (const auto& d : descriptors) s.descriptors += static_cast<std::size_t>(d.rows);
 	t0 = std::chrono::steady_clock::now();
-	CVocabulary v = CVocabulary::train(
-		descriptors, o.tree, [&](std::size_t d, std::size_t t) { if (progress) progress("train", d, t); });
+	CVocabulary v = CVocabulary::train(descriptors, o.tree,
+									   [&](std::size_t d, std::size_t t)
+									   {
+										   if (progress) progress("train", d, t);
+									   });
 	s.trainSeconds = secondsSince(t0);
 	s.images = static_cast<std::size_t>(v.numTrainingImages());
 	std::ostringstream desc;
-	desc << "k=" << o.tree.branching << " L=" << o.tree.levels << " seed=" << o.tree.seed << "; " << v.numTrainingImages() << " images, "
-		 << s.descriptors << " descriptors from " << o.inputs.size() << " inputs; ORB numFeatures=" << o.orb.numFeatures
-		 << " numLevels=" << o.orb.numLevels << " scaleFactor=" << o.orb.scaleFactor << " fastThreshold=" << o.orb.fastThreshold;
+	desc << "k=" << o.tree.branching << " L=" << o.tree.levels << " seed=" << o.tree.seed << "; "
+		 << v.numTrainingImages() << " images, " << s.descriptors << " descriptors from " << o.inputs.size()
+		 << " inputs; ORB numFeatures=" << o.orb.numFeatures << " numLevels=" << o.orb.numLevels
+		 << " scaleFactor=" << o.orb.scaleFactor << " fastThreshold=" << o.orb.fastThreshold;
 	v.setDescription(desc.str());
 	if (summary) *summary = s;
 	return v;

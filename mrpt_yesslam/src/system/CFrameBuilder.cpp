@@ -12,9 +12,9 @@ namespace
 {
 }  // namespace
 
-CFrameBuilder::CFrameBuilder(
-	std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker, const COrbExtractor::TOptions& orb,
-	bool dynamicFilter, bool asyncDetection, const CGeometricDynamicCheck::TOptions& check)
+CFrameBuilder::CFrameBuilder(std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker,
+							 const COrbExtractor::TOptions& orb, bool dynamicFilter, bool asyncDetection,
+							 const CGeometricDynamicCheck::TOptions& check)
 	: masker_(masker), extractor_(orb), check_(check), dynamicFilter_(dynamicFilter)
 {
 	// Overlapping needs features extracted without the mask, which excludeMasked forbids.
@@ -29,7 +29,10 @@ void CFrameBuilder::detectAhead(const cv::Mat& bgr, double timestamp, std::size_
 	if (async_ && !async_->submitted(id, timestamp)) async_->submit(bgr, timestamp, id);
 }
 
-const CObjectDetector* CFrameBuilder::detector() const { return async_ ? &async_->detector() : detector_.get(); }
+const CObjectDetector* CFrameBuilder::detector() const
+{
+	return async_ ? &async_->detector() : detector_.get();
+}
 
 void CFrameBuilder::releaseDetectorModel()
 {
@@ -39,9 +42,9 @@ void CFrameBuilder::releaseDetectorModel()
 		detector_->releaseModel();
 }
 
-std::shared_ptr<TFrame> CFrameBuilder::build(
-	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera, std::size_t id,
-	std::map<std::string, double>* stageMs)
+std::shared_ptr<TFrame> CFrameBuilder::build(const cv::Mat& bgr, const cv::Mat& depth, double timestamp,
+											 const mrpt::img::TCamera& camera, std::size_t id,
+											 std::map<std::string, double>* stageMs)
 {
 	std::map<std::string, double> ms;
 	auto f = std::make_shared<TFrame>();
@@ -70,7 +73,7 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 	{
 		// Detection on the worker while ORB runs here: "detect" is the detector's own time (on its
 		// thread), "detect_wait" what this frame still waited for it after ORB.
-		if (!async_->submitted(id, timestamp)) async_->submit(bgr, timestamp, id);	// else detectAhead() did
+		if (!async_->submitted(id, timestamp)) async_->submit(bgr, timestamp, id);  // else detectAhead() did
 		const TStageClock orb;
 		f->features = extractor_.extract(bgr, depth);
 		orb.addTo(ms, "orb");
@@ -92,7 +95,7 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		f->features = extractor_.extract(bgr, depth, mask);
 		orb.addTo(ms, "orb");
 	}
-	const TStageClock rest;	 // counted in "orb"
+	const TStageClock rest;                                                       // counted in "orb"
 	if (dynamicFilter_) check_.classify(f->features, f->detections, bgr.size());  // at the raw keypoints, as the mask
 	// Colours (and, in the extractor, depth and mask) are looked up at the raw keypoint, in the
 	// image as it is; only then are keypoints undistorted: tracking works in undistorted pixels.
@@ -118,7 +121,7 @@ std::shared_ptr<TFrame> CFrameBuilder::build(
 		auto im = std::make_shared<TFrameImages>();
 		im->bgr = bgr.clone();
 		im->depth = depth.clone();
-		im->dynamicMask = mask;	 // made for this frame
+		im->dynamicMask = mask;  // made for this frame
 		f->images = std::move(im);
 	}
 	rest.addTo(ms, "orb");

@@ -17,8 +17,9 @@ namespace
 // each side; stretches (CFrameRecords::trajectory: a generation of the map, up to a relocalisation)
 // only grow, so the first frame of another one ends a side, and so does a frame `stop` flags (null:
 // none).
-std::vector<std::size_t> neighbours(
-	std::size_t k, const std::vector<bool>& lends, const std::vector<std::uint64_t>& stretch, int window, const std::vector<bool>* stop = nullptr)
+std::vector<std::size_t> neighbours(std::size_t k, const std::vector<bool>& lends,
+									const std::vector<std::uint64_t>& stretch, int window,
+									const std::vector<bool>* stop = nullptr)
 {
 	std::vector<std::size_t> out{k};
 	const std::size_t n = lends.size();
@@ -44,9 +45,9 @@ std::vector<std::size_t> neighbours(
 // its step from it: moved with it, not left behind (the frames a run ends on while lost); one on
 // its fallback (`anchored` false) has no step to keep, and one after a tracked frame that was not
 // averaged (pinned, or keyframe-less) is that frame's.
-void replaceAveraged(
-	TTrajectory& out, const std::vector<mrpt::poses::CPose3D>& smoothed, const std::vector<bool>& averaged, const std::vector<bool>& tracked,
-	const std::vector<bool>& anchored)
+void replaceAveraged(TTrajectory& out, const std::vector<mrpt::poses::CPose3D>& smoothed,
+					 const std::vector<bool>& averaged, const std::vector<bool>& tracked,
+					 const std::vector<bool>& anchored)
 {
 	constexpr std::size_t none = static_cast<std::size_t>(-1);
 	std::size_t last = none;  // the latest averaged frame, for the coasted ones after it
@@ -71,9 +72,9 @@ void replaceAveraged(
 // its own. A tracked pose lends when it hangs from a keyframe the map still has (`anchored`: a
 // record whose keyframe went keeps its fallback and lends it to nobody), and is averaged when it
 // also is not `pinned` to its own keyframe (it is that keyframe's, and lends that correction).
-void smoothCorrections(
-	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
-	const std::vector<mrpt::poses::CPose3D>& online, const std::vector<std::uint64_t>& stretch, int window)
+void smoothCorrections(TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored,
+					   const std::vector<bool>& pinned, const std::vector<mrpt::poses::CPose3D>& online,
+					   const std::vector<std::uint64_t>& stretch, int window)
 {
 	const std::size_t n = out.size();
 	std::vector<bool> lends(n), averaged(n);
@@ -115,9 +116,8 @@ void smoothCorrections(
 // turn back and forth faster than they move (a parabola through the orientations too made the real
 // Bonn slice's and the real fr1/xyz path's rotation errors larger: RPE 0.587 -> 0.598 and 0.138 ->
 // 0.178 deg). Lending and smoothed frames as the lending and averaged ones of smoothCorrections.
-void smoothMotion(
-	TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored, const std::vector<bool>& pinned,
-	const std::vector<std::uint64_t>& stretch, int window)
+void smoothMotion(TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored,
+				  const std::vector<bool>& pinned, const std::vector<std::uint64_t>& stretch, int window)
 {
 	const std::size_t n = out.size();
 	std::vector<bool> lends(n), untracked(n);
@@ -127,7 +127,7 @@ void smoothMotion(
 		lends[k] = tracked[k] && anchored[k] && std::isfinite(out[k].t) && std::abs(out[k].t) < 1e12;
 		untracked[k] = !tracked[k];
 	}
-	const double span = window / 15.0;	// seconds: twice the window at 30 Hz
+	const double span = window / 15.0;  // seconds: twice the window at 30 Hz
 	// Times in whole microseconds, as the trajectory files and .oni recordings keep the stamps: a
 	// run replayed from its own recording gives the same poses to the last digit. Rounded once.
 	std::vector<long long> us(n, 0);
@@ -140,11 +140,13 @@ void smoothMotion(
 		const auto since = [&](std::size_t j) { return 1e-6 * static_cast<double>(us[j] - us[k]); };
 		// neighbours() lists k, then the earlier frames nearest first, then the later ones.
 		auto near = neighbours(k, lends, stretch, window, &untracked);
-		near.erase(std::remove_if(near.begin() + 1, near.end(), [&](std::size_t j) { return std::abs(out[j].t - out[k].t) > span; }), near.end());
+		near.erase(std::remove_if(near.begin() + 1, near.end(),
+								  [&](std::size_t j) { return std::abs(out[j].t - out[k].t) > span; }),
+				   near.end());
 		std::size_t before = 0;
 		while (1 + before < near.size() && near[1 + before] < k) before++;
 		const std::size_t after = near.size() - 1 - before, side = std::min(before, after);
-		if (side < 2) continue;	 // a parabola through three positions is the position itself
+		if (side < 2) continue;  // a parabola through three positions is the position itself
 		std::vector<std::size_t> used{k};
 		for (std::size_t i = 0; i < side; i++)
 		{
@@ -154,7 +156,7 @@ void smoothMotion(
 		// Least squares of p_j = a + b s_j + c s_j^2 (s_j the time from frame k): a = e0' (X'X)^-1 X' p.
 		// It needs three different times (a rawlog without stamps gives every frame the same one).
 		Eigen::Matrix3d XtX = Eigen::Matrix3d::Zero();
-		std::vector<double> times;	// s_j, in the order of `used`
+		std::vector<double> times;  // s_j, in the order of `used`
 		for (const std::size_t j : used)
 		{
 			const double sj = since(j);
@@ -165,8 +167,10 @@ void smoothMotion(
 		std::vector<double> sorted = times;
 		// Frame k's moment inside the fitted times, not at their edge (repeated stamps).
 		std::sort(sorted.begin(), sorted.end());
-		if (std::unique(sorted.begin(), sorted.end()) - sorted.begin() < 3 || !(sorted.front() < 0 && sorted.back() > 0)) continue;
-		const Eigen::Vector3d row = XtX.ldlt().solve(Eigen::Vector3d::UnitX());	 // (X'X)^-1 e0 (symmetric)
+		if (std::unique(sorted.begin(), sorted.end()) - sorted.begin() < 3 ||
+			!(sorted.front() < 0 && sorted.back() > 0))
+			continue;
+		const Eigen::Vector3d row = XtX.ldlt().solve(Eigen::Vector3d::UnitX());  // (X'X)^-1 e0 (symmetric)
 		if (!row.allFinite()) continue;
 		// Relative to frame k's own position: the sums stay small whatever the map's extent.
 		Eigen::Vector3d a = Eigen::Vector3d::Zero();
@@ -174,7 +178,8 @@ void smoothMotion(
 		{
 			const std::size_t j = used[i];
 			const double sj = times[i];
-			a += (row[0] + row[1] * sj + row[2] * sj * sj) * Eigen::Vector3d(out[j].tx - out[k].tx, out[j].ty - out[k].ty, out[j].tz - out[k].tz);
+			a += (row[0] + row[1] * sj + row[2] * sj * sj) *
+				 Eigen::Vector3d(out[j].tx - out[k].tx, out[j].ty - out[k].ty, out[j].tz - out[k].tz);
 		}
 		if (a.allFinite()) shift[k] = a;
 	}
@@ -230,7 +235,8 @@ std::vector<EPoseSource> CFrameRecords::poseSources() const
 	return out;
 }
 
-CFrameRecords::TCarried CFrameRecords::carried(const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
+CFrameRecords::TCarried CFrameRecords::carried(
+	const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
 {
 	std::vector<TRecord> records;
 	std::vector<bool> relocalised;
@@ -251,12 +257,14 @@ CFrameRecords::TCarried CFrameRecords::carried(const std::function<std::map<TKey
 	{
 		const TRecord& r = records[i];
 		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
-		const bool newStretch = !c.stretch.empty() && (r.generation != generation || (i < relocalised.size() && relocalised[i]) || r.jumped);
+		const bool newStretch = !c.stretch.empty() &&
+								(r.generation != generation || (i < relocalised.size() && relocalised[i]) || r.jumped);
 		c.stretch.push_back(c.stretch.empty() ? 0 : c.stretch.back() + (newStretch ? 1 : 0));
 		generation = r.generation;
 		// TAnchor::poseIn with the keyframe poses read once for the whole trajectory.
 		const auto it = r.anchor.refKf ? keyFramePoses.find(*r.anchor.refKf) : keyFramePoses.end();
-		c.poses.push_back(TStampedPose::fromPose(r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
+		c.poses.push_back(TStampedPose::fromPose(
+			r.t, it != keyFramePoses.end() ? it->second + r.anchor.relative : r.anchor.relative));
 		c.tracked.push_back(r.tracked);
 		c.online.push_back(r.measured);
 		c.anchored.push_back(!r.anchor.refKf || it != keyFramePoses.end());
@@ -281,7 +289,8 @@ TTrajectory CFrameRecords::smoothed(const std::function<std::map<TKeyFrameId, mr
 	// path, so it is averaged over a few frames either side and applied to the pose tracking
 	// measured. Never across a loop correction or a global BA (a new generation: those frames were
 	// tracked in another map), or a relocalisation.
-	if (correctionWindow_ > 0) smoothCorrections(out, c.tracked, c.anchored, c.pinned, c.online, c.stretch, correctionWindow_);
+	if (correctionWindow_ > 0)
+		smoothCorrections(out, c.tracked, c.anchored, c.pinned, c.online, c.stretch, correctionWindow_);
 	// Each tracked pose is a solve of its own frame's keypoints, whose noise makes the path zig-zag
 	// around the camera's; a camera's motion is smooth over a few frames, so the position is the
 	// value at its stamp of a parabola fitted in time through the nearest tracked frames either

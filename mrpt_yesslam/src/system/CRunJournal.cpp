@@ -45,18 +45,22 @@ CRunJournal::CRunJournal(const std::string& dir) : dir_(dir), lastSync_(std::chr
 {
 	const fs::path d(dir);
 	// First, so that whatever else is in the folder is never taken for a finished run.
-	writeFileAtomically(
-		(d / "stats.json").string(),
-		"{\n  \"complete\": false,\n  \"stop_reason\": \"the run has not ended: it is still running, or it was killed; trajectory_online.txt "
-		"and frames.csv hold the frames it journaled (poses in the map's own frame), and its end replaces every file\"\n}\n");
-	trajectoryFd_ = openJournalFile(
-		(d / "trajectory_online.txt").string(),
-		formatTumTrajectory(
-			{}, "camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted): what a robot had\n"
-				"journal of a run that has not ended (still running, or killed): its end replaces this file with the poses in the outputs' "
-				"world frame (found at the end)\n"
-				"poses in the map's own frame: its first keyframe's camera (x right, y down, z forward), or a loaded map's\n"
-				"T_world_map: 0 0 0 0 0 0 1 (the map's frame itself)"));
+	writeFileAtomically((d / "stats.json").string(),
+						"{\n  \"complete\": false,\n  \"stop_reason\": \"the run has not ended: it is still running, "
+						"or it was killed; trajectory_online.txt "
+						"and frames.csv hold the frames it journaled (poses in the map's own frame), and its end "
+						"replaces every file\"\n}\n");
+	trajectoryFd_ =
+		openJournalFile((d / "trajectory_online.txt").string(),
+						formatTumTrajectory({},
+											"camera pose (T_w_c) of every frame that has one as the run had it then "
+											"(tracked or coasted): what a robot had\n"
+											"journal of a run that has not ended (still running, or killed): its end "
+											"replaces this file with the poses in the outputs' "
+											"world frame (found at the end)\n"
+											"poses in the map's own frame: its first keyframe's camera (x right, y "
+											"down, z forward), or a loaded map's\n"
+											"T_world_map: 0 0 0 0 0 0 1 (the map's frame itself)"));
 	try
 	{
 		framesFd_ = openJournalFile((d / "frames.csv").string(), formatFrameLogCsv({}));
@@ -68,7 +72,10 @@ CRunJournal::CRunJournal(const std::string& dir) : dir_(dir), lastSync_(std::chr
 	}
 }
 
-CRunJournal::~CRunJournal() { close(); }
+CRunJournal::~CRunJournal()
+{
+	close();
+}
 
 bool CRunJournal::append(int fd, const std::string& text, const std::string& name)
 {
@@ -96,7 +103,8 @@ bool CRunJournal::update(const CYesSlamSystem& sys)
 	if (trajectoryFd_ < 0) return false;
 	const auto part = sys.framesSince(frames_);
 	if (part.rows.empty()) return true;
-	if (!part.online.empty() && !append(trajectoryFd_, formatTumTrajectory(part.online), "trajectory_online.txt")) return false;
+	if (!part.online.empty() && !append(trajectoryFd_, formatTumTrajectory(part.online), "trajectory_online.txt"))
+		return false;
 	if (!append(framesFd_, formatFrameLogCsv(part.rows, false), "frames.csv")) return false;
 	frames_ += part.rows.size();
 	// On the disk at least once a second (a power cut loses the page cache, kill -9 does not).

@@ -25,29 +25,44 @@ COptionTable TYesSlamOptions::TSystem::table()
 {
 	COptionTable t("System");
 	t.flag("parallel", parallel, "local mapping in its own thread (false: sequential, deterministic)");
-	t.flag("dynamicFilter", dynamicFilter, "dynamic-object handling (false: the baseline, no dynamic mechanism at all: no mask, no geometric or mover check, no see-through culling, people go into the dense map; every feature is used, as ORB-SLAM2)");
+	t.flag("dynamicFilter", dynamicFilter,
+		   "dynamic-object handling (false: the baseline, no dynamic mechanism at all: no mask, no geometric or mover "
+		   "check, no see-through culling, people go into the dense map; every feature is used, as ORB-SLAM2)");
 	t.count("minInitPoints", minInitPoints, 10, 100000, "static keypoints with depth needed for the first keyframe");
-	t.count("frameBuffer", frameBuffer, 1, 10000, "recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)");
+	t.count("frameBuffer", frameBuffer, 1, 10000,
+			"recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)");
 	t.flag("asyncDetection", asyncDetection, "detect on a worker thread while ORB features are extracted");
-	t.count("mappingQueue", mappingQueue, 1, 10000, "parallel: keyframes waiting for local mapping before tracking waits");
-	t.text(
-		"keyFrameFramePose", keyFrameFramePose,
-		"trajectory.txt at a keyframe's own frame: tracked (the keyframe it was tracked against, as every frame; the default, measured better on real frames) or keyframe (the keyframe's final pose, as ORB-SLAM2 and keyframes.txt)",
-		{"tracked", "keyframe"});
-	t.flag("localizeOnly", localizeOnly, "localisation in a loaded map only (yesslam --load-map): no keyframes, the map is not changed");
-	t.text(
-		"worldFrame", worldFrame,
-		"frame of every export: zup (x forward, y left, z up; floor at z = 0 when seen) or optical (the first keyframe's camera: x right, y down, z forward); a loaded map keeps its own",
-		{"zup", "optical"});
+	t.count("mappingQueue", mappingQueue, 1, 10000,
+			"parallel: keyframes waiting for local mapping before tracking waits");
+	t.text("keyFrameFramePose", keyFrameFramePose,
+		   "trajectory.txt at a keyframe's own frame: tracked (the keyframe it was tracked against, as every frame; "
+		   "the default, measured better on real frames) or keyframe (the keyframe's final pose, as ORB-SLAM2 and "
+		   "keyframes.txt)",
+		   {"tracked", "keyframe"});
+	t.flag("localizeOnly", localizeOnly,
+		   "localisation in a loaded map only (yesslam --load-map): no keyframes, the map is not changed");
+	t.text("worldFrame", worldFrame,
+		   "frame of every export: zup (x forward, y left, z up; floor at z = 0 when seen) or optical (the first "
+		   "keyframe's camera: x right, y down, z forward); a loaded map keeps its own",
+		   {"zup", "optical"});
 	return t;
 }
 
 COptionTable TYesSlamOptions::TOutput::table()
 {
 	COptionTable t("Output");
-	t.flag("lostInterpolate", lostInterpolate, "trajectory_smoothed.txt: lost frames between two tracked ones are placed between them by time once tracking resumes (trajectory.txt keeps the coasted pose)");
-	t.integer("correctionWindow", correctionWindow, 0, 1000, "trajectory_smoothed.txt: what mapping moved each tracked frame by since it was tracked (its keyframe's correction) is averaged over this many tracked frames either side and applied to the pose tracking measured (0: off)");
-	t.integer("smoothingWindow", smoothingWindow, 0, 1000, "trajectory_smoothed.txt: each tracked frame's position is the value at its stamp of a parabola fitted in time through up to this many tracked frames either side, as many on each side (a side ends at a loop correction, a relocalisation, a lost frame or this many fifteenths of a second), so it uses up to this many LATER frames; orientation its own (0: off)");
+	t.flag("lostInterpolate", lostInterpolate,
+		   "trajectory_smoothed.txt: lost frames between two tracked ones are placed between them by time once "
+		   "tracking resumes (trajectory.txt keeps the coasted pose)");
+	t.integer("correctionWindow", correctionWindow, 0, 1000,
+			  "trajectory_smoothed.txt: what mapping moved each tracked frame by since it was tracked (its keyframe's "
+			  "correction) is averaged over this many tracked frames either side and applied to the pose tracking "
+			  "measured (0: off)");
+	t.integer("smoothingWindow", smoothingWindow, 0, 1000,
+			  "trajectory_smoothed.txt: each tracked frame's position is the value at its stamp of a parabola fitted "
+			  "in time through up to this many tracked frames either side, as many on each side (a side ends at a loop "
+			  "correction, a relocalisation, a lost frame or this many fifteenths of a second), so it uses up to this "
+			  "many LATER frames; orientation its own (0: off)");
 	return t;
 }
 
@@ -60,21 +75,26 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	for (const auto& w : warnings) printWarning(w);
 	warnings.clear();
 	std::vector<std::string> known;
-	const auto load = [&](const char* section, mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
+	const auto load =
+		[&](const char* section, mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
 	{
 		known.push_back(section);
 		loadOptions(*cfg, path, section, opts, keys);
 	};
 	// One depth-noise model since issue 42: its three former keys would be ignored with a warning,
 	// silently changing what a configuration (paper.ini's depthNoise = 0) measures.
-	for (const auto& [section, key] : {std::pair<const char*, const char*>{"Tracking", "depthNoise"}, {"LocalMapping", "depthNoise"}, {"LoopClosing", "refineDepthNoise"}})
+	for (const auto& [section, key] : {std::pair<const char*, const char*>{"Tracking", "depthNoise"},
+									   {"LocalMapping", "depthNoise"},
+									   {"LoopClosing", "refineDepthNoise"}})
 		if (cfg->sectionExists(section) && !cfg->read_string(section, key, "").empty())
-			throw InputError(path, std::string("[") + section + "] " + key + " is now [Camera] depthNoise: one depth-noise model for every stage");
+			throw InputError(path, std::string("[") + section + "] " + key +
+									   " is now [Camera] depthNoise: one depth-noise model for every stage");
 	// The after-the-run smoothing shapes trajectory_smoothed.txt only since issue 62: ignored with a
 	// warning, a configuration that turned it off would silently measure something else.
 	for (const char* key : {"lostInterpolate", "correctionWindow", "smoothingWindow"})
 		if (cfg->sectionExists("Tracking") && !cfg->read_string("Tracking", key, "").empty())
-			throw InputError(path, std::string("[Tracking] ") + key + " is now [Output] " + key + ": it shapes trajectory_smoothed.txt only (trajectory.txt is never smoothed)");
+			throw InputError(path, std::string("[Tracking] ") + key + " is now [Output] " + key +
+									   ": it shapes trajectory_smoothed.txt only (trajectory.txt is never smoothed)");
 	load("Camera", camera, TDepthNoise::configKeys());
 	load("Input", input, CInputSource::TOptions::configKeys());
 	load("Detector", detector, CObjectDetector::TOptions::configKeys());
@@ -96,7 +116,9 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	for (const auto& sec : sections)
 		// A section line without its ']' makes MRPT read the next lines into the name: already
 		// reported above as the broken line it is, not as a second, garbled warning.
-		if (!sec.empty() && sec.find_first_of("\n=") == std::string::npos && std::none_of(known.begin(), known.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(sec); }))
+		if (!sec.empty() && sec.find_first_of("\n=") == std::string::npos &&
+			std::none_of(known.begin(), known.end(),
+						 [&](const std::string& k) { return lowerAscii(k) == lowerAscii(sec); }))
 			warnings.push_back(path + ": unknown section [" + sec + "] ignored (known: " + list + ")");
 	for (const auto& w : warnings) printWarning(w);
 }
@@ -105,7 +127,8 @@ std::string TYesSlamOptions::dump() const
 {
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
-			 &camera, &input, &detector, &masker, &geometric, &orb, &tracking, &onlinePose, &keyFrames, &mapping, &loop, &dense, &system, &output})
+			 &camera, &input, &detector, &masker, &geometric, &orb, &tracking, &onlinePose, &keyFrames, &mapping, &loop,
+			 &dense, &system, &output})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";
@@ -125,9 +148,9 @@ TYesSlamOptions TYesSlamOptions::effective() const
 	o.geometric.enabled = false;  // uncertain keypoints, the certain-first solve, movers (markMovers too)
 	o.geometric.movers = false;
 	o.geometric.boxes = "false";
-	o.tracking.seeThroughFrames = 0;  // map points a person carried away are not culled
-	o.masker.holdFrames = 0;  // unused without a mask; zero so that config_used.ini says so
-	o.dense.dynamicExclusion = "none";	// people go into the dense map
+	o.tracking.seeThroughFrames = 0;    // map points a person carried away are not culled
+	o.masker.holdFrames = 0;            // unused without a mask; zero so that config_used.ini says so
+	o.dense.dynamicExclusion = "none";  // people go into the dense map
 	o.dense.dynamicHoldKeyFrames = 0;
 	return o;
 }
@@ -135,9 +158,8 @@ TYesSlamOptions TYesSlamOptions::effective() const
 CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	: opts_(opts.effective()),
 	  askedBoxes_(opts.geometric.boxes),
-	  builder_(
-		  createObjectDetector(opts_.detector), opts_.masker, opts_.orb, opts_.system.dynamicFilter, opts_.system.asyncDetection,
-		  opts_.geometric),
+	  builder_(createObjectDetector(opts_.detector), opts_.masker, opts_.orb, opts_.system.dynamicFilter,
+			   opts_.system.asyncDetection, opts_.geometric),
 	  tracker_(opts_.tracking, map_, opts_.orb.scaleFactor, opts_.geometric, opts_.camera),
 	  inserter_(opts_.keyFrames),
 	  mapper_(opts_.mapping, map_, opts_.orb.scaleFactor, opts_.tracking.maxDepth, opts_.camera),
@@ -150,18 +172,21 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	const auto& sem = opts_.keyFrames.semantic;
 	const std::size_t longest = static_cast<std::size_t>(std::max(sem.interval, sem.shortInterval));
 	if (opts_.keyFrames.policy == "semantic" && opts_.system.frameBuffer < longest)
-		throw InputError(
-			"", "[System] frameBuffer (" + std::to_string(opts_.system.frameBuffer) + ") must be at least [KeyFrames] interval (" +
-					std::to_string(longest) + "): a keyframe chosen in the interval would be lost");
+		throw InputError("", "[System] frameBuffer (" + std::to_string(opts_.system.frameBuffer) +
+								 ") must be at least [KeyFrames] interval (" + std::to_string(longest) +
+								 "): a keyframe chosen in the interval would be lost");
 	if (opts_.system.mappingQueue < 1) throw InputError("", "[System] mappingQueue must be >= 1");
 	// Place recognition. Loop closing needs the vocabulary, and so does a vocabulary the user names;
 	// without either, the shipped one still serves relocalisation when it is there.
 	const bool required = opts_.loop.detection.enabled || !opts_.loop.detection.vocabulary.empty();
-	const std::string vocabPath = !opts_.loop.detection.vocabulary.empty() ? opts_.loop.detection.vocabulary : CVocabulary::shippedPath();
+	const std::string vocabPath =
+		!opts_.loop.detection.vocabulary.empty() ? opts_.loop.detection.vocabulary : CVocabulary::shippedPath();
 	if (vocabPath.empty())
 	{
 		if (required)
-			throw InputError("", "no vocabulary for loop closing: the shipped share/mrpt_yesslam/vocabulary was not found (set YESSLAM_SHARE_DIR or [LoopClosing] vocabulary), or run with loop closing off");
+			throw InputError("",
+							 "no vocabulary for loop closing: the shipped share/mrpt_yesslam/vocabulary was not found "
+							 "(set YESSLAM_SHARE_DIR or [LoopClosing] vocabulary), or run with loop closing off");
 	}
 	else if (required || std::filesystem::exists(vocabPath))
 	{
@@ -171,17 +196,18 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 		if (opts_.loop.detection.enabled)
 		{
 			loopClosing_ = std::make_unique<CLoopClosing>(
-				std::make_unique<CLoopDetector>(
-					opts_.loop.detection, map_, vocabulary_, bowDatabase_, opts_.keyFrames.semantic, opts_.orb.scaleFactor, opts_.tracking.maxDepth,
-					opts_.camera),
-				std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.camera), opts_.loop.globalBundleAdjustment,
-				map_, mapUpdateMtx_, opts_.system.parallel);
+				std::make_unique<CLoopDetector>(opts_.loop.detection, map_, vocabulary_, bowDatabase_,
+												opts_.keyFrames.semantic, opts_.orb.scaleFactor,
+												opts_.tracking.maxDepth, opts_.camera),
+				std::make_unique<CLoopCloser>(opts_.loop, map_, opts_.orb.scaleFactor, opts_.camera),
+				opts_.loop.globalBundleAdjustment, map_, mapUpdateMtx_, opts_.system.parallel);
 		}
 	}
 	if (opts_.dense.enabled)
 	{
 		const auto* det = builder_.detector();
-		dense_ = std::make_unique<CDenseSemanticMapper>(opts_.dense, opts_.masker, det ? static_cast<int>(det->classNames().size()) : 1);
+		dense_ = std::make_unique<CDenseSemanticMapper>(opts_.dense, opts_.masker,
+														det ? static_cast<int>(det->classNames().size()) : 1);
 		builder_.setKeepImages(true);
 	}
 	if (opts_.system.parallel)
@@ -191,7 +217,10 @@ CYesSlamSystem::CYesSlamSystem(const TYesSlamOptions& opts)
 	}
 }
 
-std::vector<TLoop> CYesSlamSystem::loops() const { return loopClosing_ ? loopClosing_->loops() : std::vector<TLoop>(); }
+std::vector<TLoop> CYesSlamSystem::loops() const
+{
+	return loopClosing_ ? loopClosing_->loops() : std::vector<TLoop>();
+}
 std::vector<TLoopCandidate> CYesSlamSystem::loopCandidates() const
 {
 	return loopClosing_ ? loopClosing_->candidates() : std::vector<TLoopCandidate>();
@@ -202,7 +231,7 @@ CYesSlamSystem::~CYesSlamSystem()
 	// Let the queued keyframes finish (their futures would otherwise break), ignoring failures: a
 	// destructor must not throw, and a failure has been or will not be reported.
 	if (mappingStage_) mappingStage_->waitIdle();
-	loopClosing_.reset();	// waits for the loop stage and the global BA it asked for
+	loopClosing_.reset();  // waits for the loop stage and the global BA it asked for
 	if (denseStage_) denseStage_->waitIdle();
 }
 
@@ -240,7 +269,8 @@ TWorldFrame CYesSlamSystem::worldFrame() const
 		if (dense_ && dense_->numKeyFrames() > 0)
 		{
 			const std::size_t step = std::max<std::size_t>(1, dense_->numStoredPoints() / 200000);
-			for (const auto& p : dense_->worldPoints([this](TKeyFrameId id) { return map_.keyFramePose(id); }, step)) pts.emplace_back(p.x, p.y, p.z);
+			for (const auto& p : dense_->worldPoints([this](TKeyFrameId id) { return map_.keyFramePose(id); }, step))
+				pts.emplace_back(p.x, p.y, p.z);
 		}
 		else
 			for (const auto& p : map_.points()) pts.push_back(p.position);
@@ -315,7 +345,8 @@ void CYesSlamSystem::waitForMapping()
 	if (loopClosing_) loopClosing_->waitForGlobalBundle();
 }
 
-TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs, std::optional<double> depthTime)
+TFrameReport CYesSlamSystem::processFrame(const mrpt::obs::CObservation3DRangeScan& obs,
+										  std::optional<double> depthTime)
 {
 	cv::Mat bgr = obs.intensityImage.asCvMatRef();
 	if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);
@@ -390,12 +421,12 @@ void CYesSlamSystem::dispatchKeyFrame(CSparseMap::TPin pin, const std::shared_pt
 	mapKeyFrame(kf);
 }
 
-TFrameReport CYesSlamSystem::processFrame(
-	const cv::Mat& bgr, const cv::Mat& depth, double timestamp, const mrpt::img::TCamera& camera, std::optional<double> depthTime)
+TFrameReport CYesSlamSystem::processFrame(const cv::Mat& bgr, const cv::Mat& depth, double timestamp,
+										  const mrpt::img::TCamera& camera, std::optional<double> depthTime)
 {
 	try
 	{
-		collectMapping(false);	// a failure of the mapping stage ends the run here, with its message
+		collectMapping(false);  // a failure of the mapping stage ends the run here, with its message
 	}
 	catch (...)
 	{
@@ -422,7 +453,8 @@ TFrameReport CYesSlamSystem::processFrame(
 	{
 		double readout = opts_.tracking.rollingShutter;
 		if (lastFrameTime_ && timestamp > *lastFrameTime_) readout = std::min(readout, timestamp - *lastFrameTime_);
-		if (const auto motion = tracker_.motionOver(readout)) unrollShutter(f->features, CPinholeCamera(f->camera), *motion);
+		if (const auto motion = tracker_.motionOver(readout))
+			unrollShutter(f->features, CPinholeCamera(f->camera), *motion);
 	}
 	lastFrameTime_ = timestamp;
 	rest.addTo(ms, "orb");
@@ -467,11 +499,12 @@ TFrameReport CYesSlamSystem::processFrame(
 	rec.tracked = f->tracked;
 	everTracked_ = everTracked_ || f->tracked;
 	rec.hasPose = everTracked_;
-	rec.generation = map_.generation();	 // no correction lands while this frame holds the map-update lock
+	rec.generation = map_.generation();  // no correction lands while this frame holds the map-update lock
 	// What a robot gets: the tracked position filtered with the frames before it only; restarted
 	// where the map jumped under the pose (a correction, a relocalisation).
 	rec.measured = f->pose;
-	rec.online = onlineFilter_.update(f->timestamp, f->pose, f->tracked, rep.relocalised || rec.generation != lastGeneration_);
+	rec.online =
+		onlineFilter_.update(f->timestamp, f->pose, f->tracked, rep.relocalised || rec.generation != lastGeneration_);
 	rec.jumped = onlineFilter_.jumped();
 	lastGeneration_ = rec.generation;
 	f->onlinePose = rec.online;
@@ -486,7 +519,7 @@ TFrameReport CYesSlamSystem::processFrame(
 	if (initialising)
 	{
 		newKeyFrames.emplace_back(insertKeyFrame(frame, false), frame);
-		inserter_.addFrame(*frame, {frame->id, 0}, 0);	// the selector's first reference; no new keyframe
+		inserter_.addFrame(*frame, {frame->id, 0}, 0);  // the selector's first reference; no new keyframe
 		rep.keyFrame = true;
 		// The frame of the first keyframe hangs from it like every later frame from its reference:
 		// left absolute, a correction that moves the first keyframe left it behind.
@@ -568,7 +601,11 @@ TFrameReport CYesSlamSystem::processFrame(
 		row.inliers = rep.inliers;
 		row.keyFramesInMap = map_.numKeyFrames();
 		row.mapPoints = map_.numPoints();
-		const auto stage = [&ms](const char* k) { const auto it = ms.find(k); return it == ms.end() ? 0.f : static_cast<float>(it->second); };
+		const auto stage = [&ms](const char* k)
+		{
+			const auto it = ms.find(k);
+			return it == ms.end() ? 0.f : static_cast<float>(it->second);
+		};
 		row.detectMs = stage("detect");
 		row.detectWaitMs = stage("detect_wait");
 		row.maskMs = stage("mask");
@@ -605,7 +642,7 @@ TFrameReport CYesSlamSystem::processFrame(
 		std::rethrow_exception(mappingFailure);
 	}
 	record();
-	frameCallback_(*frame);	 // outside the lock: it may ask for stats()
+	frameCallback_(*frame);  // outside the lock: it may ask for stats()
 	return rep;
 }
 
@@ -615,7 +652,8 @@ std::string CYesSlamSystem::configUsed() const
 	if (askedBoxes_ != "auto" || !opts_.system.dynamicFilter) return opts_.dump();
 	TYesSlamOptions o = opts_;
 	o.geometric.boxes = "auto";
-	return "; [GeometricCheck] boxes = auto chose " + opts_.geometric.boxes + " in this run (true only with --localize-only)\n" + o.dump();
+	return "; [GeometricCheck] boxes = auto chose " + opts_.geometric.boxes +
+		   " in this run (true only with --localize-only)\n" + o.dump();
 }
 
 namespace
@@ -638,7 +676,10 @@ TTrajectory CYesSlamSystem::smoothedTrajectory() const
 	return records_.smoothed([this] { return keyFramePoseMap(map_); });
 }
 
-TTrajectory CYesSlamSystem::onlineTrajectory() const { return records_.online(); }
+TTrajectory CYesSlamSystem::onlineTrajectory() const
+{
+	return records_.online();
+}
 
 void CYesSlamSystem::correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses)
 {
@@ -664,16 +705,22 @@ void CYesSlamSystem::loadMap(const std::string& path)
 	// What the run uses (options() and config_used.ini say so), whatever [System] worldFrame asked.
 	opts_.system.worldFrame = info.worldFrame.kind == TWorldFrame::EKind::ZUp ? "zup" : "optical";
 	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
-	if (loopClosing_) loopClosing_->setSessionStart(map_.keyFrameIds().back() + 1);  // the saved keyframes are all of an earlier session
+	if (loopClosing_)
+		loopClosing_->setSessionStart(map_.keyFrameIds().back() +
+									  1);  // the saved keyframes are all of an earlier session
 	for (TKeyFrameId id : map_.keyFrameIds()) addWords(id);
 }
 
 void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* octree) const
 {
-	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get(), worldFrame());
+	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get(),
+				worldFrame());
 }
 
-std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const { return records_.frameLog(); }
+std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const
+{
+	return records_.frameLog();
+}
 
 TTrajectory CYesSlamSystem::keyFrameTrajectory() const
 {

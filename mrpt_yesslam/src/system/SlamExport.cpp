@@ -23,7 +23,8 @@ double percentile(std::vector<double> v, double q)
 }
 }  // namespace
 
-mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& traj, const mrpt::poses::CPose3D& worldFromMap)
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& traj,
+											  const mrpt::poses::CPose3D& worldFromMap)
 {
 	auto scene = mrpt::opengl::COpenGLScene::Create();
 	// More ambient light than MRPT's 0.2: the OctoMap's voxel faces turned from the light (walls
@@ -38,8 +39,8 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTraj
 	for (const auto& p : map.points())
 	{
 		const auto w = worldFromMap.composePoint(p.position);
-		cloud->push_back(
-			static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z), p.color[2] / 255.f, p.color[1] / 255.f, p.color[0] / 255.f);
+		cloud->push_back(static_cast<float>(w.x), static_cast<float>(w.y), static_cast<float>(w.z), p.color[2] / 255.f,
+						 p.color[1] / 255.f, p.color[0] / 255.f);
 	}
 	scene->insert(cloud);
 	for (const auto& k : map.keyFramePoses())
@@ -76,8 +77,9 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTraj
 		for (int k = 0; k < n; k++)
 		{
 			const double s = static_cast<double>(k) / n;
-			dots->insertPoint(
-				static_cast<float>(a.tx + s * (b.tx - a.tx)), static_cast<float>(a.ty + s * (b.ty - a.ty)), static_cast<float>(a.tz + s * (b.tz - a.tz)));
+			dots->insertPoint(static_cast<float>(a.tx + s * (b.tx - a.tx)),
+							  static_cast<float>(a.ty + s * (b.ty - a.ty)),
+							  static_cast<float>(a.tz + s * (b.tz - a.tz)));
 		}
 	}
 	if (!path->empty())
@@ -95,7 +97,8 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	o << "{\n";
 	o << "  \"frames\": " << s.frames << ",\n";
 	o << "  \"tracked_frames\": " << s.trackedFrames << ",\n";
-	std::snprintf(buf, sizeof(buf), "%.4f", s.frames ? static_cast<double>(s.trackedFrames) / static_cast<double>(s.frames) : 0.0);
+	std::snprintf(buf, sizeof(buf), "%.4f",
+				  s.frames ? static_cast<double>(s.trackedFrames) / static_cast<double>(s.frames) : 0.0);
 	o << "  \"tracking_rate\": " << buf << ",\n";
 	o << "  \"lost_frames\": " << s.lostFrames << ",\n";
 	o << "  \"relocalisations\": " << s.relocalisations << ",\n";
@@ -107,22 +110,25 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	o << "  \"map_points\": " << s.mapPoints << ",\n";
 	o << "  \"moving_points_erased\": " << s.movingPointsErased << ",\n";
 	o << "  \"loop_closing\": " << (ctx.loopClosing ? "true" : "false") << ",\n";
-	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent << ", \"accepted\": " << s.loops.accepted
-	  << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry << ", \"corrections\": " << s.loopCorrections
-	  << ", \"largest_correction_m\": " << s.largestLoopCorrection() << ", \"global_ba_runs\": " << s.globalBundleRuns
-	  << ", \"global_ba_applied\": " << s.globalBundleApplied << ", \"global_ba_cancelled\": " << s.globalBundleCancelled << "},\n";
+	o << "  \"loops\": {\"queries\": " << s.loops.queries << ", \"detected\": " << s.loops.consistent
+	  << ", \"accepted\": " << s.loops.accepted << ", \"rejected_by_geometry\": " << s.loops.rejectedGeometry
+	  << ", \"corrections\": " << s.loopCorrections << ", \"largest_correction_m\": " << s.largestLoopCorrection()
+	  << ", \"global_ba_runs\": " << s.globalBundleRuns << ", \"global_ba_applied\": " << s.globalBundleApplied
+	  << ", \"global_ba_cancelled\": " << s.globalBundleCancelled << "},\n";
 	// Each corrected loop: the pair and what the correction did (so a bad correction can be found).
 	o << "  \"loop_corrections\": [";
 	for (std::size_t i = 0; i < s.loopRecords.size(); i++)
 	{
 		const TLoopRecord& r = s.loopRecords[i];
 		char rec[512];
-		std::snprintf(
-			rec, sizeof(rec),
-			"{\"current\": %zu, \"matched\": %zu, \"current_stamp\": %.6f, \"matched_stamp\": %.6f, \"score\": %.4f, \"inliers\": %zu, \"group_keyframes\": %zu, \"fused\": %zu, "
-			"\"loop_links\": %zu, \"graph_keyframes\": %zu, \"graph_edges\": %zu, \"correction_m\": %.6f, \"ms\": %.1f}",
-			r.current, r.matched, r.currentStamp, r.matchedStamp, r.score, r.ransacInliers, r.correction.groupKeyFrames, r.correction.fused, r.correction.loopLinks,
-			r.correction.graphKeyFrames, r.correction.graphEdges, r.correction.correctionMetres, r.correctMs);
+		std::snprintf(rec, sizeof(rec),
+					  "{\"current\": %zu, \"matched\": %zu, \"current_stamp\": %.6f, \"matched_stamp\": %.6f, "
+					  "\"score\": %.4f, \"inliers\": %zu, \"group_keyframes\": %zu, \"fused\": %zu, "
+					  "\"loop_links\": %zu, \"graph_keyframes\": %zu, \"graph_edges\": %zu, \"correction_m\": %.6f, "
+					  "\"ms\": %.1f}",
+					  r.current, r.matched, r.currentStamp, r.matchedStamp, r.score, r.ransacInliers,
+					  r.correction.groupKeyFrames, r.correction.fused, r.correction.loopLinks,
+					  r.correction.graphKeyFrames, r.correction.graphEdges, r.correction.correctionMetres, r.correctMs);
 		o << (i ? ",\n    " : "\n    ") << rec;
 	}
 	o << (s.loopRecords.empty() ? "],\n" : "\n  ],\n");
@@ -130,7 +136,8 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	if (ctx.denseMap)
 	{
 		std::snprintf(buf, sizeof(buf), "%.2f", static_cast<double>(s.denseBytes) / 1e6);
-		o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints << ", \"stored_mb\": " << buf << "},\n";
+		o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints
+		  << ", \"stored_mb\": " << buf << "},\n";
 	}
 	o << "  \"keyframe_policy\": \"" << ctx.keyFramePolicy << "\",\n";
 	o << "  \"dynamic_filter\": " << (ctx.dynamicFilter ? "true" : "false") << ",\n";
@@ -138,7 +145,8 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	bool first = true;
 	for (const auto& [name, v] : s.stageMs)
 	{
-		std::snprintf(buf, sizeof(buf), "\"median\": %.3f, \"p95\": %.3f, \"count\": %zu", percentile(v, 0.5), percentile(v, 0.95), v.size());
+		std::snprintf(buf, sizeof(buf), "\"median\": %.3f, \"p95\": %.3f, \"count\": %zu", percentile(v, 0.5),
+					  percentile(v, 0.95), v.size());
 		o << (first ? "\n" : ",\n") << "    \"" << name << "\": {" << buf << "}";
 		first = false;
 	}
@@ -168,10 +176,10 @@ std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows, bool header
 	char buf[320];
 	for (const auto& r : rows)
 	{
-		std::snprintf(
-			buf, sizeof(buf), "%zu,%.6f,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s\n", r.frame, r.timestamp,
-			r.tracked ? 1 : 0, r.keyFrame ? 1 : 0, r.relocalised ? 1 : 0, r.features, r.staticFeatures, r.detections, r.inliers,
-			r.keyFramesInMap, r.mapPoints, r.detectMs, r.detectWaitMs, r.maskMs, r.orbMs, r.trackMs, r.keyFrameMs, poseSourceName(r.pose));
+		std::snprintf(buf, sizeof(buf), "%zu,%.6f,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s\n",
+					  r.frame, r.timestamp, r.tracked ? 1 : 0, r.keyFrame ? 1 : 0, r.relocalised ? 1 : 0, r.features,
+					  r.staticFeatures, r.detections, r.inliers, r.keyFramesInMap, r.mapPoints, r.detectMs,
+					  r.detectWaitMs, r.maskMs, r.orbMs, r.trackMs, r.keyFrameMs, poseSourceName(r.pose));
 		out += buf;
 	}
 	return out;
@@ -179,13 +187,14 @@ std::string formatFrameLogCsv(const std::vector<TFrameLogRow>& rows, bool header
 
 std::string formatLoopCandidatesCsv(const std::vector<TLoopCandidate>& candidates)
 {
-	std::string out = "query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n";
+	std::string out =
+		"query,query_stamp,candidate,candidate_stamp,bow_score,loop_score,min_score,stage,matches,inliers\n";
 	char buf[256];
 	for (const auto& c : candidates)
 	{
-		std::snprintf(
-			buf, sizeof(buf), "%zu,%.6f,%zu,%.6f,%.5f,%.5f,%.5f,%s,%zu,%zu\n", c.query, c.queryStamp, c.candidate, c.candidateStamp, c.bowScore,
-			c.loopScore, c.minScore, c.stage, c.matches, c.inliers);
+		std::snprintf(buf, sizeof(buf), "%zu,%.6f,%zu,%.6f,%.5f,%.5f,%.5f,%s,%zu,%zu\n", c.query, c.queryStamp,
+					  c.candidate, c.candidateStamp, c.bowScore, c.loopScore, c.minScore, c.stage, c.matches,
+					  c.inliers);
 		out += buf;
 	}
 	return out;

@@ -5,9 +5,16 @@ namespace mrpt_yesslam
 COptionTable COnlinePoseFilter::TOptions::table()
 {
 	COptionTable t("OnlinePose");
-	t.real("positionSigma", positionSigma, 0, 1, "m: noise of a tracked position along each world axis; the online pose (trajectory_online.txt, the frame callback) is a causal constant-velocity Kalman filter of the tracked positions (0 = the tracked pose as solved)");
-	t.real("accelSigma", accelSigma, 0.001, 1000, "m/s^2: how fast the camera's velocity may change (the filter's process noise; larger follows faster, smooths less)");
-	t.real("gate", gate, 1, 1000, "a position whose distance from the filter's prediction, RMS over the three axes, exceeds this many standard deviations restarts the filter at the measurement (a jerk)");
+	t.real("positionSigma", positionSigma, 0, 1,
+		   "m: noise of a tracked position along each world axis; the online pose (trajectory_online.txt, the frame "
+		   "callback) is a causal constant-velocity Kalman filter of the tracked positions (0 = the tracked pose as "
+		   "solved)");
+	t.real("accelSigma", accelSigma, 0.001, 1000,
+		   "m/s^2: how fast the camera's velocity may change (the filter's process noise; larger follows faster, "
+		   "smooths less)");
+	t.real("gate", gate, 1, 1000,
+		   "a position whose distance from the filter's prediction, RMS over the three axes, exceeds this many "
+		   "standard deviations restarts the filter at the measurement (a jerk)");
 	t.real("maxGap", maxGap, 0.001, 100, "s: a longer time since the previous frame restarts the filter");
 	return t;
 }
@@ -23,7 +30,8 @@ void COnlinePoseFilter::start(double t, const Eigen::Vector3d& p)
 	state_ = s;
 }
 
-mrpt::poses::CPose3D COnlinePoseFilter::update(double t, const mrpt::poses::CPose3D& measured, bool tracked, bool mapJumped)
+mrpt::poses::CPose3D COnlinePoseFilter::update(double t, const mrpt::poses::CPose3D& measured, bool tracked,
+											   bool mapJumped)
 {
 	const Eigen::Vector3d z(measured.x(), measured.y(), measured.z());
 	const double dt = state_ ? t - state_->t : 0.0;

@@ -16,36 +16,67 @@ COptionTable CTracker::TOptions::table()
 {
 	COptionTable t("Tracking");
 	t.append(pose.table());
-	t.real("maxDepth", maxDepth, 0.1, 100, "keypoints deeper than this are not used (nearer ones are weighted by the depth noise model), m");
-	t.real("motionRadius", motionRadius, 1, 1000, "pixel search radius around motion-model projections (ORB-SLAM2: 15)");
+	t.real("maxDepth", maxDepth, 0.1, 100,
+		   "keypoints deeper than this are not used (nearer ones are weighted by the depth noise model), m");
+	t.real("motionRadius", motionRadius, 1, 1000,
+		   "pixel search radius around motion-model projections (ORB-SLAM2: 15)");
 	t.real("localRadius", localRadius, 0.5, 1000, "pixel search radius for the local map");
-	t.flag("viewChecks", viewChecks, "local-map search as ORB-SLAM2's: a map point is in view only within its pyramid's distance range and 60 degrees of its mean viewing direction, searched at the level its distance predicts");
+	t.flag("viewChecks", viewChecks,
+		   "local-map search as ORB-SLAM2's: a map point is in view only within its pyramid's distance range and 60 "
+		   "degrees of its mean viewing direction, searched at the level its distance predicts");
 	t.integer("maxHamming", maxHamming, 0, 256, "largest descriptor distance of a match (ORB-SLAM2's TH_HIGH)");
 	t.real("ratio", ratio, 0.1, 1, "nearest / second-nearest distance ratio for projection search (ORB-SLAM2: 0.9)");
 	t.count("localKeyFrames", localKeyFrames, 1, 10000, "most keyframes in the local map (ORB-SLAM2: 80)");
-	t.count("localNeighbours", localNeighbours, 0, 1000, "best covisible keyframes added around each keyframe that sees the frame's matches");
-	t.count("minTrackedInliers", minTrackedInliers, 3, 100000, "fewer inliers against the local map: tracking failed for this frame");
-	t.count("weakInliers", weakInliers, 0, 100000, "a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the frame coasts (0 = off)");
-	t.real("priorDeparture", priorDeparture, 0, 10, "m: how far a weak solution may lie from the motion model's prediction, per frame interval since the last frame");
-	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180, "degrees: how far a weak solution may turn from the motion model's prediction, per frame interval since the last frame");
-	t.count("relocInliers", relocInliers, 0, 100000, "a relocalisation on at least this many inliers is not held to the prediction tracking failed to confirm (ORB-SLAM2: 50; 0 = held as any other solution)");
-	t.real("motionPriorSigma", motionPriorSigma, 0, 10, "m: the motion model's prediction as a weak term of the pose solve, per camera axis (this or motionPriorSigmaDeg 0 = no prior)");
-	t.real("motionPriorSigmaDeg", motionPriorSigmaDeg, 0, 180, "degrees: the same for the rotation (this or motionPriorSigma 0 = no prior)");
-	t.count("priorLostFrames", priorLostFrames, 0, 1000, "for this many lost frames since the motion was last measured, the coasted prediction still judges weak solutions, with 1 + n times the departures (0 = only a prediction from tracked frames does)");
-	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000, "most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
-	t.count("lostCoastFrames", lostCoastFrames, 0, 100000, "lost frames that still continue the last velocity (then the pose is held)");
-	t.real("lostDamping", lostDamping, 0, 1, "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
-	t.count("lostVelocityFrames", lostVelocityFrames, 1, 1000, "lost frames continue the mean velocity of this many last tracked frames (1: the last one alone)");
-	t.integer("seeThroughFrames", seeThroughFrames, 0, 1000, "a map point with farther surfaces measured around it in this many consecutive frames has moved away: erased (0 = never)");
-	t.flag("depthMoment", depthMoment, "where the depth image was taken at another moment than the colour image (TUM folders: depth.txt's stamps), keypoint depth is moved to the colour image's moment with the motion model");
-	t.real(
-		"rollingShutter", rollingShutter, -1, 0.1,
-		"the colour camera's rolling-shutter readout, seconds from the first row to the last: keypoints are moved to the middle row's moment with the motion model (0 = global shutter; -1 = auto: a yesslam-sim sequence's own (meta.json), else the camera's where known: 0.028 for the TUM presets and Bonn folders (Kinect v1, Xtion), a camera file's readout line; 0 where not known (rawlogs, OpenNI2 devices); never more than the time since the previous frame)");
+	t.count("localNeighbours", localNeighbours, 0, 1000,
+			"best covisible keyframes added around each keyframe that sees the frame's matches");
+	t.count("minTrackedInliers", minTrackedInliers, 3, 100000,
+			"fewer inliers against the local map: tracking failed for this frame");
+	t.count("weakInliers", weakInliers, 0, 100000,
+			"a solution on fewer inliers must lie within priorDeparture(Deg) of the motion model's prediction, or the "
+			"frame coasts (0 = off)");
+	t.real("priorDeparture", priorDeparture, 0, 10,
+		   "m: how far a weak solution may lie from the motion model's prediction, per frame interval since the last "
+		   "frame");
+	t.real("priorDepartureDeg", priorDepartureDeg, 0, 180,
+		   "degrees: how far a weak solution may turn from the motion model's prediction, per frame interval since the "
+		   "last frame");
+	t.count("relocInliers", relocInliers, 0, 100000,
+			"a relocalisation on at least this many inliers is not held to the prediction tracking failed to confirm "
+			"(ORB-SLAM2: 50; 0 = held as any other solution)");
+	t.real("motionPriorSigma", motionPriorSigma, 0, 10,
+		   "m: the motion model's prediction as a weak term of the pose solve, per camera axis (this or "
+		   "motionPriorSigmaDeg 0 = no prior)");
+	t.real("motionPriorSigmaDeg", motionPriorSigmaDeg, 0, 180,
+		   "degrees: the same for the rotation (this or motionPriorSigma 0 = no prior)");
+	t.count("priorLostFrames", priorLostFrames, 0, 1000,
+			"for this many lost frames since the motion was last measured, the coasted prediction still judges weak "
+			"solutions, with 1 + n times the departures (0 = only a prediction from tracked frames does)");
+	t.count("relocKeyFrames", relocKeyFrames, 0, 1000000,
+			"most keyframes relocalisation tries: the best place-recognition candidates, else the newest (0 = all)");
+	t.count("lostCoastFrames", lostCoastFrames, 0, 100000,
+			"lost frames that still continue the last velocity (then the pose is held)");
+	t.real("lostDamping", lostDamping, 0, 1,
+		   "each lost frame the velocity is multiplied by this (0 = hold the pose at once)");
+	t.count("lostVelocityFrames", lostVelocityFrames, 1, 1000,
+			"lost frames continue the mean velocity of this many last tracked frames (1: the last one alone)");
+	t.integer("seeThroughFrames", seeThroughFrames, 0, 1000,
+			  "a map point with farther surfaces measured around it in this many consecutive frames has moved away: "
+			  "erased (0 = never)");
+	t.flag("depthMoment", depthMoment,
+		   "where the depth image was taken at another moment than the colour image (TUM folders: depth.txt's stamps), "
+		   "keypoint depth is moved to the colour image's moment with the motion model");
+	t.real("rollingShutter", rollingShutter, -1, 0.1,
+		   "the colour camera's rolling-shutter readout, seconds from the first row to the last: keypoints are moved "
+		   "to the middle row's moment with the motion model (0 = global shutter; -1 = auto: a yesslam-sim sequence's "
+		   "own (meta.json), else the camera's where known: 0.028 for the TUM presets and Bonn folders (Kinect v1, "
+		   "Xtion), a camera file's readout line; 0 where not known (rawlogs, OpenNI2 devices); never more than the "
+		   "time since the previous frame)");
 	return t;
 }
 
-std::vector<TPoseObservation> makePoseObservations(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, const TDepthNoise& depthNoise)
+std::vector<TPoseObservation> makePoseObservations(const TFrame& f, const std::vector<TMatch>& m,
+												   const TLocalMapPoints& pts, double scaleFactor,
+												   const TDepthNoise& depthNoise)
 {
 	std::vector<TPoseObservation> obs;
 	obs.reserve(m.size());
@@ -73,8 +104,8 @@ std::vector<TPoseObservation> makePoseObservations(
 	return obs;
 }
 
-CTracker::CTracker(
-	const TOptions& opts, CSparseMap& map, double scaleFactor, const CGeometricDynamicCheck::TOptions& check, const TDepthNoise& depthNoise)
+CTracker::CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor,
+				   const CGeometricDynamicCheck::TOptions& check, const TDepthNoise& depthNoise)
 	: opts_(opts),
 	  map_(map),
 	  optimizer_(opts.pose),
@@ -128,7 +159,7 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		velocity_ = f->pose - (fromTrack ? tracked_->base : last_->pose);  // T_{k-1,k} = T_w_{k-1}^-1 T_w_k
 		velocityInterval_ = f->timestamp - last_->timestamp;
 		lostRun_ = 0;
-		if (velocityInterval_ < 0)	// time went back: the motions before are of another clock
+		if (velocityInterval_ < 0)  // time went back: the motions before are of another clock
 		{
 			recentMotion_.clear();
 			smoothMotions_ = 0;
@@ -145,7 +176,8 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 		// Guessed poses never feed the velocity.
 		if (velocity_ && ++lostRun_ <= opts_.lostCoastFrames && opts_.lostDamping > 0)
 		{
-			const auto v = lostRun_ == 1 && !recentMotion_.empty() ? meanRecentMotion() : mrpt::poses::Lie::SE<3>::log(*velocity_);
+			const auto v =
+				lostRun_ == 1 && !recentMotion_.empty() ? meanRecentMotion() : mrpt::poses::Lie::SE<3>::log(*velocity_);
 			velocity_ = scaledTwist(v, opts_.lostDamping);
 		}
 		else
@@ -190,12 +222,13 @@ std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
 	// 10.0 mm; the 9 fr1 frames 1.76 -> 2.37 mm (3.12 uncorrected), where the mean has few frames.
 	// The mean is the motion over the time the frames span (their sum over their summed intervals):
 	// live input drops frames, and a step over two intervals is not twice the speed.
-	if (recentMotion_.empty()) return scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), seconds / velocityInterval_);
+	if (recentMotion_.empty())
+		return scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), seconds / velocityInterval_);
 	mrpt::math::CVectorFixedDouble<6> sum;
 	sum.setZero();
 	double span = 0;
 	for (const auto& m : recentMotion_)
-		if (m.seconds > 0)	// a motion without time (equal stamps) says nothing of the speed
+		if (m.seconds > 0)  // a motion without time (equal stamps) says nothing of the speed
 		{
 			for (int k = 0; k < 6; k++) sum[k] += m.twist[k];
 			span += m.seconds;
@@ -261,12 +294,12 @@ void CTracker::anchor(const TFrame& f, const mrpt::poses::CPose3D& base)
 	tracked_ = t;
 }
 
-TPoseEstimate CTracker::refineWith(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const
+TPoseEstimate CTracker::refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts,
+								   const mrpt::poses::CPose3D& guess) const
 {
 	std::vector<bool> uncertain(m.size());
 	for (std::size_t k = 0; k < m.size(); k++) uncertain[k] = f.features.isUncertain(m[k].keypoint);
-	CPoseOptimizer withPrior = optimizer_;	// the options alone: cheap
+	CPoseOptimizer withPrior = optimizer_;  // the options alone: cheap
 	withPrior.setPrior(motionPrior_);
 	return check_.refine(withPrior, makePoseObservations(f, m, pts, scaleFactor_, noise_), uncertain, f.camera, guess);
 }
@@ -297,8 +330,8 @@ TLocalMapPoints CTracker::lastFramePoints(const mrpt::poses::CPose3D& lastPose) 
 	return out;
 }
 
-bool CTracker::trackLocalMap(
-	TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius, bool relocalising)
+bool CTracker::trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds,
+							 TResult& r, double radius, bool relocalising)
 {
 	const auto ref = referenceKeyFrame();
 	if (!ref) return false;
@@ -327,7 +360,8 @@ bool CTracker::trackLocalMap(
 			found.push_back(local.ids[m[k].point]);
 		}
 	if (!readOnly_)
-		r.movingPointsErased += map_.countTracking(visible, found, seenThrough(f, local, inView, found), opts_.seeThroughFrames);
+		r.movingPointsErased +=
+			map_.countTracking(visible, found, seenThrough(f, local, inView, found), opts_.seeThroughFrames);
 	// Matches of a group the check found moving: their map points are culled (a person who stood
 	// still and walks away leaves none behind), the mover's keypoints never become map points, and
 	// where it is stays uncertain for the next frames.
@@ -345,14 +379,16 @@ bool CTracker::trackLocalMap(
 	return true;
 }
 
-std::vector<TPointId> CTracker::seenThrough(
-	const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView, const std::vector<TPointId>& found) const
+std::vector<TPointId> CTracker::seenThrough(const TFrame& f, const TLocalMapPoints& local,
+											const std::vector<std::size_t>& inView,
+											const std::vector<TPointId>& found) const
 {
 	std::vector<TPointId> out;
 	if (opts_.seeThroughFrames <= 0) return out;
 	// The nearest keypoint depth (every keypoint: a person in front is a surface too) per cell.
 	constexpr int kCell = 16;
-	const int cols = (static_cast<int>(f.camera.ncols) + kCell - 1) / kCell, rows = (static_cast<int>(f.camera.nrows) + kCell - 1) / kCell;
+	const int cols = (static_cast<int>(f.camera.ncols) + kCell - 1) / kCell,
+			  rows = (static_cast<int>(f.camera.nrows) + kCell - 1) / kCell;
 	if (cols <= 0 || rows <= 0) return out;
 	std::vector<float> nearest(static_cast<std::size_t>(cols * rows), std::numeric_limits<float>::infinity());
 	std::vector<int> count(nearest.size(), 0);
@@ -470,17 +506,19 @@ CTracker::TResult CTracker::track(TFrame& f)
 bool CTracker::plausible(const mrpt::poses::CPose3D& pose, std::size_t inliers, TResult& r, bool relocalising) const
 {
 	// A relocalisation is never held more than tracking's own solutions.
-	const std::size_t strong = relocalising && opts_.relocInliers > 0 ? std::min(opts_.weakInliers, opts_.relocInliers) : opts_.weakInliers;
+	const std::size_t strong =
+		relocalising && opts_.relocInliers > 0 ? std::min(opts_.weakInliers, opts_.relocInliers) : opts_.weakInliers;
 	if (!prior_ || strong == 0 || inliers >= strong) return true;
 	const mrpt::poses::CPose3D d = pose - *prior_;
 	const double angleDeg = mrpt::poses::Lie::SO<3>::log(d.getRotationMatrix()).norm() * 180.0 / M_PI;
-	if (d.norm() <= opts_.priorDeparture * priorScale_ && angleDeg <= opts_.priorDepartureDeg * priorScale_) return true;
+	if (d.norm() <= opts_.priorDeparture * priorScale_ && angleDeg <= opts_.priorDepartureDeg * priorScale_)
+		return true;
 	r.implausible = true;
 	return false;
 }
 
-std::size_t CTracker::stepThreeEvidence(
-	const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers) const
+std::size_t CTracker::stepThreeEvidence(const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts,
+										const TPoseEstimate& e, std::size_t mapInliers) const
 {
 	// One or two map points agreeing by chance say nothing: at least half what a frame is tracked on.
 	if (2 * mapInliers < opts_.minTrackedInliers) return mapInliers;
@@ -500,16 +538,19 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	f.numInliers = 0;
 	f.mapPoints.assign(f.size(), -1);
 	mrpt::poses::CPose3D predicted = velocity_ ? lastPose + *velocity_ : lastPose;
-	const double sinceLast = last_ && f.timestamp > last_->timestamp ? intervalsIn(f.timestamp - last_->timestamp, frameInterval_) : 1.0;
+	const double sinceLast =
+		last_ && f.timestamp > last_->timestamp ? intervalsIn(f.timestamp - last_->timestamp, frameInterval_) : 1.0;
 	// Over the frame intervals since the last frame, against those the last step took: live input
 	// and the TUM recordings drop frames (fr3 sequences: steps of two and three intervals), and a
 	// frame after three dropped ones was predicted a step away from the last frame where the camera
 	// had moved four (a fast turn then leaves the search radius: found again only by brute force).
 	// A coasted velocity (lost frames) is per frame as it is.
-	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp && velocityInterval_ > 0)
+	if (velocity_ && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp &&
+		velocityInterval_ > 0)
 	{
 		const double then = intervalsIn(velocityInterval_, frameInterval_);
-		if (sinceLast != then) predicted = lastPose + scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), sinceLast / then);
+		if (sinceLast != then)
+			predicted = lastPose + scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), sinceLast / then);
 	}
 	f.pose = predicted;
 	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak
@@ -522,7 +563,8 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// frame, and each interval since the last frame (dropped ones), the camera may have sped up.
 	prior_.reset();
 	priorScale_ = 1;
-	if (velocity_ && ((lostRun_ == 0 && last_ && last_->tracked) || (lostRun_ > 0 && lostRun_ <= opts_.priorLostFrames)))
+	if (velocity_ &&
+		((lostRun_ == 0 && last_ && last_->tracked) || (lostRun_ > 0 && lostRun_ <= opts_.priorLostFrames)))
 	{
 		prior_ = predicted;
 		priorScale_ = (1.0 + static_cast<double>(lostRun_)) * sinceLast;
@@ -544,10 +586,11 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// frame does not leave the prior a step behind, and a stamp a microsecond off (a recording
 	// played through OpenNI2) changes nothing. Once lostVelocityFrames steps were measured since a
 	// loss or a relocalisation (ORB-SLAM2 skips its motion model for two frames after one).
-	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && lostRun_ == 0 && last_ && last_->tracked && f.timestamp > last_->timestamp &&
-		smoothMotions_ >= opts_.lostVelocityFrames && !recentMotion_.empty())
+	if (opts_.motionPriorSigma > 0 && opts_.motionPriorSigmaDeg > 0 && lostRun_ == 0 && last_ && last_->tracked &&
+		f.timestamp > last_->timestamp && smoothMotions_ >= opts_.lostVelocityFrames && !recentMotion_.empty())
 	{
-		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), sinceLast), opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
+		motionPrior_ = CPoseOptimizer::TPosePrior{lastPose + scaledTwist(meanRecentMotion(), sinceLast),
+												  opts_.motionPriorSigma, opts_.motionPriorSigmaDeg * M_PI / 180.0};
 	}
 
 	// 1. Motion model against the last frame's points (map points and temporary depth points).
@@ -559,7 +602,7 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	{
 		pts = lastFramePoints(lastPose);
 		used = matcher_.searchByProjection(f, predicted, pts, opts_.motionRadius, nullptr, false, scaleFactor_);
-		if (used.size() < 2 * opts_.minTrackedInliers)	// a poor prediction (sudden motion): search wider
+		if (used.size() < 2 * opts_.minTrackedInliers)  // a poor prediction (sudden motion): search wider
 			used = matcher_.searchByProjection(f, predicted, pts, 2 * opts_.motionRadius, nullptr, false, scaleFactor_);
 		r.motionMatches = used.size();
 		e = refineWith(f, used, pts, predicted);
@@ -587,7 +630,8 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// the search is as wide as the motion model's (ORB-SLAM2 searches coarser, th = 5, for the frames
 	// right after a relocalisation): with the narrow radius and the view checks' level window,
 	// a frame after two blinded fr1 frames kept 24 matches and landed 12 mm off.
-	const bool okLocal = trackLocalMap(f, guess ? *guess : predicted, seeds, r, guess ? opts_.localRadius : opts_.motionRadius);
+	const bool okLocal =
+		trackLocalMap(f, guess ? *guess : predicted, seeds, r, guess ? opts_.localRadius : opts_.motionRadius);
 	if (okLocal)
 	{
 		f.tracked = true;
@@ -601,7 +645,8 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	// agree, else those map points alone: a person moving beside the camera, whom no detector
 	// reported, fills the last frame with temporary depth points that agree with each other on the
 	// person's motion, and the map's points are the outliers of that solution.
-	if (guess && e.numInliers >= opts_.minTrackedInliers && plausible(*guess, stepThreeEvidence(f, used, pts, e, seeds.size()), r))
+	if (guess && e.numInliers >= opts_.minTrackedInliers &&
+		plausible(*guess, stepThreeEvidence(f, used, pts, e, seeds.size()), r))
 	{
 		f.pose = *guess;
 		f.tracked = true;

@@ -62,7 +62,10 @@ void* operator new(std::size_t n)
 // released by a different allocator than the one that made it (ASan checks exactly that; libstdc++
 // frees std::stable_sort's nothrow buffers with plain delete, for instance). The aligned forms are
 // left to the runtime: they pair among themselves.
-void* operator new[](std::size_t n) { return ::operator new(n); }
+void* operator new[](std::size_t n)
+{
+	return ::operator new(n);
+}
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept
 {
 	try
@@ -74,13 +77,34 @@ void* operator new(std::size_t n, const std::nothrow_t&) noexcept
 		return nullptr;
 	}
 }
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return ::operator new(n, t); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept
+{
+	return ::operator new(n, t);
+}
+void operator delete(void* p) noexcept
+{
+	std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept
+{
+	std::free(p);
+}
+void operator delete[](void* p) noexcept
+{
+	std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept
+{
+	std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept
+{
+	std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept
+{
+	std::free(p);
+}
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
@@ -99,9 +123,15 @@ void* mrpt::aligned_malloc(size_t size, size_t alignment)
 
 namespace mrpt_yesslam
 {
-CAllocationBudget::CAllocationBudget(std::size_t bytes) : left_(bytes) { g_allocationBudget = &left_; }
+CAllocationBudget::CAllocationBudget(std::size_t bytes) : left_(bytes)
+{
+	g_allocationBudget = &left_;
+}
 
-CAllocationBudget::~CAllocationBudget() { release(); }
+CAllocationBudget::~CAllocationBudget()
+{
+	release();
+}
 
 void CAllocationBudget::release()
 {

@@ -14,7 +14,10 @@
 
 namespace mrpt_yesslam
 {
-std::string temporaryPathFor(const std::string& path) { return path + ".tmp." + std::to_string(::getpid()); }
+std::string temporaryPathFor(const std::string& path)
+{
+	return path + ".tmp." + std::to_string(::getpid());
+}
 
 namespace
 {
@@ -24,7 +27,8 @@ int descriptorNamed(const std::string& path)
 	const std::string p = std::filesystem::path(path).lexically_normal().string();
 	if (p == "/dev/stdout") return 1;
 	if (p == "/dev/stderr") return 2;
-	for (const std::string& prefix : {std::string("/dev/fd/"), std::string("/proc/self/fd/"), "/proc/" + std::to_string(::getpid()) + "/fd/"})
+	for (const std::string& prefix :
+		 {std::string("/dev/fd/"), std::string("/proc/self/fd/"), "/proc/" + std::to_string(::getpid()) + "/fd/"})
 		if (p.size() > prefix.size() && p.compare(0, prefix.size(), prefix) == 0 &&
 			p.find_first_not_of("0123456789", prefix.size()) == std::string::npos && p.size() - prefix.size() < 9)
 			return std::stoi(p.substr(prefix.size()));
@@ -142,35 +146,42 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
 
 void writeFileAtomically(const std::string& path, const void* data, std::size_t size)
 {
-	writeFileAtomically(
-		path,
-		[&](const std::string& tmp)
-		{
-			std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-			if (!f) throw InputError(path, std::string("cannot open for writing (") + std::strerror(errno) + ")");
-			f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
-			f.flush();
-			if (!f) throw InputError(path, "write failed (disk full?)");
-		});
+	writeFileAtomically(path,
+						[&](const std::string& tmp)
+						{
+							std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+							if (!f)
+								throw InputError(path,
+												 std::string("cannot open for writing (") + std::strerror(errno) + ")");
+							f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+							f.flush();
+							if (!f) throw InputError(path, "write failed (disk full?)");
+						});
 }
 
-void writeFileAtomically(const std::string& path, const std::string& content) { writeFileAtomically(path, content.data(), content.size()); }
+void writeFileAtomically(const std::string& path, const std::string& content)
+{
+	writeFileAtomically(path, content.data(), content.size());
+}
 
 void writePngAtomically(const std::string& path, const cv::Mat& img, int compression)
 {
 	std::vector<uchar> buf;
-	const std::vector<int> params = compression < 0 ? std::vector<int>() : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, compression};
+	const std::vector<int> params =
+		compression < 0 ? std::vector<int>() : std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, compression};
 	if (img.empty() || !cv::imencode(".png", img, buf, params)) throw InputError(path, "cannot encode PNG");
 	writeFileAtomically(path, buf.data(), buf.size());
 }
 void writeImageAtomically(const std::string& path, const cv::Mat& img)
 {
 	std::string ext = std::filesystem::path(path).extension().string();
-	std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	std::transform(ext.begin(), ext.end(), ext.begin(),
+				   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
 	if (ext == ".png") return writePngAtomically(path, img);
 	if (ext != ".jpg" && ext != ".jpeg") throw InputError(path, "unknown image type '" + ext + "' (use .png or .jpg)");
 	std::vector<uchar> buf;
-	if (img.empty() || !cv::imencode(".jpg", img, buf, {cv::IMWRITE_JPEG_QUALITY, 92})) throw InputError(path, "cannot encode JPEG");
+	if (img.empty() || !cv::imencode(".jpg", img, buf, {cv::IMWRITE_JPEG_QUALITY, 92}))
+		throw InputError(path, "cannot encode JPEG");
 	writeFileAtomically(path, buf.data(), buf.size());
 }
 }  // namespace mrpt_yesslam

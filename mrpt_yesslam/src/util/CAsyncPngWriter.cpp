@@ -8,7 +8,10 @@
 
 namespace mrpt_yesslam
 {
-CAsyncPngWriter::CAsyncPngWriter(std::size_t threads, std::size_t maxQueued) : pool_(threads, std::max<std::size_t>(1, maxQueued)) {}
+CAsyncPngWriter::CAsyncPngWriter(std::size_t threads, std::size_t maxQueued)
+	: pool_(threads, std::max<std::size_t>(1, maxQueued))
+{
+}
 
 CAsyncPngWriter::~CAsyncPngWriter()
 {
@@ -25,13 +28,15 @@ void CAsyncPngWriter::write(const std::string& path, const cv::Mat& img, std::fu
 		pending_.pop_front();
 		done.get();
 	}
-	pool_.submitInto(pending_,
+	pool_.submitInto(
+		pending_,
 		[this, path, img, after = std::move(after), compression]
 		{
 			const auto t0 = std::chrono::steady_clock::now();
 			writePngAtomically(path, img, compression);
 			if (after) after();
-			busyNs_ += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+			busyNs_ +=
+				std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
 		});
 }
 

@@ -46,7 +46,7 @@ void CWorkerPool::loop()
 			running_++;
 		}
 		space_.notify_one();
-		job();	// a packaged task: exceptions are stored in its future
+		job();  // a packaged task: exceptions are stored in its future
 		{
 			std::lock_guard<std::mutex> lk(mutex_);
 			running_--;

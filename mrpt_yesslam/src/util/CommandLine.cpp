@@ -15,7 +15,8 @@
 
 namespace mrpt_yesslam
 {
-CommandLine::CommandLine(std::string program, std::string synopsis, std::string description, std::vector<std::string> examples)
+CommandLine::CommandLine(std::string program, std::string synopsis, std::string description,
+						 std::vector<std::string> examples)
 	: program_(std::move(program)),
 	  synopsis_(std::move(synopsis)),
 	  description_(std::move(description)),
@@ -37,8 +38,8 @@ void CommandLine::flag(const std::string& name, const std::string& help, bool* t
 	o.set = [target](const std::string&) { *target = true; };
 }
 
-void CommandLine::text(
-	const std::string& name, const std::string& metavar, const std::string& help, std::string* target, bool required)
+void CommandLine::text(const std::string& name, const std::string& metavar, const std::string& help,
+					   std::string* target, bool required)
 {
 	Opt& o = add(name);
 	o.metavar = metavar;
@@ -49,8 +50,8 @@ void CommandLine::text(
 	o.set = [target](const std::string& v) { *target = v; };
 }
 
-void CommandLine::texts(
-	const std::string& name, const std::string& metavar, const std::string& help, std::vector<std::string>* target, bool required)
+void CommandLine::texts(const std::string& name, const std::string& metavar, const std::string& help,
+						std::vector<std::string>* target, bool required)
 {
 	Opt& o = add(name);
 	o.metavar = metavar;
@@ -60,8 +61,8 @@ void CommandLine::texts(
 	o.set = [target](const std::string& v) { target->push_back(v); };
 }
 
-void CommandLine::number(
-	const std::string& name, const std::string& metavar, const std::string& help, double* target, bool required)
+void CommandLine::number(const std::string& name, const std::string& metavar, const std::string& help, double* target,
+						 bool required)
 {
 	Opt& o = add(name);
 	o.metavar = metavar;
@@ -80,7 +81,8 @@ void CommandLine::number(
 	};
 }
 
-void CommandLine::count(const std::string& name, const std::string& metavar, const std::string& help, std::size_t* target)
+void CommandLine::count(const std::string& name, const std::string& metavar, const std::string& help,
+						std::size_t* target)
 {
 	Opt& o = add(name);
 	o.metavar = metavar;
@@ -134,8 +136,10 @@ bool CommandLine::parse(int argc, char** argv)
 		if (o->takesValue && !inlineValue)
 		{
 			// "--input --out x": the next word is another option, not the value the user forgot.
-			const bool nextIsOption = i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) == 0 && std::string(argv[i + 1]).size() > 2;
-			if (i + 1 >= argc || nextIsOption) throw InputError("", "option --" + name + " needs a value " + o->metavar);
+			const bool nextIsOption =
+				i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) == 0 && std::string(argv[i + 1]).size() > 2;
+			if (i + 1 >= argc || nextIsOption)
+				throw InputError("", "option --" + name + " needs a value " + o->metavar);
 			value = argv[++i];
 		}
 		if (!o->takesValue && inlineValue) throw InputError("", "option --" + name + " takes no value");
@@ -167,7 +171,8 @@ std::string CommandLine::help() const
 		std::string text = o.help;
 		if (o.required) text += " (required)";
 		// A help text that states its own default (a computed one) keeps it alone.
-		if (!o.defaultText.empty() && o.help.find("[default:") == std::string::npos) text += " [default: " + o.defaultText + "]";
+		if (!o.defaultText.empty() && o.help.find("[default:") == std::string::npos)
+			text += " [default: " + o.defaultText + "]";
 		h += left + text + "\n";
 	}
 	h += "  --help                  Show this help and exit.\n";
@@ -201,7 +206,8 @@ extern "C" void onSignal(int sig)
 	const int before = g_interrupts.fetch_add(1);
 	if (before == 0)
 		writeStderr(g_stopMessage);
-	else if (const char* abort = g_abortMessage.load(); before == 1 && abort)  // a tool that can stop saving early said so
+	else if (const char* abort = g_abortMessage.load();
+			 before == 1 && abort)  // a tool that can stop saving early said so
 		writeStderr(abort);
 	else
 	{
@@ -219,11 +225,20 @@ void installInterruptHandler(const char* stopMessage, const char* abortMessage)
 	std::signal(SIGTERM, onSignal);
 }
 
-void setAbortMessage(const char* abortMessage) { g_abortMessage = abortMessage; }
+void setAbortMessage(const char* abortMessage)
+{
+	g_abortMessage = abortMessage;
+}
 
-bool interruptRequested() { return g_interrupts.load() > 0; }
+bool interruptRequested()
+{
+	return g_interrupts.load() > 0;
+}
 
-bool abortRequested() { return g_interrupts.load() > 1; }
+bool abortRequested()
+{
+	return g_interrupts.load() > 1;
+}
 
 int interruptExitCode()
 {
@@ -234,8 +249,8 @@ int interruptExitCode()
 std::string versionText()
 {
 	char buf[160];
-	std::snprintf(buf, sizeof(buf), "%s (MRPT %d.%d.%d, OpenCV %s)", YESSLAM_VERSION, (MRPT_VERSION >> 8) & 0xf, (MRPT_VERSION >> 4) & 0xf,
-		MRPT_VERSION & 0xf, CV_VERSION);
+	std::snprintf(buf, sizeof(buf), "%s (MRPT %d.%d.%d, OpenCV %s)", YESSLAM_VERSION, (MRPT_VERSION >> 8) & 0xf,
+				  (MRPT_VERSION >> 4) & 0xf, MRPT_VERSION & 0xf, CV_VERSION);
 	return buf;
 }
 

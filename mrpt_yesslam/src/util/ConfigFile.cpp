@@ -64,14 +64,17 @@ std::string yamlToIni(const std::string& text, const std::string& name)
 		if (key.empty()) throw InputError(name, where + "empty key");
 		if (first == 0)
 		{
-			if (!value.empty()) throw InputError(name, where + "'" + key + "' must be a section (\"" + key + ":\" then indented keys)");
+			if (!value.empty())
+				throw InputError(name, where + "'" + key + "' must be a section (\"" + key + ":\" then indented keys)");
 			ini += "[" + key + "]\n";
 			inSection = true;
 		}
 		else
 		{
 			if (!inSection) throw InputError(name, where + "indented key outside a section");
-			if (value.empty()) throw InputError(name, where + "'" + key + "' has no value (nested sections are not used in our configs)");
+			if (value.empty())
+				throw InputError(name,
+								 where + "'" + key + "' has no value (nested sections are not used in our configs)");
 			ini += key + " = " + value + "\n";
 		}
 	}
@@ -85,7 +88,8 @@ std::string stripInlineIniComments(const std::string& text)
 	{
 		std::string l = line;
 		const auto first = l.find_first_not_of(" \t");
-		const bool wholeLineComment = first != std::string::npos && (l[first] == ';' || l[first] == '#' || l.compare(first, 2, "//") == 0);
+		const bool wholeLineComment =
+			first != std::string::npos && (l[first] == ';' || l[first] == '#' || l.compare(first, 2, "//") == 0);
 		if (!wholeLineComment)
 		{
 			// A comment after a value starts at ';', '#' or "//" that follows whitespace, outside quotes.
@@ -131,7 +135,8 @@ std::vector<std::string> iniStructureWarnings(const std::string& text, const std
 		const std::string where = name + ":" + std::to_string(i + 1) + ": ";
 		if (l[0] == '[')
 		{
-			if (l.back() != ']') w.push_back(where + "section line '" + l + "' has no closing ']': its keys are ignored");
+			if (l.back() != ']')
+				w.push_back(where + "section line '" + l + "' has no closing ']': its keys are ignored");
 			section = lowerAscii(l.back() == ']' ? l.substr(1, l.size() - 2) : l.substr(1));
 			inSection = true;
 		}
@@ -143,14 +148,15 @@ std::vector<std::string> iniStructureWarnings(const std::string& text, const std
 			const std::string key = trimConfigValue(l.substr(0, eq));
 			const auto [it, fresh] = seen.emplace(section + "\n" + lowerAscii(key), i + 1);
 			if (!fresh)
-				w.push_back(where + "'" + key + "' is set again (first on line " + std::to_string(it->second) + "): the last value is used");
+				w.push_back(where + "'" + key + "' is set again (first on line " + std::to_string(it->second) +
+							"): the last value is used");
 		}
 	}
 	return w;
 }
 
-std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
-	const std::string& text, bool yaml, const std::string& name)
+std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(const std::string& text, bool yaml,
+																 const std::string& name)
 {
 	auto cfg = std::make_unique<mrpt::config::CConfigFileMemory>();
 	try
@@ -169,19 +175,20 @@ std::unique_ptr<mrpt::config::CConfigFileMemory> parseConfigText(
 	return cfg;
 }
 
-std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path, std::vector<std::string>* warnings)
+std::unique_ptr<mrpt::config::CConfigFileMemory> loadConfigFile(const std::string& path,
+																std::vector<std::string>* warnings)
 {
 	const std::string text = readTextFile(path);
 	const std::string l = lowerAscii(path);
-	const bool yaml = (l.size() > 5 && l.substr(l.size() - 5) == ".yaml") || (l.size() > 4 && l.substr(l.size() - 4) == ".yml");
+	const bool yaml =
+		(l.size() > 5 && l.substr(l.size() - 5) == ".yaml") || (l.size() > 4 && l.substr(l.size() - 4) == ".yml");
 	if (warnings && !yaml)
 		for (auto& w : iniStructureWarnings(text, path)) warnings->push_back(std::move(w));
 	return parseConfigText(text, yaml, path);
 }
 
-std::vector<std::string> validateConfigSection(
-	const mrpt::config::CConfigFileBase& cfg, const std::string& file, const std::string& section,
-	const std::vector<TConfigKey>& keys)
+std::vector<std::string> validateConfigSection(const mrpt::config::CConfigFileBase& cfg, const std::string& file,
+											   const std::string& section, const std::vector<TConfigKey>& keys)
 {
 	std::vector<std::string> warnings;
 	if (!cfg.sectionExists(section)) return warnings;
@@ -191,7 +198,8 @@ std::vector<std::string> validateConfigSection(
 	for (const auto& k : keys) known += (known.empty() ? "" : ", ") + k.name;
 	for (const auto& key : present)
 	{
-		const auto it = std::find_if(keys.begin(), keys.end(), [&](const TConfigKey& k) { return lowerAscii(k.name) == lowerAscii(key); });
+		const auto it = std::find_if(keys.begin(), keys.end(),
+									 [&](const TConfigKey& k) { return lowerAscii(k.name) == lowerAscii(key); });
 		if (it == keys.end())
 		{
 			warnings.push_back(file + ": [" + section + "] unknown key '" + key + "' ignored (known: " + known + ")");
@@ -216,24 +224,21 @@ std::vector<std::string> validateConfigSection(
 					throw InputError(file, where + "expected true or false");
 				break;
 			}
-			case TConfigKey::Type::Text:
-				break;
+			case TConfigKey::Type::Text: break;
 		}
 	}
 	return warnings;
 }
 
-void loadOptionsFromFile(
-	const std::string& path, const std::string& section, mrpt::config::CLoadableOptions& opts,
-	const std::vector<TConfigKey>& keys)
+void loadOptionsFromFile(const std::string& path, const std::string& section, mrpt::config::CLoadableOptions& opts,
+						 const std::vector<TConfigKey>& keys)
 {
 	const auto cfg = loadConfigFile(path);
 	loadOptions(*cfg, path, section, opts, keys);
 }
 
-void loadOptions(
-	const mrpt::config::CConfigFileBase& cfg, const std::string& path, const std::string& section,
-	mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
+void loadOptions(const mrpt::config::CConfigFileBase& cfg, const std::string& path, const std::string& section,
+				 mrpt::config::CLoadableOptions& opts, const std::vector<TConfigKey>& keys)
 {
 	for (const auto& w : validateConfigSection(cfg, path, section, keys)) printWarning(w);
 	try

@@ -49,6 +49,7 @@ bool inflateBytes(const std::vector<std::uint8_t>& packed, void* out, std::size_
 	libdeflate_decompressor* d = threadDecompressor();
 	if (!d) return false;
 	std::size_t got = 0;
-	return libdeflate_deflate_decompress(d, packed.data(), packed.size(), out, n, &got) == LIBDEFLATE_SUCCESS && got == n;
+	return libdeflate_deflate_decompress(d, packed.data(), packed.size(), out, n, &got) == LIBDEFLATE_SUCCESS &&
+		   got == n;
 }
 }  // namespace mrpt_yesslam

@@ -34,7 +34,10 @@ std::string& programName()
 }
 }  // namespace
 
-void setProgramName(const std::string& name) { programName() = name; }
+void setProgramName(const std::string& name)
+{
+	programName() = name;
+}
 
 void printWarning(const std::string& message)
 {

@@ -44,80 +44,83 @@ COptionTable& COptionTable::real(const std::string& key, double& v, double lo, d
 {
 	const bool open = hi == std::numeric_limits<double>::max();
 	const std::string range = rangeText(str(lo), str(hi), open);
-	entries_.push_back(
-		{key, TConfigKey::Type::Number, help,
-		 [&v, lo, hi, range](const std::string& s)
-		 {
-			 double d = 0;
-			 if (!parseFiniteDouble(s, d) || d < lo || d > hi) throw std::invalid_argument("expected a number " + range);
-			 v = d;
-		 },
-		 [&v] { return str(v); },
-		 [&v, lo, hi] {
-			 const double up = v + std::max(0.5 * std::abs(v), 0.01);
-			 return str(up <= hi ? up : (lo + v) / 2);
-		 }});
+	entries_.push_back({key, TConfigKey::Type::Number, help,
+						[&v, lo, hi, range](const std::string& s)
+						{
+							double d = 0;
+							if (!parseFiniteDouble(s, d) || d < lo || d > hi)
+								throw std::invalid_argument("expected a number " + range);
+							v = d;
+						},
+						[&v] { return str(v); },
+						[&v, lo, hi]
+						{
+							const double up = v + std::max(0.5 * std::abs(v), 0.01);
+							return str(up <= hi ? up : (lo + v) / 2);
+						}});
 	return *this;
 }
 
 COptionTable& COptionTable::integer(const std::string& key, int& v, int lo, int hi, const std::string& help)
 {
 	const std::string range = rangeText(str(lo), str(hi), hi == std::numeric_limits<int>::max());
-	entries_.push_back(
-		{key, TConfigKey::Type::Integer, help, [&v, lo, hi, range](const std::string& s) { v = static_cast<int>(parseWhole(s, lo, hi, range)); },
-		 [&v] { return str(v); }, [&v, lo, hi] { return str(v < hi ? v + 1 : lo); }});
+	entries_.push_back({key, TConfigKey::Type::Integer, help,
+						[&v, lo, hi, range](const std::string& s)
+						{ v = static_cast<int>(parseWhole(s, lo, hi, range)); },
+						[&v] { return str(v); }, [&v, lo, hi] { return str(v < hi ? v + 1 : lo); }});
 	return *this;
 }
 
-COptionTable& COptionTable::count(const std::string& key, std::size_t& v, std::size_t lo, std::size_t hi, const std::string& help)
+COptionTable& COptionTable::count(const std::string& key, std::size_t& v, std::size_t lo, std::size_t hi,
+								  const std::string& help)
 {
 	const std::string range = rangeText(str(lo), str(hi), hi == std::numeric_limits<std::size_t>::max());
-	entries_.push_back(
-		{key, TConfigKey::Type::Integer, help,
-		 [&v, lo, hi, range](const std::string& s) {
-			 v = static_cast<std::size_t>(parseWhole(s, static_cast<long double>(lo), std::min<long double>(hi, 1e15), range));
-		 },
-		 [&v] { return str(v); }, [&v, lo, hi] { return str(v < hi ? v + 1 : lo); }});
+	entries_.push_back({key, TConfigKey::Type::Integer, help,
+						[&v, lo, hi, range](const std::string& s) {
+							v = static_cast<std::size_t>(
+								parseWhole(s, static_cast<long double>(lo), std::min<long double>(hi, 1e15), range));
+						},
+						[&v] { return str(v); }, [&v, lo, hi] { return str(v < hi ? v + 1 : lo); }});
 	return *this;
 }
 
 COptionTable& COptionTable::flag(const std::string& key, bool& v, const std::string& help)
 {
-	entries_.push_back(
-		{key, TConfigKey::Type::Boolean, help,
-		 [&v](const std::string& s)
-		 {
-			 const std::string b = lowerAscii(s);
-			 if (b == "true" || b == "1" || b == "yes")
-				 v = true;
-			 else if (b == "false" || b == "0" || b == "no")
-				 v = false;
-			 else
-				 throw std::invalid_argument("expected true or false");
-		 },
-		 [&v] { return std::string(v ? "true" : "false"); }, [&v] { return std::string(v ? "false" : "true"); }});
+	entries_.push_back({key, TConfigKey::Type::Boolean, help,
+						[&v](const std::string& s)
+						{
+							const std::string b = lowerAscii(s);
+							if (b == "true" || b == "1" || b == "yes")
+								v = true;
+							else if (b == "false" || b == "0" || b == "no")
+								v = false;
+							else
+								throw std::invalid_argument("expected true or false");
+						},
+						[&v] { return std::string(v ? "true" : "false"); },
+						[&v] { return std::string(v ? "false" : "true"); }});
 	return *this;
 }
 
-COptionTable& COptionTable::text(const std::string& key, std::string& v, const std::string& help, std::vector<std::string> choices)
+COptionTable& COptionTable::text(const std::string& key, std::string& v, const std::string& help,
+								 std::vector<std::string> choices)
 {
 	std::string list;
 	for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
-	entries_.push_back(
-		{key, TConfigKey::Type::Text, choices.empty() ? help : help + " (" + list + ")",
-		 [&v, choices, list](const std::string& s)
-		 {
-			 if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end())
-				 throw std::invalid_argument("expected one of " + list);
-			 v = s;
-		 },
-		 [&v] { return v; },
-		 [&v, choices]
-		 {
-			 for (const auto& c : choices)
-				 if (c != v) return c;
-			 return v + "x";
-		 }});
+	entries_.push_back({key, TConfigKey::Type::Text, choices.empty() ? help : help + " (" + list + ")",
+						[&v, choices, list](const std::string& s)
+						{
+							if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end())
+								throw std::invalid_argument("expected one of " + list);
+							v = s;
+						},
+						[&v] { return v; },
+						[&v, choices]
+						{
+							for (const auto& c : choices)
+								if (c != v) return c;
+							return v + "x";
+						}});
 	return *this;
 }
 
@@ -135,7 +138,8 @@ void COptionTable::load(const mrpt::config::CConfigFileBase& c, const std::strin
 	for (const TEntry& e : entries_)
 	{
 		// Keys match case-insensitively, as validateConfigSection and MRPT's INI reader.
-		const auto it = std::find_if(present.begin(), present.end(), [&](const std::string& k) { return lowerAscii(k) == lowerAscii(e.key); });
+		const auto it = std::find_if(present.begin(), present.end(),
+									 [&](const std::string& k) { return lowerAscii(k) == lowerAscii(e.key); });
 		if (it == present.end()) continue;
 		const std::string v = trimConfigValue(c.read_string(section, *it, ""));
 		try

@@ -22,8 +22,8 @@ std::filesystem::path binaryHoldingTheLibrary()
 {
 	Dl_info info{};
 	link_map* lm = nullptr;
-	if (dladdr1(reinterpret_cast<void*>(&shareDir), &info, reinterpret_cast<void**>(&lm), RTLD_DL_LINKMAP) && lm && lm->l_name &&
-		*lm->l_name)
+	if (dladdr1(reinterpret_cast<void*>(&shareDir), &info, reinterpret_cast<void**>(&lm), RTLD_DL_LINKMAP) && lm &&
+		lm->l_name && *lm->l_name)
 	{
 		std::error_code ec;
 		const auto p = std::filesystem::canonical(lm->l_name, ec);

@@ -24,15 +24,15 @@ namespace mrpt_yesslam
 struct CKeyFrame
 {
 	TKeyFrameId id = 0;
-	std::size_t frameId = 0;  //!< index of its frame in the input stream
-	double timestamp = 0;  //!< seconds
-	mrpt::img::TCamera camera;	//!< intrinsics; keypoints are already undistorted
+	std::size_t frameId = 0;    //!< index of its frame in the input stream
+	double timestamp = 0;       //!< seconds
+	mrpt::img::TCamera camera;  //!< intrinsics; keypoints are already undistorted
 	/** Keypoints (undistorted), descriptors, depth, dynamic flags: never changed after insertion,
 	 * so copies of the keyframe and bundle-adjustment windows share them without a lock. */
 	std::shared_ptr<const TFeatures> features;
-	std::vector<cv::Vec3b> colors;	//!< BGR at each keypoint
+	std::vector<cv::Vec3b> colors;  //!< BGR at each keypoint
 	std::vector<TDetection> detections;
-	mrpt::poses::CPose3D pose;	//!< T_w_c; written only by the map (insertion, optimisers)
+	mrpt::poses::CPose3D pose;        //!< T_w_c; written only by the map (insertion, optimisers)
 	std::vector<TPointId> mapPoints;  //!< per keypoint, -1 = none
 	/** Its words (place recognition), set by local mapping once computed; null before, or without
 	 * a vocabulary. Shared read-only like the features. */

@@ -20,17 +20,17 @@ using TKeyFrameId = std::size_t;
 struct CMapPoint
 {
 	TPointId id = -1;
-	mrpt::math::TPoint3D position;	//!< world frame, metres
-	cv::Mat descriptor;	 //!< 1x32 CV_8U, from the keyframe that created it
-	cv::Vec3b color;  //!< BGR
+	mrpt::math::TPoint3D position;                    //!< world frame, metres
+	cv::Mat descriptor;                               //!< 1x32 CV_8U, from the keyframe that created it
+	cv::Vec3b color;                                  //!< BGR
 	std::map<TKeyFrameId, std::size_t> observations;  //!< keyframe id -> keypoint index
-	TKeyFrameId firstKeyFrame = 0;	//!< the keyframe that created it
-	int visible = 1;  //!< times it was inside a tracked frame's view
-	int found = 1;	//!< times tracking matched it
+	TKeyFrameId firstKeyFrame = 0;                    //!< the keyframe that created it
+	int visible = 1;                                  //!< times it was inside a tracked frame's view
+	int found = 1;                                    //!< times tracking matched it
 	/** Consecutive tracked frames that saw through it: farther surfaces measured where it should be
 	 * in front (it has moved away). Not saved: a tracking statistic. */
 	int seenThrough = 0;
-	bool bad = false;  //!< culled, fused or left without observations; kept only so that old ids resolve
+	bool bad = false;          //!< culled, fused or left without observations; kept only so that old ids resolve
 	TPointId replacedBy = -1;  //!< after a fusion: the point that took its observations
 
 	/** Format version written by serialize(); read() refuses newer ones. */

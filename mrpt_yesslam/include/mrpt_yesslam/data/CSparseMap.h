@@ -49,10 +49,10 @@ struct TLocalMapPoints
 /** One bundle-adjustment window, copied out of the map (see CLocalMapper). */
 struct TBundleWindow
 {
-	std::uint64_t generation = 0;  //!< the map's correction generation when copied
-	std::vector<TKeyFrameId> keyFrames;	 //!< optimised
-	std::vector<TKeyFrameId> fixedKeyFrames;  //!< observe the points, held fixed
-	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;	//!< T_w_c of both kinds
+	std::uint64_t generation = 0;                       //!< the map's correction generation when copied
+	std::vector<TKeyFrameId> keyFrames;                 //!< optimised
+	std::vector<TKeyFrameId> fixedKeyFrames;            //!< observe the points, held fixed
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;  //!< T_w_c of both kinds
 	/** Measurements of both kinds (keypoints, depth), shared read-only, and their cameras. */
 	std::map<TKeyFrameId, std::shared_ptr<const TFeatures>> features;
 	std::map<TKeyFrameId, mrpt::img::TCamera> cameras;
@@ -74,7 +74,7 @@ struct TKeyFramePose
 {
 	TKeyFrameId id = 0;
 	double timestamp = 0;
-	mrpt::poses::CPose3D pose;	//!< T_w_c (for a bad keyframe: through its parent)
+	mrpt::poses::CPose3D pose;  //!< T_w_c (for a bad keyframe: through its parent)
 	bool bad = false;
 };
 
@@ -94,7 +94,8 @@ class CSparseMap
 	 * `maxDepth` (RGB-D: depth gives the point at once, as in ORB-SLAM2's RGB-D mode). Updates the
 	 * covisibility graph and hangs the keyframe in the spanning tree under its best-connected
 	 * keyframe. Ids increase with every call. */
-	TKeyFrameId addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth, std::size_t* newPoints = nullptr);
+	TKeyFrameId addKeyFrame(const std::shared_ptr<const TFrame>& frame, double maxDepth,
+							std::size_t* newPoints = nullptr);
 
 	/** Stores the words of keyframe `id` (computed off the map's lock); false when unknown or bad. */
 	bool setKeyFrameBow(TKeyFrameId id, std::shared_ptr<const TBow> bow);
@@ -166,13 +167,14 @@ class CSparseMap
 	 * `neighbours` best covisible keyframes, its children and its parent, at most `maxKeyFrames` in
 	 * all. The first is the keyframe sharing most points: the frame's new reference. With no seed
 	 * observed by a good keyframe, `fallback` (or its good ancestor) takes the seeds' place. */
-	std::vector<TKeyFrameId> localKeyFrames(
-		const std::vector<TPointId>& seeds, TKeyFrameId fallback, std::size_t maxKeyFrames, std::size_t neighbours = 10) const;
+	std::vector<TKeyFrameId> localKeyFrames(const std::vector<TPointId>& seeds, TKeyFrameId fallback,
+											std::size_t maxKeyFrames, std::size_t neighbours = 10) const;
 	/** The good points the keyframes `ids` observe, each once. */
 	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids) const;
 	/** The same, with the pose of keyframe `posed` read under the same lock: a pose and points of
 	 * one state of the map (the loop's verification measures against both). */
-	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids, TKeyFrameId posed, mrpt::poses::CPose3D& pose) const;
+	TLocalMapPoints pointsOfKeyFrames(const std::vector<TKeyFrameId>& ids, TKeyFrameId posed,
+									  mrpt::poses::CPose3D& pose) const;
 	/** Points of one keyframe with their keypoint index (relocalisation). */
 	TLocalMapPoints keyFramePoints(TKeyFrameId id, std::vector<std::size_t>* keypoints = nullptr) const;
 	/** Number of good points keyframe `id` observes that at least `minObservations` keyframes see. */
@@ -184,9 +186,8 @@ class CSparseMap
 	 * clears their see-through count), `seenThrough` had farther surfaces measured where they should
 	 * be in front; a point seen through in `seeThroughFrames` consecutive tracked frames has moved
 	 * away (a person who stood still and left) and is erased (0 = never). Returns how many. */
-	std::size_t countTracking(
-		const std::vector<TPointId>& visible, const std::vector<TPointId>& found, const std::vector<TPointId>& seenThrough = {},
-		int seeThroughFrames = 0);
+	std::size_t countTracking(const std::vector<TPointId>& visible, const std::vector<TPointId>& found,
+							  const std::vector<TPointId>& seenThrough = {}, int seeThroughFrames = 0);
 
 	/** ORB-SLAM2's culling of recent points: found/visible below `minFoundRatio`, or fewer than
 	 * `minObservations` keyframes two keyframes after creation. Only the points created in the last
@@ -198,8 +199,8 @@ class CSparseMap
 	 * current one) whose good points with depth up to `maxDepth` are at least `redundantRatio`
 	 * observed by `minOtherObservers` other keyframes at the same or a finer scale (octave <= its
 	 * own + 1) is erased. Returns the ids erased. */
-	std::vector<TKeyFrameId> cullRedundantKeyFrames(
-		TKeyFrameId currentKf, double redundantRatio = 0.9, std::size_t minOtherObservers = 3, double maxDepth = 1e9);
+	std::vector<TKeyFrameId> cullRedundantKeyFrames(TKeyFrameId currentKf, double redundantRatio = 0.9,
+													std::size_t minOtherObservers = 3, double maxDepth = 1e9);
 	/** Erases keyframe `id` (not keyframe 0): its observations go, its children are re-hung in the
 	 * spanning tree, its measurements are dropped; its pose is kept relative to its parent. Returns
 	 * false for keyframe 0, an unknown or an already bad keyframe. */
@@ -222,9 +223,9 @@ class CSparseMap
 	 * keyframe) observations. Refused (returns false, nothing written) when a correction has been
 	 * applied since the window was copied (its generation is older): the result would undo it.
 	 * Keyframes and points erased meanwhile are skipped. */
-	bool applyBundle(
-		const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-		const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
+	bool applyBundle(const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+					 const std::vector<mrpt::math::TPoint3D>& positions,
+					 const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
 	/** The correction generation: bumped by every map-wide correction (loop closing, global BA). */
 	std::uint64_t generation() const;
 
@@ -249,9 +250,9 @@ class CSparseMap
 	/** Writes a global BA result back as applyBundle does, and moves the keyframes and points created
 	 * since the window was copied with their ancestors (as applyCorrection). Refused (false) when a
 	 * correction was applied meanwhile. Starts a new correction generation. */
-	bool applyGlobalBundle(
-		const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
-		const std::vector<mrpt::math::TPoint3D>& positions, const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
+	bool applyGlobalBundle(const TBundleWindow& w, const std::map<TKeyFrameId, mrpt::poses::CPose3D>& poses,
+						   const std::vector<mrpt::math::TPoint3D>& positions,
+						   const std::vector<std::pair<TPointId, TKeyFrameId>>& outliers);
 
 	/** Poses and times of all keyframes (bad ones resolved through their parents), by id. */
 	std::vector<TKeyFramePose> keyFramePoses() const;

@@ -19,6 +19,9 @@ struct TAnchor
 	std::optional<TKeyFrameId> refKf;  //!< none: `relative` is T_w_frame
 	mrpt::poses::CPose3D relative;
 	/** The pose in the map as it is now. */
-	mrpt::poses::CPose3D poseIn(const CSparseMap& map) const { return refKf ? map.keyFramePose(*refKf) + relative : relative; }
+	mrpt::poses::CPose3D poseIn(const CSparseMap& map) const
+	{
+		return refKf ? map.keyFramePose(*refKf) + relative : relative;
+	}
 };
 }  // namespace mrpt_yesslam

@@ -11,9 +11,9 @@ namespace mrpt_yesslam
 struct TFeatures
 {
 	std::vector<cv::KeyPoint> keypoints;  //!< level-0 pixel coordinates; octave = pyramid level
-	cv::Mat descriptors;  //!< CV_8U, 32 bytes per row
-	std::vector<float> depth;  //!< metres at each keypoint, 0 = no depth
-	std::vector<bool> dynamic;	//!< inside the dynamic mask (eq. 3): not used for pose
+	cv::Mat descriptors;                  //!< CV_8U, 32 bytes per row
+	std::vector<float> depth;             //!< metres at each keypoint, 0 = no depth
+	std::vector<bool> dynamic;            //!< inside the dynamic mask (eq. 3): not used for pose
 	/** In a dynamic detection's box but outside its mask (CGeometricDynamicCheck): used for pose only
 	 * when consistent with the rest, never a new map point. Empty = none. */
 	std::vector<bool> uncertain;

@@ -19,30 +19,30 @@ using TPointId = long;
 /** The images of a frame, kept (only) when a dense map is built from its keyframes. */
 struct TFrameImages
 {
-	cv::Mat bgr;  //!< CV_8UC3 colour, as given (distorted)
-	cv::Mat depth;	//!< CV_32FC1 metres, 0 = none, registered to the colour image
+	cv::Mat bgr;          //!< CV_8UC3 colour, as given (distorted)
+	cv::Mat depth;        //!< CV_32FC1 metres, 0 = none, registered to the colour image
 	cv::Mat dynamicMask;  //!< CV_8UC1, 255 = masked as dynamic by tracking (held objects included); empty = none
 };
 
 /** A tracked frame. */
 struct TFrame
 {
-	std::size_t id = 0;	 //!< 0-based index in the input stream
-	double timestamp = 0;  //!< seconds
-	mrpt::img::TCamera camera;	//!< intrinsics of the colour image
-	TFeatures features;	 //!< keypoints are undistorted pixel coordinates
-	std::vector<cv::Vec3b> colors;	//!< BGR at each keypoint (map point colours)
+	std::size_t id = 0;             //!< 0-based index in the input stream
+	double timestamp = 0;           //!< seconds
+	mrpt::img::TCamera camera;      //!< intrinsics of the colour image
+	TFeatures features;             //!< keypoints are undistorted pixel coordinates
+	std::vector<cv::Vec3b> colors;  //!< BGR at each keypoint (map point colours)
 	std::vector<TDetection> detections;
 	std::size_t numDynamicMasked = 0;  //!< dynamic pixels in the mask (for statistics)
 	/** Map point matched to each keypoint by tracking (inliers only); -1 = none. */
 	std::vector<TPointId> mapPoints;
-	mrpt::poses::CPose3D pose;	//!< T_w_c, camera (z forward) in the world
+	mrpt::poses::CPose3D pose;  //!< T_w_c, camera (z forward) in the world
 	/** The pose reported for this frame (onlineTrajectory, TFrameReport): `pose` with its position
 	 * filtered causally ([OnlinePose]); tracking itself goes on from `pose`. */
 	mrpt::poses::CPose3D onlinePose;
-	bool tracked = false;  //!< false: the pose is a motion-model guess (tracking lost)
-	std::size_t numInliers = 0;	 //!< static map points that supported the pose
-	std::shared_ptr<const TFrameImages> images;	 //!< null unless the builder keeps images (dense mapping)
+	bool tracked = false;                        //!< false: the pose is a motion-model guess (tracking lost)
+	std::size_t numInliers = 0;                  //!< static map points that supported the pose
+	std::shared_ptr<const TFrameImages> images;  //!< null unless the builder keeps images (dense mapping)
 
 	/** Number of keypoints. */
 	std::size_t size() const { return features.keypoints.size(); }

@@ -42,9 +42,9 @@ struct TKeyFrameCloud
 {
 	std::vector<cv::Point3f> xyz;
 	std::vector<cv::Vec3b> bgr;
-	std::vector<TSemLabel> label;  //!< 0 = background, c + 1 = class c
-	std::vector<float> labelProb;  //!< p^(label | pixel) of the measurement model; 0 = no label evidence
-	std::size_t dynamicPixelsLeftOut = 0;	//!< grid pixels with depth not inserted as dynamic
+	std::vector<TSemLabel> label;          //!< 0 = background, c + 1 = class c
+	std::vector<float> labelProb;          //!< p^(label | pixel) of the measurement model; 0 = no label evidence
+	std::size_t dynamicPixelsLeftOut = 0;  //!< grid pixels with depth not inserted as dynamic
 };
 
 /** The fused, filtered cloud (world frame = the SLAM map's). */
@@ -52,8 +52,8 @@ struct TDenseCloud
 {
 	std::vector<cv::Point3f> xyz;
 	std::vector<cv::Vec3b> bgr;
-	std::vector<TSemLabel> label;  //!< fused (most likely) label
-	std::vector<float> labelProb;  //!< its posterior probability
+	std::vector<TSemLabel> label;             //!< fused (most likely) label
+	std::vector<float> labelProb;             //!< its posterior probability
 	std::vector<std::uint32_t> observations;  //!< keyframes whose points were fused into the voxel
 
 	std::size_t size() const { return xyz.size(); }
@@ -64,7 +64,7 @@ struct TDenseMap
 {
 	TDenseCloud cloud;
 	std::unique_ptr<CSemanticOcTree> octree;
-	std::size_t keyFrames = 0;	//!< clouds used
+	std::size_t keyFrames = 0;  //!< clouds used
 	std::size_t voxelsBeforeFilter = 0, outliersRemoved = 0;
 	double buildMs = 0;
 	/** The octree started from the prior map (setPrior); false also when it had another resolution. */
@@ -78,10 +78,10 @@ class CDenseSemanticMapper
 	/** Section [DenseMapping]. */
 	struct TOptions : public TTableOptions<TOptions>
 	{
-		bool enabled = true;  //!< build the dense map and OctoMap (off: --no-dense-map)
-		int pixelStep = 2;	//!< back-project every n-th pixel of each row and column
-		double minDepth = 0.3;	//!< m: nearer depth is ignored
-		double maxDepth = 4.0;	//!< m: farther depth is ignored (also the rays' length)
+		bool enabled = true;    //!< build the dense map and OctoMap (off: --no-dense-map)
+		int pixelStep = 2;      //!< back-project every n-th pixel of each row and column
+		double minDepth = 0.3;  //!< m: nearer depth is ignored
+		double maxDepth = 4.0;  //!< m: farther depth is ignored (also the rays' length)
 		/** A pixel whose 4 neighbours differ from it by more than this share of its depth lies on a
 		 * depth edge (a "flying pixel" mixing foreground and background) and is left out. */
 		double maxDepthJump = 0.04;
@@ -104,12 +104,12 @@ class CDenseSemanticMapper
 		/** fill: the label fills never take depth farther than this from their seed's, m
 		 * ([DynamicMask] maxDepthRange plays this part for people). */
 		double labelDepthRange = 0.5;
-		double segmentNormalAngle = 30;	 //!< segments: degrees between neighbours' normals that still make one surface
+		double segmentNormalAngle = 30;  //!< segments: degrees between neighbours' normals that still make one surface
 		double segmentMarginShare = 0.25;  //!< segments: a segment with more of its pixels around the box is background
-		double backgroundProb = 0.6;  //!< a pixel outside every detection says "background" with this probability
-		int outlierNeighbours = 12;	 //!< statistical outlier removal: neighbours (0 = off)
-		double outlierStdDev = 2.0;	 //!< removes points whose mean neighbour distance exceeds mean + this * std
-		double octomapResolution = 0.05;  //!< m (--octomap-resolution)
+		double backgroundProb = 0.6;       //!< a pixel outside every detection says "background" with this probability
+		int outlierNeighbours = 12;        //!< statistical outlier removal: neighbours (0 = off)
+		double outlierStdDev = 2.0;        //!< removes points whose mean neighbour distance exceeds mean + this * std
+		double octomapResolution = 0.05;   //!< m (--octomap-resolution)
 		double probHit = 0.7, probMiss = 0.4;  //!< OctoMap's sensor model (its defaults)
 		/** A cell is occupied above this probability. OctoMap's default 0.5 makes one keyframe's
 		 * hit enough; 0.8 needs two keyframes (with probHit 0.7), so that a person's body, which
@@ -126,7 +126,7 @@ class CDenseSemanticMapper
 		 * whole x columns of voxels per pass: less memory, more passes over the clouds; the map is
 		 * the same whatever it is. */
 		std::size_t buildSlabPoints = std::size_t{1} << 18;
-		std::size_t queue = 4;	//!< parallel: keyframes waiting for the dense stage before tracking waits
+		std::size_t queue = 4;  //!< parallel: keyframes waiting for the dense stage before tracking waits
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -139,7 +139,8 @@ class CDenseSemanticMapper
 
 	/** Per-pixel labels of the static objects `objects` (larger boxes first) on `depth`, by
 	 * labelMethod: instance = index into `objects` + 1. */
-	TObjectLabels labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& objects) const;
+	TObjectLabels labelPixels(const cv::Mat& depth, const mrpt::img::TCamera& camera,
+							  const std::vector<TDetection>& objects) const;
 	/** The cloud of one keyframe from its frame's images (TFrame::images; ignored without them).
 	 * Keyframes come in order (dynamicHoldKeyFrames looks back at the previous ones). */
 	void addKeyFrame(TKeyFrameId id, const TFrame& frame);
@@ -158,7 +159,8 @@ class CDenseSemanticMapper
 	TDenseMap build(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf) const;
 	/** Only the world cloud of every keyframe, unfused (tests of re-placing; every `step`-th point
 	 * for finding the floor). */
-	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf, std::size_t step = 1) const;
+	std::vector<cv::Point3f> worldPoints(const std::function<mrpt::poses::CPose3D(TKeyFrameId)>& poseOf,
+										 std::size_t step = 1) const;
 
 	std::size_t numKeyFrames() const;
 	/** Stored points over all keyframes (their memory: storedBytes()). */
@@ -172,7 +174,7 @@ class CDenseSemanticMapper
    private:
 	TOptions opts_;
 	CDynamicObjectMasker masker_;  //!< segmentAll only (const): labelMethod fill
-	CObjectSegmenter segmenter_;  //!< labelMethod segments
+	CObjectSegmenter segmenter_;   //!< labelMethod segments
 	int numClasses_;
 	/** A keyframe's cloud as stored: per point a position in steps of unit_, colour, label and
 	 * quantised probability (12 bytes), DEFLATEd to about 5 bytes, not TKeyFrameCloud's 20 plus
@@ -182,7 +184,8 @@ class CDenseSemanticMapper
 	mutable std::mutex mtx_;
 	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds_;
 	std::deque<std::vector<cv::Rect2f>> recentDynamic_;
-	std::string prior_;	 //!< setPrior's tree as .ot bytes (each build reads its own copy; the tree cannot be copied)  //!< dynamic boxes of the last keyframes added
+	std::string prior_;  //!< setPrior's tree as .ot bytes (each build reads its own copy; the tree cannot be copied)
+						 //!< //!< dynamic boxes of the last keyframes added
 };
 
 /** A colour per label for pictures (background grey, classes from a fixed palette). */

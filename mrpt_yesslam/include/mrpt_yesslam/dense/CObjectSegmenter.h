@@ -33,7 +33,7 @@ namespace mrpt_yesslam
 struct TObjectLabels
 {
 	cv::Mat instance;  //!< CV_16UC1, full resolution: detection index + 1 of the object at each pixel, 0 = none
-	cv::Mat unknown;  //!< CV_8UC1, 255 inside a box that found no object (and no other object's pixel)
+	cv::Mat unknown;   //!< CV_8UC1, 255 inside a box that found no object (and no other object's pixel)
 };
 
 /** The segmenter (const, no state: safe on any thread). */
@@ -43,19 +43,20 @@ class CObjectSegmenter
 	/** Parameters (set from [DenseMapping]). */
 	struct TParams
 	{
-		int downsample = 2;	 //!< work at 1/downsample of the image side
-		double margin = 0.15;  //!< share of the box size looked at around it
-		double maxNormalAngleDeg = 30;	//!< neighbours whose normals differ more are not one surface
-		double planeDistance = 0.01;  //!< m at 1 m depth (grows with depth): off-tangent-plane tolerance
-		double maxMarginShare = 0.25;  //!< a segment with more of its pixels in the margin is background
-		double minBoxShare = 0.01;	//!< segments smaller than this share of the box are ignored
+		int downsample = 2;             //!< work at 1/downsample of the image side
+		double margin = 0.15;           //!< share of the box size looked at around it
+		double maxNormalAngleDeg = 30;  //!< neighbours whose normals differ more are not one surface
+		double planeDistance = 0.01;    //!< m at 1 m depth (grows with depth): off-tangent-plane tolerance
+		double maxMarginShare = 0.25;   //!< a segment with more of its pixels in the margin is background
+		double minBoxShare = 0.01;      //!< segments smaller than this share of the box are ignored
 	};
 
 	explicit CObjectSegmenter(const TParams& p) : p_(p) {}
 
 	/** Labels the pixels of `dets` (drawn in order: later boxes over earlier ones) on `depth`
 	 * (CV_32FC1 metres, 0 = none) seen by `camera` (pinhole; distortion ignored at this scale). */
-	TObjectLabels segment(const cv::Mat& depth, const mrpt::img::TCamera& camera, const std::vector<TDetection>& dets) const;
+	TObjectLabels segment(const cv::Mat& depth, const mrpt::img::TCamera& camera,
+						  const std::vector<TDetection>& dets) const;
 
 	const TParams& params() const { return p_; }
 

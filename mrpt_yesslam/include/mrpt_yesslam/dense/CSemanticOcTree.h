@@ -46,15 +46,15 @@ class CSemanticOcTreeNode : public octomap::OcTreeNode
 	std::istream& readData(std::istream& s);
 	std::ostream& writeData(std::ostream& s) const;
 
-	std::uint8_t r = 255, g = 255, b = 255;	 //!< mean colour of what was seen there
-	std::uint8_t label = 0;	 //!< fused label
-	float labelProb = 0;  //!< its probability after fusion (0 = never labelled)
+	std::uint8_t r = 255, g = 255, b = 255;  //!< mean colour of what was seen there
+	std::uint8_t label = 0;                  //!< fused label
+	float labelProb = 0;                     //!< its probability after fusion (0 = never labelled)
 };
 
 /** What a voxel's evidence says, as every export tells it (.bt, the summaries, yesslam-map). */
 enum class EVoxelState : std::uint8_t
 {
-	Free,  //!< rays passed through it and no surface was ever measured there
+	Free,     //!< rays passed through it and no surface was ever measured there
 	Unknown,  //!< a surface was measured there, but too few keyframes confirm it (or later rays contradict it)
 	Occupied  //!< at or above the occupancy threshold
 };
@@ -103,7 +103,8 @@ class CSemanticOcTree : public octomap::OccupancyOcTreeBase<CSemanticOcTreeNode>
 	 * are not missed and become at least unknown (kSeenLogOdds), never free. Space within the depth
 	 * noise and the thinning of a measured surface is no evidence of free space: cleared right up
 	 * to the kept points, voxels holding the surface seen by the other pixels were free (issue 43). */
-	void insertScan(const octomap::Pointcloud& scan, const octomap::point3d& origin, double clearMargin, double pointSpacing = 0);
+	void insertScan(const octomap::Pointcloud& scan, const octomap::point3d& origin, double clearMargin,
+					double pointSpacing = 0);
 
 	/** The tree as .ot bytes: OctoMap's format, with the occupancy threshold in a header comment
 	 * ("# yesslam occupancy_threshold P") that read() takes back (OctoMap's readers skip it). */

@@ -14,8 +14,8 @@ namespace mrpt_yesslam
  * label_prob float, observations uint), with one "comment label N name" line per label present;
  * atomically. `names[c]` names class c (label c + 1); `what` says in the header what the points
  * are, `frame` the frame they are in (TWorldFrame::describe(); one comment line per line). */
-void writeDenseCloudPly(
-	const std::string& path, const TDenseCloud& cloud, const std::vector<std::string>& names, const std::string& what, const std::string& frame);
+void writeDenseCloudPly(const std::string& path, const TDenseCloud& cloud, const std::vector<std::string>& names,
+						const std::string& what, const std::string& frame);
 
 /** Reads a PLY written by writeDenseCloudPly (tests, tools); throws InputError naming the file. */
 TDenseCloud readDenseCloudPly(const std::string& path);
@@ -28,7 +28,8 @@ void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree);
 /** The occupied leaves as MRPT voxels coloured by label (or by colour with `byLabel` false), with
  * the legend of the labels present as a hidden set "legend" of coloured texts (yesslam-render
  * draws it over the picture); named "octomap". */
-mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree, const std::vector<std::string>& names, bool byLabel = true);
+mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree,
+													  const std::vector<std::string>& names, bool byLabel = true);
 
 /** "name" of a label: "background" for 0, names[label - 1], or "class N". */
 std::string labelName(TSemLabel label, const std::vector<std::string>& names);

@@ -21,7 +21,7 @@ using TSemLabel = std::uint8_t;
 /** The class distribution of one cell, in log space, sparse (see the file comment). */
 struct TLabelBelief
 {
-	double base = 0;  //!< log-evidence of every class never observed
+	double base = 0;                                  //!< log-evidence of every class never observed
 	std::vector<std::pair<TSemLabel, double>> extra;  //!< (label, log-evidence above `base`)
 	std::uint32_t observations = 0;
 

@@ -56,8 +56,8 @@ class CAsyncDetector
 		double timestamp;
 		std::future<std::pair<std::vector<TDetection>, double>> result;
 	};
-	std::deque<TPending> pending_;	//!< in submission order
-	std::size_t nextKey_ = 0;  //!< one past the highest key submitted
-	CWorkerPool worker_{1};	 //!< last: stopped before the detector it runs is destroyed
+	std::deque<TPending> pending_;  //!< in submission order
+	std::size_t nextKey_ = 0;       //!< one past the highest key submitted
+	CWorkerPool worker_{1};         //!< last: stopped before the detector it runs is destroyed
 };
 }  // namespace mrpt_yesslam

@@ -27,18 +27,18 @@ class CObjectDetector
 		/** auto | yolo | file | hog | none. auto (resolveDetector, when the input is known):
 		 * detections.txt beside the input, else yolo (the set model, else the shipped one), else hog. */
 		std::string backend = "auto";
-		std::string model;	//!< yolo: .cfg (darknet) or .onnx
+		std::string model;    //!< yolo: .cfg (darknet) or .onnx
 		std::string weights;  //!< yolo darknet: .weights
-		std::string names;	//!< class names file, one per line (COCO order for COCO models)
+		std::string names;    //!< class names file, one per line (COCO order for COCO models)
 		/** yolo output layout: auto (from tensor shapes) | darknet | yolov5 (also v7) | yolov8 | yolox */
 		std::string format = "auto";
-		int inputSize = 0;	//!< network input side in pixels; 0 = from the model (darknet cfg) or found by probing
-		double confThreshold = 0.6;	 //!< the paper drops boxes below 0.6
-		double nmsThreshold = 0.45;	 //!< class-wise NMS IoU
-		std::string dynamicClasses = "person";	//!< comma-separated class names treated as dynamic
-		std::string file;  //!< file backend: detections.txt
-		double fileMaxDiff = 0.005;	 //!< file backend: largest frame/detection stamp difference, s
-		int threads = 0;  //!< OpenCV threads for inference (0 = every core but two, at least one)
+		int inputSize = 0;  //!< network input side in pixels; 0 = from the model (darknet cfg) or found by probing
+		double confThreshold = 0.6;             //!< the paper drops boxes below 0.6
+		double nmsThreshold = 0.45;             //!< class-wise NMS IoU
+		std::string dynamicClasses = "person";  //!< comma-separated class names treated as dynamic
+		std::string file;                       //!< file backend: detections.txt
+		double fileMaxDiff = 0.005;             //!< file backend: largest frame/detection stamp difference, s
+		int threads = 0;                        //!< OpenCV threads for inference (0 = every core but two, at least one)
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();

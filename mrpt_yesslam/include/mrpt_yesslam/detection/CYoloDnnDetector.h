@@ -1,8 +1,8 @@
 #pragma once
 // YOLO-family detectors through OpenCV DNN on the CPU: Darknet cfg+weights (Yolo-Fastest, YOLOv3/4),
 // and ONNX exports of YOLOv5/YOLOv7 ([1,N,5+C], objectness x class score), YOLOv8 ([1,4+C,N], no
-// objectness) and YOLOX ([1,N,5+C], raw grid offsets); also FastestDet and NanoDet-m. The layout is recognised from the output
-// tensor shape (or forced with [Detector] format), the input size from the model.
+// objectness) and YOLOX ([1,N,5+C], raw grid offsets); also FastestDet and NanoDet-m. The layout is recognised from the
+// output tensor shape (or forced with [Detector] format), the input size from the model.
 #include <opencv2/dnn.hpp>
 
 #include "mrpt_yesslam/detection/CObjectDetector.h"
@@ -23,11 +23,11 @@ class CYoloDnnDetector : public CObjectDetector
 	enum class Format
 	{
 		Darknet,
-		YoloV5,	 //!< also YOLOv7 exported without NMS
+		YoloV5,  //!< also YOLOv7 exported without NMS
 		YoloV8,
 		YoloX,
-		FastestDet,	 //!< [1,5+C,H,W] grid, score = obj^0.6 * cls^0.4
-		NanoDet	 //!< per stride a (N,C) class map and a (N,32) GFL distance map
+		FastestDet,  //!< [1,5+C,H,W] grid, score = obj^0.6 * cls^0.4
+		NanoDet      //!< per stride a (N,C) class map and a (N,32) GFL distance map
 	};
 
 	/** Loads the model and names, probes the input size and output layout; throws InputError naming
@@ -49,9 +49,8 @@ class CYoloDnnDetector : public CObjectDetector
 	/** Decodes raw outputs of a network of the given layout (input side `inputSize`, `numClasses`
 	 * classes) into boxes in image pixels, with the confidence threshold and class-wise NMS. Static
 	 * so that every layout can be checked on any tensor of its shape. */
-	static std::vector<TDetection> decode(
-		const std::vector<cv::Mat>& outs, Format format, int inputSize, int numClasses, const TFit& fit, float confThreshold,
-		float nmsThreshold);
+	static std::vector<TDetection> decode(const std::vector<cv::Mat>& outs, Format format, int inputSize,
+										  int numClasses, const TFit& fit, float confThreshold, float nmsThreshold);
 
    protected:
 	std::vector<TDetection> detectImpl(const cv::Mat& bgr, double timestamp) override;

@@ -38,19 +38,19 @@ namespace mrpt_yesslam
 /** What happened inside one dynamic box. */
 struct TMaskRegion
 {
-	int detection = -1;	 //!< index into the detections given
-	std::size_t pixels = 0;	 //!< pixels marked dynamic for it
-	bool usedBox = false;  //!< fell back to (or was configured to use) the whole box
-	bool held = false;	//!< not detected in this frame: held from an earlier one (detection = -1)
-	cv::Point seed{-1, -1};	 //!< fill seed, (-1,-1) without a fill
+	int detection = -1;      //!< index into the detections given
+	std::size_t pixels = 0;  //!< pixels marked dynamic for it
+	bool usedBox = false;    //!< fell back to (or was configured to use) the whole box
+	bool held = false;       //!< not detected in this frame: held from an earlier one (detection = -1)
+	cv::Point seed{-1, -1};  //!< fill seed, (-1,-1) without a fill
 };
 
 /** Masks of one frame. */
 struct TDynamicMask
 {
-	cv::Mat mask;  //!< CV_8UC1, 255 = dynamic
-	cv::Mat classLabels;  //!< CV_16UC1, classId + 1 of the dynamic object at each masked pixel, 0 = none
-	cv::Mat instanceLabels;	 //!< CV_16UC1, detection index + 1 at each masked pixel, 0 = none
+	cv::Mat mask;            //!< CV_8UC1, 255 = dynamic
+	cv::Mat classLabels;     //!< CV_16UC1, classId + 1 of the dynamic object at each masked pixel, 0 = none
+	cv::Mat instanceLabels;  //!< CV_16UC1, detection index + 1 at each masked pixel, 0 = none
 	std::vector<TMaskRegion> regions;
 };
 
@@ -73,15 +73,15 @@ class CDynamicObjectMasker
 		 * neighbour, so the fill follows a person's body as it bends away, with maxDepthRange as the
 		 * cap) or "seed" (eq. 2 as written: the seed's value, a fixed range). */
 		std::string fillCompare = "neighbour";
-		double laplacianGain = 1.0;	 //!< k in f - k * lap(f)
-		int laplacianKernel = 3;  //!< aperture of the Laplacian (1, 3, 5, 7)
-		double blurSigma = 1.0;	 //!< sigma of the Gaussian blur (eq. 5), pixels (at the fill resolution)
-		double boxMargin = 0.05;  //!< the fill may leave the box by this share of its size
-		double maxFillRatio = 0.97;	 //!< a fill covering more of the box than this leaked: use the box
-		double minFillRatio = 0.05;	 //!< a fill covering less of the box than this failed: use the box
-		bool fallbackToBox = true;	//!< on failure use the whole box (false: mask nothing)
-		int dilatePixels = 3;  //!< grow each object's mask by about this many (full-resolution) pixels
-		double maxDepth = 8.0;	//!< depth beyond this is treated as missing, metres
+		double laplacianGain = 1.0;  //!< k in f - k * lap(f)
+		int laplacianKernel = 3;     //!< aperture of the Laplacian (1, 3, 5, 7)
+		double blurSigma = 1.0;      //!< sigma of the Gaussian blur (eq. 5), pixels (at the fill resolution)
+		double boxMargin = 0.05;     //!< the fill may leave the box by this share of its size
+		double maxFillRatio = 0.97;  //!< a fill covering more of the box than this leaked: use the box
+		double minFillRatio = 0.05;  //!< a fill covering less of the box than this failed: use the box
+		bool fallbackToBox = true;   //!< on failure use the whole box (false: mask nothing)
+		int dilatePixels = 3;        //!< grow each object's mask by about this many (full-resolution) pixels
+		double maxDepth = 8.0;       //!< depth beyond this is treated as missing, metres
 		/** The fill never includes depth farther than this from the seed's (metres; 0 = no limit).
 		 * Not in the paper: it stops fills that run along the floor or a desk the object touches. */
 		double maxDepthRange = 0.5;
@@ -129,7 +129,8 @@ class CDynamicObjectMasker
 	std::vector<TDetection> withHeld(const std::vector<TDetection>& dets, std::vector<bool>& held);
 
 	/** Fills the boxes of `dets` (only the dynamic ones with `onlyDynamic`); `held` flags each. */
-	TDynamicMask segment(const cv::Mat& depth, const std::vector<TDetection>& dets, const std::vector<bool>& held, bool onlyDynamic) const;
+	TDynamicMask segment(const cv::Mat& depth, const std::vector<TDetection>& dets, const std::vector<bool>& held,
+						 bool onlyDynamic) const;
 	/** The image the fill runs on (enhanced or plain depth, float metres, 0 = missing). */
 	cv::Mat prepare(const cv::Mat& depth) const;
 	/** Fills one box of `raw` (depth in metres, 0 = missing): `out` is the object's mask over the

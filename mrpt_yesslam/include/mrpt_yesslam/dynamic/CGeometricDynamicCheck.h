@@ -71,7 +71,7 @@ class CGeometricDynamicCheck
 		std::string boxes = "auto";
 		/** Whether classify() marks keypoints in dynamic boxes (boxes resolved; "auto" = no). */
 		bool boxesOn() const { return boxes == "true"; }
-		double boxMargin = 0.1;	 //!< a dynamic box grows by this share of its size on every side
+		double boxMargin = 0.1;  //!< a dynamic box grows by this share of its size on every side
 		/** Fewer certain-static inliers than this: the check stands aside for the frame. */
 		std::size_t minCertainInliers = 30;
 		/** A frame with fewer certain matches than minCertainInliers but more uncertain ones (a
@@ -81,8 +81,8 @@ class CGeometricDynamicCheck
 		std::size_t minBlindedCertain = 10;
 		/** Box-free mover check: depth-coherent groups the others' pose cannot explain leave the solve. */
 		bool movers = true;
-		double moverCell = 40;	//!< image cell side of the groups, pixels
-		double moverChi2 = 100;	 //!< n |mean whitened residual|^2 under the others' pose above this: moving
+		double moverCell = 40;     //!< image cell side of the groups, pixels
+		double moverChi2 = 100;    //!< n |mean whitened residual|^2 under the others' pose above this: moving
 		double moverShift = 0.01;  //!< ... and a mean displacement of at least this, metres
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
@@ -122,25 +122,25 @@ class CGeometricDynamicCheck
 	 * uncertain ones (`uncertain[i]` for obs[i]) that agree with that pose. The inlier flags of
 	 * rejected uncertain observations are false. Without uncertain observations it is
 	 * `optimizer.refine(obs)`; with too few certain ones, not ok when the uncertain outnumber them. */
-	TPoseEstimate refine(
-		const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const std::vector<bool>& uncertain,
-		const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, TStats* stats = nullptr) const;
+	TPoseEstimate refine(const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs,
+						 const std::vector<bool>& uncertain, const mrpt::img::TCamera& K,
+						 const mrpt::poses::CPose3D& guess, TStats* stats = nullptr) const;
 	const TOptions& options() const { return opts_; }
 
    private:
 	/** The certain observations' pose (at least `minFirst` inliers), then the uncertain ones that
 	 * agree with it; not ok when fewer than `minTotal` inliers result. */
-	TPoseEstimate certainFirst(
-		const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const std::vector<std::size_t>& certainIdx,
-		const std::vector<std::size_t>& uncertainIdx, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, std::size_t minFirst,
-		std::size_t minTotal, TStats& st) const;
+	TPoseEstimate certainFirst(const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs,
+							   const std::vector<std::size_t>& certainIdx, const std::vector<std::size_t>& uncertainIdx,
+							   const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& guess, std::size_t minFirst,
+							   std::size_t minTotal, TStats& st) const;
 	/** The mover check's groups: the `use`d RGB-D observations as depth-coherent image surfaces. */
-	std::vector<std::vector<std::size_t>> depthCoherentGroups(
-		const std::vector<TPoseObservation>& obs, const std::vector<bool>& use, const mrpt::img::TCamera& K) const;
+	std::vector<std::vector<std::size_t>> depthCoherentGroups(const std::vector<TPoseObservation>& obs,
+															  const std::vector<bool>& use,
+															  const mrpt::img::TCamera& K) const;
 	/** The mover check on a finished estimate `e` of `obs` (see the file comment). */
-	TPoseEstimate rejectMovingClusters(
-		const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
-		TPoseEstimate e, TStats& st) const;
+	TPoseEstimate rejectMovingClusters(const CPoseOptimizer& optimizer, const std::vector<TPoseObservation>& obs,
+									   const mrpt::img::TCamera& K, TPoseEstimate e, TStats& st) const;
 	TOptions opts_;
 };
 }  // namespace mrpt_yesslam

@@ -26,7 +26,7 @@ class COrbExtractor
 		/** FAST threshold. Low, as ORB-SLAM's retry threshold, so weak texture still yields corners
 		 * in every cell; the strongest corners of each cell are kept first. */
 		int fastThreshold = 7;
-		int cellSize = 32;	//!< grid cell side in pixels of each pyramid level
+		int cellSize = 32;  //!< grid cell side in pixels of each pyramid level
 		/** Keypoints inside the mask: false = detect and flag them dynamic (eq. 3; N_p counts them);
 		 * true = do not detect there at all, so the feature budget goes to the static scene. */
 		bool excludeMasked = false;
@@ -54,7 +54,7 @@ class COrbExtractor
 	const TOptions& options() const { return opts_; }
 
    private:
-	static constexpr int kHalfPatch = 15;	//!< half the 31-pixel ORB patch
+	static constexpr int kHalfPatch = 15;  //!< half the 31-pixel ORB patch
 	/** Candidate corners of every level, OpenCV ORB's way (keypoints in level-0 pixels, octave and
 	 * size set, not yet oriented), outside `keepMask`'s zeros when it is given; `pyramid` gets the
 	 * level images. */
@@ -66,9 +66,9 @@ class COrbExtractor
 	cv::Mat describe(const std::vector<cv::Mat>& pyramid, const std::vector<cv::KeyPoint>& keypoints) const;
 
 	TOptions opts_;
-	cv::Ptr<cv::ORB> describer_;  //!< one-level ORB: describes one pyramid level's keypoints
-	std::vector<int> perLevel_;	 //!< feature quota of each level
+	cv::Ptr<cv::ORB> describer_;           //!< one-level ORB: describes one pyramid level's keypoints
+	std::vector<int> perLevel_;            //!< feature quota of each level
 	std::vector<int> candidatesPerLevel_;  //!< corners kept per level before the grid
-	std::vector<int> discHalfWidth_;  //!< orientation disc: half-width of row |v|
+	std::vector<int> discHalfWidth_;       //!< orientation disc: half-width of row |v|
 };
 }  // namespace mrpt_yesslam

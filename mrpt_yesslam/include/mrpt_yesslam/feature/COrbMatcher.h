@@ -56,8 +56,8 @@ struct TBestTwo
 struct TMatch
 {
 	std::size_t keypoint = 0;  //!< index in the frame
-	std::size_t point = 0;	//!< index in the point set
-	int distance = 0;  //!< Hamming
+	std::size_t point = 0;     //!< index in the point set
+	int distance = 0;          //!< Hamming
 };
 
 /** Descriptor matching. Stateless apart from its thresholds. */
@@ -77,10 +77,10 @@ class COrbMatcher
 	 * seen more than 60 degrees off its mean viewing direction, is not in view; the others are
 	 * searched at the pyramid level their distance predicts (radius times that level's scale,
 	 * keypoints of that level or the one below). */
-	std::vector<TMatch> searchByProjection(
-		const TFrame& frame, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius,
-		std::vector<std::size_t>* inView = nullptr, bool skipMatched = false, double scaleFactor = 1.2,
-		bool viewChecks = false) const;
+	std::vector<TMatch> searchByProjection(const TFrame& frame, const mrpt::poses::CPose3D& Twc,
+										   const TLocalMapPoints& points, double radius,
+										   std::vector<std::size_t>* inView = nullptr, bool skipMatched = false,
+										   double scaleFactor = 1.2, bool viewChecks = false) const;
 
 	/** Brute force: the best point for each static keypoint of `frame`, with the ratio test and
 	 * one match per point. */

@@ -20,6 +20,6 @@ namespace mrpt_yesslam
  * metres) for a depth image taken by the camera at pose `depthCamera` relative to the colour
  * image's camera (T_colour_depth). A keypoint whose depth cannot be read there loses it (0).
  * Returns how many keypoints had depth before and have none now. */
-std::size_t moveDepthToColourMoment(
-	TFeatures& features, const cv::Mat& depthMetres, const CPinholeCamera& camera, const mrpt::poses::CPose3D& depthCamera);
+std::size_t moveDepthToColourMoment(TFeatures& features, const cv::Mat& depthMetres, const CPinholeCamera& camera,
+									const mrpt::poses::CPose3D& depthCamera);
 }  // namespace mrpt_yesslam

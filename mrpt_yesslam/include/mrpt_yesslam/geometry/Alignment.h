@@ -14,11 +14,11 @@ struct TAlignment
 	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
 	Eigen::Vector3d t = Eigen::Vector3d::Zero();
 	double scale = 1.0;
-	bool sim3 = false;	//!< true when the scale was estimated (monocular estimates)
+	bool sim3 = false;  //!< true when the scale was estimated (monocular estimates)
 };
 
 /** The rigid (sim3=false) or similarity alignment of `model` onto `data` (Horn/Umeyama closed form
  * with the reflection fix), exactly as evaluate_ate.py's align(). Needs at least 3 points. */
-TAlignment alignPositions(
-	const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data, bool sim3);
+TAlignment alignPositions(const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data,
+						  bool sim3);
 }  // namespace mrpt_yesslam

@@ -17,7 +17,12 @@ class CPinholeCamera
 	CPinholeCamera() = default;
 	/** Takes fx, fy, cx, cy and the distortion of `K` (image size too). */
 	explicit CPinholeCamera(const mrpt::img::TCamera& K)
-		: fx_(K.fx()), fy_(K.fy()), cx_(K.cx()), cy_(K.cy()), width_(static_cast<int>(K.ncols)), height_(static_cast<int>(K.nrows))
+		: fx_(K.fx()),
+		  fy_(K.fy()),
+		  cx_(K.cx()),
+		  cy_(K.cy()),
+		  width_(static_cast<int>(K.ncols)),
+		  height_(static_cast<int>(K.nrows))
 	{
 		for (int i = 0; i < 5; i++) dist_[i] = K.dist[i];
 	}
@@ -40,7 +45,10 @@ class CPinholeCamera
 	/** Whether an (undistorted) pixel lies inside the image. */
 	bool inImage(double u, double v) const { return u >= 0 && v >= 0 && u < width_ && v < height_; }
 	/** Camera-frame point of undistorted pixel (u, v) at depth z. */
-	cv::Point3d backProject(double u, double v, double z) const { return {(u - cx_) * z / fx_, (v - cy_) * z / fy_, z}; }
+	cv::Point3d backProject(double u, double v, double z) const
+	{
+		return {(u - cx_) * z / fx_, (v - cy_) * z / fy_, z};
+	}
 
 	/** Whether any distortion coefficient is non-zero. */
 	bool distorted() const { return dist_[0] != 0 || dist_[1] != 0 || dist_[2] != 0 || dist_[3] != 0 || dist_[4] != 0; }

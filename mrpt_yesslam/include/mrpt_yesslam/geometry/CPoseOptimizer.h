@@ -18,19 +18,19 @@ namespace mrpt_yesslam
 /** A 3D map point seen at a pixel. */
 struct TPoseObservation
 {
-	Eigen::Vector3d world;	//!< point in the world frame, metres
-	Eigen::Vector2d pixel;	//!< undistorted pixel
-	double sigma = 1.0;	 //!< pixel noise std (ORB: scale factor ^ octave)
-	double depth = 0;  //!< measured depth at the pixel, metres (0 = none: reprojection only)
-	double sigmaZ = 0;	//!< depth noise std, metres (0 = depth not used)
+	Eigen::Vector3d world;  //!< point in the world frame, metres
+	Eigen::Vector2d pixel;  //!< undistorted pixel
+	double sigma = 1.0;     //!< pixel noise std (ORB: scale factor ^ octave)
+	double depth = 0;       //!< measured depth at the pixel, metres (0 = none: reprojection only)
+	double sigmaZ = 0;      //!< depth noise std, metres (0 = depth not used)
 };
 
 /** Outcome of a pose estimate. */
 struct TPoseEstimate
 {
 	bool ok = false;
-	mrpt::poses::CPose3D cameraInWorld;	 //!< T_w_c (camera pose in the world, z forward)
-	std::vector<bool> inlier;  //!< per observation
+	mrpt::poses::CPose3D cameraInWorld;  //!< T_w_c (camera pose in the world, z forward)
+	std::vector<bool> inlier;            //!< per observation
 	std::size_t numInliers = 0;
 	double rmsPixels = 0;  //!< reprojection RMS over inliers
 	/** Per observation: in a group that CGeometricDynamicCheck found moving (empty = none). */
@@ -45,8 +45,15 @@ struct TPoseEstimate
 struct TReprojectionResidual
 {
 	TReprojectionResidual(const TPoseObservation& o, double fx, double fy, double cx, double cy)
-		: X(o.world), uv(o.pixel), invSigma(1.0 / o.sigma), depth(o.sigmaZ > 0 ? o.depth : 0.0),
-		  invSigmaZ(o.sigmaZ > 0 ? 1.0 / o.sigmaZ : 0.0), fx(fx), fy(fy), cx(cx), cy(cy)
+		: X(o.world),
+		  uv(o.pixel),
+		  invSigma(1.0 / o.sigma),
+		  depth(o.sigmaZ > 0 ? o.depth : 0.0),
+		  invSigmaZ(o.sigmaZ > 0 ? 1.0 / o.sigmaZ : 0.0),
+		  fx(fx),
+		  fy(fy),
+		  cx(cx),
+		  cy(cy)
 	{
 	}
 	template <typename T>
@@ -61,8 +68,8 @@ struct TReprojectionResidual
  * left perturbation of the pose (rotation first, then translation: X_c -> exp(w) X_c + v). Cheaper
  * than automatic differentiation where many residuals are linearised once (the geometric check's
  * group test); linear predictions r + J step do not depend on the choice of pose parameters. */
-void reprojectionResidualJacobian(
-	const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r, Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J);
+void reprojectionResidualJacobian(const TReprojectionResidual& f, const mrpt::poses::CPose3D& Tcw, Eigen::Vector3d& r,
+								  Eigen::Matrix<double, 3, 6, Eigen::RowMajor>& J);
 
 /** T_w_c (MRPT camera-in-world pose) -> world-to-camera angle-axis and translation, the
  * parameters our Ceres problems optimise. */
@@ -78,10 +85,10 @@ class CPoseOptimizer
 	struct TOptions : public TTableOptions<TOptions>
 	{
 		double chi2Threshold = 5.991;  //!< 2-DoF chi-square at 95% (ORB-SLAM2); 7.815 (3-DoF) with depth
-		int rounds = 4;	 //!< optimise, re-classify, repeat
+		int rounds = 4;                //!< optimise, re-classify, repeat
 		int iterationsPerRound = 10;
 		int ransacIterations = 200;
-		double ransacPixels = 4.0;	//!< PnP RANSAC inlier threshold
+		double ransacPixels = 4.0;    //!< PnP RANSAC inlier threshold
 		std::size_t minInliers = 10;  //!< fewer: the estimate is not trusted (ok = false)
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
@@ -95,19 +102,20 @@ class CPoseOptimizer
 	TPoseEstimate solvePnPRansac(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K) const;
 	/** Whether each observation agrees with pose `Twc`: its chi-square passes the same test that
 	 * refine() uses to tell inliers from outliers. */
-	std::vector<bool> consistent(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const;
+	std::vector<bool> consistent(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
+								 const mrpt::poses::CPose3D& Twc) const;
 
 	/** Squared whitened residual (pixel and depth) of each observation at pose `Twc`. */
-	std::vector<double> chi2(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& Twc) const;
+	std::vector<double> chi2(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
+							 const mrpt::poses::CPose3D& Twc) const;
 	/** The chi-square an observation must not exceed to be an inlier. */
 	double chi2Limit(const TPoseObservation& o) const;
 
 	/** Eq. 7: refines `initial` (T_w_c) with Huber reprojection error over rounds of outlier
 	 * re-classification. `start`, when given, says which observations the first round uses (the
 	 * others may join from the second round on, if they agree with the pose). */
-	TPoseEstimate refine(
-		const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K, const mrpt::poses::CPose3D& initial,
-		const std::vector<bool>* start = nullptr) const;
+	TPoseEstimate refine(const std::vector<TPoseObservation>& obs, const mrpt::img::TCamera& K,
+						 const mrpt::poses::CPose3D& initial, const std::vector<bool>* start = nullptr) const;
 
 	const TOptions& options() const { return opts_; }
 
@@ -125,14 +133,14 @@ class CPoseOptimizer
 	/** The prior's term at a pose (T_w_c), as refine() weighs it: the deviation (rotation, then
 	 * translation, in the left perturbation's terms of world-to-camera) and its information per
 	 * axis; false without a prior. What the geometric check needs to linearise the whole cost. */
-	bool priorTerm(const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation, Eigen::Matrix<double, 6, 1>& information) const;
+	bool priorTerm(const mrpt::poses::CPose3D& cameraInWorld, Eigen::Matrix<double, 6, 1>& deviation,
+				   Eigen::Matrix<double, 6, 1>& information) const;
 
    private:
 	/** One round of refine(): Levenberg-Marquardt on world-to-camera `R`, `t` over the
 	 * observations `use` marks, Huber-weighted with each one's chi-square `limit`. */
-	void solveRound(
-		const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit, const std::vector<bool>& use, Eigen::Matrix3d& R,
-		Eigen::Vector3d& t) const;
+	void solveRound(const std::vector<TReprojectionResidual>& f, const std::vector<double>& limit,
+					const std::vector<bool>& use, Eigen::Matrix3d& R, Eigen::Vector3d& t) const;
 
 	TOptions opts_;
 	std::optional<TPosePrior> prior_;

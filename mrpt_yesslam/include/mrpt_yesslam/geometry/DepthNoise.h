@@ -50,7 +50,10 @@ struct TDepthNoise : public TTableOptions<TDepthNoise>
 	 * ^ octave): on a slanted surface or near an edge the depth changes within that, so a coarse
 	 * keypoint's depth is as uncertain as its position (ORB-SLAM2 weighs the depth's virtual
 	 * right-image coordinate by the pixel's sigma). Tracking and the gates pass 1: see CTracker. */
-	double sigma(double z, double pixelSigma = 1.0) const { return depthNoise * std::pow(z, depthNoiseExponent) * pixelSigma; }
+	double sigma(double z, double pixelSigma = 1.0) const
+	{
+		return depthNoise * std::pow(z, depthNoiseExponent) * pixelSigma;
+	}
 
 	/** Every option once: key, member, range, help (load, dump and keys come from it). */
 	COptionTable table();

@@ -12,10 +12,13 @@ namespace mrpt_yesslam
 {
 /** Index pairs (into `first`, into `second`) matched as associate.py matches them, sorted by
  * first[i]. Inputs need not be sorted; duplicate stamps are allowed (each index is used once). */
-std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
-	const std::vector<double>& first, const std::vector<double>& second, double offset = 0.0, double maxDiff = 0.02);
+std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(const std::vector<double>& first,
+																	 const std::vector<double>& second,
+																	 double offset = 0.0, double maxDiff = 0.02);
 
 /** The reference O(N*M) greedy association, literally as associate.py; for tests and checks. */
-std::vector<std::pair<std::size_t, std::size_t>> associateTimestampsQuadratic(
-	const std::vector<double>& first, const std::vector<double>& second, double offset = 0.0, double maxDiff = 0.02);
+std::vector<std::pair<std::size_t, std::size_t>> associateTimestampsQuadratic(const std::vector<double>& first,
+																			  const std::vector<double>& second,
+																			  double offset = 0.0,
+																			  double maxDiff = 0.02);
 }  // namespace mrpt_yesslam

@@ -21,12 +21,13 @@ namespace mrpt_yesslam
 /** Counters of a live input, for stats.json and the status line. */
 struct TLiveStats
 {
-	std::size_t captured = 0;  //!< frames the source delivered to the capture thread
-	std::size_t delivered = 0;	//!< of those, frames SLAM took
-	std::size_t dropped = 0;  //!< of those, frames replaced by a newer one before SLAM took them
-	std::size_t waiting = 0;  //!< of those, frames still waiting (a run stopped early): captured = delivered + dropped + waiting
+	std::size_t captured = 0;   //!< frames the source delivered to the capture thread
+	std::size_t delivered = 0;  //!< of those, frames SLAM took
+	std::size_t dropped = 0;    //!< of those, frames replaced by a newer one before SLAM took them
+	std::size_t waiting =
+		0;  //!< of those, frames still waiting (a run stopped early): captured = delivered + dropped + waiting
 	std::size_t unpaired = 0;  //!< frames of one stream the source found no partner for (never captured as frames)
-	double captureFps = 0;	//!< captured frames per second since the first one
+	double captureFps = 0;     //!< captured frames per second since the first one
 };
 
 /** Reads a source on a capture thread and keeps at most `slots` frames for the consumer. */
@@ -38,9 +39,8 @@ class CLiveSource : public CInputSource
 	 * it is processed: nothing lost, deterministic). `onCaptured` (optional) sees every captured
 	 * frame on the capture thread, dropped ones included (recording: it must not take long, or
 	 * capturing slows down; the frame is shared with SLAM and must not be modified). */
-	CLiveSource(
-		std::unique_ptr<CInputSource> source, std::size_t slots, bool dropWhenBehind,
-		std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured = {});
+	CLiveSource(std::unique_ptr<CInputSource> source, std::size_t slots, bool dropWhenBehind,
+				std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> onCaptured = {});
 	/** Stops the capture thread (after the frame it is reading). */
 	~CLiveSource() override;
 	CLiveSource(const CLiveSource&) = delete;
@@ -76,7 +76,7 @@ class CLiveSource : public CInputSource
 	std::exception_ptr error_;
 	std::atomic<bool> stop_{false};
 	std::size_t captured_ = 0, dropped_ = 0, taken_ = 0;
-	std::atomic<std::size_t> unpaired_{0};	//!< the source's skipped(), read on the capture thread
+	std::atomic<std::size_t> unpaired_{0};         //!< the source's skipped(), read on the capture thread
 	double firstCapture_ = -1, lastCapture_ = -1;  //!< steady clock seconds
 	std::future<void> done_;
 	CWorkerPool capture_{1};  //!< last: stopped before what the loop uses is destroyed

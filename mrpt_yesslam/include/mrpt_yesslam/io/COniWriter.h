@@ -26,7 +26,7 @@ namespace mrpt_yesslam
 struct TOniStreams
 {
 	bool depth = true, colour = true;
-	double colourDelay = 0;	 //!< s: the colour frame's time after the depth frame's (the observation's time)
+	double colourDelay = 0;  //!< s: the colour frame's time after the depth frame's (the observation's time)
 };
 
 /** Appends frames to a new .oni file, written atomically (temp file renamed by finish()). */
@@ -48,10 +48,10 @@ class COniWriter
 	 * Returns its size in bytes. Throws InputError when no frame was written. */
 	std::uintmax_t finish();
 
-	std::size_t frames() const { return frames_; }	//!< frames written so far
-	std::size_t clippedPixels() const { return clipped_; }	//!< depth pixels beyond the range, stored as 0
-	bool depthIn100um() const { return unit100um_; }  //!< the depth unit chosen from the first frame
-	unsigned framesPerSecond() const { return fps_; }  //!< the frame rate finish() wrote
+	std::size_t frames() const { return frames_; }          //!< frames written so far
+	std::size_t clippedPixels() const { return clipped_; }  //!< depth pixels beyond the range, stored as 0
+	bool depthIn100um() const { return unit100um_; }        //!< the depth unit chosen from the first frame
+	unsigned framesPerSecond() const { return fps_; }       //!< the frame rate finish() wrote
 
    private:
 	/** One stream (node) of the recording. */
@@ -61,11 +61,13 @@ class COniWriter
 		bool depth = false;
 		std::uint64_t addedPos = 0, lastDataPos = 0, lastPropPos = 0;
 		std::vector<std::uint64_t> stamps, positions;
-		std::vector<std::uint64_t> fpsPositions;	//!< where the video modes' frame rates lie (set by finish())
+		std::vector<std::uint64_t> fpsPositions;  //!< where the video modes' frame rates lie (set by finish())
 	};
 	void start(const mrpt::obs::CObservation3DRangeScan& first);
-	void writeRecord(std::uint32_t type, std::uint32_t node, std::uint64_t undo, const std::string& fields, const void* payload, std::size_t payloadSize);
-	void nodeAdded(const TNode& n, std::uint32_t frames, std::uint64_t minStamp, std::uint64_t maxStamp, std::uint64_t seekTable);
+	void writeRecord(std::uint32_t type, std::uint32_t node, std::uint64_t undo, const std::string& fields,
+					 const void* payload, std::size_t payloadSize);
+	void nodeAdded(const TNode& n, std::uint32_t frames, std::uint64_t minStamp, std::uint64_t maxStamp,
+				   std::uint64_t seekTable);
 	void property(TNode& n, const std::string& name, const void* data, std::size_t size, bool integer);
 	void newData(TNode& n, std::uint64_t stamp, const void* data, std::size_t size);
 
@@ -74,7 +76,7 @@ class COniWriter
 	bool started_ = false, finished_ = false, unit100um_ = true;
 	int width_ = 0, height_ = 0;
 	double depthFactor_ = 1;  //!< OpenNI2 units per raw unit of the source
-	float firstUnits_ = 0;	//!< the first frame's depth unit (m per raw unit): every frame's
+	float firstUnits_ = 0;    //!< the first frame's depth unit (m per raw unit): every frame's
 	unsigned fps_ = 0;
 	std::size_t frames_ = 0, clipped_ = 0;
 	TNode depth_, color_;
@@ -103,7 +105,8 @@ struct TOniConversion
  * ground truth is copied to "<name>_groundtruth.txt" beside it, which yesslam finds for
  * "openni2:<name>.oni", and its detections.txt to detections.txt there (never over a different one).
  * `progress(done, total)` after each frame; `cancel()` ends early and keeps what was written. */
-TOniConversion convertToOni(
-	const std::string& input, const std::string& output, const CInputSource::TOptions& inputOptions, std::size_t maxFrames = 0,
-	const std::function<void(std::size_t, std::size_t)>& progress = {}, const std::function<bool()>& cancel = {});
+TOniConversion convertToOni(const std::string& input, const std::string& output,
+							const CInputSource::TOptions& inputOptions, std::size_t maxFrames = 0,
+							const std::function<void(std::size_t, std::size_t)>& progress = {},
+							const std::function<bool()>& cancel = {});
 }  // namespace mrpt_yesslam

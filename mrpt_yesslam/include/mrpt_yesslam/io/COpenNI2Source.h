@@ -58,7 +58,7 @@ class COpenNI2Source : public CInputSource
 	/** Camera settings ([Input] openni2* keys and yesslam's --width/--height/--fps). */
 	struct TOptions
 	{
-		std::string uri;  //!< device URI or .oni path; empty = the first device
+		std::string uri;                          //!< device URI or .oni path; empty = the first device
 		int width = 640, height = 480, fps = 30;  //!< devices only (a file plays what it holds)
 		/** Files: 1 = as recorded (a camera's timing), -1 = one frame per request (nothing is
 		 * lost, for deterministic replays). Devices ignore it. */
@@ -99,7 +99,7 @@ class COpenNI2Source : public CInputSource
 	std::string path_, description_;
 	TRgbdCamera camera_;
 	std::atomic<bool> disconnected_{false};  //!< written by the reading thread, read by any
-	std::atomic<std::size_t> unpaired_{0};	//!< skipped(): written by the reading thread
+	std::atomic<std::size_t> unpaired_{0};   //!< skipped(): written by the reading thread
 	CDeviceClock clock_;
 	bool ended_ = false;
 	int timeoutMs_ = 5000;

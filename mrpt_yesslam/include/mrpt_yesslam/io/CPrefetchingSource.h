@@ -39,9 +39,9 @@ class CPrefetchingSource : public CInputSource
 	const std::size_t sizeHint_;
 	const std::string path_;
 	std::atomic<std::size_t> skipped_{0};
-	bool sourceEnded_ = false;	//!< reader thread only
-	bool delivered_ = false;  //!< consumer: the end (or the error) has been handed out
+	bool sourceEnded_ = false;  //!< reader thread only
+	bool delivered_ = false;    //!< consumer: the end (or the error) has been handed out
 	std::deque<std::future<mrpt::obs::CObservation3DRangeScan::Ptr>> ahead_;
-	CWorkerPool reader_{1};	 //!< last: stopped before the source it reads is destroyed
+	CWorkerPool reader_{1};  //!< last: stopped before the source it reads is destroyed
 };
 }  // namespace mrpt_yesslam

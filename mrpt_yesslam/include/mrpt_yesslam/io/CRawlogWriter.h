@@ -29,9 +29,9 @@ class CRawlogWriter
 
    private:
 	std::string path_, tmp_;
-	std::string target_;  //!< path_ with links followed
+	std::string target_;   //!< path_ with links followed
 	bool direct_ = false;  //!< a device or pipe: written in place
-	int fd_ = -1;  //!< a descriptor of ours (/dev/stdout): written to tmp_, appended to it on commit
+	int fd_ = -1;          //!< a descriptor of ours (/dev/stdout): written to tmp_, appended to it on commit
 	std::unique_ptr<mrpt::io::CFileGZOutputStream> out_;
 	std::size_t count_ = 0;
 	bool committed_ = false;

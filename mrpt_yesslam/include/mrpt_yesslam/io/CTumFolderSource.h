@@ -12,7 +12,7 @@ namespace mrpt_yesslam
 /** One line of a TUM image list (rgb.txt, depth.txt). */
 struct TTumListEntry
 {
-	double t = 0;  //!< seconds
+	double t = 0;      //!< seconds
 	std::string file;  //!< relative to the folder, as written in the list
 };
 
@@ -27,7 +27,7 @@ std::vector<TTumListEntry> parseTumFileList(const std::string& text, const std::
 struct TTumFrame
 {
 	double tRgb = 0, tDepth = 0;
-	std::string rgbPath, depthPath;	 //!< full paths
+	std::string rgbPath, depthPath;  //!< full paths
 };
 
 /** Streams frames of a TUM RGB-D folder. */

@@ -16,8 +16,8 @@ namespace mrpt_yesslam
 struct TPngDecodeResult
 {
 	bool handled = false;  //!< a PNG of a kind decoded here (image or error is set)
-	cv::Mat image;	//!< as cv::imdecode gives it with the same flags
-	std::string error;	//!< why a PNG of a handled kind could not be decoded
+	cv::Mat image;         //!< as cv::imdecode gives it with the same flags
+	std::string error;     //!< why a PNG of a handled kind could not be decoded
 };
 
 /** Decodes a whole PNG file held in memory when it is non-interlaced 8-bit RGB (cv::IMREAD_COLOR

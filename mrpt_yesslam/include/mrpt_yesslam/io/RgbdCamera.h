@@ -10,9 +10,9 @@ namespace mrpt_yesslam
 /** Intrinsics of a registered RGB-D camera (depth pixels aligned with colour pixels). */
 struct TRgbdCamera
 {
-	mrpt::img::TCamera intrinsics;	//!< fx fy cx cy, size, distortion k1 k2 p1 p2 k3
-	double depthScale = 5000.0;	 //!< raw depth value per metre (TUM: 5000, OpenNI: 1000)
-	std::string name;  //!< "fr1", "fr2", "fr3" or the camera file it was read from
+	mrpt::img::TCamera intrinsics;  //!< fx fy cx cy, size, distortion k1 k2 p1 p2 k3
+	double depthScale = 5000.0;     //!< raw depth value per metre (TUM: 5000, OpenNI: 1000)
+	std::string name;               //!< "fr1", "fr2", "fr3" or the camera file it was read from
 	/** False for a camera file of four numbers: the size is the images' own (the first image's),
 	 * not an assumed 640x480 that an error would then name as if the file had said it. */
 	bool sizeGiven = true;

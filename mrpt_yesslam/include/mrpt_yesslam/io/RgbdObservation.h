@@ -13,9 +13,9 @@ namespace mrpt_yesslam
 /** Builds a frame from a BGR 8-bit image and a 16-bit depth image whose raw values are copied
  * unchanged (metres = raw / camera.depthScale, stored as rangeUnits). Depth is registered to
  * colour, so both camera models are the colour intrinsics. */
-mrpt::obs::CObservation3DRangeScan::Ptr makeRgbdObservation(
-	double timestamp, const cv::Mat& bgr, const cv::Mat& depth16, const TRgbdCamera& camera,
-	const std::string& sensorLabel = "RGBD");
+mrpt::obs::CObservation3DRangeScan::Ptr makeRgbdObservation(double timestamp, const cv::Mat& bgr,
+															const cv::Mat& depth16, const TRgbdCamera& camera,
+															const std::string& sensorLabel = "RGBD");
 
 /** Checks that a frame can be used: a colour image, a non-empty depth image of the same size,
  * finite positive rangeUnits and sane intrinsics. Throws InputError("where: problem"). */

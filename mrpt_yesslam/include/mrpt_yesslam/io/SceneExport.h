@@ -16,11 +16,11 @@ namespace mrpt_yesslam
 /** What to put into the scene. */
 struct TSceneExportOptions
 {
-	int pixelStride = 4;  //!< use every n-th pixel in x and y
-	double maxDepth = 4.0;	//!< metres; farther depth is noisy on Kinect-type sensors
-	double maxTimeDiff = 0.02;	//!< a frame needs a pose within this many seconds
-	std::size_t maxFrames = 0;	//!< 0 = all
-	std::size_t frameStep = 1;	//!< use every n-th frame
+	int pixelStride = 4;        //!< use every n-th pixel in x and y
+	double maxDepth = 4.0;      //!< metres; farther depth is noisy on Kinect-type sensors
+	double maxTimeDiff = 0.02;  //!< a frame needs a pose within this many seconds
+	std::size_t maxFrames = 0;  //!< 0 = all
+	std::size_t frameStep = 1;  //!< use every n-th frame
 	float pointSize = 2.0f;
 };
 
@@ -32,9 +32,9 @@ struct TSceneExportSummary
 
 /** Back-projects every used frame with its pose (camera-to-world, optical frame: z forward, as in
  * TUM) and builds the scene. Throws InputError when no frame has a pose. */
-mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(
-	CInputSource& src, const TTrajectory& poses, const TSceneExportOptions& opts, TSceneExportSummary& summary,
-	const std::function<void(std::size_t)>& progress = {});
+mrpt::opengl::COpenGLScene::Ptr buildPosedCloudScene(CInputSource& src, const TTrajectory& poses,
+													 const TSceneExportOptions& opts, TSceneExportSummary& summary,
+													 const std::function<void(std::size_t)>& progress = {});
 
 /** Saves a scene atomically (temp file + rename); throws InputError naming the file. */
 void saveSceneAtomically(const mrpt::opengl::COpenGLScene& scene, const std::string& path);

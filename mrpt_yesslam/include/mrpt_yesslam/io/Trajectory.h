@@ -11,9 +11,9 @@ namespace mrpt_yesslam
 /** One timestamped pose as stored in a TUM trajectory file (quaternion as written, not normalised). */
 struct TStampedPose
 {
-	double t = 0;  //!< seconds
-	double tx = 0, ty = 0, tz = 0;	//!< position of the camera in the world, metres
-	double qx = 0, qy = 0, qz = 0, qw = 1;	//!< orientation (Hamilton, x y z w as in the file)
+	double t = 0;                           //!< seconds
+	double tx = 0, ty = 0, tz = 0;          //!< position of the camera in the world, metres
+	double qx = 0, qy = 0, qz = 0, qw = 1;  //!< orientation (Hamilton, x y z w as in the file)
 
 	/** The pose as an MRPT CPose3D (quaternion normalised). */
 	mrpt::poses::CPose3D asPose() const;

@@ -26,8 +26,9 @@ struct TWorldFrame
 		ZUp
 	};
 	EKind kind = EKind::Optical;
-	mrpt::poses::CPose3D worldFromMap;	//!< T_world_map: a point p of the map is worldFromMap.composePoint(p) in exports
-	bool floorSeen = false;	 //!< zup: levelled by a floor plane (else by the first camera's axes)
+	mrpt::poses::CPose3D
+		worldFromMap;         //!< T_world_map: a point p of the map is worldFromMap.composePoint(p) in exports
+	bool floorSeen = false;   //!< zup: levelled by a floor plane (else by the first camera's axes)
 	double cameraHeight = 0;  //!< floorSeen: the first camera's height above the floor, m
 
 	/** The header lines exports carry: the convention in words and "T_world_map: tx ty tz qx qy qz qw". */
@@ -42,7 +43,8 @@ const char* worldFrameName(TWorldFrame::EKind kind);
  * points, 0.2-4 m below the camera: the horizontal plane with the most points (RANSAC; a table top
  * serves too, being parallel) gives the up direction, and along it the lowest well-filled layer is
  * the floor, its normal refined on its own points. Without one, the camera's axes level the frame. */
-TWorldFrame estimateZUpWorldFrame(const std::vector<mrpt::math::TPoint3D>& points, const mrpt::poses::CPose3D& firstCamera);
+TWorldFrame estimateZUpWorldFrame(const std::vector<mrpt::math::TPoint3D>& points,
+								  const mrpt::poses::CPose3D& firstCamera);
 
 /** Every pose of `traj` (T_map_c) as T_world_c. */
 TTrajectory toWorldFrame(const TTrajectory& traj, const mrpt::poses::CPose3D& worldFromMap);

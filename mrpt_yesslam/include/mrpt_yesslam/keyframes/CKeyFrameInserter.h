@@ -33,15 +33,16 @@ class CKeyFrameInserter
 		CSemanticKeyFrameSelector::TOptions semantic;
 		std::string policy = "semantic";  //!< semantic | orbslam
 		double forceTrackedRatio = 0.25;  //!< semantic: insert at once below this share of the reference's points
-		double semanticRefRatio = 0.9;	//!< semantic: Algorithm 1's choice is inserted only below this share (1 = always)
+		double semanticRefRatio =
+			0.9;  //!< semantic: Algorithm 1's choice is inserted only below this share (1 = always)
 		/** semantic: what the motion amplitude D (eq. 12-17) is measured against: "tracker" (the
 		 * keyframe sharing most points with the frame, ORB-SLAM2's reference) or "previous"
 		 * (Algorithm 1's own F_ref: the keyframe its last interval chose). */
 		std::string motionReference = "tracker";
-		int orbMaxFrames = 30;	//!< orbslam: a keyframe at least this often (ORB-SLAM2: the frame rate)
-		int orbMinFrames = 0;  //!< orbslam: no keyframe sooner than this
-		double orbRefRatio = 0.75;	//!< orbslam: c2 threshold on inliers / reference points
-		double closeDepth = 3.2;  //!< orbslam: "close" points (ORB-SLAM2's ThDepth, 40 baselines), m
+		int orbMaxFrames = 30;      //!< orbslam: a keyframe at least this often (ORB-SLAM2: the frame rate)
+		int orbMinFrames = 0;       //!< orbslam: no keyframe sooner than this
+		double orbRefRatio = 0.75;  //!< orbslam: c2 threshold on inliers / reference points
+		double closeDepth = 3.2;    //!< orbslam: "close" points (ORB-SLAM2's ThDepth, 40 baselines), m
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -51,7 +52,7 @@ class CKeyFrameInserter
 	struct TReference
 	{
 		std::size_t frameId = 0;
-		std::size_t points = 0;	 //!< map points it sees
+		std::size_t points = 0;  //!< map points it sees
 	};
 
 	/** A decision: the frame to turn into a keyframe. */

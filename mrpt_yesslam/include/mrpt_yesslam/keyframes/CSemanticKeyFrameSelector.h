@@ -29,8 +29,8 @@
 namespace mrpt_yesslam
 {
 /** Eq. 9's semantic vectors: for each of cols x rows image regions, the classes present in it. */
-std::vector<std::set<int>> semanticRegionVectors(
-	const std::vector<TDetection>& dets, cv::Size image, int cols, int rows);
+std::vector<std::set<int>> semanticRegionVectors(const std::vector<TDetection>& dets, cv::Size image, int cols,
+												 int rows);
 
 /** Eq. 9/11: mean over regions of |A_i ∩ B_i| / |A_i ∪ B_i| (1 for two empty regions). */
 double jaccardSimilarity(const std::vector<std::set<int>>& a, const std::vector<std::set<int>>& b);
@@ -39,15 +39,18 @@ double jaccardSimilarity(const std::vector<std::set<int>>& a, const std::vector<
 double areaSimilarity(const std::vector<TDetection>& cur, const std::vector<TDetection>& ref, bool asWritten = false);
 
 /** Eq. 10: S_G = gamma J + (1 - gamma) eta. */
-inline double globalSimilarity(double J, double eta, double gamma) { return gamma * J + (1.0 - gamma) * eta; }
+inline double globalSimilarity(double J, double eta, double gamma)
+{
+	return gamma * J + (1.0 - gamma) * eta;
+}
 
 /** Eq. 16: D = |t| + min(2 pi - |R|, |R|), |R| the rotation angle (metres + radians). */
 double motionAmplitude(const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
 
 /** Eq. 12-15: R, t with cur ~ R ref + t from matched 3D points (SVD on centred sets, reflection
  * fixed). Needs at least 3 points; returns false when degenerate. */
-bool rigidMotionFromPoints(
-	const std::vector<Eigen::Vector3d>& cur, const std::vector<Eigen::Vector3d>& ref, Eigen::Matrix3d& R, Eigen::Vector3d& t);
+bool rigidMotionFromPoints(const std::vector<Eigen::Vector3d>& cur, const std::vector<Eigen::Vector3d>& ref,
+						   Eigen::Matrix3d& R, Eigen::Vector3d& t);
 
 /** What the selector needs to know about one tracked frame. */
 struct TKeyFrameInput
@@ -56,9 +59,9 @@ struct TKeyFrameInput
 	std::vector<TDetection> detections;
 	cv::Size imageSize;
 	std::size_t numFeatures = 0;  //!< N_p
-	std::size_t numStatic = 0;	//!< N_sp
-	std::size_t numInliers = 0;	 //!< N_in: tracking inliers
-	double motion = 0;	//!< D (eq. 16) relative to the reference keyframe
+	std::size_t numStatic = 0;    //!< N_sp
+	std::size_t numInliers = 0;   //!< N_in: tracking inliers
+	double motion = 0;            //!< D (eq. 16) relative to the reference keyframe
 };
 
 /** Algorithm 1 as a state machine fed one frame at a time. */
@@ -68,16 +71,16 @@ class CSemanticKeyFrameSelector
 	/** Section [KeyFrames]. */
 	struct TOptions : public TTableOptions<TOptions>
 	{
-		int gridCols = 2, gridRows = 2;	 //!< n = cols x rows regions (the paper's example: 4)
-		double gamma = 0.5;	 //!< eq. 10 weight of J
-		int interval = 5;  //!< N_I
-		int shortInterval = 3;	//!< N_I after `excessiveFrames` consecutive frames with D >= maxMotion
+		int gridCols = 2, gridRows = 2;  //!< n = cols x rows regions (the paper's example: 4)
+		double gamma = 0.5;              //!< eq. 10 weight of J
+		int interval = 5;                //!< N_I
+		int shortInterval = 3;           //!< N_I after `excessiveFrames` consecutive frames with D >= maxMotion
 		int excessiveFrames = 3;
-		double minMotion = 0.01;  //!< D_min (m + rad)
-		double maxMotion = 0.30;  //!< D_max (m + rad)
+		double minMotion = 0.01;      //!< D_min (m + rad)
+		double maxMotion = 0.30;      //!< D_max (m + rad)
 		double minStaticRatio = 0.5;  //!< skip frames with N_sp <= this * N_p
 		std::size_t minInliers = 20;  //!< a candidate needs N_in > this
-		bool etaAsWritten = false;	//!< eq. 8 literally (max 0.5) instead of the Dice form
+		bool etaAsWritten = false;    //!< eq. 8 literally (max 0.5) instead of the Dice form
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -87,7 +90,7 @@ class CSemanticKeyFrameSelector
 	struct TDecision
 	{
 		std::size_t frameId = 0;
-		double similarity = 1;	//!< its S_G to the previous reference
+		double similarity = 1;  //!< its S_G to the previous reference
 	};
 
 	CSemanticKeyFrameSelector() : CSemanticKeyFrameSelector(TOptions()) {}

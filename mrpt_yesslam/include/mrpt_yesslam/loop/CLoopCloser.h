@@ -27,9 +27,9 @@ namespace mrpt_yesslam
 /** What one correction did. */
 struct TLoopCorrection
 {
-	std::size_t groupKeyFrames = 0;	 //!< keyframes moved with the current one
-	std::size_t fused = 0;	//!< observations added and duplicates fused
-	std::size_t loopLinks = 0;	//!< new covisibility links between the two sides of the loop
+	std::size_t groupKeyFrames = 0;  //!< keyframes moved with the current one
+	std::size_t fused = 0;           //!< observations added and duplicates fused
+	std::size_t loopLinks = 0;       //!< new covisibility links between the two sides of the loop
 	std::size_t graphKeyFrames = 0, graphEdges = 0;
 	double correctionMetres = 0;  //!< how far the current keyframe moved
 	double poseGraphMs = 0;
@@ -43,11 +43,11 @@ class CLoopCloser
 	struct TOptions : public TTableOptions<TOptions>
 	{
 		CLoopDetector::TOptions detection;
-		int essentialWeight = 100;	//!< covisibility edges of the essential graph (ORB-SLAM2: 100)
-		int poseGraphIterations = 20;  //!< ORB-SLAM2: 20
-		bool globalBundleAdjustment = true;	 //!< global BA after each correction
-		int globalIterations = 10;	//!< ORB-SLAM2: 10
-		double fuseRadius = 4;	//!< loop fusion search radius, pixels at level 0 (ORB-SLAM2's SearchAndFuse: 4)
+		int essentialWeight = 100;           //!< covisibility edges of the essential graph (ORB-SLAM2: 100)
+		int poseGraphIterations = 20;        //!< ORB-SLAM2: 20
+		bool globalBundleAdjustment = true;  //!< global BA after each correction
+		int globalIterations = 10;           //!< ORB-SLAM2: 10
+		double fuseRadius = 4;  //!< loop fusion search radius, pixels at level 0 (ORB-SLAM2's SearchAndFuse: 4)
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -55,7 +55,8 @@ class CLoopCloser
 
 	/** `scaleFactor`: the ORB pyramid's; `depthNoise`: the sensor's ([Camera]: global BA's depth
 	 * term, loop fusion's gate). */
-	CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, const TDepthNoise& depthNoise = TDepthNoise());
+	CLoopCloser(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2,
+				const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Corrects the map for a verified loop (steps 1-3 above). Where the current keyframe goes is
 	 * the matched keyframe's pose now times the verified relative pose (TLoop::relative), not the
@@ -72,7 +73,7 @@ class CLoopCloser
 	void setGlobalBundleHook(std::function<void()> hook) { gbaHook_ = std::move(hook); }
 
    private:
-	std::function<void()> gbaHook_;	 //!< setGlobalBundleHook
+	std::function<void()> gbaHook_;  //!< setGlobalBundleHook
 	TOptions opts_;
 	CSparseMap& map_;
 	double scaleFactor_;

@@ -33,14 +33,14 @@ struct TLoopRecord
 	double currentStamp = 0, matchedStamp = 0;
 	double score = 0;  //!< S_Loop of the pair (eq. 23)
 	std::size_t ransacInliers = 0;
-	TLoopCorrection correction;	 //!< what the correction moved, fused and optimised
-	double correctMs = 0;  //!< the whole correction, pose graph included
+	TLoopCorrection correction;  //!< what the correction moved, fused and optimised
+	double correctMs = 0;        //!< the whole correction, pose graph included
 };
 
 /** What the loop-closing stage did so far. */
 struct TLoopStageStats
 {
-	TLoopDetectionStats loops;	//!< loop detection counts
+	TLoopDetectionStats loops;        //!< loop detection counts
 	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
 	std::size_t globalBundleRuns = 0, globalBundleApplied = 0, globalBundleCancelled = 0;
 	std::vector<TLoopRecord> loopRecords;  //!< every corrected loop, in order
@@ -54,9 +54,8 @@ class CLoopClosing
    public:
 	/** `mapUpdate`: the system's map-update lock (outlives the stage); `parallel`: detection and
 	 * global BA on stage threads of their own. */
-	CLoopClosing(
-		std::unique_ptr<CLoopDetector> detector, std::unique_ptr<CLoopCloser> closer, bool globalBundle, CSparseMap& map,
-		CWriterFirstMutex& mapUpdate, bool parallel);
+	CLoopClosing(std::unique_ptr<CLoopDetector> detector, std::unique_ptr<CLoopCloser> closer, bool globalBundle,
+				 CSparseMap& map, CWriterFirstMutex& mapUpdate, bool parallel);
 	/** Waits for the queued work (failures are dropped: reported already, or never asked for). */
 	~CLoopClosing();
 	CLoopClosing(const CLoopClosing&) = delete;
@@ -104,23 +103,23 @@ class CLoopClosing
 	bool runGlobalBundle();
 
 	std::unique_ptr<CLoopDetector> detector_;  //!< used on the loop-closing stage only
-	std::unique_ptr<CLoopCloser> closer_;  //!< corrections on the loop-closing stage, global BA on its own
+	std::unique_ptr<CLoopCloser> closer_;      //!< corrections on the loop-closing stage, global BA on its own
 	const bool globalBundle_;
 	CSparseMap& map_;
 	CWriterFirstMutex& mapUpdate_;
 	CCallbackSlot<const TLoop&> callback_;
-	std::function<void(const TLoop&)> hook_;  //!< setHook
-	std::function<void(TKeyFrameId)> taskHook_;	 //!< setTaskHook
+	std::function<void(const TLoop&)> hook_;     //!< setHook
+	std::function<void(TKeyFrameId)> taskHook_;  //!< setTaskHook
 	mutable std::mutex statsMtx_;
-	TLoopStageStats stats_;	 //!< guarded by statsMtx_
-	std::vector<TLoop> loops_;	//!< guarded by statsMtx_
+	TLoopStageStats stats_;                   //!< guarded by statsMtx_
+	std::vector<TLoop> loops_;                //!< guarded by statsMtx_
 	std::vector<TLoopCandidate> candidates_;  //!< guarded by statsMtx_
 
 	// Global BA: requested after corrections, collected by waitForGlobalBundle (parallel mode).
 	std::mutex gbaMtx_;
-	bool gbaPending_ = false, gbaRunning_ = false;	//!< guarded by gbaMtx_
-	std::deque<std::future<void>> gbaTasks_;  //!< guarded by gbaMtx_
-	std::unique_ptr<CWorkerPool> gbaStage_;	 //!< outlives the loop stage, which feeds it
+	bool gbaPending_ = false, gbaRunning_ = false;  //!< guarded by gbaMtx_
+	std::deque<std::future<void>> gbaTasks_;        //!< guarded by gbaMtx_
+	std::unique_ptr<CWorkerPool> gbaStage_;         //!< outlives the loop stage, which feeds it
 	// Detection and correction (parallel mode): fed by the mapping stage, collected by collect().
 	std::mutex loopTasksMtx_;
 	std::deque<std::future<void>> loopTasks_;  //!< guarded by loopTasksMtx_

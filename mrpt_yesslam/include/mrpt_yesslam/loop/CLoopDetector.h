@@ -56,8 +56,8 @@ struct TLoopCandidate
 {
 	TKeyFrameId query = 0, candidate = 0;
 	double queryStamp = 0, candidateStamp = 0;  //!< seconds, as in the trajectories
-	double bowScore = 0;  //!< the vocabulary's score of the pair
-	double loopScore = 0;  //!< S_Loop (eq. 19); 0 where it was not needed (covisible, young)
+	double bowScore = 0;                        //!< the vocabulary's score of the pair
+	double loopScore = 0;                       //!< S_Loop (eq. 19); 0 where it was not needed (covisible, young)
 	double minScore = 0;  //!< the bar S_Loop had to clear: the lowest of the query's covisible keyframes
 	/** covisible (excluded: the map links them), young (minLoopAge), below_min_score (eq. 19 with
 	 * the semantic blend), not_group_best (its covisibility group chose another, or scored under
@@ -72,9 +72,9 @@ struct TLoopCandidate
 /** Counts of loop detection (stats.json). */
 struct TLoopDetectionStats
 {
-	std::size_t queries = 0;  //!< keyframes looked up
-	std::size_t consistent = 0;	 //!< candidates that passed the consistency test (detected)
-	std::size_t accepted = 0;  //!< passed geometric verification
+	std::size_t queries = 0;           //!< keyframes looked up
+	std::size_t consistent = 0;        //!< candidates that passed the consistency test (detected)
+	std::size_t accepted = 0;          //!< passed geometric verification
 	std::size_t rejectedGeometry = 0;  //!< detected, refused by the geometry
 };
 
@@ -85,12 +85,12 @@ class CLoopDetector
 	/** Section [LoopClosing]. */
 	struct TOptions : public TTableOptions<TOptions>
 	{
-		bool enabled = true;  //!< detect and close loops (the command line's --no-loop-closure sets false)
-		std::string vocabulary;	 //!< vocabulary file; empty = the shipped one
-		int directLevel = 2;  //!< depth of the direct index's nodes (ORB-SLAM2: 2 of 6 levels)
-		int covisibleWeight = 15;  //!< N_cov: keyframes sharing more points are covisible, never candidates
-		double alphaRich = 0.45;  //!< eq. 20: alpha with at least `richObjects` semantic objects ...
-		double alphaPoor = 0.65;  //!< ... and with fewer
+		bool enabled = true;          //!< detect and close loops (the command line's --no-loop-closure sets false)
+		std::string vocabulary;       //!< vocabulary file; empty = the shipped one
+		int directLevel = 2;          //!< depth of the direct index's nodes (ORB-SLAM2: 2 of 6 levels)
+		int covisibleWeight = 15;     //!< N_cov: keyframes sharing more points are covisible, never candidates
+		double alphaRich = 0.45;      //!< eq. 20: alpha with at least `richObjects` semantic objects ...
+		double alphaPoor = 0.65;      //!< ... and with fewer
 		std::size_t richObjects = 5;  //!< N_sw threshold of eq. 20
 		/** Eq. 19 adds a BoW score (0.01-0.1 between different views) to S_G (0-1): the semantic term
 		 * then decides alone. With this, s_BoW is first divided by the query's best score with its
@@ -102,21 +102,22 @@ class CLoopDetector
 		 * seconds ago that no longer share points look alike by chance or are the place tracking
 		 * just left, not a loop (stella_vslam excludes them by distance in the graph). */
 		double minLoopAge = 5;
-		std::size_t minKeyFrames = 10;	//!< no detection before the map has this many keyframes (ORB-SLAM2)
+		std::size_t minKeyFrames = 10;  //!< no detection before the map has this many keyframes (ORB-SLAM2)
 		/** How a pair's keypoints are first matched: "all" (every static keypoint with depth
 		 * against every other) or "bow" (within the direct index's nodes, ORB-SLAM2's SearchByBoW). */
 		std::string matching = "all";
-		int maxHamming = 50;  //!< direct-index matching (ORB-SLAM2's TH_LOW)
-		double ratio = 0.75;  //!< nearest / second nearest (ORB-SLAM2's loop matching)
-		std::size_t minMatches = 20;  //!< direct-index matches needed to try RANSAC (ORB-SLAM2: 20)
-		std::size_t minInliers = 20;  //!< RANSAC inliers needed (ORB-SLAM2: 20)
-		std::size_t ransacIterations = 300;	 //!< ORB-SLAM2's Sim3 RANSAC
+		int maxHamming = 50;                 //!< direct-index matching (ORB-SLAM2's TH_LOW)
+		double ratio = 0.75;                 //!< nearest / second nearest (ORB-SLAM2's loop matching)
+		std::size_t minMatches = 20;         //!< direct-index matches needed to try RANSAC (ORB-SLAM2: 20)
+		std::size_t minInliers = 20;         //!< RANSAC inliers needed (ORB-SLAM2: 20)
+		std::size_t ransacIterations = 300;  //!< ORB-SLAM2's Sim3 RANSAC
 		/** RANSAC inliers that let guided matching look for the rest (then minInliers must agree). */
 		std::size_t minSeedInliers = 12;
 		/** Guided matching's search radius, pixels at level 0 (ORB-SLAM2's SearchBySim3: 7.5; 0 = none). */
 		double guidedRadius = 7.5;
 		int guidedHamming = 100;  //!< guided matching's descriptor distance (ORB-SLAM2's TH_HIGH)
-		std::size_t minProjectionMatches = 40;	//!< matches of the group's points with the corrected pose (ORB-SLAM2: 40)
+		std::size_t minProjectionMatches =
+			40;                        //!< matches of the group's points with the corrected pose (ORB-SLAM2: 40)
 		double projectionRadius = 10;  //!< pixels at level 0 for that search (ORB-SLAM2: 10)
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
@@ -127,10 +128,9 @@ class CLoopDetector
 	 * `scaleFactor`: the ORB pyramid's; `maxDepth`: tracking's; `depthNoise`: the sensor's
 	 * ([Camera]): the relative pose's final solve weighs depth with it beside the reprojection
 	 * (0: reprojection alone). */
-	CLoopDetector(
-		const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
-		std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic,
-		double scaleFactor = 1.2, double maxDepth = 6.0, const TDepthNoise& depthNoise = TDepthNoise());
+	CLoopDetector(const TOptions& opts, const CSparseMap& map, std::shared_ptr<const CVocabulary> vocabulary,
+				  std::shared_ptr<const CBowDatabase> database, const CSemanticKeyFrameSelector::TOptions& semantic,
+				  double scaleFactor = 1.2, double maxDepth = 6.0, const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Looks for a loop closed by keyframe `kf` (its words in the database already). */
 	std::optional<TLoop> detect(TKeyFrameId kf);
@@ -160,7 +160,8 @@ class CLoopDetector
 
    private:
 	/** verify(), its outcome written to the candidate's record (`recordOf`: candidate -> index in candidates_). */
-	std::optional<TLoop> verifyRecorded(TKeyFrameId kf, TKeyFrameId candidate, const std::map<TKeyFrameId, std::size_t>& recordOf);
+	std::optional<TLoop> verifyRecorded(TKeyFrameId kf, TKeyFrameId candidate,
+										const std::map<TKeyFrameId, std::size_t>& recordOf);
 	std::function<void()> verifyHook_;  //!< setVerifyHook
 	struct TGroup
 	{
@@ -174,8 +175,8 @@ class CLoopDetector
 	std::shared_ptr<const CBowDatabase> database_;
 	CSemanticKeyFrameSelector::TOptions semantic_;
 	double scaleFactor_, maxDepth_;
-	TDepthNoise noise_;	 //!< the sensor's depth noise ([Camera])
-	std::vector<TGroup> groups_;  //!< candidate groups of the previous keyframe
+	TDepthNoise noise_;             //!< the sensor's depth noise ([Camera])
+	std::vector<TGroup> groups_;    //!< candidate groups of the previous keyframe
 	TKeyFrameId sessionStart_ = 0;  //!< see setSessionStart
 	TLoopDetectionStats stats_;
 	std::vector<TLoopCandidate> candidates_;  //!< see takeCandidates

@@ -18,7 +18,7 @@ struct TPoseGraphEdge
 {
 	TKeyFrameId a = 0, b = 0;
 	mrpt::poses::CPose3D relative;
-	double weight = 1;	//!< scales the residual (ORB-SLAM2: identity information for every edge)
+	double weight = 1;  //!< scales the residual (ORB-SLAM2: identity information for every edge)
 };
 
 /** Optimises the poses (T_w_c) of the vertices; `fixed` vertices keep theirs. Returns the

@@ -20,7 +20,7 @@ struct TMapFileInfo
 	std::uint32_t version = 0;
 	std::uint64_t vocabularyFingerprint = 0;  //!< 0: saved without a vocabulary
 	std::uint64_t bytes = 0;
-	std::uint64_t octreeBytes = 0;	//!< the semantic OctoMap's .ot inside (0 = none)
+	std::uint64_t octreeBytes = 0;  //!< the semantic OctoMap's .ot inside (0 = none)
 	/** The frame the map's exports (and its octree) are in; version 1 files: optical. */
 	TWorldFrame worldFrame;
 };
@@ -33,15 +33,14 @@ constexpr std::uint32_t kMapFileVersion = 2;
  * CVocabulary::fingerprint() of the run's vocabulary, 0 without one; `octree`, the run's semantic
  * OctoMap, is stored with it when given, in `frame` (the frame the octree was built in and later
  * runs export in). Throws InputError naming the file. */
-void saveMapFile(
-	const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree = nullptr,
-	const TWorldFrame& frame = {});
+void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint,
+				 const CSemanticOcTree* octree = nullptr, const TWorldFrame& frame = {});
 
-/** Reads a map file into `map` (replacing its content; after an error it is unspecified). `vocabularyFingerprint`: this run's
- * vocabulary (0: none); a map saved under another vocabulary is refused (saved or loaded without
- * one is accepted). Throws InputError naming the file for a missing file,
- * a foreign or newer-format file, a truncated or corrupt one (checksum) and inconsistent content. The stored semantic OctoMap is
- * checked too, and returned in `octree` when asked for (null when the file has none). */
-TMapFileInfo loadMapFile(
-	const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint, std::unique_ptr<CSemanticOcTree>* octree = nullptr);
+/** Reads a map file into `map` (replacing its content; after an error it is unspecified). `vocabularyFingerprint`: this
+ * run's vocabulary (0: none); a map saved under another vocabulary is refused (saved or loaded without one is
+ * accepted). Throws InputError naming the file for a missing file, a foreign or newer-format file, a truncated or
+ * corrupt one (checksum) and inconsistent content. The stored semantic OctoMap is checked too, and returned in `octree`
+ * when asked for (null when the file has none). */
+TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint,
+						 std::unique_ptr<CSemanticOcTree>* octree = nullptr);
 }  // namespace mrpt_yesslam

@@ -15,16 +15,17 @@ namespace mrpt_yesslam
 struct TMapSummary
 {
 	std::size_t keyFrames = 0, erasedKeyFrames = 0, points = 0, loopEdges = 0;
-	double firstTime = 0, lastTime = 0;	 //!< keyframe timestamps, seconds
-	mrpt::math::TPoint3D min, max;	//!< bounding box of the points (world frame, metres)
-	double pathLength = 0;	//!< keyframe to keyframe, in time order (metres)
+	double firstTime = 0, lastTime = 0;  //!< keyframe timestamps, seconds
+	mrpt::math::TPoint3D min, max;       //!< bounding box of the points (world frame, metres)
+	double pathLength = 0;               //!< keyframe to keyframe, in time order (metres)
 	/** Per detected class (by name): keyframes that saw it, most seen first. */
 	std::vector<std::pair<std::string, std::size_t>> classes;
 };
 
 /** Figures of `map`; `classNames[c]` names class c (others are "class c"); the extent in the
  * frame `worldFromMap` places the map in (the map file's TWorldFrame). */
-TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames, const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
+TMapSummary summarizeMap(const CSparseMap& map, const std::vector<std::string>& classNames,
+						 const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
 /** The summary as "key: value" lines (yesslam-map's output). */
 std::string formatMapSummary(const TMapSummary& s);
 /** The good points as a cloud (colour; label 0, observations = keyframes seeing each), for
@@ -33,5 +34,6 @@ TDenseCloud mapPointCloud(const CSparseMap& map, const mrpt::poses::CPose3D& wor
 /** Occupancy from the map: each good keyframe's points inserted as a scan from its camera centre
  * (the space in front of them free, their voxels occupied), at `resolution` metres, placed by
  * `worldFromMap`. */
-std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution, const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
+std::unique_ptr<CSemanticOcTree> mapOccupancy(const CSparseMap& map, double resolution,
+											  const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
 }  // namespace mrpt_yesslam

@@ -21,9 +21,9 @@ struct TBundleStats
 	 * keyframe to say where they are (TBundleSolveOptions::minSharedObservations). */
 	std::size_t heldKeyFrames = 0;
 	double initialCost = 0, finalCost = 0;
-	bool applied = false;  //!< false: the map was corrected meanwhile and the result was dropped
-	bool cancelled = false;	 //!< stopped early by TBundleSolveOptions::cancelled (the result is stale)
-	int iterations = 0;	 //!< Ceres iterations run
+	bool applied = false;    //!< false: the map was corrected meanwhile and the result was dropped
+	bool cancelled = false;  //!< stopped early by TBundleSolveOptions::cancelled (the result is stale)
+	int iterations = 0;      //!< Ceres iterations run
 };
 
 /** How to solve. */
@@ -52,8 +52,8 @@ struct TBundleSolveOptions
 /** The optimised window. */
 struct TBundleSolution
 {
-	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;	//!< the window's optimised keyframes
-	std::vector<mrpt::math::TPoint3D> positions;  //!< per window point
+	std::map<TKeyFrameId, mrpt::poses::CPose3D> poses;  //!< the window's optimised keyframes
+	std::vector<mrpt::math::TPoint3D> positions;        //!< per window point
 	std::vector<std::pair<TPointId, TKeyFrameId>> outliers;
 	TBundleStats stats;
 };

@@ -4,11 +4,11 @@
 //
 // RGB-D observations constrain the measured depth besides the pixel (u, v): a third residual
 // (z_predicted - z_measured) / sigma_z with sigma_z from TDepthNoise (k z^2.5 by default: the
-// structured-light model of Khoshelham & Elberink 2012 and the errors that grow faster), as dense RGB-D systems (DVO-SLAM, ElasticFusion) weight depth.
-// The paper's eq. 7 / 24 use the reprojection error only, and ORB-SLAM2 uses a virtual stereo
-// coordinate u - bf/z with a 1-pixel sigma, which at 3 m is a depth sigma of ~0.2 m: with keyframes
-// a few centimetres apart (a handheld camera) the map's scale then hangs on weak parallax, and a
-// few outliers bend it (tests/mapping shows 13 mm for two bad pixels). The depth term removes that.
+// structured-light model of Khoshelham & Elberink 2012 and the errors that grow faster), as dense RGB-D systems
+// (DVO-SLAM, ElasticFusion) weight depth. The paper's eq. 7 / 24 use the reprojection error only, and ORB-SLAM2 uses a
+// virtual stereo coordinate u - bf/z with a 1-pixel sigma, which at 3 m is a depth sigma of ~0.2 m: with keyframes a
+// few centimetres apart (a handheld camera) the map's scale then hangs on weak parallax, and a few outliers bend it
+// (tests/mapping shows 13 mm for two bad pixels). The depth term removes that.
 #include <ceres/rotation.h>
 #include <ceres/sized_cost_function.h>
 
@@ -23,8 +23,17 @@ namespace mrpt_yesslam
 struct TRgbdReprojectionCost
 {
 	/** `z` <= 0 means no depth: the third residual is then always zero. */
-	TRgbdReprojectionCost(double u, double v, double z, double sigma, double sigmaZ, double fx, double fy, double cx, double cy)
-		: u(u), v(v), z(z), invSigma(1.0 / sigma), invSigmaZ(sigmaZ > 0 ? 1.0 / sigmaZ : 0.0), fx(fx), fy(fy), cx(cx), cy(cy)
+	TRgbdReprojectionCost(double u, double v, double z, double sigma, double sigmaZ, double fx, double fy, double cx,
+						  double cy)
+		: u(u),
+		  v(v),
+		  z(z),
+		  invSigma(1.0 / sigma),
+		  invSigmaZ(sigmaZ > 0 ? 1.0 / sigmaZ : 0.0),
+		  fx(fx),
+		  fy(fy),
+		  cx(cx),
+		  cy(cy)
 	{
 	}
 
@@ -86,7 +95,7 @@ class CRgbdReprojectionCostAnalytic : public ceres::SizedCostFunction<3, 3, 3, 3
 		residuals[1] = (c_.fy * Xc.y() * iz + c_.cy - c_.v) * c_.invSigma;
 		residuals[2] = c_.z <= 0 ? 0.0 : (Xc.z() - c_.z) * c_.invSigmaZ;
 		if (!jacobians) return true;
-		Eigen::Matrix3d D;	// d residual / d X_c
+		Eigen::Matrix3d D;  // d residual / d X_c
 		D << c_.fx * iz * c_.invSigma, 0, -c_.fx * Xc.x() * iz * iz * c_.invSigma, 0, c_.fy * iz * c_.invSigma,
 			-c_.fy * Xc.y() * iz * iz * c_.invSigma, 0, 0, c_.z <= 0 ? 0.0 : c_.invSigmaZ;
 		using J3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;

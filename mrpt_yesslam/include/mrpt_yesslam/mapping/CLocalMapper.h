@@ -23,7 +23,7 @@ namespace mrpt_yesslam
 struct TMappingStats
 {
 	std::size_t culledPoints = 0;
-	std::size_t fused = 0;	//!< observations added and duplicates fused with the neighbours
+	std::size_t fused = 0;                     //!< observations added and duplicates fused with the neighbours
 	std::vector<TKeyFrameId> erasedKeyFrames;  //!< redundant keyframes culled
 	TBundleStats bundle;
 };
@@ -37,20 +37,21 @@ class CLocalMapper
 	{
 		bool bundleAdjustment = true;
 		std::size_t covisibleKeyFrames = 10;  //!< optimised besides the new keyframe
-		std::size_t maxFixedKeyFrames = 20;	 //!< other keyframes seeing the points, held fixed
+		std::size_t maxFixedKeyFrames = 20;   //!< other keyframes seeing the points, held fixed
 		int iterations = 10;
-		double cullFoundRatio = 0.25;  //!< young points found in fewer than this share of views are culled
+		double cullFoundRatio = 0.25;         //!< young points found in fewer than this share of views are culled
 		std::size_t cullMinObservations = 2;  //!< young points seen by fewer keyframes are culled
 		/** Neighbours searched for duplicates (ORB-SLAM2, RGB-D: 10); 0 = no fusion. Off by default:
 		 * measured on unseen yesslam-sim sequences it halves the map points but raised the ATE by
 		 * 4-22 % (docs/benchmarks.md), so it stays an option until the fused points' descriptors and positions
 		 * are refreshed as ORB-SLAM2 does. */
 		std::size_t fuseKeyFrames = 0;
-		double fuseRadius = 3;	//!< pixels at level 0 (x scale^octave), ORB-SLAM2's Fuse
-		int fuseMaxHamming = 50;  //!< ORB-SLAM2's TH_LOW
+		double fuseRadius = 3;        //!< pixels at level 0 (x scale^octave), ORB-SLAM2's Fuse
+		int fuseMaxHamming = 50;      //!< ORB-SLAM2's TH_LOW
 		bool keyFrameCulling = true;  //!< erase redundant keyframes (ORB-SLAM2's KeyFrameCulling)
 		double redundantRatio = 0.9;  //!< a keyframe goes when more than this share of its close points ...
-		std::size_t redundantObservers = 3;	 //!< ... is seen by at least this many other keyframes at the same or finer scale
+		std::size_t redundantObservers =
+			3;  //!< ... is seen by at least this many other keyframes at the same or finer scale
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -59,8 +60,8 @@ class CLocalMapper
 	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor; sigma of an observation = scale ^ octave);
 	 * `maxDepth`: tracking's, the depth up to which points count as close for keyframe culling;
 	 * `depthNoise`: the sensor's ([Camera]), BA's depth term and fusion's depth gate. */
-	CLocalMapper(
-		const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double maxDepth = 4.0, const TDepthNoise& depthNoise = TDepthNoise());
+	CLocalMapper(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2, double maxDepth = 4.0,
+				 const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Processes keyframe `kf` (already in the map): point culling, local BA, keyframe culling. */
 	TMappingStats step(TKeyFrameId kf);
@@ -74,6 +75,6 @@ class CLocalMapper
 	TOptions opts_;
 	CSparseMap& map_;
 	double scaleFactor_, maxDepth_;
-	TDepthNoise noise_;	 //!< the sensor's depth noise ([Camera])
+	TDepthNoise noise_;  //!< the sensor's depth noise ([Camera])
 };
 }  // namespace mrpt_yesslam

@@ -16,7 +16,7 @@ namespace mrpt_yesslam
  * keypoint with depth must agree with the point's depth (3 sigma of the sensor's depth noise at
  * level 0, plus 2 cm), as ORB-SLAM2 checks the right-image coordinate. Shared by local
  * mapping's fusion with the neighbours and loop fusion. */
-std::vector<TFuseCandidate> fuseCandidates(
-	const CKeyFrame& into, const mrpt::poses::CPose3D& Twc, const TLocalMapPoints& points, double radius, int maxHamming,
-	double scaleFactor, const TDepthNoise& depthNoise);
+std::vector<TFuseCandidate> fuseCandidates(const CKeyFrame& into, const mrpt::poses::CPose3D& Twc,
+										   const TLocalMapPoints& points, double radius, int maxHamming,
+										   double scaleFactor, const TDepthNoise& depthNoise);
 }  // namespace mrpt_yesslam

@@ -20,8 +20,8 @@ struct TBowCandidate
 {
 	TKeyFrameId keyFrame = 0;
 	std::size_t commonWords = 0;
-	double score = 0;  //!< CVocabulary::score with the query (loop detection: S_Loop, eq. 19)
-	double groupScore = 0;	//!< groupCandidates: the accumulated score of its covisibility group
+	double score = 0;       //!< CVocabulary::score with the query (loop detection: S_Loop, eq. 19)
+	double groupScore = 0;  //!< groupCandidates: the accumulated score of its covisibility group
 };
 
 class CSparseMap;
@@ -45,9 +45,8 @@ class CBowDatabase
 	/** Keyframes sharing words with `query`, except those in `exclude`: ORB-SLAM2's first filter
 	 * keeps those sharing at least `minCommonRatio` of the most words any keyframe shares (and at
 	 * least `minCommonWords`); each is scored. Sorted by score, best first. */
-	std::vector<TBowCandidate> query(
-		const TBowVector& query, const std::set<TKeyFrameId>& exclude = {}, double minCommonRatio = 0.8,
-		std::size_t minCommonWords = 1) const;
+	std::vector<TBowCandidate> query(const TBowVector& query, const std::set<TKeyFrameId>& exclude = {},
+									 double minCommonRatio = 0.8, std::size_t minCommonWords = 1) const;
 
    private:
 	mutable std::mutex mtx_;
@@ -60,6 +59,6 @@ class CBowDatabase
  * seen from several keyframes cannot. Each candidate's score is accumulated with those of its
  * `neighbours` best covisible keyframes that are candidates too; each group scoring at least
  * `keepRatio` of the best group gives its best-scoring keyframe, once. Sorted by group score. */
-std::vector<TBowCandidate> groupCandidates(
-	const std::vector<TBowCandidate>& candidates, const CSparseMap& map, std::size_t neighbours = 10, double keepRatio = 0.75);
+std::vector<TBowCandidate> groupCandidates(const std::vector<TBowCandidate>& candidates, const CSparseMap& map,
+										   std::size_t neighbours = 10, double keepRatio = 0.75);
 }  // namespace mrpt_yesslam

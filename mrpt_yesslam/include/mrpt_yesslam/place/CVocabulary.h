@@ -30,11 +30,11 @@ class CVocabulary
 	/** How to build a vocabulary. */
 	struct TTrainOptions
 	{
-		int branching = 10;	 //!< k: children per node
-		int levels = 5;	 //!< L: depth of the tree; up to k^L words
-		int maxIterations = 10;	 //!< k-majority iterations per node (stops early when stable)
-		std::uint64_t seed = 1;	 //!< k-means++ seeding; the same data and seed give the same tree
-		int threads = 0;  //!< worker threads for the top-level subtrees (0 = hardware concurrency)
+		int branching = 10;      //!< k: children per node
+		int levels = 5;          //!< L: depth of the tree; up to k^L words
+		int maxIterations = 10;  //!< k-majority iterations per node (stops early when stable)
+		std::uint64_t seed = 1;  //!< k-means++ seeding; the same data and seed give the same tree
+		int threads = 0;         //!< worker threads for the top-level subtrees (0 = hardware concurrency)
 	};
 
 	/** Format version of the binary file; load() refuses newer ones. */
@@ -43,9 +43,8 @@ class CVocabulary
 	/** Trains from the ORB descriptors of training images (one CV_8U matrix of 32-byte rows per
 	 * image: the IDF weights count images). `progress(doneSubtrees, totalSubtrees)` may be empty.
 	 * Throws InputError for invalid options or no descriptors. */
-	static CVocabulary train(
-		const std::vector<cv::Mat>& descriptorsPerImage, const TTrainOptions& opts,
-		const std::function<void(std::size_t, std::size_t)>& progress = {});
+	static CVocabulary train(const std::vector<cv::Mat>& descriptorsPerImage, const TTrainOptions& opts,
+							 const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 	/** Writes the vocabulary atomically (binary, versioned, checksummed); `description` is free text
 	 * kept in the file (how it was trained). Throws InputError naming the file on failure. */
@@ -78,9 +77,8 @@ class CVocabulary
 	/** The BoW vector of the rows of `descriptors` for which `use` is true (all when `use` is
 	 * empty); with `direct`, also the direct index at depth `directLevel` (DBoW2 counts levels up
 	 * from the leaves; ORB-SLAM2's levelsUp = 4 of 6 is depth 2 here). */
-	void transform(
-		const cv::Mat& descriptors, TBowVector& bow, TFeatureVector* direct = nullptr, int directLevel = 2,
-		const std::vector<bool>& use = {}) const;
+	void transform(const cv::Mat& descriptors, TBowVector& bow, TFeatureVector* direct = nullptr, int directLevel = 2,
+				   const std::vector<bool>& use = {}) const;
 	/** The words of a frame's static keypoints (not dynamic, not uncertain): people in view must not
 	 * make two places look alike or one place look different (the paper's point in section 2.4). */
 	std::shared_ptr<const TBow> bowOf(const TFeatures& features, int directLevel = 2) const;

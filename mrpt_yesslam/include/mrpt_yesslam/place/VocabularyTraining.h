@@ -19,11 +19,11 @@ struct TVocabTrainingOptions
 	/** Image files, folders of images (searched recursively), TUM RGB-D folders (with rgb.txt) and
 	 * rawlogs. */
 	std::vector<std::string> inputs;
-	COrbExtractor::TOptions orb;  //!< the tracking's [ORB] settings
-	CInputSource::TOptions source;	//!< [Input]: camera, sensor label
+	COrbExtractor::TOptions orb;    //!< the tracking's [ORB] settings
+	CInputSource::TOptions source;  //!< [Input]: camera, sensor label
 	/** Sequences (TUM folders, rawlogs): every step-th frame; consecutive frames add little. */
 	std::size_t step = 5;
-	std::size_t maxImagesPerInput = 0;	//!< 0 = all
+	std::size_t maxImagesPerInput = 0;  //!< 0 = all
 	CVocabulary::TTrainOptions tree;
 };
 
@@ -38,9 +38,9 @@ struct TVocabTrainingSummary
 /** The descriptors of every training image (one matrix per image). `progress(imagesRead)` may be
  * empty; `stop()` ends reading early. Throws InputError naming the input for a missing path, an
  * unreadable image or a folder without images. */
-std::vector<cv::Mat> collectTrainingDescriptors(
-	const TVocabTrainingOptions& opts, const std::function<void(std::size_t)>& progress = {},
-	const std::function<bool()>& stop = {});
+std::vector<cv::Mat> collectTrainingDescriptors(const TVocabTrainingOptions& opts,
+												const std::function<void(std::size_t)>& progress = {},
+												const std::function<bool()>& stop = {});
 
 /** Reads the inputs, trains and returns the vocabulary (its description records the inputs and
  * the ORB settings). */

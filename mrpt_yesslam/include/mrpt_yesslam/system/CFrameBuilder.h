@@ -21,15 +21,15 @@ class CFrameBuilder
    public:
 	/** `detector` may be null (no detection). `dynamicFilter` false: no mask, every feature static.
 	 * `asyncDetection`: detect on a worker thread while ORB runs (same frames as without). */
-	CFrameBuilder(
-		std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker, const COrbExtractor::TOptions& orb,
-		bool dynamicFilter, bool asyncDetection, const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions());
+	CFrameBuilder(std::unique_ptr<CObjectDetector> detector, const CDynamicObjectMasker::TOptions& masker,
+				  const COrbExtractor::TOptions& orb, bool dynamicFilter, bool asyncDetection,
+				  const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions());
 
 	/** A frame with id `id`: features (undistorted keypoints, depth, dynamic flags), colours at the
 	 * raw keypoints, detections. `stageMs` (may be null) gets the time of detect, mask and orb. */
-	std::shared_ptr<TFrame> build(
-		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera, std::size_t id,
-		std::map<std::string, double>* stageMs = nullptr);
+	std::shared_ptr<TFrame> build(const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp,
+								  const mrpt::img::TCamera& camera, std::size_t id,
+								  std::map<std::string, double>* stageMs = nullptr);
 
 	/** Starts detecting frame `id` before build() gets it (recorded input, where it is already read),
 	 * so that its detection overlaps the tracking of the frame before; the image must stay unchanged
@@ -48,8 +48,8 @@ class CFrameBuilder
 	const COrbExtractor& extractor() const { return extractor_; }
 
    private:
-	std::unique_ptr<CObjectDetector> detector_;	 //!< synchronous use
-	std::unique_ptr<CAsyncDetector> async_;	 //!< or asynchronous use (owns the detector)
+	std::unique_ptr<CObjectDetector> detector_;  //!< synchronous use
+	std::unique_ptr<CAsyncDetector> async_;      //!< or asynchronous use (owns the detector)
 	CDynamicObjectMasker masker_;
 	COrbExtractor extractor_;
 	CGeometricDynamicCheck check_;

@@ -24,7 +24,7 @@ class CFrameRecords
 	struct TRecord
 	{
 		double t = 0;
-		TAnchor anchor;  //!< where the pose hangs in the map (the trajectory follows corrections)
+		TAnchor anchor;               //!< where the pose hangs in the map (the trajectory follows corrections)
 		mrpt::poses::CPose3D online;  //!< T_w_frame as reported when the frame was processed (filtered: [OnlinePose])
 		/** T_w_frame as tracking solved it (what mapping's corrections are measured against). */
 		mrpt::poses::CPose3D measured;
@@ -98,8 +98,8 @@ class CFrameRecords
 	/** What a journal appends (CRunJournal): the frames recorded after the first `first`. */
 	struct TSince
 	{
-		std::vector<TFrameLogRow> rows;	 //!< `pose` as the run has it now: tracked, coasted or none
-		TTrajectory online;	 //!< the online poses of those of them that have one, in order
+		std::vector<TFrameLogRow> rows;  //!< `pose` as the run has it now: tracked, coasted or none
+		TTrajectory online;              //!< the online poses of those of them that have one, in order
 	};
 	TSince since(std::size_t first) const;
 
@@ -111,7 +111,7 @@ class CFrameRecords
 	int correctionWindow_;
 	int smoothingWindow_;
 	mutable std::mutex mtx_;
-	std::vector<TRecord> records_;	//!< guarded by mtx_
+	std::vector<TRecord> records_;    //!< guarded by mtx_
 	std::vector<TFrameLogRow> rows_;  //!< guarded by mtx_
 };
 }  // namespace mrpt_yesslam

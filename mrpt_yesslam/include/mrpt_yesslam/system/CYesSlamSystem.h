@@ -62,8 +62,9 @@ struct TYesSlamOptions
 		 * ORB-SLAM2 would; see TYesSlamOptions::effective for what that switches off). */
 		bool dynamicFilter = true;
 		std::size_t minInitPoints = 100;  //!< static keypoints with depth needed for the first keyframe
-		std::size_t frameBuffer = 8;  //!< recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)
-		bool asyncDetection = true;	 //!< detect on a worker thread while ORB features are extracted
+		std::size_t frameBuffer =
+			8;  //!< recent frames kept for delayed (semantic) keyframe decisions (>= [KeyFrames] interval)
+		bool asyncDetection = true;    //!< detect on a worker thread while ORB features are extracted
 		std::size_t mappingQueue = 4;  //!< parallel: keyframes waiting for local mapping before tracking waits
 		/** Localisation in a loaded map only: no keyframes, no map changes (needs loadMap). */
 		bool localizeOnly = false;
@@ -93,17 +94,17 @@ struct TYesSlamOptions
 		COptionTable table();
 	};
 
-	TDepthNoise camera;	 //!< section [Camera]: the depth sensor's noise, for every stage
+	TDepthNoise camera;  //!< section [Camera]: the depth sensor's noise, for every stage
 	CInputSource::TOptions input;
 	CObjectDetector::TOptions detector;
 	CDynamicObjectMasker::TOptions masker;
-	CGeometricDynamicCheck::TOptions geometric;	//!< section [GeometricCheck]
+	CGeometricDynamicCheck::TOptions geometric;  //!< section [GeometricCheck]
 	COrbExtractor::TOptions orb;
 	CTracker::TOptions tracking;
-	COnlinePoseFilter::TOptions onlinePose;	//!< section [OnlinePose]
+	COnlinePoseFilter::TOptions onlinePose;  //!< section [OnlinePose]
 	CKeyFrameInserter::TOptions keyFrames;
 	CLocalMapper::TOptions mapping;
-	CLoopCloser::TOptions loop;	 //!< section [LoopClosing]
+	CLoopCloser::TOptions loop;            //!< section [LoopClosing]
 	CDenseSemanticMapper::TOptions dense;  //!< section [DenseMapping]
 	TSystem system;
 	TOutput output;
@@ -124,7 +125,7 @@ struct TFrameReport
 	std::size_t frameId = 0;
 	bool tracked = false, initialised = false, keyFrame = false, relocalised = false;
 	bool poseRefused = false;  //!< a weak solution far from the motion model was not taken ([Tracking] weakInliers)
-	std::size_t movingPointsErased = 0;	 //!< map points this frame found moving (erased)
+	std::size_t movingPointsErased = 0;  //!< map points this frame found moving (erased)
 	std::size_t features = 0, staticFeatures = 0, detections = 0, dynamicDetections = 0, inliers = 0;
 	/** The frame's online pose, T_w_c in the map's frame (fixed for the whole run: the first
 	 * keyframe's camera, or a loaded map's; worldFrame() gives the outputs' z-up frame once fixed),
@@ -132,7 +133,6 @@ struct TFrameReport
 	 * the first localisation in a loaded map. `tracked` false with a pose: coasted (lost). */
 	std::optional<mrpt::poses::CPose3D> pose;
 };
-
 
 /** The SLAM system. */
 class CYesSlamSystem
@@ -148,11 +148,11 @@ class CYesSlamSystem
 	 * frame that cannot be tracked gets a motion-model pose and tracked = false. `depthTime`: when
 	 * the depth image was taken, where the source knows it and it is not the frame's timestamp
 	 * (CInputSource::depthTime); keypoint depth is then moved to the colour image's moment. */
-	TFrameReport processFrame(const mrpt::obs::CObservation3DRangeScan& obs, std::optional<double> depthTime = std::nullopt);
+	TFrameReport processFrame(const mrpt::obs::CObservation3DRangeScan& obs,
+							  std::optional<double> depthTime = std::nullopt);
 	/** Same, from images: BGR colour, depth in metres (CV_32F, 0 = none), intrinsics. */
-	TFrameReport processFrame(
-		const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp, const mrpt::img::TCamera& camera,
-		std::optional<double> depthTime = std::nullopt);
+	TFrameReport processFrame(const cv::Mat& bgr, const cv::Mat& depthMetres, double timestamp,
+							  const mrpt::img::TCamera& camera, std::optional<double> depthTime = std::nullopt);
 	/** Recorded input: starts the detection of the frame that the `ahead`-th processFrame() call
 	 * from now will get (0: the next call's frame; 1: the one after, already read), so that it
 	 * overlaps the tracking of the frames before it (with [System] asyncDetection; without, it does
@@ -160,8 +160,8 @@ class CYesSlamSystem
 	 * changes (the same detections, the same results). Not for live input: reading a frame ahead
 	 * would delay the current one. */
 	void detectAhead(const mrpt::obs::CObservation3DRangeScan& frame, std::size_t ahead = 1);
-	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error if
-	 * local mapping failed (once per failure). Every stage has settled when it returns or throws. */
+	/** Waits for local mapping (and the dense stage) to finish the keyframes queued so far; throws std::runtime_error
+	 * if local mapping failed (once per failure). Every stage has settled when it returns or throws. */
 	void waitForMapping();
 	/** Waits until no stage (dense, mapping, loop, global BA) has work queued or running, ignoring
 	 * their failures (already reported, or to be dropped): after an error, before the outputs. */
@@ -304,17 +304,18 @@ class CYesSlamSystem
 	CCallbackSlot<TKeyFrameId> keyFrameCallback_;
 	CCallbackSlot<const TFrame&> frameCallback_;
 
-	CFrameRecords records_;	 //!< every frame's pose record and frames.csv row (thread-safe)
-	COnlinePoseFilter onlineFilter_;  //!< the online pose from the tracked ones (frame thread only)
-	std::uint64_t lastGeneration_ = 0;	//!< the map's correction generation the previous frame saw
-	CRecentFrames recent_;	//!< what Algorithm 1 may still choose from
+	CFrameRecords records_;             //!< every frame's pose record and frames.csv row (thread-safe)
+	COnlinePoseFilter onlineFilter_;    //!< the online pose from the tracked ones (frame thread only)
+	std::uint64_t lastGeneration_ = 0;  //!< the map's correction generation the previous frame saw
+	CRecentFrames recent_;              //!< what Algorithm 1 may still choose from
 	std::size_t nextFrameId_ = 0;
-	bool everTracked_ = false;	//!< a frame has had a pose (later lost frames coast from it)
-	std::optional<double> lastFrameTime_;  //!< the previous frame's stamp (the frame period bounds a readout)
-	std::optional<std::size_t> lastKeyFrameFrame_;	//!< frame id of the newest keyframe
-	std::optional<TKeyFrameId> lastKeyFrame_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
+	bool everTracked_ = false;                      //!< a frame has had a pose (later lost frames coast from it)
+	std::optional<double> lastFrameTime_;           //!< the previous frame's stamp (the frame period bounds a readout)
+	std::optional<std::size_t> lastKeyFrameFrame_;  //!< frame id of the newest keyframe
+	std::optional<TKeyFrameId>
+		lastKeyFrame_;  //!< the newest keyframe (Algorithm 1's F_ref with motionReference = previous)
 	mutable std::mutex worldFrameMtx_;
-	mutable std::optional<TWorldFrame> worldFrame_;	 //!< worldFrame() once found, or the loaded map's
+	mutable std::optional<TWorldFrame> worldFrame_;  //!< worldFrame() once found, or the loaded map's
 	/** The loaded map's semantic OctoMap, kept as it was by a run without a dense map (saved again with it). */
 	std::unique_ptr<CSemanticOcTree> loadedOctree_;
 	TSlamStats stats_;
@@ -340,13 +341,12 @@ class CYesSlamSystem
 	 * time, and a reader-preferring lock could hold a correction back indefinitely. */
 	CWriterFirstMutex mapUpdateMtx_;
 
-
 	/** Loop detection, correction and global BA (their own stages in parallel mode), fed by local
 	 * mapping: after the lock it takes, destroyed after the mapping stage that feeds it. */
 	std::unique_ptr<CLoopClosing> loopClosing_;
 
 	// Local mapping stage (parallel mode): futures of queued keyframes, collected by the caller.
 	std::deque<std::future<void>> mappingTasks_;
-	std::unique_ptr<CWorkerPool> mappingStage_;	 //!< last: stopped first
+	std::unique_ptr<CWorkerPool> mappingStage_;  //!< last: stopped first
 };
 }  // namespace mrpt_yesslam

@@ -15,8 +15,8 @@ namespace mrpt_yesslam
 /** Coloured map points, a frustum per keyframe and the trajectory, for SceneViewer3D and
  * yesslam-render; the objects are named (map_points, keyframe, trajectory) for --hide. The map is
  * placed by `worldFromMap` (TWorldFrame); `trajectory` is already in that frame. */
-mrpt::opengl::COpenGLScene::Ptr buildMapScene(
-	const CSparseMap& map, const TTrajectory& trajectory, const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const CSparseMap& map, const TTrajectory& trajectory,
+											  const mrpt::poses::CPose3D& worldFromMap = mrpt::poses::CPose3D());
 
 /** How a run was configured, as stats.json states it beside the figures. */
 struct TStatsContext

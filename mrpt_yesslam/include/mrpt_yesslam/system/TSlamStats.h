@@ -16,10 +16,11 @@ namespace mrpt_yesslam
  * whether trajectory_smoothed.txt fills it in. */
 enum class EPoseSource
 {
-	None,  //!< no pose at all: before the map was made, or before the first localisation in a loaded map
-	Tracked,  //!< tracked online (a robot had it while it moved)
-	Coasted,  //!< lost: the motion model's guess, as a robot had it while it moved
-	Interpolated  //!< lost; trajectory_smoothed.txt fills it in between the tracked poses around it (trajectory.txt: coasted)
+	None,         //!< no pose at all: before the map was made, or before the first localisation in a loaded map
+	Tracked,      //!< tracked online (a robot had it while it moved)
+	Coasted,      //!< lost: the motion model's guess, as a robot had it while it moved
+	Interpolated  //!< lost; trajectory_smoothed.txt fills it in between the tracked poses around it (trajectory.txt:
+				  //!< coasted)
 };
 /** "none", "tracked", "coasted" or "interpolated". */
 const char* poseSourceName(EPoseSource s);
@@ -48,14 +49,16 @@ struct TSlamStats
 	std::size_t refusedPoses = 0;
 	std::size_t keyFrames = 0, forcedKeyFrames = 0, mapPoints = 0;
 	std::size_t culledKeyFrames = 0;  //!< erased as redundant by local mapping
-	std::size_t keyFramesInMap = 0;	 //!< keyFrames - culledKeyFrames
+	std::size_t keyFramesInMap = 0;   //!< keyFrames - culledKeyFrames
 	/** Map points tracking erased as moving: in a group the geometric check found moving, or seen through. */
 	std::size_t movingPointsErased = 0;
-	TLoopDetectionStats loops;	//!< loop detection counts
+	TLoopDetectionStats loops;        //!< loop detection counts
 	std::size_t loopCorrections = 0;  //!< loops whose correction was applied to the map
-	std::size_t globalBundleRuns = 0, globalBundleApplied = 0;	//!< global BA after corrections (applied: not overtaken by a newer correction)
-	std::size_t globalBundleCancelled = 0;	//!< global BAs stopped early: a newer correction made them stale
-	std::vector<TLoopRecord> loopRecords;  //!< every corrected loop, in order
+	std::size_t globalBundleRuns = 0,
+				globalBundleApplied =
+					0;  //!< global BA after corrections (applied: not overtaken by a newer correction)
+	std::size_t globalBundleCancelled = 0;  //!< global BAs stopped early: a newer correction made them stale
+	std::vector<TLoopRecord> loopRecords;   //!< every corrected loop, in order
 	/** Metres the current keyframe moved in the largest loop correction (0 without one). */
 	double largestLoopCorrection() const
 	{
@@ -64,7 +67,7 @@ struct TSlamStats
 		return m;
 	}
 	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
-	std::size_t denseBytes = 0;	 //!< memory those clouds take
+	std::size_t denseBytes = 0;                       //!< memory those clouds take
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
 	std::map<std::string, std::vector<double>> stageMs;
 };

@@ -47,16 +47,17 @@ class CTracker
 		 * The limit only drops the Kinect's unreliable fringe beyond its range. */
 		double maxDepth = 6.0;
 		double motionRadius = 15;  //!< pixel search radius around motion-model projections (ORB-SLAM2: 15)
-		double localRadius = 4;	 //!< pixel search radius for the local map
+		double localRadius = 4;    //!< pixel search radius for the local map
 		/** Local-map search as ORB-SLAM2's: a map point is in view only within its pyramid's
 		 * distance range and 60 degrees of its mean viewing direction, and is searched at the
 		 * pyramid level its distance predicts (COrbMatcher::searchByProjection). */
 		bool viewChecks = true;
-		int maxHamming = 100;  //!< ORB-SLAM2's TH_HIGH
-		double ratio = 0.9;	 //!< nearest/second-nearest ratio for projection search (ORB-SLAM2: 0.9)
+		int maxHamming = 100;             //!< ORB-SLAM2's TH_HIGH
+		double ratio = 0.9;               //!< nearest/second-nearest ratio for projection search (ORB-SLAM2: 0.9)
 		std::size_t localKeyFrames = 40;  //!< most keyframes in the local map (ORB-SLAM2: 80)
-		std::size_t localNeighbours = 10;  //!< best covisible keyframes added around each keyframe that sees the frame's matches
-		std::size_t minTrackedInliers = 20;	 //!< fewer inliers after the local map: tracking failed
+		std::size_t localNeighbours =
+			10;  //!< best covisible keyframes added around each keyframe that sees the frame's matches
+		std::size_t minTrackedInliers = 20;  //!< fewer inliers after the local map: tracking failed
 		/** No pose without evidence (issue 39): a solution on fewer inliers than this must agree
 		 * with the motion model's prediction (made from tracked frames) within priorDeparture and
 		 * priorDepartureDeg, or the frame is not tracked (it coasts). A hand-held camera does not
@@ -84,12 +85,12 @@ class CTracker
 		 * prior): far points leave a sideways shift and a turn that cancel in the image nearly
 		 * free, and without it the pose zig-zags along that pair frame to frame. */
 		double motionPriorSigma = 0.005;  //!< m
-		double motionPriorSigmaDeg = 1;	//!< degrees
+		double motionPriorSigmaDeg = 1;   //!< degrees
 		/** Relocalisation tries at most this many keyframes: the best place-recognition candidates
 		 * (with a vocabulary), else the newest keyframes (0 = all). */
 		std::size_t relocKeyFrames = 60;
 		std::size_t lostCoastFrames = 30;  //!< lost frames that still continue the last velocity
-		double lostDamping = 0.9;  //!< per lost frame, the velocity is scaled by this (0 = hold at once)
+		double lostDamping = 0.9;          //!< per lost frame, the velocity is scaled by this (0 = hold at once)
 		/** Lost frames continue the mean motion of this many last tracked frames (1: the last one). */
 		std::size_t lostVelocityFrames = 3;
 		/** A map point behind which farther surfaces are measured in this many consecutive tracked
@@ -126,9 +127,9 @@ class CTracker
 	/** `scaleFactor`: the ORB pyramid's ([ORB] scaleFactor): search windows and observation sigmas
 	 * scale with it; `depthNoise`: the sensor's ([Camera]), for the pose solve's depth term and the
 	 * see-through test. */
-	CTracker(
-		const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2,
-		const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions(), const TDepthNoise& depthNoise = TDepthNoise());
+	CTracker(const TOptions& opts, CSparseMap& map, double scaleFactor = 1.2,
+			 const CGeometricDynamicCheck::TOptions& check = CGeometricDynamicCheck::TOptions(),
+			 const TDepthNoise& depthNoise = TDepthNoise());
 
 	/** Tracks `f` (features filled in): sets pose, tracked, mapPoints and numInliers. Never throws
 	 * for hard frames: when lost, the pose is the motion model's guess and tracked is false. */
@@ -158,7 +159,8 @@ class CTracker
 	void setHook(std::function<void()> hook) { hook_ = std::move(hook); }
 	/** Relocalisation by place recognition (ORB-SLAM2's: BoW candidates of the keyframe database,
 	 * grouped by covisibility, then PnP RANSAC) instead of trying the newest keyframes. */
-	void setPlaceRecognition(std::shared_ptr<const CVocabulary> vocabulary, std::shared_ptr<const CBowDatabase> database)
+	void setPlaceRecognition(std::shared_ptr<const CVocabulary> vocabulary,
+							 std::shared_ptr<const CBowDatabase> database)
 	{
 		vocabulary_ = std::move(vocabulary);
 		database_ = std::move(database);
@@ -174,7 +176,8 @@ class CTracker
 	/** Records `f`'s anchor (its reference keyframe's pose read now) and the pose its prediction came from. */
 	void anchor(const TFrame& f, const mrpt::poses::CPose3D& base);
 	/** Pose from matched observations; refines from `guess`. */
-	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, const mrpt::poses::CPose3D& guess) const;
+	TPoseEstimate refineWith(const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts,
+							 const mrpt::poses::CPose3D& guess) const;
 	/** The last frame's map points and temporary depth points, placed with `lastPose`. */
 	TLocalMapPoints lastFramePoints(const mrpt::poses::CPose3D& lastPose) const;
 	/** The last tracked frames' mean motion over one frame interval (SE(3) log): what a lost frame coasts on. */
@@ -195,16 +198,17 @@ class CTracker
 	/** The weak term refineWith adds to the pose solve (motionPriorSigma); none outside tracking's
 	 * own searches (PnP recovery, relocalisation). */
 	std::optional<CPoseOptimizer::TPosePrior> motionPrior_;
-	double priorScale_ = 1;	 //!< the departures allowed, times this: wider for each lost frame and each frame interval since the last frame
+	double priorScale_ = 1;  //!< the departures allowed, times this: wider for each lost frame and each frame interval
+							 //!< since the last frame
 	/** Local map points in view but not found whose place `f` sees through (farther keypoints
 	 * measured all around where the point should be in front). */
-	std::vector<TPointId> seenThrough(const TFrame& f, const TLocalMapPoints& local, const std::vector<std::size_t>& inView,
-		const std::vector<TPointId>& found) const;
+	std::vector<TPointId> seenThrough(const TFrame& f, const TLocalMapPoints& local,
+									  const std::vector<std::size_t>& inView, const std::vector<TPointId>& found) const;
 	/** The inliers that count as evidence for step 3's solution `e` against the last frame's points
 	 * (`used` matches of `pts`): its certain ones, when at least half the map points it matched
 	 * are among its `mapInliers` and those are at least half of minTrackedInliers; else those alone. */
-	std::size_t stepThreeEvidence(
-		const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts, const TPoseEstimate& e, std::size_t mapInliers) const;
+	std::size_t stepThreeEvidence(const TFrame& f, const std::vector<TMatch>& used, const TLocalMapPoints& pts,
+								  const TPoseEstimate& e, std::size_t mapInliers) const;
 	/** Ages the mover regions, adds those of `moving` (keypoints of f) and marks f's keypoints in them. */
 	void updateMovers(TFrame& f, const std::vector<std::size_t>& moving);
 	/** One frame older: drops the regions the check has not seen move for a few frames. */
@@ -213,8 +217,8 @@ class CTracker
 	 * matched; none: around the reference keyframe), searching `radius` pixels around each
 	 * projection from `guess`, and refines; on success fills the frame and the keyframe sharing
 	 * most points becomes the reference. */
-	bool trackLocalMap(
-		TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r, double radius, bool relocalising = false);
+	bool trackLocalMap(TFrame& f, const mrpt::poses::CPose3D& guess, const std::vector<TPointId>& seeds, TResult& r,
+					   double radius, bool relocalising = false);
 
 	TOptions opts_;
 	CSparseMap& map_;
@@ -222,9 +226,9 @@ class CTracker
 	CGeometricDynamicCheck check_;
 	COrbMatcher matcher_;
 	double scaleFactor_;
-	TDepthNoise noise_;	 //!< the sensor's depth noise ([Camera])
+	TDepthNoise noise_;  //!< the sensor's depth noise ([Camera])
 	std::shared_ptr<const TFrame> last_;
-	TAnchor lastAnchor_;	//!< where the last frame hangs in the map (its reference keyframe, T_ref_last)
+	TAnchor lastAnchor_;  //!< where the last frame hangs in the map (its reference keyframe, T_ref_last)
 	/** What track() left for setLastFrame and anchorOf: the frame's id, its anchor, and the last
 	 * frame's pose its prediction started from (the velocity is measured against that one, in the
 	 * same state of the map as the new pose). */
@@ -236,8 +240,8 @@ class CTracker
 		std::uint64_t generation = 0;  //!< the map's correction generation when the anchor was taken
 	};
 	std::optional<TTracked> tracked_;
-	std::optional<mrpt::poses::CPose3D> velocity_;	//!< last motion, T_{k-1,k}
-	double velocityInterval_ = 0;  //!< seconds between the two frames of velocity_
+	std::optional<mrpt::poses::CPose3D> velocity_;  //!< last motion, T_{k-1,k}
+	double velocityInterval_ = 0;                   //!< seconds between the two frames of velocity_
 	/** One tracked frame's motion from the frame before it: SE(3) log and the seconds it took. */
 	struct TMotion
 	{
@@ -247,7 +251,7 @@ class CTracker
 	/** Motions of the last tracked frames, oldest first (lostVelocityFrames of them); emptied when
 	 * tracking is lost, so that motions from before a loss never mix with those after it. */
 	std::deque<TMotion> recentMotion_;
-	double frameInterval_ = 0;	//!< measuredFrameInterval(), kept by setLastFrame (the only place the motions change)
+	double frameInterval_ = 0;  //!< measuredFrameInterval(), kept by setLastFrame (the only place the motions change)
 	/** Steps measured since the last loss or relocalisation (the motion prior needs
 	 * lostVelocityFrames of them). */
 	std::size_t smoothMotions_ = 0;
@@ -259,13 +263,14 @@ class CTracker
 	std::optional<std::size_t> moversFrame_;  //!< the frame updateMovers aged the regions for last
 	std::shared_ptr<const CVocabulary> vocabulary_;
 	std::shared_ptr<const CBowDatabase> database_;
-	bool readOnly_ = false;	 //!< see setMapReadOnly
+	bool readOnly_ = false;       //!< see setMapReadOnly
 	std::function<void()> hook_;  //!< see setHook
 };
 
 /** Observations for the pose optimiser from matches (sigma = scale factor ^ octave; where
  * `depthNoise` is used, the keypoint's depth too, with its level-0 sigma: see CTracker.cpp; a depth
  * beyond its farDepth is kept but carries no residual, sigmaZ 0). */
-std::vector<TPoseObservation> makePoseObservations(
-	const TFrame& f, const std::vector<TMatch>& m, const TLocalMapPoints& pts, double scaleFactor, const TDepthNoise& depthNoise = TDepthNoise::none());
+std::vector<TPoseObservation> makePoseObservations(const TFrame& f, const std::vector<TMatch>& m,
+												   const TLocalMapPoints& pts, double scaleFactor,
+												   const TDepthNoise& depthNoise = TDepthNoise::none());
 }  // namespace mrpt_yesslam

@@ -26,7 +26,8 @@ T get(std::istream& i, const char* what)
 {
 	static_assert(std::is_trivially_copyable_v<T>);
 	T v{};
-	if (!i.read(reinterpret_cast<char*>(&v), sizeof(T))) throw std::runtime_error(std::string("truncated data reading ") + what);
+	if (!i.read(reinterpret_cast<char*>(&v), sizeof(T)))
+		throw std::runtime_error(std::string("truncated data reading ") + what);
 	return v;
 }
 /** Writes a vector of trivially copyable values with its length. */
@@ -34,7 +35,8 @@ template <typename T>
 void putVector(std::ostream& o, const std::vector<T>& v)
 {
 	put<std::uint64_t>(o, v.size());
-	if (!v.empty()) o.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
+	if (!v.empty())
+		o.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 /** Reads what putVector wrote; refuses more than `maxCount` elements (a corrupt length). */
 template <typename T>
@@ -69,7 +71,8 @@ inline std::uint32_t getVersion(std::istream& i, const char* what, std::uint32_t
 {
 	const auto v = get<std::uint32_t>(i, what);
 	if (v == 0 || v > current)
-		throw std::runtime_error(std::string(what) + " has format version " + std::to_string(v) + ", this build reads up to " + std::to_string(current));
+		throw std::runtime_error(std::string(what) + " has format version " + std::to_string(v) +
+								 ", this build reads up to " + std::to_string(current));
 	return v;
 }
 }  // namespace mrpt_yesslam::binio

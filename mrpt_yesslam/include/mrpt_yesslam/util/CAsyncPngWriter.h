@@ -36,7 +36,7 @@ class CAsyncPngWriter
 
    private:
 	std::atomic<long long> busyNs_{0};
-	std::deque<std::future<void>> pending_;	 //!< in submission order
-	CWorkerPool pool_;	//!< last: its workers stop before the members they use go
+	std::deque<std::future<void>> pending_;  //!< in submission order
+	CWorkerPool pool_;                       //!< last: its workers stop before the members they use go
 };
 }  // namespace mrpt_yesslam

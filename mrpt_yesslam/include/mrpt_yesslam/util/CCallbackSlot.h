@@ -30,6 +30,6 @@ class CCallbackSlot
 	}
 
    private:
-	std::shared_ptr<const Function> f_;	 //!< read and written with std::atomic_load/store only
+	std::shared_ptr<const Function> f_;  //!< read and written with std::atomic_load/store only
 };
 }  // namespace mrpt_yesslam

@@ -14,16 +14,20 @@ class CommandLine
 {
    public:
 	/** `synopsis` is the usage line; `description` a paragraph shown by --help; `examples` lines. */
-	CommandLine(std::string program, std::string synopsis, std::string description, std::vector<std::string> examples = {});
+	CommandLine(std::string program, std::string synopsis, std::string description,
+				std::vector<std::string> examples = {});
 
 	/** A switch: present = true. */
 	void flag(const std::string& name, const std::string& help, bool* target);
 	/** A text option. */
-	void text(const std::string& name, const std::string& metavar, const std::string& help, std::string* target, bool required = false);
+	void text(const std::string& name, const std::string& metavar, const std::string& help, std::string* target,
+			  bool required = false);
 	/** A finite floating-point option. */
-	void number(const std::string& name, const std::string& metavar, const std::string& help, double* target, bool required = false);
+	void number(const std::string& name, const std::string& metavar, const std::string& help, double* target,
+				bool required = false);
 	/** A text option that may be given several times; each value is appended. */
-	void texts(const std::string& name, const std::string& metavar, const std::string& help, std::vector<std::string>* target, bool required = false);
+	void texts(const std::string& name, const std::string& metavar, const std::string& help,
+			   std::vector<std::string>* target, bool required = false);
 	/** A non-negative integer option. */
 	void count(const std::string& name, const std::string& metavar, const std::string& help, std::size_t* target);
 

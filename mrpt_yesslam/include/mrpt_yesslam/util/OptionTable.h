@@ -41,11 +41,13 @@ class COptionTable
 	/** A whole number in [lo, hi]. */
 	COptionTable& integer(const std::string& key, int& v, int lo, int hi, const std::string& help);
 	/** A count or size in [lo, hi]: negative values are errors, never wrapped. */
-	COptionTable& count(const std::string& key, std::size_t& v, std::size_t lo, std::size_t hi, const std::string& help);
+	COptionTable& count(const std::string& key, std::size_t& v, std::size_t lo, std::size_t hi,
+						const std::string& help);
 	/** true/false (also 1/0, yes/no). */
 	COptionTable& flag(const std::string& key, bool& v, const std::string& help);
 	/** Text; with `choices`, one of them. */
-	COptionTable& text(const std::string& key, std::string& v, const std::string& help, std::vector<std::string> choices = {});
+	COptionTable& text(const std::string& key, std::string& v, const std::string& help,
+					   std::vector<std::string> choices = {});
 	/** The entries of a nested options struct loaded from the same section. */
 	COptionTable& append(const COptionTable& nested);
 

@@ -11,7 +11,10 @@ namespace mrpt_yesslam
 using SteadyClock = std::chrono::steady_clock;
 
 /** Milliseconds since `t0` on the steady clock. */
-inline double msSince(SteadyClock::time_point t0) { return std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count(); }
+inline double msSince(SteadyClock::time_point t0)
+{
+	return std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+}
 
 /** CPU time the calling thread has used, in ms. A stage's wall time also counts the time its thread
  * waited for a core: on two cores shared by the frame, detector, reader, mapping and dense threads

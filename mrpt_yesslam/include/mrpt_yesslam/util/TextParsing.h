@@ -25,10 +25,16 @@ std::string jsonEscape(const std::string& s);
 std::vector<std::string> splitLines(const std::string& text);
 
 /** `v`, or 0 where it would print as a zero with 9 decimals: no "-0.000000000" in files. */
-inline double withoutNegativeZero(double v) { return v < 5e-10 && v > -5e-10 ? 0.0 : v; }
+inline double withoutNegativeZero(double v)
+{
+	return v < 5e-10 && v > -5e-10 ? 0.0 : v;
+}
 
 /** "1 keyframe", "2 keyframes": a count with its noun (plural by adding s). */
-inline std::string countOf(std::size_t n, const std::string& noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); }
+inline std::string countOf(std::size_t n, const std::string& noun)
+{
+	return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
 
 /** A number for messages: %g with `digits` significant digits ("0.005", "4", "6.12"). */
 std::string formatNumber(double v, int digits = 3);

@@ -8,9 +8,8 @@
 
 namespace mrpt_yesslam
 {
-TEvalReport evaluateTrajectories(
-	const TTrajectory& gt, const TTrajectory& est, const TEvalOptions& opts, const std::string& gtName,
-	const std::string& estName)
+TEvalReport evaluateTrajectories(const TTrajectory& gt, const TTrajectory& est, const TEvalOptions& opts,
+								 const std::string& gtName, const std::string& estName)
 {
 	TEvalReport r;
 	r.options = opts;
@@ -108,7 +107,8 @@ std::string formatAteErrorsCsv(const TAteResult& ate)
 	for (std::size_t i = 0; i < ate.errors.size(); i++)
 	{
 		const Eigen::Vector3d d = ate.estAligned[i] - ate.gt[i];
-		std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.6f\n", ate.stamps[i], ate.errors[i], d.x(), d.y(), d.z());
+		std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.6f\n", ate.stamps[i], ate.errors[i], d.x(), d.y(),
+					  d.z());
 		out += line;
 	}
 	return out;
@@ -128,14 +128,12 @@ std::string formatEvalJson(const TEvalReport& r)
 	out += "  \"alignment_transform\": {\n    \"rotation\": [";
 	for (int i = 0; i < 3; i++)
 	{
-		std::snprintf(
-			b, sizeof(b), "%s[%.12f, %.12f, %.12f]", i ? ", " : "", r.ate.alignment.R(i, 0), r.ate.alignment.R(i, 1),
-			r.ate.alignment.R(i, 2));
+		std::snprintf(b, sizeof(b), "%s[%.12f, %.12f, %.12f]", i ? ", " : "", r.ate.alignment.R(i, 0),
+					  r.ate.alignment.R(i, 1), r.ate.alignment.R(i, 2));
 		out += b;
 	}
-	std::snprintf(
-		b, sizeof(b), "],\n    \"translation\": [%.12f, %.12f, %.12f],\n", r.ate.alignment.t.x(), r.ate.alignment.t.y(),
-		r.ate.alignment.t.z());
+	std::snprintf(b, sizeof(b), "],\n    \"translation\": [%.12f, %.12f, %.12f],\n", r.ate.alignment.t.x(),
+				  r.ate.alignment.t.y(), r.ate.alignment.t.z());
 	out += b;
 	std::snprintf(b, sizeof(b), "    \"scale\": %.12f,\n", r.ate.alignment.scale);
 	out += b;

@@ -15,7 +15,9 @@ EGroundTruthFormat parseGroundTruthFormat(const std::string& name, const std::st
 	if (n == "tum") return EGroundTruthFormat::Tum;
 	if (n == "bonn") return EGroundTruthFormat::Bonn;
 	if (n == "auto") return EGroundTruthFormat::Auto;
-	throw InputError("", option + " must be 'tum' (camera poses), 'bonn' (Bonn RGB-D Dynamic marker poses) or 'auto', got '" + name + "'");
+	throw InputError(
+		"", option + " must be 'tum' (camera poses), 'bonn' (Bonn RGB-D Dynamic marker poses) or 'auto', got '" + name +
+				"'");
 }
 
 EGroundTruthFormat resolveGroundTruthFormat(const std::string& path, EGroundTruthFormat format)
@@ -26,8 +28,9 @@ EGroundTruthFormat resolveGroundTruthFormat(const std::string& path, EGroundTrut
 
 std::string describeGroundTruthFormat(EGroundTruthFormat format)
 {
-	return format == EGroundTruthFormat::Bonn ? "Bonn RGB-D Dynamic marker poses, converted to the camera's (--gt-format tum takes them as they are)"
-											  : "camera poses (TUM)";
+	return format == EGroundTruthFormat::Bonn
+			   ? "Bonn RGB-D Dynamic marker poses, converted to the camera's (--gt-format tum takes them as they are)"
+			   : "camera poses (TUM)";
 }
 
 namespace

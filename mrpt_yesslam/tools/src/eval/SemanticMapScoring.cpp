@@ -18,8 +18,8 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-TSemanticMapScore scoreSemanticMap(
-	const CSemanticOcTree& tree, const std::string& simDir, const mrpt::poses::CPose3D& mapInGt, int frameStep, int pixelStep)
+TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::string& simDir,
+								   const mrpt::poses::CPose3D& mapInGt, int frameStep, int pixelStep)
 {
 	const fs::path dir(simDir);
 	for (const char* f : {"objects.txt", "depth.txt", "rgb.txt", "groundtruth.txt", "calibration.txt"})
@@ -27,13 +27,14 @@ TSemanticMapScore scoreSemanticMap(
 	// The labels are the colour image's: a depth image taken at another moment (--depth-offset,
 	// the crowd preset) does not see what they label where things move.
 	{
-		const auto rgb = readTumFileList((dir / "rgb.txt").string()), depth = readTumFileList((dir / "depth.txt").string());
+		const auto rgb = readTumFileList((dir / "rgb.txt").string()),
+				   depth = readTumFileList((dir / "depth.txt").string());
 		for (std::size_t k = 0; k < rgb.size() && k < depth.size(); k++)
 			if (std::abs(rgb[k].t - depth[k].t) > 1e-3)
-				throw InputError(
-					(dir / "depth.txt").string(),
-					"its depth images were taken at other moments than their colour images and labels (yesslam-sim --depth-offset): "
-					"scoring needs them together; make the sequence with --depth-offset 0");
+				throw InputError((dir / "depth.txt").string(),
+								 "its depth images were taken at other moments than their colour images and labels "
+								 "(yesslam-sim --depth-offset): "
+								 "scoring needs them together; make the sequence with --depth-offset 0");
 	}
 	// Intrinsics: "fx fy cx cy width height depth_scale" on the first line that is not a comment.
 	double fx = 0, fy = 0, cx = 0, cy = 0, scale = 0;
@@ -41,7 +42,8 @@ TSemanticMapScore scoreSemanticMap(
 	{
 		const auto f = splitFields(line);
 		if (f.empty() || f[0][0] == '#') continue;
-		if (f.size() < 7) throw InputError((dir / "calibration.txt").string(), "expected fx fy cx cy width height depth_scale");
+		if (f.size() < 7)
+			throw InputError((dir / "calibration.txt").string(), "expected fx fy cx cy width height depth_scale");
 		fx = std::stod(f[0]), fy = std::stod(f[1]), cx = std::stod(f[2]), cy = std::stod(f[3]), scale = std::stod(f[6]);
 		break;
 	}
@@ -55,7 +57,8 @@ TSemanticMapScore scoreSemanticMap(
 	const TTrajectory gt = readTumTrajectory((dir / "groundtruth.txt").string());
 	auto gtAt = [&](double t)
 	{
-		const auto it = std::min_element(gt.begin(), gt.end(), [&](const auto& a, const auto& b) { return std::abs(a.t - t) < std::abs(b.t - t); });
+		const auto it = std::min_element(
+			gt.begin(), gt.end(), [&](const auto& a, const auto& b) { return std::abs(a.t - t) < std::abs(b.t - t); });
 		return it->asPose();
 	};
 	const mrpt::poses::CPose3D gtToMap = -mapInGt;
@@ -73,9 +76,10 @@ TSemanticMapScore scoreSemanticMap(
 		const cv::Mat depth = cv::imread((dir / f[1]).string(), cv::IMREAD_UNCHANGED);
 		const cv::Mat cls = cv::imread((dir / "labels/class" / name).string(), cv::IMREAD_UNCHANGED);
 		const cv::Mat inst = cv::imread((dir / "labels/instance" / name).string(), cv::IMREAD_UNCHANGED);
-		if (depth.empty() || cls.empty() || inst.empty() || depth.type() != CV_16U || cls.size() != depth.size() || inst.size() != depth.size())
+		if (depth.empty() || cls.empty() || inst.empty() || depth.type() != CV_16U || cls.size() != depth.size() ||
+			inst.size() != depth.size())
 			throw InputError((dir / f[1]).string(), "depth or labels/ image missing or of the wrong type");
-		const mrpt::poses::CPose3D T = gtToMap + gtAt(std::stod(f[0]));	 // camera in the map frame
+		const mrpt::poses::CPose3D T = gtToMap + gtAt(std::stod(f[0]));  // camera in the map frame
 		for (int v = 0; v < depth.rows; v += pixelStep)
 			for (int u = 0; u < depth.cols; u += pixelStep)
 			{
@@ -104,7 +108,9 @@ TSemanticMapScore scoreSemanticMap(
 		for (int dx = -1; dx <= 1 && !nearStatic; dx++)
 			for (int dy = -1; dy <= 1 && !nearStatic; dy++)
 				for (int dz = -1; dz <= 1 && !nearStatic; dz++)
-					nearStatic = surface.count(Key(static_cast<octomap::key_type>(k[0] + dx), static_cast<octomap::key_type>(k[1] + dy), static_cast<octomap::key_type>(k[2] + dz))) > 0;
+					nearStatic = surface.count(Key(static_cast<octomap::key_type>(k[0] + dx),
+												   static_cast<octomap::key_type>(k[1] + dy),
+												   static_cast<octomap::key_type>(k[2] + dz))) > 0;
 		if (nearStatic) continue;
 		s.sweptVoxels++;
 		if (occupied(k)) s.ghostVoxels++;
@@ -113,7 +119,9 @@ TSemanticMapScore scoreSemanticMap(
 	{
 		const CSemanticOcTreeNode* n = occupied(k);
 		if (!n) continue;
-		const int truth = std::max_element(counts.begin(), counts.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
+		const int truth = std::max_element(counts.begin(), counts.end(),
+										   [](const auto& a, const auto& b) { return a.second < b.second; })
+							  ->first;
 		const bool ok = n->label == truth;
 		s.scoredVoxels++;
 		s.labelCorrect += ok;

@@ -38,9 +38,8 @@ TErrorStats TErrorStats::of(const std::vector<double>& v)
 	return s;
 }
 
-TAteResult computeAte(
-	const TTrajectory& gtIn, const TTrajectory& estIn, const TEvalOptions& opts, const std::string& gtName,
-	const std::string& estName)
+TAteResult computeAte(const TTrajectory& gtIn, const TTrajectory& estIn, const TEvalOptions& opts,
+					  const std::string& gtName, const std::string& estName)
 {
 	const TTrajectory gt = uniqueSortedByTime(gtIn), est = uniqueSortedByTime(estIn);
 	if (gt.empty()) throw InputError(gtName, "contains no poses");
@@ -110,7 +109,10 @@ Mat4 transform44(const TStampedPose& p)
 }
 
 // ominus(a, b) = inv(a) * b for rigid transforms.
-Mat4 ominus(const Mat4& a, const Mat4& b) { return a.inverse() * b; }
+Mat4 ominus(const Mat4& a, const Mat4& b)
+{
+	return a.inverse() * b;
+}
 
 // evaluate_rpe.py's find_closest_index(): a binary search that returns the closest element among
 // those it visits. That is not always the true nearest; we reproduce it as it is.
@@ -136,9 +138,8 @@ std::size_t findClosestIndex(const std::vector<double>& L, double t)
 }
 }  // namespace
 
-TRpeResult computeRpe(
-	const TTrajectory& gtIn, const TTrajectory& estIn, const TEvalOptions& opts, double scale,
-	const std::string& estName)
+TRpeResult computeRpe(const TTrajectory& gtIn, const TTrajectory& estIn, const TEvalOptions& opts, double scale,
+					  const std::string& estName)
 {
 	const TTrajectory gt = uniqueSortedByTime(gtIn), est = uniqueSortedByTime(estIn);
 	if (gt.size() < 2 || est.size() < 2) throw InputError(estName, "RPE needs at least 2 poses in each trajectory");
@@ -159,8 +160,7 @@ TRpeResult computeRpe(
 			if (std::find(seen.begin(), seen.end(), k) == seen.end()) seen.push_back(k);
 			if (seen.size() >= 2) break;
 		}
-		if (seen.size() < 2)
-			throw InputError(estName, "too little overlap with the ground-truth timestamps for RPE");
+		if (seen.size() < 2) throw InputError(estName, "too little overlap with the ground-truth timestamps for RPE");
 	}
 
 	std::vector<double> index(se.size());
@@ -169,7 +169,7 @@ TRpeResult computeRpe(
 	for (std::size_t i = 0; i < se.size(); i++)
 	{
 		const std::size_t j = findClosestIndex(index, index[i] + opts.rpeDelta);
-		if (j != se.size() - 1) pairs.emplace_back(i, j);	// the tool drops pairs ending on the last pose
+		if (j != se.size() - 1) pairs.emplace_back(i, j);  // the tool drops pairs ending on the last pose
 	}
 	std::vector<double> diffs;
 	for (std::size_t i = 1; i < sg.size(); i++) diffs.push_back(sg[i] - sg[i - 1]);
@@ -180,7 +180,8 @@ TRpeResult computeRpe(
 	{
 		const std::size_t g0 = findClosestIndex(sg, se[i] + opts.offset);
 		const std::size_t g1 = findClosestIndex(sg, se[j] + opts.offset);
-		if (std::abs(sg[g0] - (se[i] + opts.offset)) > gtMaxDiff || std::abs(sg[g1] - (se[j] + opts.offset)) > gtMaxDiff)
+		if (std::abs(sg[g0] - (se[i] + opts.offset)) > gtMaxDiff ||
+			std::abs(sg[g1] - (se[j] + opts.offset)) > gtMaxDiff)
 			continue;
 		Mat4 relEst = ominus(Te[j], Te[i]);
 		relEst.block<3, 1>(0, 3) *= scale;
@@ -190,8 +191,7 @@ TRpeResult computeRpe(
 		const double c = std::min(1.0, std::max(-1.0, (E.block<3, 3>(0, 0).trace() - 1.0) / 2.0));
 		er.push_back(std::acos(c) * 180.0 / M_PI);
 	}
-	if (et.size() < 2)
-		throw InputError(estName, "fewer than 2 pose pairs match the ground truth for RPE");
+	if (et.size() < 2) throw InputError(estName, "fewer than 2 pose pairs match the ground truth for RPE");
 	TRpeResult r;
 	r.pairs = et.size();
 	r.trans = TErrorStats::of(et);

@@ -38,9 +38,8 @@ cv::Vec3b colourFor(double e, double lo, double hi)
 }
 }  // namespace
 
-void plotAteTopDown(
-	const TAteResult& ate, const TTrajectory& gtFull, const std::string& pngPath, const std::string& title, int W,
-	int H)
+void plotAteTopDown(const TAteResult& ate, const TTrajectory& gtFull, const std::string& pngPath,
+					const std::string& title, int W, int H)
 {
 	// Pick the plane: the two axes with the largest ground-truth extent.
 	Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
@@ -60,9 +59,8 @@ void plotAteTopDown(
 	// The right margin holds the colour bar and the legend, whose widest line sets it (a fixed 150 px
 	// cut "(Sim3-aligned)" at the picture's edge).
 	int base = 0;
-	const int legendText = std::max(
-		cv::getTextSize("(Sim3-aligned)", cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, &base).width,
-		cv::getTextSize("ground truth", cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, &base).width);
+	const int legendText = std::max(cv::getTextSize("(Sim3-aligned)", cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, &base).width,
+									cv::getTextSize("ground truth", cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, &base).width);
 	const int left = 90, right = std::max(150, 30 + 26 + legendText + 12), top = 60, bottom = 70;
 	const int pw = W - left - right, ph = H - top - bottom;
 	double spanX = std::max(ext[a0], 1e-3), spanY = std::max(ext[a1], 1e-3);
@@ -83,7 +81,8 @@ void plotAteTopDown(
 		const int px = static_cast<int>(std::lround(toPx(x, 0).x));
 		cv::line(img, {px, top}, {px, top + ph}, cv::Scalar(225, 225, 225), 1);
 		std::snprintf(buf, sizeof(buf), "%.2f", std::abs(x) < 1e-12 ? 0.0 : x);
-		cv::putText(img, buf, {px - 20, top + ph + 22}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+		cv::putText(img, buf, {px - 20, top + ph + 22}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1,
+					cv::LINE_AA);
 	}
 	for (double y = std::ceil(ymin / step) * step; y <= ymax; y += step)
 	{
@@ -94,7 +93,8 @@ void plotAteTopDown(
 	}
 	cv::rectangle(img, cv::Rect(left, top, pw, ph), cv::Scalar(0, 0, 0), 1);
 	std::snprintf(buf, sizeof(buf), "%c [m]", names[a0]);
-	cv::putText(img, buf, {left + pw / 2 - 20, H - 20}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+	cv::putText(img, buf, {left + pw / 2 - 20, H - 20}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1,
+				cv::LINE_AA);
 	std::snprintf(buf, sizeof(buf), "%c [m]", names[a1]);
 	cv::putText(img, buf, {10, top - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 	cv::putText(img, title, {left, 30}, cv::FONT_HERSHEY_SIMPLEX, 0.65, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
@@ -135,19 +135,19 @@ void plotAteTopDown(
 	{
 		const double e = eHi - (eHi - eLo) * k / 4.0;
 		std::snprintf(buf, sizeof(buf), "%.4f", e);
-		cv::putText(
-			img, buf, {bx + bw + 6, by + k * (bh - 1) / 4 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1,
-			cv::LINE_AA);
+		cv::putText(img, buf, {bx + bw + 6, by + k * (bh - 1) / 4 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.42,
+					cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 	}
 	// Legend.
 	const int ly = by + bh + 35;
 	cv::line(img, {bx - 10, ly}, {bx + 20, ly}, cv::Scalar(90, 90, 90), 2, cv::LINE_AA);
-	cv::putText(img, "ground truth", {bx + 26, ly + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+	cv::putText(img, "ground truth", {bx + 26, ly + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1,
+				cv::LINE_AA);
 	cv::line(img, {bx - 10, ly + 25}, {bx + 20, ly + 25}, cv::Scalar(255, 0, 0), 2, cv::LINE_AA);
-	cv::putText(img, "estimate", {bx + 26, ly + 30}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-	cv::putText(
-		img, ate.alignment.sim3 ? "(Sim3-aligned)" : "(SE3-aligned)", {bx + 26, ly + 48}, cv::FONT_HERSHEY_SIMPLEX, 0.42,
-		cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+	cv::putText(img, "estimate", {bx + 26, ly + 30}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1,
+				cv::LINE_AA);
+	cv::putText(img, ate.alignment.sim3 ? "(Sim3-aligned)" : "(SE3-aligned)", {bx + 26, ly + 48},
+				cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 	std::snprintf(buf, sizeof(buf), "ATE RMSE %.4f m, %zu pairs", ate.stats.rmse, ate.stats.n);
 	cv::putText(img, buf, {left, 50}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 

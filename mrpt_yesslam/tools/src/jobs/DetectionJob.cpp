@@ -34,8 +34,8 @@ std::string stampName(double t)
 }
 }  // namespace
 
-cv::Mat drawDetectionOverlay(
-	const cv::Mat& bgr, const std::vector<TDetection>& dets, const CObjectDetector& det, const cv::Mat& mask)
+cv::Mat drawDetectionOverlay(const cv::Mat& bgr, const std::vector<TDetection>& dets, const CObjectDetector& det,
+							 const cv::Mat& mask)
 {
 	cv::Mat out = bgr.clone();
 	if (!mask.empty())
@@ -55,14 +55,15 @@ cv::Mat drawDetectionOverlay(
 		const cv::Size ts = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &base);
 		const cv::Point org(static_cast<int>(d.box.x), std::max(ts.height + 4, static_cast<int>(d.box.y)));
 		cv::rectangle(out, cv::Rect(org.x, org.y - ts.height - 4, ts.width + 4, ts.height + 6), col, cv::FILLED);
-		cv::putText(out, label, {org.x + 2, org.y - 2}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+		cv::putText(out, label, {org.x + 2, org.y - 2}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 1,
+					cv::LINE_AA);
 	}
 	return out;
 }
 
-TDetectJobSummary runDetectionJob(
-	const TDetectJobOptions& o, const std::function<void(std::size_t, std::size_t)>& progress,
-	const std::function<bool()>& cancel)
+TDetectJobSummary runDetectionJob(const TDetectJobOptions& o,
+								  const std::function<void(std::size_t, std::size_t)>& progress,
+								  const std::function<bool()>& cancel)
 {
 	std::error_code ec;
 	if (o.input.empty()) throw InputError("", "no input given");
@@ -99,7 +100,8 @@ TDetectJobSummary runDetectionJob(
 		if (o.overlay)
 		{
 			fs::create_directories(fs::path(o.outDir) / "overlays");
-			writePngAtomically((fs::path(o.outDir) / "overlays" / stampName(stamp)).string(), drawDetectionOverlay(bgr, dets, *detector, mask));
+			writePngAtomically((fs::path(o.outDir) / "overlays" / stampName(stamp)).string(),
+							   drawDetectionOverlay(bgr, dets, *detector, mask));
 		}
 		for (const auto& d : dets)
 		{
@@ -120,7 +122,8 @@ TDetectJobSummary runDetectionJob(
 	else
 	{
 		auto src = openInputSource(o.input, o.source);
-		const std::size_t total = o.maxFrames ? std::min(o.maxFrames, src->sizeHint() ? src->sizeHint() : o.maxFrames) : src->sizeHint();
+		const std::size_t total =
+			o.maxFrames ? std::min(o.maxFrames, src->sizeHint() ? src->sizeHint() : o.maxFrames) : src->sizeHint();
 		sum.detectionsFile = (fs::path(o.outDir) / "detections.txt").string();
 		try
 		{

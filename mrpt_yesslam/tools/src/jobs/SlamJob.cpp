@@ -40,12 +40,14 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 {
 	const fs::path in(input);
 	// A camera has no folder: nothing lies beside it.
-	const fs::path beside = input.empty() ? fs::path() : fs::is_directory(in) ? in / "detections.txt" : in.parent_path() / "detections.txt";
+	const fs::path beside = input.empty()          ? fs::path()
+							: fs::is_directory(in) ? in / "detections.txt"
+												   : in.parent_path() / "detections.txt";
 	if (det.backend == "auto")
 	{
 		if (!det.file.empty() || (!beside.empty() && fs::exists(beside)))
 			det.backend = "file";
-		else if (useShippedModel(det))	// the configured model, else the shipped Yolo-Fastest
+		else if (useShippedModel(det))  // the configured model, else the shipped Yolo-Fastest
 			det.backend = "yolo";
 		else
 			det.backend = "hog";
@@ -53,11 +55,14 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input)
 	if (det.backend == "file" && det.file.empty())
 	{
 		if (beside.empty() || !fs::exists(beside))
-			throw InputError(beside.empty() ? std::string("openni2") : beside.string(), "not found: the file detector needs [Detector] file or a detections.txt beside the input");
+			throw InputError(beside.empty() ? std::string("openni2") : beside.string(),
+							 "not found: the file detector needs [Detector] file or a detections.txt beside the input");
 		det.file = beside.string();
 	}
 	if (det.backend == "yolo" && !useShippedModel(det))
-		throw InputError("", "the yolo detector needs [Detector] model (and names): the shipped share/mrpt_yesslam/models was not found (set YESSLAM_SHARE_DIR); or use --detector file, hog or none");
+		throw InputError("",
+						 "the yolo detector needs [Detector] model (and names): the shipped share/mrpt_yesslam/models "
+						 "was not found (set YESSLAM_SHARE_DIR); or use --detector file, hog or none");
 }
 
 std::string inputFilePath(const std::string& input)
@@ -121,11 +126,13 @@ class CRecorder
 	CWorkerPool pool_{1, 64};  //!< last: stopped before the writer it uses
 };
 
-TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, const std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)>& record)
+TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts,
+					  const std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)>& record)
 {
 	TInputChain c;
 	const auto& L = o.live;
-	if (L.width <= 0 || L.height <= 0 || L.fps <= 0) throw InputError("", "the camera's width, height and fps must be > 0");
+	if (L.width <= 0 || L.height <= 0 || L.fps <= 0)
+		throw InputError("", "the camera's width, height and fps must be > 0");
 	if (!(L.speed > 0)) throw InputError("", "the playback speed must be > 0, got " + std::to_string(L.speed));
 	if (isOpenNI2Input(o.input))
 	{
@@ -151,12 +158,14 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts, con
 	std::unique_ptr<CInputSource> src = openInputSource(o.input, opts.input);
 	if (L.realtime)
 	{
-		auto live = std::make_unique<CLiveSource>(std::make_unique<CPacedSource>(std::move(src), L.speed), L.slots, true, record);
+		auto live = std::make_unique<CLiveSource>(std::make_unique<CPacedSource>(std::move(src), L.speed), L.slots,
+												  true, record);
 		c.live = live.get();
 		c.source = std::move(live);
 		return c;
 	}
-	if (opts.input.prefetch > 0) src = std::make_unique<CPrefetchingSource>(std::move(src), static_cast<std::size_t>(opts.input.prefetch));
+	if (opts.input.prefetch > 0)
+		src = std::make_unique<CPrefetchingSource>(std::move(src), static_cast<std::size_t>(opts.input.prefetch));
 	c.source = std::move(src);
 	return c;
 }
@@ -177,9 +186,8 @@ void releaseBeforeOutputs(CYesSlamSystem& sys)
 #endif
 }
 
-void writeOutputs(
-	const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {}, const std::string& mapPath = {},
-	const std::function<bool()>& abort = {})
+void writeOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop = {},
+				  const std::string& mapPath = {}, const std::function<bool()>& abort = {})
 {
 	const fs::path d(dir);
 	TStatsContext ctx;
@@ -194,16 +202,19 @@ void writeOutputs(
 		std::string head = std::string("{\n  \"complete\": ") + (reason.empty() ? "true" : "false") + ",\n";
 		if (!reason.empty()) head += "  \"stop_reason\": \"" + jsonEscape(reason) + "\",\n";
 		char buf[512];
-		std::snprintf(
-			buf, sizeof(buf),
-			"  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"delivered_frames\": %zu, \"dropped_frames\": %zu, \"waiting_frames\": %zu, "
-			"\"unpaired_frames\": %zu, \"skipped_entries\": %zu, \"capture_fps\": %.2f, \"disconnected\": %s, \"recorded_frames\": %zu, "
-			"\"typical_depth_m\": %.3f",
-			in.live ? "true" : "false", in.stats.captured, in.stats.delivered, in.stats.dropped, in.stats.waiting, in.stats.unpaired, in.skippedEntries,
-			in.stats.captureFps, in.disconnected ? "true" : "false", in.recorded, sum.typicalDepth);
+		std::snprintf(buf, sizeof(buf),
+					  "  \"input\": {\"live\": %s, \"captured_frames\": %zu, \"delivered_frames\": %zu, "
+					  "\"dropped_frames\": %zu, \"waiting_frames\": %zu, "
+					  "\"unpaired_frames\": %zu, \"skipped_entries\": %zu, \"capture_fps\": %.2f, \"disconnected\": "
+					  "%s, \"recorded_frames\": %zu, "
+					  "\"typical_depth_m\": %.3f",
+					  in.live ? "true" : "false", in.stats.captured, in.stats.delivered, in.stats.dropped,
+					  in.stats.waiting, in.stats.unpaired, in.skippedEntries, in.stats.captureFps,
+					  in.disconnected ? "true" : "false", in.recorded, sum.typicalDepth);
 		head += buf;
 		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
-		head += "  \"rolling_shutter\": {\"readout_s\": " + formatNumber(sum.readout.seconds, 9) + ", \"source\": \"" + jsonEscape(sum.readout.source) + "\"},\n";
+		head += "  \"rolling_shutter\": {\"readout_s\": " + formatNumber(sum.readout.seconds, 9) + ", \"source\": \"" +
+				jsonEscape(sum.readout.source) + "\"},\n";
 		return head + body.substr(body.find('\n') + 1);
 	};
 	// The small files first, so that a second Ctrl-C during the slow ones (the dense map's build,
@@ -214,26 +225,32 @@ void writeOutputs(
 	const TWorldFrame world = sys.worldFrame();
 	const std::string frameNote = "\n" + world.describe();
 	const TTrajectory trajectory = toWorldFrame(sys.trajectory(), world.worldFromMap);
-	writeTumTrajectory(
-		(d / "trajectory.txt").string(), trajectory,
-		"camera pose (T_w_c) of every frame that has one: the pose tracking measured relative to its reference keyframe, carried by that "
-		"keyframe's final pose (ORB-SLAM2's convention; no later frame used; lost frames as coasted)" + frameNote);
-	writeTumTrajectory(
-		(d / "trajectory_online.txt").string(), toWorldFrame(sys.onlineTrajectory(), world.worldFromMap),
-		"camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted): what a robot had" + frameNote);
+	writeTumTrajectory((d / "trajectory.txt").string(), trajectory,
+					   "camera pose (T_w_c) of every frame that has one: the pose tracking measured relative to its "
+					   "reference keyframe, carried by that "
+					   "keyframe's final pose (ORB-SLAM2's convention; no later frame used; lost frames as coasted)" +
+						   frameNote);
+	writeTumTrajectory((d / "trajectory_online.txt").string(), toWorldFrame(sys.onlineTrajectory(), world.worldFromMap),
+					   "camera pose (T_w_c) of every frame that has one as the run had it then (tracked or coasted): "
+					   "what a robot had" +
+						   frameNote);
 	const auto& out = sys.options().output;
 	writeTumTrajectory(
 		(d / "trajectory_smoothed.txt").string(), toWorldFrame(sys.smoothedTrajectory(), world.worldFromMap),
-		"trajectory.txt smoothed after the run with up to " + std::to_string(std::max(out.correctionWindow, out.smoothingWindow)) +
-			" LATER frames as well as earlier ones ([Output] correctionWindow " + std::to_string(out.correctionWindow) + ", smoothingWindow " +
-			std::to_string(out.smoothingWindow) + ", lostInterpolate " + (out.lostInterpolate ? "true" : "false") +
-			"): not a pose a robot could have had" + frameNote);
-	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap), "keyframe poses (T_w_c)" + frameNote);
+		"trajectory.txt smoothed after the run with up to " +
+			std::to_string(std::max(out.correctionWindow, out.smoothingWindow)) +
+			" LATER frames as well as earlier ones ([Output] correctionWindow " + std::to_string(out.correctionWindow) +
+			", smoothingWindow " + std::to_string(out.smoothingWindow) + ", lostInterpolate " +
+			(out.lostInterpolate ? "true" : "false") + "): not a pose a robot could have had" + frameNote);
+	writeTumTrajectory((d / "keyframes.txt").string(), toWorldFrame(sys.keyFrameTrajectory(), world.worldFromMap),
+					   "keyframe poses (T_w_c)" + frameNote);
 	writeFileAtomically((d / "frames.csv").string(), formatFrameLogCsv(sys.frameLog()));
-	if (sys.options().loop.detection.enabled) writeFileAtomically((d / "loop_candidates.csv").string(), formatLoopCandidatesCsv(sys.loopCandidates()));
+	if (sys.options().loop.detection.enabled)
+		writeFileAtomically((d / "loop_candidates.csv").string(), formatLoopCandidatesCsv(sys.loopCandidates()));
 	writeFileAtomically(
-		(d / "config_used.ini").string(), "; the configuration of this run\n; [Tracking] rollingShutter = " + formatNumber(sum.readout.seconds, 9) +
-											 " s, from " + sum.readout.source + "\n" + sys.configUsed());
+		(d / "config_used.ini").string(),
+		"; the configuration of this run\n; [Tracking] rollingShutter = " + formatNumber(sum.readout.seconds, 9) +
+			" s, from " + sum.readout.source + "\n" + sys.configUsed());
 	writeFileAtomically((d / "stats.json").string(), statsJson(stop));
 	sum.stats = sys.stats();
 
@@ -314,8 +331,9 @@ void writeOutputs(
 		std::string list;
 		for (const auto& k : skipped) list += (list.empty() ? "" : ", ") + k;
 		sum.skippedOutputs = skipped;
-		writeFileAtomically(
-			(d / "stats.json").string(), statsJson((stop.empty() ? std::string() : stop + "; ") + "saving aborted by a second Ctrl-C: not written: " + list));
+		writeFileAtomically((d / "stats.json").string(),
+							statsJson((stop.empty() ? std::string() : stop + "; ") +
+									  "saving aborted by a second Ctrl-C: not written: " + list));
 	}
 }
 }  // namespace
@@ -327,23 +345,29 @@ const char* secondInterruptNote(ESlamJobPhase phase)
 	switch (phase)
 	{
 		case ESlamJobPhase::FinalMapping:
-			return "second Ctrl-C: the final mapping runs to its end, then only the trajectories, frames.csv, stats.json and the configuration "
-				   "are written (the dense map, the map file and the scene are skipped; Ctrl-C once more kills at once)";
+			return "second Ctrl-C: the final mapping runs to its end, then only the trajectories, frames.csv, "
+				   "stats.json and the configuration "
+				   "are written (the dense map, the map file and the scene are skipped; Ctrl-C once more kills at "
+				   "once)";
 		case ESlamJobPhase::Saving:
-			return "second Ctrl-C: the file being written is finished, the rest skipped (Ctrl-C once more kills at once)";
+			return "second Ctrl-C: the file being written is finished, the rest skipped (Ctrl-C once more kills at "
+				   "once)";
 		case ESlamJobPhase::Frames: break;
 	}
-	return "second Ctrl-C: the outputs not yet begun will be skipped after the final mapping (Ctrl-C once more kills at once)";
+	return "second Ctrl-C: the outputs not yet begun will be skipped after the final mapping (Ctrl-C once more kills "
+		   "at once)";
 }
 
-TSlamJobSummary runSlamJob(
-	const TSlamJobOptions& o, const std::function<void(std::size_t, std::size_t, const std::string&)>& progress,
-	const std::function<bool()>& cancel, const std::function<bool()>& abortSaving)
+TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
+						   const std::function<void(std::size_t, std::size_t, const std::string&)>& progress,
+						   const std::function<bool()>& cancel, const std::function<bool()>& abortSaving)
 {
 	TSlamJobSummary sum;
 	TYesSlamOptions opts = o.slam;
 	resolveDetector(opts.detector, inputFilePath(o.input));
-	sum.groundTruth = o.groundTruth.empty() && !inputFilePath(o.input).empty() ? findGroundTruthFor(inputFilePath(o.input)) : o.groundTruth;
+	sum.groundTruth = o.groundTruth.empty() && !inputFilePath(o.input).empty()
+						  ? findGroundTruthFor(inputFilePath(o.input))
+						  : o.groundTruth;
 	TTrajectory gt;
 	if (!sum.groundTruth.empty())
 	{
@@ -354,7 +378,8 @@ TSlamJobSummary runSlamJob(
 	{
 		// Found out now, not after an hour of mapping.
 		const fs::path dir = fs::path(o.saveMap).parent_path();
-		if (!dir.empty() && !fs::is_directory(dir)) throw InputError(o.saveMap, "cannot save the map there: the folder does not exist");
+		if (!dir.empty() && !fs::is_directory(dir))
+			throw InputError(o.saveMap, "cannot save the map there: the folder does not exist");
 		if (fs::is_directory(o.saveMap)) throw InputError(o.saveMap, "cannot save the map there: it is a folder");
 		// A folder that exists but takes no files (/proc, read-only media, no permission).
 		const fs::path probe = (dir.empty() ? fs::path(".") : dir) / (".yesslam_probe_" + std::to_string(::getpid()));
@@ -371,17 +396,21 @@ TSlamJobSummary runSlamJob(
 	{
 		std::error_code ec;
 		if (fs::is_directory(o.record)) throw InputError(o.record, "cannot record there: it is a folder");
-		if (!inputFilePath(o.input).empty() && fs::exists(o.record) && fs::equivalent(o.record, inputFilePath(o.input), ec))
+		if (!inputFilePath(o.input).empty() && fs::exists(o.record) &&
+			fs::equivalent(o.record, inputFilePath(o.input), ec))
 			throw InputError(o.record, "--record names the input itself: recording would destroy what is being read");
 		if (fs::exists(o.record) && !o.overwrite)
-			throw InputError(o.record, "exists: a recording is not replaced unless asked (--overwrite), choose another file or remove it");
+			throw InputError(
+				o.record,
+				"exists: a recording is not replaced unless asked (--overwrite), choose another file or remove it");
 	}
 	if (o.skipFrames && (isOpenNI2Input(o.input) || o.live.realtime))
 		throw InputError("", "skipping frames is for recorded input read in order, not for live or real-time input");
 	if (opts.system.localizeOnly)
 	{
-		if (o.loadMap.empty()) throw InputError("", "localisation only needs a map to localise in (--load-map MAP.ysm)");
-		opts.dense.enabled = false;	 // no keyframes: nothing to build a dense map from
+		if (o.loadMap.empty())
+			throw InputError("", "localisation only needs a map to localise in (--load-map MAP.ysm)");
+		opts.dense.enabled = false;  // no keyframes: nothing to build a dense map from
 	}
 	// The camera's rolling shutter: what the input says (a simulated sequence), else what its
 	// camera is known to have (TUM presets, Bonn folders, a camera file's readout line); a camera
@@ -393,18 +422,19 @@ TSlamJobSummary runSlamJob(
 	{
 		// Issue 70: a Kinect v1 or Xtion-class camera run without its readout lost a third of the
 		// accuracy and nobody was told.
-		sum.warnings.push_back(
-			"the camera's rolling-shutter readout is not known for " + o.input +
-			": no correction (on a rolling-shutter camera such as a Kinect v1 or Xtion that costs about a third of the accuracy); give it as "
-			"a camera file's readout line (seconds, or kinect1 / xtion / global), --camera fr1|fr2|fr3, or [Tracking] rollingShutter");
+		sum.warnings.push_back("the camera's rolling-shutter readout is not known for " + o.input +
+							   ": no correction (on a rolling-shutter camera such as a Kinect v1 or Xtion that costs "
+							   "about a third of the accuracy); give it as "
+							   "a camera file's readout line (seconds, or kinect1 / xtion / global), --camera "
+							   "fr1|fr2|fr3, or [Tracking] rollingShutter");
 	}
 	opts.tracking.rollingShutter = sum.readout.seconds;
 	// An option that cannot apply is not recorded as applied (config_used.ini is what the run used).
 	if (!opts.input.camera.empty() && !fs::is_directory(o.input) && !isOpenNI2Input(o.input))
 	{
-		sum.warnings.push_back(
-			"[Input] camera (--camera) '" + opts.input.camera + "' is for TUM folders and OpenNI2 input and was not used: the frames of " +
-			o.input + " carry their own camera");
+		sum.warnings.push_back("[Input] camera (--camera) '" + opts.input.camera +
+							   "' is for TUM folders and OpenNI2 input and was not used: the frames of " + o.input +
+							   " carry their own camera");
 		opts.input.camera.clear();
 	}
 	// The system (detector model, options) and the map first: a run that cannot start leaves no
@@ -423,7 +453,7 @@ TSlamJobSummary runSlamJob(
 	std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> record;
 	if (recorder) record = [&recorder](const mrpt::obs::CObservation3DRangeScan::Ptr& f) { recorder->add(f); };
 	TInputChain in = openInput(o, opts, record);
-	if (in.live) record = nullptr;	// the capture thread records
+	if (in.live) record = nullptr;  // the capture thread records
 	CInputSource* src = in.source.get();
 	sum.input.live = in.live != nullptr;
 	sum.input.device = in.device;
@@ -455,8 +485,7 @@ TSlamJobSummary runSlamJob(
 			if (sum.input.recorded > 0 && !target.direct && fs::is_regular_file(target.path, gec))
 			{
 				// The camera's readout goes with it too (a rawlog's frames hold no readout; issue 62 item 5).
-				if (camera)
-					try
+				if (camera) try
 					{
 						TRgbdCamera c;
 						c.intrinsics = *camera;
@@ -465,24 +494,33 @@ TSlamJobSummary runSlamJob(
 							c.readout = sum.readout.seconds;
 							c.readoutSource = sum.readout.source;
 						}
-						writeFileAtomically(recordingCameraPath(o.record), formatCameraFile(c, "the camera of " + rec.filename().string() + " (yesslam --record, from " + o.input + ")"));
+						writeFileAtomically(recordingCameraPath(o.record),
+											formatCameraFile(c, "the camera of " + rec.filename().string() +
+																	" (yesslam --record, from " + o.input + ")"));
 					}
 					catch (const std::exception& e)
 					{
 						std::error_code rec_ec;
-						fs::remove(recordingCameraPath(o.record), rec_ec);	// an earlier recording's would pass for this one's
-						sum.warnings.push_back("the camera file was not written beside the recording (a replay will not know its readout): " + exceptionSummary(e.what()));
+						fs::remove(recordingCameraPath(o.record),
+								   rec_ec);  // an earlier recording's would pass for this one's
+						sum.warnings.push_back(
+							"the camera file was not written beside the recording (a replay will not know its "
+							"readout): " +
+							exceptionSummary(e.what()));
 					}
 				try
 				{
 					if (!gtIn.empty())
 						writeFileAtomically(gtOut.string(), readTextFile(gtIn));
 					else if (fs::exists(gtOut, gec))
-						sum.warnings.push_back(gtOut.string() + " is from an earlier recording: the input of this one had no ground truth");
+						sum.warnings.push_back(
+							gtOut.string() +
+							" is from an earlier recording: the input of this one had no ground truth");
 				}
 				catch (const std::exception& e)
 				{
-					sum.warnings.push_back("the ground truth was not copied beside the recording: " + exceptionSummary(e.what()));
+					sum.warnings.push_back("the ground truth was not copied beside the recording: " +
+										   exceptionSummary(e.what()));
 				}
 			}
 		}
@@ -492,7 +530,7 @@ TSlamJobSummary runSlamJob(
 	std::size_t skipped = 0;
 	while (skipped < o.skipFrames && src->next()) skipped++;
 	mrpt::obs::CObservation3DRangeScan::Ptr first, ahead;  // ahead: the next frame, read while this one is processed
-	std::exception_ptr aheadError;	// reading it failed
+	std::exception_ptr aheadError;                         // reading it failed
 	if (skipped == o.skipFrames && o.skipFrames > 0)
 	{
 		try
@@ -510,19 +548,21 @@ TSlamJobSummary runSlamJob(
 	{
 		closeInput();
 		const std::size_t held = std::min(skipped, o.skipFrames);
-		throw InputError(
-			o.input, "--skip-frames " + std::to_string(o.skipFrames) + " skips every frame: the input holds only " + std::to_string(held) +
-						 (held == 1 ? " frame" : " frames"));
+		throw InputError(o.input, "--skip-frames " + std::to_string(o.skipFrames) +
+									  " skips every frame: the input holds only " + std::to_string(held) +
+									  (held == 1 ? " frame" : " frames"));
 	}
 	std::error_code ec;
 	fs::create_directories(o.outDir, ec);
-	if (!fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+	if (!fs::is_directory(o.outDir))
+		throw InputError(o.outDir,
+						 "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
 	// What an earlier run left in this folder must not pass for this run's: an evaluation or a
 	// dense map this one may not write, and the outputs it writes only at its end (a killed run
 	// leaves its journal and nothing else; a second Ctrl-C skips the slow ones).
-	for (const char* f :
-		 {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt", "trajectory.txt",
-		  "trajectory_smoothed.txt", "keyframes.txt", "loop_candidates.csv", "config_used.ini", "map.3Dscene"})
+	for (const char* f : {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot",
+						  "map.bt", "trajectory.txt", "trajectory_smoothed.txt", "keyframes.txt", "loop_candidates.csv",
+						  "config_used.ini", "map.3Dscene"})
 		fs::remove(fs::path(o.outDir) / f, ec);
 	// The online poses and frames.csv as the run goes, stats.json "complete": false until the end.
 	CRunJournal journal(o.outDir);
@@ -553,25 +593,25 @@ TSlamJobSummary runSlamJob(
 			// overlaps this frame's tracking as well as its own ORB extraction (issue 41: the frame
 			// waited 10 ms a frame for the detector). Live input is not read ahead: that would hold
 			// this frame until the camera delivers the next.
-			if (!in.live && !(o.maxFrames && done + 1 >= o.maxFrames))
-				try
+			if (!in.live && !(o.maxFrames && done + 1 >= o.maxFrames)) try
 				{
 					sys.detectAhead(*obs, 0);  // this frame first (already under way unless it is the first)
 					if ((ahead = src->next())) sys.detectAhead(*ahead, 1);
 				}
 				catch (...)
 				{
-					aheadError = std::current_exception();	// after this frame, as without reading ahead
+					aheadError = std::current_exception();  // after this frame, as without reading ahead
 				}
-			if (const double md = medianDepth(*obs); md > 0) depthMedians.push_back(md);  // frames without depth say nothing of its scale
+			if (const double md = medianDepth(*obs); md > 0)
+				depthMedians.push_back(md);  // frames without depth say nothing of its scale
 			if (record) record(obs);
 			const std::optional<double> depthTime = src->depthTime(observationTime(*obs));
 			// Said, not silently ignored (issue 42): only inputs that stamp their depth images apart
 			// from the colour ones (TUM folders: depth.txt) give the option anything to move.
 			if (done == 0 && opts.tracking.depthMoment && !depthTime)
-				sum.warnings.push_back(
-					"[Tracking] depthMoment does nothing for " + o.input +
-					": it gives no depth-image stamps of its own (only TUM folders do, with depth.txt); the depth is taken as of the colour image's moment");
+				sum.warnings.push_back("[Tracking] depthMoment does nothing for " + o.input +
+									   ": it gives no depth-image stamps of its own (only TUM folders do, with "
+									   "depth.txt); the depth is taken as of the colour image's moment");
 			const TFrameReport r = sys.processFrame(*obs, depthTime);
 			done++;
 			if (!journal.update(sys) && !journal.failure().empty() && !journalWarned)
@@ -587,14 +627,14 @@ TSlamJobSummary runSlamJob(
 				if (in.live)
 				{
 					const TLiveStats ls = in.live->stats();
-					std::snprintf(
-						buf, sizeof(buf), "capture %.1f fps  processed %.1f fps  dropped %zu  %s  kf %zu", ls.captureFps,
-						s > 0 ? static_cast<double>(done) / s : 0.0, ls.dropped, state, sys.map().numKeyFrames());
+					std::snprintf(buf, sizeof(buf), "capture %.1f fps  processed %.1f fps  dropped %zu  %s  kf %zu",
+								  ls.captureFps, s > 0 ? static_cast<double>(done) / s : 0.0, ls.dropped, state,
+								  sys.map().numKeyFrames());
 				}
 				else
-					std::snprintf(
-						buf, sizeof(buf), "%.1f fps  %s  kf %zu  inliers %zu", s > 0 ? static_cast<double>(done) / s : 0.0, state,
-						sys.map().numKeyFrames(), r.inliers);
+					std::snprintf(buf, sizeof(buf), "%.1f fps  %s  kf %zu  inliers %zu",
+								  s > 0 ? static_cast<double>(done) / s : 0.0, state, sys.map().numKeyFrames(),
+								  r.inliers);
 				// The total this run will process: the input's frames after the skip, at most --max-frames.
 				std::size_t total = src->sizeHint();
 				if (total > o.skipFrames) total -= o.skipFrames;
@@ -616,10 +656,11 @@ TSlamJobSummary runSlamJob(
 		{
 			// Already failing: the first error is the one reported.
 		}
-		sys.settle();  // every stage done before the outputs (its failures are not this error)
-		releaseBeforeOutputs(sys);	// no frame is processed after this
+		sys.settle();               // every stage done before the outputs (its failures are not this error)
+		releaseBeforeOutputs(sys);  // no frame is processed after this
 		journal.close();
-		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
+		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()),
+					 o.saveMap);
 		throw;
 	}
 	const std::size_t skippedEntries = src->skipped();
@@ -630,10 +671,12 @@ TSlamJobSummary runSlamJob(
 	if (!sum.input.live && fs::is_directory(o.input)) sum.input.stats.unpaired = skippedEntries;
 	if (skippedEntries > 0 && !sum.input.live)
 		sum.warnings.push_back(
-			fs::is_directory(o.input) ? std::to_string(skippedEntries) + " colour image" + (skippedEntries == 1 ? " has" : "s have") +
-											" no depth image within [Input] maxDiff " + formatNumber(opts.input.maxDiff) + " s in " + o.input +
-											" and " + (skippedEntries == 1 ? "was" : "were") + " not processed"
-									  : std::to_string(skippedEntries) + " entries of " + o.input + " are not RGB-D frames and were not processed");
+			fs::is_directory(o.input)
+				? std::to_string(skippedEntries) + " colour image" + (skippedEntries == 1 ? " has" : "s have") +
+					  " no depth image within [Input] maxDiff " + formatNumber(opts.input.maxDiff) + " s in " +
+					  o.input + " and " + (skippedEntries == 1 ? "was" : "were") + " not processed"
+				: std::to_string(skippedEntries) + " entries of " + o.input +
+					  " are not RGB-D frames and were not processed");
 	if (depthMedians.empty() && done > 0)
 		sum.typicalDepth = 0;  // no frame had any depth: implausibleDepthReason says so
 	else if (!depthMedians.empty())
@@ -654,21 +697,22 @@ TSlamJobSummary runSlamJob(
 	// A pass that was never placed in the loaded map has no pose to give: an error, not identity
 	// poses and an ATE over them (the outputs say so too: no pose, every frame "none").
 	if (!o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.trackedFrames == 0 && !sum.interrupted)
-		throw InputError(
-			o.loadMap, "never localised in the map: none of the " + std::to_string(sum.stats.frames) + " frames of " + o.input +
-						   " was recognised (is it the place the map was made in?); the outputs hold no pose");
+		throw InputError(o.loadMap,
+						 "never localised in the map: none of the " + std::to_string(sum.stats.frames) + " frames of " +
+							 o.input +
+							 " was recognised (is it the place the map was made in?); the outputs hold no pose");
 	// A run that never started its map has nothing to give (issue 43): an error with the likely
 	// reason, not an exit 0 over empty outputs.
-	if (o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.keyFrames == 0 && !sum.interrupted && !sum.input.disconnected)
+	if (o.loadMap.empty() && sum.stats.frames > 0 && sum.stats.keyFrames == 0 && !sum.interrupted &&
+		!sum.input.disconnected)
 	{
 		std::string why = implausibleDepthReason(sum.typicalDepth);
 		if (why.empty() && sum.typicalDepth > opts.tracking.maxDepth)
-			why = "the median depth is " + formatNumber(sum.typicalDepth) + " m, beyond [Tracking] maxDepth " + formatNumber(opts.tracking.maxDepth) +
-				  " m: is the depth scale right?";
+			why = "the median depth is " + formatNumber(sum.typicalDepth) + " m, beyond [Tracking] maxDepth " +
+				  formatNumber(opts.tracking.maxDepth) + " m: is the depth scale right?";
 		if (why.empty()) why = "too few features with depth to start a map (blank, dark or textureless frames?)";
-		throw InputError(
-			o.input, "no map was made: none of the " + std::to_string(sum.stats.frames) + " frames could start one; " + why +
-						 "; the outputs hold no pose");
+		throw InputError(o.input, "no map was made: none of the " + std::to_string(sum.stats.frames) +
+									  " frames could start one; " + why + "; the outputs hold no pose");
 	}
 	if (!gt.empty() && sum.stats.frames > 0)
 	{
@@ -679,13 +723,14 @@ TSlamJobSummary runSlamJob(
 			sum.evaluated = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval.json").string(), formatEvalJson(sum.eval));
 			// The picture people look at first (yesslam-eval --plot draws the same).
-			plotAteTopDown(
-				sum.eval.ate, gt, (fs::path(o.outDir) / "ate.png").string(),
-				"trajectory.txt vs " + fs::path(sum.groundTruth).filename().string());
-			sum.evalOnline = evaluateTrajectories(gt, sys.onlineTrajectory(), eo, sum.groundTruth, "trajectory_online.txt");
+			plotAteTopDown(sum.eval.ate, gt, (fs::path(o.outDir) / "ate.png").string(),
+						   "trajectory.txt vs " + fs::path(sum.groundTruth).filename().string());
+			sum.evalOnline =
+				evaluateTrajectories(gt, sys.onlineTrajectory(), eo, sum.groundTruth, "trajectory_online.txt");
 			sum.evaluatedOnline = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval_online.json").string(), formatEvalJson(sum.evalOnline));
-			sum.evalSmoothed = evaluateTrajectories(gt, sys.smoothedTrajectory(), eo, sum.groundTruth, "trajectory_smoothed.txt");
+			sum.evalSmoothed =
+				evaluateTrajectories(gt, sys.smoothedTrajectory(), eo, sum.groundTruth, "trajectory_smoothed.txt");
 			sum.evaluatedSmoothed = true;
 			writeFileAtomically((fs::path(o.outDir) / "eval_smoothed.json").string(), formatEvalJson(sum.evalSmoothed));
 		}

@@ -30,7 +30,8 @@ namespace
 // poses composed; a leaf's own box already includes its pose. Point clouds count by their 1st to
 // 99th percentile per axis: a SLAM map's few far points (a window, a stray depth reading) would
 // otherwise set the framing and leave the map a speck in the middle of the picture.
-bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& lo, mrpt::math::TPoint3D& hi, std::vector<mrpt::math::TPoint3D>* samples = nullptr)
+bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& lo, mrpt::math::TPoint3D& hi,
+				 std::vector<mrpt::math::TPoint3D>* samples = nullptr)
 {
 	bool any = false;
 	auto grow = [&](const mrpt::math::TPoint3D& p)
@@ -41,7 +42,7 @@ bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& 
 		hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
 		any = true;
 	};
-	std::vector<double> cx, cy, cz;	 // every cloud's points (sampled), for their percentiles
+	std::vector<double> cx, cy, cz;  // every cloud's points (sampled), for their percentiles
 	std::vector<mrpt::math::TPoint3D> boxCorners;
 	std::function<void(const mrpt::opengl::CRenderizable&, const mrpt::poses::CPose3D&)> add =
 		[&](const mrpt::opengl::CRenderizable& o, const mrpt::poses::CPose3D& parent)
@@ -67,15 +68,15 @@ bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& 
 		}
 		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloudColoured*>(&o)) return addCloud(*pc);
 		if (const auto* pc = dynamic_cast<const mrpt::opengl::CPointCloud*>(&o)) return addCloud(*pc);
-		if (dynamic_cast<const mrpt::opengl::CText*>(&o)) return;	// drawn at a fixed pixel size: no extent
+		if (dynamic_cast<const mrpt::opengl::CText*>(&o)) return;  // drawn at a fixed pixel size: no extent
 		try
 		{
 			const auto bb = o.getBoundingBox();
 			// A leaf's box is in its parent's frame already (its own pose applied).
 			for (int c = 0; c < 8; c++)
 			{
-				const auto w = parent.composePoint(
-					mrpt::math::TPoint3D((c & 1) ? bb.max.x : bb.min.x, (c & 2) ? bb.max.y : bb.min.y, (c & 4) ? bb.max.z : bb.min.z));
+				const auto w = parent.composePoint(mrpt::math::TPoint3D(
+					(c & 1) ? bb.max.x : bb.min.x, (c & 2) ? bb.max.y : bb.min.y, (c & 4) ? bb.max.z : bb.min.z));
 				grow(w);
 				boxCorners.push_back(w);
 			}
@@ -119,7 +120,8 @@ bool sceneBounds(const mrpt::opengl::COpenGLScene& scene, mrpt::math::TPoint3D& 
 		for (std::size_t i = 0; i < cx.size(); i += step)
 		{
 			const mrpt::math::TPoint3D p(cx[i], cy[i], cz[i]);
-			if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z) samples->push_back(p);
+			if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z)
+				samples->push_back(p);
 		}
 	}
 	return any;
@@ -160,7 +162,8 @@ void drawLegend(cv::Mat& bgr, const std::vector<std::pair<std::string, mrpt::img
 		int base = 0;
 		width = std::max(width, cv::getTextSize(name, cv::FONT_HERSHEY_SIMPLEX, 0.6 * scale, 1, &base).width);
 	}
-	const int w = std::min(bgr.cols, pad * 3 + sw + width), h = std::min(bgr.rows, pad * 2 + line * static_cast<int>(entries.size()));
+	const int w = std::min(bgr.cols, pad * 3 + sw + width),
+			  h = std::min(bgr.rows, pad * 2 + line * static_cast<int>(entries.size()));
 	cv::Mat roi = bgr(cv::Rect(0, 0, w, h));
 	cv::Mat panel(roi.size(), roi.type(), cv::Scalar(250, 250, 250));
 	cv::addWeighted(panel, 0.85, roi, 0.15, 0, roi);
@@ -171,7 +174,8 @@ void drawLegend(cv::Mat& bgr, const std::vector<std::pair<std::string, mrpt::img
 		const int top = y + (line - sw) / 2;
 		cv::rectangle(bgr, cv::Rect(pad, top, sw, sw), cv::Scalar(c.B, c.G, c.R), cv::FILLED);
 		cv::rectangle(bgr, cv::Rect(pad, top, sw, sw), cv::Scalar(60, 60, 60), 1);
-		cv::putText(bgr, name, cv::Point(2 * pad + sw, top + sw - 1), cv::FONT_HERSHEY_SIMPLEX, 0.6 * scale, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+		cv::putText(bgr, name, cv::Point(2 * pad + sw, top + sw - 1), cv::FONT_HERSHEY_SIMPLEX, 0.6 * scale,
+					cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
 		y += line;
 	}
 }
@@ -205,7 +209,8 @@ mrpt::img::CImage renderScene(mrpt::opengl::COpenGLScene& scene, const TRenderOp
 		const auto& hide = *o.hide;
 		std::vector<mrpt::opengl::CRenderizable::Ptr> drop;
 		for (const auto& obj : *vp)
-			if (obj && std::any_of(hide.begin(), hide.end(), [&](const std::string& h) { return !h.empty() && obj->getName().rfind(h, 0) == 0; }))
+			if (obj && std::any_of(hide.begin(), hide.end(),
+								   [&](const std::string& h) { return !h.empty() && obj->getName().rfind(h, 0) == 0; }))
 				drop.push_back(obj);
 		for (const auto& obj : drop) vp->removeObject(obj);
 	}

@@ -16,9 +16,9 @@ namespace
 struct TPrepared
 {
 	double a[3], u[3], v[3], o[3], h[3];
-	int c0, c1, r0, r1;	 // pixel bounds, inclusive
-	double zNear;  // no pixel of this box is nearer than this (m)
-	float shade[6];	 // light factor per face: -x, +x, -y, +y, -z, +z
+	int c0, c1, r0, r1;  // pixel bounds, inclusive
+	double zNear;        // no pixel of this box is nearer than this (m)
+	float shade[6];      // light factor per face: -x, +x, -y, +y, -z, +z
 	const TRayBox* box;
 };
 
@@ -36,7 +36,7 @@ inline bool slab(const TPrepared& b, const double d[3], double zMax, double near
 		}
 		const double inv = 1.0 / d[k];
 		double t0 = (-b.h[k] - b.o[k]) * inv, t1 = (b.h[k] - b.o[k]) * inv;
-		int enter = 2 * k;	// moving towards +: enters through the -h face
+		int enter = 2 * k;  // moving towards +: enters through the -h face
 		if (t0 > t1)
 		{
 			std::swap(t0, t1);
@@ -60,23 +60,23 @@ inline bool slab(const TPrepared& b, const double d[3], double zMax, double near
 // that CSimWorld builds for MRPT (so scene.3Dscene shows the same texture layout).
 inline void faceUv(int face, const double p[3], const double h[3], double& u, double& v)
 {
-	auto up = [&](int k) { return (p[k] + h[k]) / (2 * h[k]); };	// 0 at -h, 1 at +h
+	auto up = [&](int k) { return (p[k] + h[k]) / (2 * h[k]); };  // 0 at -h, 1 at +h
 	auto down = [&](int k) { return (h[k] - p[k]) / (2 * h[k]); };
 	switch (face)
 	{
 		case 0: u = down(1), v = down(2); break;  // -x
-		case 1: u = up(1), v = down(2); break;	// +x
-		case 2: u = up(0), v = down(2); break;	// -y
+		case 1: u = up(1), v = down(2); break;    // +x
+		case 2: u = up(0), v = down(2); break;    // -y
 		case 3: u = down(0), v = down(2); break;  // +y
-		case 4: u = up(1), v = down(0); break;	// -z
-		default: u = up(0), v = down(1); break;	 // +z
+		case 4: u = up(1), v = down(0); break;    // -z
+		default: u = up(0), v = down(1); break;   // +z
 	}
 }
 }  // namespace
 
-void CBoxRaycaster::render(
-	const std::vector<TRayBox>& boxes, const mrpt::poses::CPose3D& Twc, const mrpt::img::TCamera& K, cv::Mat& bgr, cv::Mat& depth,
-	cv::Mat& instance, cv::Range only) const
+void CBoxRaycaster::render(const std::vector<TRayBox>& boxes, const mrpt::poses::CPose3D& Twc,
+						   const mrpt::img::TCamera& K, cv::Mat& bgr, cv::Mat& depth, cv::Mat& instance,
+						   cv::Range only) const
 {
 	const int W = static_cast<int>(K.ncols), H = static_cast<int>(K.nrows);
 	if (only == cv::Range::all()) only = cv::Range(0, H);
@@ -106,7 +106,8 @@ void CBoxRaycaster::render(
 		bool behind = false;
 		for (int c = 0; c < 8; c++)
 		{
-			const mrpt::math::TPoint3D local((c & 1 ? 1 : -1) * p.h[0], (c & 2 ? 1 : -1) * p.h[1], (c & 4 ? 1 : -1) * p.h[2]);
+			const mrpt::math::TPoint3D local((c & 1 ? 1 : -1) * p.h[0], (c & 2 ? 1 : -1) * p.h[1],
+											 (c & 4 ? 1 : -1) * p.h[2]);
 			const auto pc = Tcw.composePoint(box.pose.composePoint(local));
 			zmin = std::min(zmin, pc.z);
 			zmax = std::max(zmax, pc.z);
@@ -122,7 +123,7 @@ void CBoxRaycaster::render(
 			vmin = std::min(vmin, vv);
 			vmax = std::max(vmax, vv);
 		}
-		if (zmax <= options.nearClip) continue;	 // wholly behind the camera
+		if (zmax <= options.nearClip) continue;  // wholly behind the camera
 		if (behind)
 		{
 			p.c0 = 0, p.c1 = W - 1, p.r0 = 0, p.r1 = H - 1;
@@ -161,7 +162,8 @@ void CBoxRaycaster::render(
 	}
 	// Front to back: a pixel already covered by something nearer than a box's nearest corner
 	// skips that box's slab test.
-	std::stable_sort(prep.begin(), prep.end(), [](const TPrepared& x, const TPrepared& y) { return x.zNear < y.zNear; });
+	std::stable_sort(prep.begin(), prep.end(),
+					 [](const TPrepared& x, const TPrepared& y) { return x.zNear < y.zNear; });
 
 	bgr.create(H, W, CV_8UC3);
 	depth.create(H, W, CV_32F);
@@ -182,7 +184,8 @@ void CBoxRaycaster::render(
 				const int r0 = std::max(b.r0, rows.start), r1 = std::min(b.r1, rows.end - 1);
 				for (int r = r0; r <= r1; r++)
 				{
-					double d[3] = {b.a[0] + r * b.v[0] + b.c0 * b.u[0], b.a[1] + r * b.v[1] + b.c0 * b.u[1], b.a[2] + r * b.v[2] + b.c0 * b.u[2]};
+					double d[3] = {b.a[0] + r * b.v[0] + b.c0 * b.u[0], b.a[1] + r * b.v[1] + b.c0 * b.u[1],
+								   b.a[2] + r * b.v[2] + b.c0 * b.u[2]};
 					const std::size_t row = static_cast<std::size_t>(r - rows.start) * static_cast<std::size_t>(W);
 					for (int c = b.c0; c <= b.c1; c++, d[0] += b.u[0], d[1] += b.u[1], d[2] += b.u[2])
 					{
@@ -234,7 +237,8 @@ void CBoxRaycaster::render(
 					const int tx = std::clamp(static_cast<int>(u * tex.cols), 0, tex.cols - 1);
 					const int ty = std::clamp(static_cast<int>(v * tex.rows), 0, tex.rows - 1);
 					const cv::Vec3b tc = tex.at<cv::Vec3b>(ty, tx);
-					pc[c] = cv::Vec3b(cv::saturate_cast<uint8_t>(tc[0] * s), cv::saturate_cast<uint8_t>(tc[1] * s), cv::saturate_cast<uint8_t>(tc[2] * s));
+					pc[c] = cv::Vec3b(cv::saturate_cast<uint8_t>(tc[0] * s), cv::saturate_cast<uint8_t>(tc[1] * s),
+									  cv::saturate_cast<uint8_t>(tc[2] * s));
 				}
 			}
 		});

@@ -118,7 +118,8 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 	constexpr int C = 32;
 	const int cols = (grey.cols + C - 1) / C, rows = (grey.rows + C - 1) / C;
 	std::vector<char> hit(static_cast<std::size_t>(cols * rows), 0);
-	for (const auto& k : corners) hit[static_cast<std::size_t>(static_cast<int>(k.pt.y) / C * cols + static_cast<int>(k.pt.x) / C)] = 1;
+	for (const auto& k : corners)
+		hit[static_cast<std::size_t>(static_cast<int>(k.pt.y) / C * cols + static_cast<int>(k.pt.x) / C)] = 1;
 	texturedSum_ += static_cast<double>(std::count(hit.begin(), hit.end(), 1)) / static_cast<double>(hit.size());
 	cv::Mat lap;
 	cv::Laplacian(grey, lap, CV_64F);
@@ -129,8 +130,7 @@ void CSensorStatistics::addFrame(const cv::Mat& bgr, const cv::Mat& depth)
 	cv::Mat nr;
 	cv::filter2D(grey, nr, CV_64F, N);
 	const cv::Rect inner(1, 1, grey.cols - 2, grey.rows - 2);
-	colourNoise_.push_back(
-		std::sqrt(M_PI / 2) * cv::norm(nr(inner), cv::NORM_L1) / (6.0 * inner.width * inner.height));
+	colourNoise_.push_back(std::sqrt(M_PI / 2) * cv::norm(nr(inner), cv::NORM_L1) / (6.0 * inner.width * inner.height));
 }
 
 CSensorStatistics::TResult CSensorStatistics::result() const
@@ -181,17 +181,20 @@ std::string CSensorStatistics::format(const TResult& r)
 {
 	std::string out;
 	char b[256];
-	std::snprintf(
-		b, sizeof(b), "frames: %zu\nvalid_depth_share: %.4f\nflying_pixel_share: %.5f\nspeckle_hole_share: %.4f\ndark_valid_share: %.4f\n"
-		"light_valid_share: %.4f\ntextured_cell_share: %.4f\nsharpness: %.1f\ncolour_noise: %.2f\n",
-		r.frames, r.validDepthShare, r.flyingPixelShare, r.speckleHoleShare, r.darkValidShare, r.lightValidShare, r.texturedCellShare, r.sharpness,
-		r.colourNoise);
+	std::snprintf(b, sizeof(b),
+				  "frames: %zu\nvalid_depth_share: %.4f\nflying_pixel_share: %.5f\nspeckle_hole_share: "
+				  "%.4f\ndark_valid_share: %.4f\n"
+				  "light_valid_share: %.4f\ntextured_cell_share: %.4f\nsharpness: %.1f\ncolour_noise: %.2f\n",
+				  r.frames, r.validDepthShare, r.flyingPixelShare, r.speckleHoleShare, r.darkValidShare,
+				  r.lightValidShare, r.texturedCellShare, r.sharpness, r.colourNoise);
 	out += b;
 	for (const auto& n : r.noise)
 	{
-		std::snprintf(b, sizeof(b), "noise_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax, 1000 * n.medianResidual, n.patches);
+		std::snprintf(b, sizeof(b), "noise_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax, 1000 * n.medianResidual,
+					  n.patches);
 		out += b;
-		std::snprintf(b, sizeof(b), "noise32_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax, 1000 * n.medianResidual32, n.patches32);
+		std::snprintf(b, sizeof(b), "noise32_%.1f_%.1f_mm: %.2f (%zu patches)\n", n.zMin, n.zMax,
+					  1000 * n.medianResidual32, n.patches32);
 		out += b;
 	}
 	std::snprintf(b, sizeof(b), "noise_k: %.5f\n", r.noiseK);

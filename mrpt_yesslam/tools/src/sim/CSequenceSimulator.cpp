@@ -29,6 +29,7 @@
 #include "mrpt_yesslam/geometry/RelativeMotion.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSimWorld.h"
+#include "mrpt_yesslam/sim/SimPresets.h"
 #include "mrpt_yesslam/sim/SimSensorModel.h"
 #include "mrpt_yesslam/sim/SimTextures.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
@@ -40,136 +41,16 @@ using mrpt::poses::CPose3D;
 
 namespace mrpt_yesslam
 {
-std::string simulatorModelHash() { return YESSLAM_SIM_MODEL_HASH; }
-
-const std::vector<TSimPreset>& simPresets()
+std::string simulatorModelHash()
 {
-	static const std::vector<TSimPreset> p = {
-		{"walking_xyz", "two people walk through the view, one close; camera translates along x, y, z (fr3/walking_xyz)", "xyz", 2, 0, 900},
-		{"walking_static", "two people walk through the view; camera still up to millimetre jitter (fr3/walking_static)", "static", 2, 0, 900},
-		{"walking_rpy", "two people walk through the view; camera rotates in roll, pitch, yaw (fr3/walking_rpy)", "rpy", 2, 0, 900},
-		{"walking_halfsphere", "two people walk through the view; camera moves on a half sphere (fr3/walking_halfsphere)", "halfsphere", 2, 0, 900},
-		{"sitting_static", "two people sit at desks, moving head and arms; camera still (fr3/sitting_static)", "static", 0, 2, 600},
-		{"sitting_xyz", "two people sit at desks; camera translates along x, y, z (fr3/sitting_xyz)", "xyz", 0, 2, 900},
-		{"sitting_rpy", "two people sit at desks; camera rotates in roll, pitch, yaw (fr3/sitting_rpy)", "rpy", 0, 2, 900},
-		{"sitting_halfsphere", "two people sit at desks; camera moves on a half sphere (fr3/sitting_halfsphere)", "halfsphere", 0, 2, 900},
-		{"static_office", "the office without people; camera translates along x, y, z (a static reference)", "xyz", 0, 0, 600},
-		{"office_loop", "one person walks; camera goes round a small loop, never losing sight of its start (back there after 24 s)", "loop", 1, 0, 900},
-		{"office_tour", "two people walk; camera turns round the room centre looking at every wall, back at its start every 16 s from a little further out, 2.5 turns (loop closure)", "tour", 2, 0, 1200},
-		{"static_tour", "the office_tour camera path without people (loop closure in a static room)", "tour", 0, 0, 1200},
-		// What the simulator lacked beside the real Bonn "crowd" frames (issue 27): bare walls, a slow
-		// hand-held pan, three people passing within a metre, the real sensor.
-		{"crowd",
-		 "three people walk past within a metre of a hand-held camera panning slowly over bare walls and desks 2-5 m away "
-		 "(Bonn RGB-D Dynamic crowd); the real sensor model (--real-sensor) on",
-		 "pan", 3, 0, 900, true, true,
-		 // Its colour and depth images up to 16.7 ms apart, drifting, as the real Bonn frames'
-		 // stamps are (../shared/data/bonn_crowd_dev: -16.6 to +16.7 ms): the two streams of that
-		 // Xtion run free. The double without it was 2x easier than the real slice (issue 39 item 6).
-		 16.7},
-	};
-	return p;
+	return YESSLAM_SIM_MODEL_HASH;
 }
 
 namespace
 {
-// Camera at the near end of the room looking along +x, 8 degrees down; optical frame z forward,
-// x right, y down (as TUM and MRPT's 6-DoF camera).
-CPose3D basePose()
-{
-	mrpt::math::CMatrixDouble33 R;
-	const double a = -8.0 * M_PI / 180;	 // rotation about the camera x axis: negative looks down
-	const Eigen::Vector3d xc(0, -1, 0), yc0(0, 0, -1), zc0(1, 0, 0);
-	const Eigen::Vector3d zc = std::cos(a) * zc0 - std::sin(a) * yc0;
-	const Eigen::Vector3d yc = zc.cross(xc);
-	for (int i = 0; i < 3; i++)
-	{
-		R(i, 0) = xc[i];
-		R(i, 1) = yc[i];
-		R(i, 2) = zc[i];
-	}
-	mrpt::math::CVectorFixedDouble<3> t;
-	t[0] = 1.8;	 // the far wall 4.2 m away: within a Kinect's range
-	t[1] = 2.5;
-	t[2] = 1.3;
-	return CPose3D(R, t);
-}
-
-// Motion of the camera relative to the base pose, in the camera frame, at time t.
-CPose3D presetMotion(const std::string& motion, double t, uint32_t seed)
-{
-	const double s = 2 * M_PI;
-	if (motion == "xyz")
-		return CPose3D(0.28 * std::sin(s * t / 7.0), 0.16 * std::sin(s * t / 5.3), 0.25 * std::sin(s * t / 9.1), 0, 0, 0);
-	if (motion == "rpy")
-		return CPose3D(
-			0.03 * std::sin(s * t / 6), 0.02 * std::sin(s * t / 7), 0, 0.35 * std::sin(s * t / 8), 0.2 * std::sin(s * t / 6.5),
-			0.25 * std::sin(s * t / 10));
-	if (motion == "halfsphere")
-	{
-		// On a sphere of radius 1 m around a point 2 m ahead, always looking at it.
-		const double az = 0.9 * std::sin(s * t / 14), el = 0.35 * (1 - std::cos(s * t / 11));
-		const Eigen::Vector3d c(0, 0, 2.0);
-		const Eigen::Vector3d p = c + Eigen::Vector3d(std::sin(az) * std::cos(el), -std::sin(el), -std::cos(az) * std::cos(el));
-		const Eigen::Vector3d z = (c - p).normalized(), x = Eigen::Vector3d(0, 1, 0).cross(z).normalized(), y = z.cross(x);
-		mrpt::math::CMatrixDouble33 R;
-		for (int i = 0; i < 3; i++)
-		{
-			R(i, 0) = x[i];
-			R(i, 1) = y[i];
-			R(i, 2) = z[i];
-		}
-		mrpt::math::CVectorFixedDouble<3> tv;
-		for (int i = 0; i < 3; i++) tv[i] = p[i] - (c - Eigen::Vector3d(0, 0, 1.0))[i];
-		return CPose3D(R, tv);
-	}
-	if (motion == "tour")
-	{
-		// A full turn in 16 s (22 degrees/s, a handheld pace) on a circle round (2.6, 2.5), looking
-		// outwards (8 degrees down) at each wall in turn: after about a third of the turn the start
-		// is out of sight, so only loop closing can tie the end of the turn to its start. The radius
-		// grows slowly (0.45 m at the start, 0.52 m a turn later), so each place is seen again from
-		// a slightly different viewpoint; 1200 frames make two and a half turns.
-		const double th = s * t / 16.0, r = 0.45 + 0.0044 * t, a = -8.0 * M_PI / 180;
-		const Eigen::Vector3d p(2.6 + r * std::cos(th), 2.5 + r * std::sin(th), 1.3 + 0.05 * std::sin(s * t / 6.5));
-		const Eigen::Vector3d z(std::cos(a) * std::cos(th), std::cos(a) * std::sin(th), std::sin(a)), x(std::sin(th), -std::cos(th), 0);
-		const Eigen::Vector3d y = z.cross(x);
-		mrpt::math::CMatrixDouble33 R;
-		mrpt::math::CVectorFixedDouble<3> tv;
-		for (int i = 0; i < 3; i++)
-		{
-			R(i, 0) = x[i];
-			R(i, 1) = y[i];
-			R(i, 2) = z[i];
-			tv[i] = p[i];
-		}
-		return -basePose() + CPose3D(R, tv);  // relative to the base pose, as the other motions
-	}
-	if (motion == "pan")
-	{
-		// Hand-held: a slow pan left and right (+-26 degrees, at most 9 degrees/s) about the camera's
-		// vertical axis, a slow drift forward and sideways (at most 0.1 m/s: 3 mm a frame, as the
-		// Bonn crowd camera), and hand tremor of a few millimetres and a few tenths of a degree.
-		const double pan = 0.45 * std::sin(s * t / 18.0), k = seed * 0.53;
-		return CPose3D(
-				   0.15 * std::sin(s * t / 11.0) + 0.002 * std::sin(s * 2.3 * t + k), 0.0015 * std::sin(s * 3.7 * t + 2 * k),
-			0.25 * std::sin(s * t / 15.0), 0.004 * std::sin(s * 1.9 * t + 3 * k), pan, 0.003 * std::sin(s * 2.9 * t + k));
-	}
-	if (motion == "loop")
-	{
-		// Round a 1.6 x 1.0 m ellipse in 24 s, turning to look at the room's sides, back at the start.
-		const double ph = s * t / 24.0;
-		return CPose3D(0.8 * std::sin(ph), 0, 0.5 * (1 - std::cos(ph)), 0, 0, 0) + CPose3D(0, 0, 0, 0.5 * std::sin(ph), 0, 0);
-	}
-	// static: millimetre jitter, as a camera on a tripod on a shaking floor.
-	const double k = seed * 0.37;
-	return CPose3D(
-		0.001 * std::sin(17.3 * t + k), 0.001 * std::sin(13.1 * t + 2 * k), 0.001 * std::sin(11.7 * t + 3 * k),
-		0.0005 * std::sin(9.1 * t), 0.0005 * std::sin(7.3 * t), 0.0005 * std::sin(5.9 * t));
-}
-
 // Pixels covered by an object's boxes if nothing occluded them (its faces rasterised).
-std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc, const TRgbdCamera& cam, cv::Mat& scratch)
+std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc, const TRgbdCamera& cam,
+							 cv::Mat& scratch)
 {
 	scratch.setTo(0);
 	const CPose3D Tcw = -Twc;
@@ -182,7 +63,8 @@ std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc
 		for (int c = 0; c < 8; c++)
 		{
 			const mrpt::math::TPoint3D local((c == 1 || c == 2 || c == 5 || c == 6 ? 0.5 : -0.5) * b.sx,
-											 (c == 2 || c == 3 || c == 6 || c == 7 ? 0.5 : -0.5) * b.sy, (c >= 4 ? 0.5 : -0.5) * b.sz);
+											 (c == 2 || c == 3 || c == 6 || c == 7 ? 0.5 : -0.5) * b.sy,
+											 (c >= 4 ? 0.5 : -0.5) * b.sz);
 			const auto pc = Tcw.composePoint(pose.composePoint(local));
 			front[c] = pc.z > 0.05;
 			double u = 0, v = 0;
@@ -249,14 +131,15 @@ mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K)
 	return g;
 }
 
-TSimSummary runSimulation(
-	const TSimOptions& o, const std::function<void(std::size_t, std::size_t)>& progress, const std::function<bool()>& cancel)
+TSimSummary runSimulation(const TSimOptions& o, const std::function<void(std::size_t, std::size_t)>& progress,
+						  const std::function<bool()>& cancel)
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	TSimSummary sum;
 	TStageClock clock(sum.stageSeconds);
 	const auto& presets = simPresets();
-	const auto pit = std::find_if(presets.begin(), presets.end(), [&](const TSimPreset& p) { return p.name == o.preset; });
+	const auto pit =
+		std::find_if(presets.begin(), presets.end(), [&](const TSimPreset& p) { return p.name == o.preset; });
 	if (pit == presets.end())
 	{
 		std::string names;
@@ -264,8 +147,9 @@ TSimSummary runSimulation(
 		throw InputError("", "unknown preset '" + o.preset + "' (known: " + names + ")");
 	}
 	const TSimPreset& preset = *pit;
-	const bool realSensor = o.realSensor || preset.realSensor;	// the crowd preset has it on
-	if (o.detNoise != "none" && o.detNoise != "yolo") throw InputError("", "--det-noise must be none or yolo, got '" + o.detNoise + "'");
+	const bool realSensor = o.realSensor || preset.realSensor;  // the crowd preset has it on
+	if (o.detNoise != "none" && o.detNoise != "yolo")
+		throw InputError("", "--det-noise must be none or yolo, got '" + o.detNoise + "'");
 	if (o.outDir.empty()) throw InputError("", "no output folder given (--out)");
 	if (!(o.speed >= 0.1 && o.speed <= 10)) throw InputError("", "--speed must be in 0.1..10");
 
@@ -288,7 +172,8 @@ TSimSummary runSimulation(
 	}
 	else
 	{
-		const std::size_t n = o.frames ? o.frames : static_cast<std::size_t>(std::ceil(static_cast<double>(preset.frames) / o.speed));
+		const std::size_t n =
+			o.frames ? o.frames : static_cast<std::size_t>(std::ceil(static_cast<double>(preset.frames) / o.speed));
 		for (std::size_t k = 0; k < n; k++)
 		{
 			const double t = k / 30.0;
@@ -298,7 +183,8 @@ TSimSummary runSimulation(
 	}
 
 	// Inputs first: a run that cannot start leaves no output folder behind.
-	if (!(o.depthOffsetMs == -1 || (o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100))) throw InputError("", "--depth-offset must be in [0, 100] ms (or -1: the preset's)");
+	if (!(o.depthOffsetMs == -1 || (o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100)))
+		throw InputError("", "--depth-offset must be in [0, 100] ms (or -1: the preset's)");
 	double depthOffsetMs = o.depthOffsetMs < 0 ? preset.depthOffsetMs : o.depthOffsetMs;
 	// Every reader pairs a depth image with the colour image nearest its stamp (TUM's associate.py,
 	// greedy): a depth image more than half a frame from its own colour image is nearer the next
@@ -321,29 +207,34 @@ TSimSummary runSimulation(
 	{
 		const double halfFrameMs = 500 * medianInterval;
 		if (!(halfFrameMs > 0))
-			throw InputError(o.trajectoryFile, "the frames' stamps do not increase (most repeat): a depth offset needs frame intervals; use --depth-offset 0");
-		if (depthOffsetMs > halfFrameMs + 0.05)	 // the preset's 16.7 at 30 Hz is within
+			throw InputError(o.trajectoryFile,
+							 "the frames' stamps do not increase (most repeat): a depth offset needs frame intervals; "
+							 "use --depth-offset 0");
+		if (depthOffsetMs > halfFrameMs + 0.05)  // the preset's 16.7 at 30 Hz is within
 		{
 			if (o.depthOffsetMs >= 0)
 			{
 				char msg[200];
-				std::snprintf(
-					msg, sizeof(msg),
-					"--depth-offset %.1f ms is more than half a frame (%.2f ms here): each depth image would be paired with the next colour image",
-					depthOffsetMs, halfFrameMs);
+				std::snprintf(msg, sizeof(msg),
+							  "--depth-offset %.1f ms is more than half a frame (%.2f ms here): each depth image would "
+							  "be paired with the next colour image",
+							  depthOffsetMs, halfFrameMs);
 				throw InputError(o.trajectoryFile, msg);
 			}
 			depthOffsetMs = halfFrameMs;
 		}
 	}
-	if (!(o.readoutMs == -1 || (o.readoutMs >= 0 && o.readoutMs <= 100))) throw InputError("", "--readout must be in [0, 100] ms");
-	const std::vector<cv::Mat> photos = o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
+	if (!(o.readoutMs == -1 || (o.readoutMs >= 0 && o.readoutMs <= 100)))
+		throw InputError("", "--readout must be in [0, 100] ms");
+	const std::vector<cv::Mat> photos =
+		o.texturesDir.empty() ? std::vector<cv::Mat>() : loadPhotoTextures(o.texturesDir, 512);
 	std::error_code ec;
 	fs::create_directories(fs::path(o.outDir), ec);
 	if (ec || !fs::is_directory(o.outDir)) throw InputError(o.outDir, "cannot create output folder");
 	for (const char* sub : {"rgb", "depth", "labels/class", "labels/instance", "sequence_Images"})
 	{
-		if (!o.writeRawlog && std::string(sub) == "sequence_Images") continue;	// the rawlog's images: no rawlog, no folder
+		if (!o.writeRawlog && std::string(sub) == "sequence_Images")
+			continue;  // the rawlog's images: no rawlog, no folder
 		fs::create_directories(fs::path(o.outDir) / sub, ec);
 		if (ec) throw InputError((fs::path(o.outDir) / sub).string(), "cannot create folder (" + ec.message() + ")");
 	}
@@ -376,19 +267,24 @@ TSimSummary runSimulation(
 				world.addWalkingPerson({P2(4.8, 1.6), P2(2.9, 2.35), P2(4.8, 3.4)}, 0.8, 5.0 + phase);
 		}
 		else if (preset.motion == "tour" && k < 2)
-			world.addWalkingPerson(k == 0 ? std::vector<P2>{P2(4.1, 0.9), P2(4.3, 4.1)} : std::vector<P2>{P2(1.1, 4.0), P2(1.0, 1.0)}, 0.9, 2.0 * k + phase);
-		else if (k == 0)	 // comes close to the camera: covers much of the image for a while
+			world.addWalkingPerson(
+				k == 0 ? std::vector<P2>{P2(4.1, 0.9), P2(4.3, 4.1)} : std::vector<P2>{P2(1.1, 4.0), P2(1.0, 1.0)}, 0.9,
+				2.0 * k + phase);
+		else if (k == 0)  // comes close to the camera: covers much of the image for a while
 			world.addWalkingPerson({P2(4.4, 1.2), P2(2.95, 2.3), P2(4.4, 3.8)}, 0.8, 0.0 + phase);
 		else if (k == 1)
 			world.addWalkingPerson({P2(3.5, 0.7), P2(3.6, 4.3)}, 1.1, 1.0 + phase);
 		else
 		{
 			const double x = 3.0 + 1.3 * u(layout);
-			world.addWalkingPerson({P2(x, 0.6 + 0.4 * u(layout)), P2(x + 0.3 * (u(layout) - 0.5), 4.4)}, 0.8 + 0.5 * u(layout), 6 * u(layout));
+			world.addWalkingPerson({P2(x, 0.6 + 0.4 * u(layout)), P2(x + 0.3 * (u(layout) - 0.5), 4.4)},
+								   0.8 + 0.5 * u(layout), 6 * u(layout));
 		}
 	}
-	const CPose3D seats[3] = {CPose3D(4.5, 1.6, 0, M_PI, 0, 0), CPose3D(4.5, 3.4, 0, M_PI * 0.92, 0, 0), CPose3D(3.4, 3.95, 0, -M_PI / 2, 0, 0)};
-	for (int k = 0; k < sitters; k++) world.addSittingPerson(seats[k % 3] + CPose3D(0.1 * (k / 3), 0, 0, 0, 0, 0), 2.0 * k);
+	const CPose3D seats[3] = {CPose3D(4.5, 1.6, 0, M_PI, 0, 0), CPose3D(4.5, 3.4, 0, M_PI * 0.92, 0, 0),
+							  CPose3D(3.4, 3.95, 0, -M_PI / 2, 0, 0)};
+	for (int k = 0; k < sitters; k++)
+		world.addSittingPerson(seats[k % 3] + CPose3D(0.1 * (k / 3), 0, 0, 0, 0, 0), 2.0 * k);
 	if (o.movingChair) world.addMovingChair({P2(3.0, 1.2), P2(3.2, 3.8)}, 0.35);
 	TRgbdCamera cam = tumCameraByName("fr3");
 	const CBoxRaycaster renderer;
@@ -450,7 +346,8 @@ TSimSummary runSimulation(
 			const int r0 = b * H / bands, r1 = (b + 1) * H / bands;
 			const double dt = ((r0 + r1 - 1) / 2.0 - H / 2.0) / H * readout;
 			world.setTime(stamp + dt - stamps[0]);
-			renderer.render(world.rayBoxes(), rowPose(stamp, dt), cam.intrinsics, bgr, depth, instance, cv::Range(r0, r1));
+			renderer.render(world.rayBoxes(), rowPose(stamp, dt), cam.intrinsics, bgr, depth, instance,
+							cv::Range(r0, r1));
 		}
 	};
 
@@ -496,7 +393,8 @@ TSimSummary runSimulation(
 		// Class labels, visible pixels and box of every instance, share of moving pixels.
 		cv::Mat cls = cv::Mat::zeros(inst.size(), CV_16U);
 		std::vector<std::size_t> visible(objs.size() + 1, 0);
-		std::vector<int> x0(objs.size() + 1, inst.cols), y0(objs.size() + 1, inst.rows), x1(objs.size() + 1, -1), y1(objs.size() + 1, -1);
+		std::vector<int> x0(objs.size() + 1, inst.cols), y0(objs.size() + 1, inst.rows), x1(objs.size() + 1, -1),
+			y1(objs.size() + 1, -1);
 		std::size_t dynamicPx = 0;
 		for (int r = 0; r < inst.rows; r++)
 		{
@@ -555,7 +453,9 @@ TSimSummary runSimulation(
 			if (len >= 2)
 			{
 				cv::Mat kernel = cv::Mat::zeros(len, len, CV_32F);
-				cv::line(kernel, {0, 0}, {len - 1, static_cast<int>(std::abs(dy) / std::max(1e-9, std::hypot(dx, dy)) * (len - 1))}, 1.0);
+				cv::line(kernel, {0, 0},
+						 {len - 1, static_cast<int>(std::abs(dy) / std::max(1e-9, std::hypot(dx, dy)) * (len - 1))},
+						 1.0);
 				kernel /= std::max(1.0, cv::sum(kernel)[0]);
 				cv::filter2D(rgb, rgb, -1, kernel);
 			}
@@ -587,11 +487,12 @@ TSimSummary runSimulation(
 			const std::size_t id = static_cast<std::size_t>(ob.id);
 			if (ob.classId < 0 || visible[id] == 0) continue;
 			const std::size_t full = unoccludedPixels(world, static_cast<int>(i), poses[k], cam, scratch);
-			const double frac = full > 0 ? std::min(1.0, static_cast<double>(visible[id]) / static_cast<double>(full)) : 1.0;
+			const double frac =
+				full > 0 ? std::min(1.0, static_cast<double>(visible[id]) / static_cast<double>(full)) : 1.0;
 			const cv::Rect b = bbox[id];
 			char line[256];
-			std::snprintf(line, sizeof(line), "%s %d %d %zu %.3f %d %d %d %d %d\n", stampText(stamps[k]).c_str(), ob.id, ob.classId,
-						  visible[id], frac, b.x, b.y, b.width, b.height, ob.moves ? 1 : 0);
+			std::snprintf(line, sizeof(line), "%s %d %d %zu %.3f %d %d %d %d %d\n", stampText(stamps[k]).c_str(), ob.id,
+						  ob.classId, visible[id], frac, b.x, b.y, b.width, b.height, ob.moves ? 1 : 0);
 			objectsTxt += line;
 			if (undetected.count(ob.id)) continue;
 			// Drawn only when asked, so that sequences without it stay byte-identical.
@@ -611,14 +512,17 @@ TSimSummary runSimulation(
 				// Like a real detector: small or mostly hidden objects are missed, boxes jitter by a
 				// few percent of their size, scores spread over [0.6, 1).
 				const double size = std::sqrt(static_cast<double>(b.area()));
-				const double pDetect = 0.97 * std::clamp((frac - 0.15) / 0.2, 0.0, 1.0) * std::clamp((size - 12) / 25, 0.0, 1.0);
+				const double pDetect =
+					0.97 * std::clamp((frac - 0.15) / 0.2, 0.0, 1.0) * std::clamp((size - 12) / 25, 0.0, 1.0);
 				if (uu(rng) >= pDetect) continue;
 				const double jx = 0.03 * b.width, jy = 0.03 * b.height;
 				const double x0 = b.x + jx * nn(rng), y0 = b.y + jy * nn(rng);
 				const double x1 = b.x + b.width + jx * nn(rng), y1 = b.y + b.height + jy * nn(rng);
-				r.det.score = static_cast<float>(std::min(0.995, 0.6 + 0.4 * std::pow(uu(rng), 0.35) * (0.7 + 0.3 * frac)));
-				r.det.box = cv::Rect2f(cv::Point2f(static_cast<float>(x0), static_cast<float>(y0)), cv::Point2f(static_cast<float>(x1), static_cast<float>(y1))) &
-					cv::Rect2f(0, 0, static_cast<float>(inst.cols), static_cast<float>(inst.rows));
+				r.det.score =
+					static_cast<float>(std::min(0.995, 0.6 + 0.4 * std::pow(uu(rng), 0.35) * (0.7 + 0.3 * frac)));
+				r.det.box = cv::Rect2f(cv::Point2f(static_cast<float>(x0), static_cast<float>(y0)),
+									   cv::Point2f(static_cast<float>(x1), static_cast<float>(y1))) &
+							cv::Rect2f(0, 0, static_cast<float>(inst.cols), static_cast<float>(inst.rows));
 				if (r.det.box.area() < 4) continue;
 			}
 			dets.push_back(r);
@@ -631,8 +535,8 @@ TSimSummary runSimulation(
 			r.t = stamps[k];
 			r.det.classId = uu(rng) < 0.5 ? 0 : 56;
 			r.det.score = static_cast<float>(0.6 + 0.12 * uu(rng));
-			r.det.box = cv::Rect2f(static_cast<float>(uu(rng) * 500), static_cast<float>(uu(rng) * 350), static_cast<float>(40 + uu(rng) * 100),
-								   static_cast<float>(60 + uu(rng) * 100));
+			r.det.box = cv::Rect2f(static_cast<float>(uu(rng) * 500), static_cast<float>(uu(rng) * 350),
+								   static_cast<float>(40 + uu(rng) * 100), static_cast<float>(60 + uu(rng) * 100));
 			r.det.instanceId = -1;
 			dets.push_back(r);
 			sum.detections++;
@@ -649,7 +553,8 @@ TSimSummary runSimulation(
 				{
 					const int id = inst.at<uint16_t>(r, c);
 					if (id == 0 || cls.at<uint16_t>(r, c) == 0) continue;
-					const cv::Vec3b tint(static_cast<uchar>((id * 67) % 256), static_cast<uchar>((id * 131) % 256), static_cast<uchar>((id * 29 + 128) % 256));
+					const cv::Vec3b tint(static_cast<uchar>((id * 67) % 256), static_cast<uchar>((id * 131) % 256),
+										 static_cast<uchar>((id * 29 + 128) % 256));
 					ov.at<cv::Vec3b>(r, c) = ov.at<cv::Vec3b>(r, c) / 2 + tint / 2;
 				}
 			for (std::size_t i = 0; i < objs.size(); i++)
@@ -658,7 +563,8 @@ TSimSummary runSimulation(
 				if (objs[i].classId < 0 || visible[id] == 0) continue;
 				const cv::Scalar col = objs[i].moves ? cv::Scalar(0, 0, 255) : cv::Scalar(0, 200, 0);
 				cv::rectangle(ov, bbox[id], col, objs[i].moves ? 2 : 1);
-				cv::putText(ov, objs[i].name, bbox[id].tl() + cv::Point(2, 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, col, 1, cv::LINE_AA);
+				cv::putText(ov, objs[i].name, bbox[id].tl() + cv::Point(2, 12), cv::FONT_HERSHEY_SIMPLEX, 0.4, col, 1,
+							cv::LINE_AA);
 			}
 			fs::create_directories(out / "labels/overlay", ec);
 			pngs.write((out / "labels/overlay" / name).string(), ov);
@@ -706,10 +612,11 @@ TSimSummary runSimulation(
 	writeFileAtomically((out / "rgb.txt").string(), rgbTxt);
 	writeFileAtomically((out / "depth.txt").string(), depthTxt);
 	writeFileAtomically((out / "associations.txt").string(), assoc);
-	writeTumTrajectory((out / "groundtruth.txt").string(), gt, "ground truth trajectory\nfile: yesslam-sim " + o.preset + "\ntimestamp tx ty tz qx qy qz qw");
-	writeFileAtomically(
-		(out / "calibration.txt").string(),
-		"# TUM fr3 intrinsics (no distortion): fx fy cx cy width height depth_scale\n535.4 539.2 320.1 247.6 640 480 5000\n");
+	writeTumTrajectory((out / "groundtruth.txt").string(), gt,
+					   "ground truth trajectory\nfile: yesslam-sim " + o.preset + "\ntimestamp tx ty tz qx qy qz qw");
+	writeFileAtomically((out / "calibration.txt").string(),
+						"# TUM fr3 intrinsics (no distortion): fx fy cx cy width height depth_scale\n535.4 539.2 320.1 "
+						"247.6 640 480 5000\n");
 	writeDetectionsFile((out / "detections.txt").string(), dets);
 	writeFileAtomically((out / "objects.txt").string(), objectsTxt);
 	if (rawlog)
@@ -734,15 +641,23 @@ TSimSummary runSimulation(
 	meta += "  \"preset\": \"" + o.preset + "\",\n  \"seed\": " + std::to_string(o.seed) + ",\n";
 	if (o.roomSeed) meta += "  \"room_seed\": " + std::to_string(o.roomSeed) + ",\n";
 	meta += "  \"frames\": " + std::to_string(sum.frames) + ",\n  \"walking_people\": " + std::to_string(walkers) +
-		",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
-	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") + ",\n  \"real_sensor\": " + (realSensor ? "true" : "false") +
-			",\n  \"det_noise\": \"" + o.detNoise + "\",\n";
-	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n  \"depth_offset_ms\": " + std::to_string(depthOffsetMs) + ",\n";
+			",\n  \"sitting_people\": " + std::to_string(sitters) + ",\n";
+	meta += std::string("  \"noise\": ") + (o.noise ? "true" : "false") +
+			",\n  \"real_sensor\": " + (realSensor ? "true" : "false") + ",\n  \"det_noise\": \"" + o.detNoise +
+			"\",\n";
+	meta += "  \"speed\": " + std::to_string(o.speed) + ",\n  \"depth_offset_ms\": " + std::to_string(depthOffsetMs) +
+			",\n";
 	meta += "  \"readout_ms\": " + std::to_string(readout * 1e3) + ",\n";
-	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) + ",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
-	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" + jsonEscape(o.texturesDir) + "\",\n";
-	meta += "  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, \"depth_scale\": 5000},\n";
-	meta += "  \"labels\": {\"class_png\": \"COCO class id + 1 (0 = room structure or nothing)\", \"instance_png\": \"instance id (objects.txt), 0 = nothing\"},\n";
+	meta += "  \"undetected_people\": " + std::to_string(o.undetectedPeople) +
+			",\n  \"miss_rate\": " + std::to_string(o.missRate) + ",\n";
+	meta += "  \"trajectory\": \"" + jsonEscape(o.trajectoryFile) + "\",\n  \"textures\": \"" +
+			jsonEscape(o.texturesDir) + "\",\n";
+	meta +=
+		"  \"camera\": {\"fx\": 535.4, \"fy\": 539.2, \"cx\": 320.1, \"cy\": 247.6, \"width\": 640, \"height\": 480, "
+		"\"depth_scale\": 5000},\n";
+	meta +=
+		"  \"labels\": {\"class_png\": \"COCO class id + 1 (0 = room structure or nothing)\", \"instance_png\": "
+		"\"instance id (objects.txt), 0 = nothing\"},\n";
 	char b[64];
 	std::snprintf(b, sizeof(b), "%.5f", mean);
 	meta += std::string("  \"dynamic_share_mean\": ") + b + ",\n";

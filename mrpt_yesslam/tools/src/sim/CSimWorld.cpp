@@ -34,7 +34,7 @@ mrpt::opengl::CSetOfTexturedTriangles::Ptr texturedBox(double sx, double sy, dou
 	const float hx = static_cast<float>(sx / 2), hy = static_cast<float>(sy / 2), hz = static_cast<float>(sz / 2);
 	using P = mrpt::math::TPoint3Df;
 	const P c[8] = {{-hx, -hy, -hz}, {hx, -hy, -hz}, {hx, hy, -hz}, {-hx, hy, -hz},
-					{-hx, -hy, hz},	 {hx, -hy, hz},	 {hx, hy, hz},	{-hx, hy, hz}};
+					{-hx, -hy, hz},  {hx, -hy, hz},  {hx, hy, hz},  {-hx, hy, hz}};
 	// Faces as corner indices, counter-clockwise seen from outside.
 	const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {3, 0, 4, 7}};
 	for (const auto& f : faces)
@@ -75,7 +75,10 @@ int CSimWorld::addObject(TSimObject o)
 	return static_cast<int>(objects_.size()) - 1;
 }
 
-int CSimWorld::indexOfId(int id) const { return (id >= 1 && id <= static_cast<int>(objects_.size())) ? id - 1 : -1; }
+int CSimWorld::indexOfId(int id) const
+{
+	return (id >= 1 && id <= static_cast<int>(objects_.size())) ? id - 1 : -1;
+}
 
 CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bareWalls) : seed_(seed), photos_(photos)
 {
@@ -105,26 +108,27 @@ CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bar
 		if (!bareWalls) structure(name, b);
 	};
 	for (int i = 0; i < 4; i++)
-		poster("poster", box(5.99, 0.7 + i * 1.2 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.6 + jitter(0.1), 0.8 + jitter(0.1),
-								texture({200, 200, 200}, 256)));
+		poster("poster", box(5.99, 0.7 + i * 1.2 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.6 + jitter(0.1),
+							 0.8 + jitter(0.1), texture({200, 200, 200}, 256)));
 	for (int i = 0; i < 2; i++)
 	{
-		poster("poster", box(0.01, 1.2 + i * 2.4 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.7 + jitter(0.1), 0.9 + jitter(0.1),
-								texture({190, 200, 210}, 256)));
-		poster("poster", box(1.5 + i * 2.5 + jitter(0.15), 4.99, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02, 0.9 + jitter(0.1),
-								texture({210, 200, 190}, 256)));
-		poster("poster", box(1.2 + i * 2.5 + jitter(0.15), 0.01, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02, 0.9 + jitter(0.1),
-								texture({200, 210, 200}, 256)));
+		poster("poster", box(0.01, 1.2 + i * 2.4 + jitter(0.15), 1.6 + jitter(0.2), 0.02, 0.7 + jitter(0.1),
+							 0.9 + jitter(0.1), texture({190, 200, 210}, 256)));
+		poster("poster", box(1.5 + i * 2.5 + jitter(0.15), 4.99, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02,
+							 0.9 + jitter(0.1), texture({210, 200, 190}, 256)));
+		poster("poster", box(1.2 + i * 2.5 + jitter(0.15), 0.01, 1.6 + jitter(0.2), 0.7 + jitter(0.1), 0.02,
+							 0.9 + jitter(0.1), texture({200, 210, 200}, 256)));
 	}
 
 	// Desks with what stands on them. (x, y, yaw): two against the far wall, one at each side wall.
 	const double desks[4][3] = {{5.3, 1.55, 90}, {5.3, 3.45, 90}, {3.4, 4.6, 180}, {3.2, 0.4, 0}};
 	for (int d = 0; d < 4; d++)
 	{
-		const CPose3D base(desks[d][0] + jitter(0.05), desks[d][1] + jitter(0.05), 0, (desks[d][2] + jitter(3)) * kDeg, 0, 0);
+		const CPose3D base(desks[d][0] + jitter(0.05), desks[d][1] + jitter(0.05), 0, (desks[d][2] + jitter(3)) * kDeg,
+						   0, 0);
 		TSimObject desk;
 		desk.name = "desk";
-		desk.classId = 60;	// dining table
+		desk.classId = 60;  // dining table
 		desk.pose = base;
 		const int tt = texture({120 + 40 * u(rng), 140, 160});
 		desk.boxes.push_back(box(0, 0, 0.72, 1.4, 0.7, 0.04, tt));
@@ -146,11 +150,11 @@ CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bar
 		onDesk("keyboard", 66, {box(0.05, -0.12, 0.755, 0.45, 0.15, 0.03, texture({60, 60, 60}, 128))});
 		onDesk("mouse", 64, {box(0.4, -0.1, 0.755, 0.06, 0.1, 0.03, texture({200, 200, 200}, 64))});
 		onDesk("cup", 41, {box(-0.5 + jitter(0.05), 0.05, 0.79, 0.08, 0.08, 0.1, texture({40, 40, 200}, 64))});
-		if (u(rng) < 0.7)
-			onDesk("bottle", 39, {box(-0.4, 0.2, 0.865, 0.07, 0.07, 0.25, texture({60, 160, 60}, 64))});
+		if (u(rng) < 0.7) onDesk("bottle", 39, {box(-0.4, 0.2, 0.865, 0.07, 0.07, 0.25, texture({60, 160, 60}, 64))});
 		std::vector<TSimBox> books;
 		for (int b = 0; b < 2 + static_cast<int>(rng() % 3); b++)
-			books.push_back(box(-0.55, 0.25, 0.76 + 0.035 * b, 0.22, 0.16, 0.03, texture({100 + 100 * u(rng), 80, 160}, 64), jitter(0.2)));
+			books.push_back(box(-0.55, 0.25, 0.76 + 0.035 * b, 0.22, 0.16, 0.03,
+								texture({100 + 100 * u(rng), 80, 160}, 64), jitter(0.2)));
 		onDesk("book", 73, books);
 		// A chair in front of the desk.
 		TSimObject chair;
@@ -158,7 +162,8 @@ CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bar
 		chair.classId = 56;
 		chair.pose = base + CPose3D(jitter(0.2), -0.65 + jitter(0.05), 0, (90 + jitter(15)) * kDeg, 0, 0);
 		const int ct = texture({50, 50, 150 + 60 * u(rng)}, 128);
-		chair.boxes = {box(0, 0, 0.46, 0.45, 0.45, 0.06, ct), box(-0.21, 0, 0.72, 0.05, 0.45, 0.48, ct), box(0, 0, 0.22, 0.06, 0.06, 0.44, ct)};
+		chair.boxes = {box(0, 0, 0.46, 0.45, 0.45, 0.06, ct), box(-0.21, 0, 0.72, 0.05, 0.45, 0.48, ct),
+					   box(0, 0, 0.22, 0.06, 0.06, 0.44, ct)};
 		addObject(chair);
 	}
 	// A shelf with books in the far right corner.
@@ -168,7 +173,8 @@ CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bar
 		shelf.name = "shelf";
 		shelf.pose = base;
 		const int st = texture({90, 120, 150}, 256);
-		for (int level = 0; level < 4; level++) shelf.boxes.push_back(box(0, 0, 0.3 + 0.45 * level, 0.9, 0.35, 0.03, st));
+		for (int level = 0; level < 4; level++)
+			shelf.boxes.push_back(box(0, 0, 0.3 + 0.45 * level, 0.9, 0.35, 0.03, st));
 		shelf.boxes.push_back(box(-0.44, 0, 0.95, 0.02, 0.35, 1.9, st));
 		shelf.boxes.push_back(box(0.44, 0, 0.95, 0.02, 0.35, 1.9, st));
 		addObject(shelf);
@@ -178,18 +184,21 @@ CSimWorld::CSimWorld(uint32_t seed, const std::vector<cv::Mat>& photos, bool bar
 		books.pose = base;
 		for (int level = 0; level < 3; level++)
 			for (int b = 0; b < 8; b++)
-				books.boxes.push_back(box(-0.38 + b * 0.1 + jitter(0.01), 0, 0.3 + 0.45 * level + 0.13, 0.05 + jitter(0.015), 0.25,
-										  0.22 + jitter(0.04), texture({80 + 150 * u(rng), 60 + 150 * u(rng), 60 + 150 * u(rng)}, 64)));
+				books.boxes.push_back(box(-0.38 + b * 0.1 + jitter(0.01), 0, 0.3 + 0.45 * level + 0.13,
+										  0.05 + jitter(0.015), 0.25, 0.22 + jitter(0.04),
+										  texture({80 + 150 * u(rng), 60 + 150 * u(rng), 60 + 150 * u(rng)}, 64)));
 		addObject(books);
 	}
 	// Plants in corners.
-	for (const auto& c : {std::array<double, 2>{5.6, 4.6}, std::array<double, 2>{0.5, 4.5}, std::array<double, 2>{4.4, 0.35}})
+	for (const auto& c :
+		 {std::array<double, 2>{5.6, 4.6}, std::array<double, 2>{0.5, 4.5}, std::array<double, 2>{4.4, 0.35}})
 	{
 		TSimObject plant;
 		plant.name = "potted plant";
 		plant.classId = 58;
 		plant.pose = CPose3D(c[0], c[1], 0, jitter(M_PI), 0, 0);
-		plant.boxes = {box(0, 0, 0.15, 0.3, 0.3, 0.3, texture({40, 80, 140}, 64)), box(0, 0, 0.65, 0.5, 0.5, 0.7, texture({40, 140, 50}, 128))};
+		plant.boxes = {box(0, 0, 0.15, 0.3, 0.3, 0.3, texture({40, 80, 140}, 64)),
+					   box(0, 0, 0.65, 0.5, 0.5, 0.7, texture({40, 140, 50}, 128))};
 		addObject(plant);
 	}
 }
@@ -227,13 +236,17 @@ void CSimWorld::addSittingPerson(const mrpt::poses::CPose3D& seat, double phase)
 	const int shirt = texture({static_cast<double>(120 + (people_.size() * 50) % 120), 60, 60}, 128);
 	const int trousers = texture({70, 70, 90}, 128);
 	const int skin = texture({150, 170, 210}, 64);
-	o.boxes = {box(0, 0, 0.78, 0.22, 0.38, 0.55, shirt),		 box(0, 0, 1.2, 0.2, 0.18, 0.24, skin),
-			   box(0.22, 0.1, 0.5, 0.45, 0.13, 0.13, trousers), box(0.22, -0.1, 0.5, 0.45, 0.13, 0.13, trousers),
-			   box(0.45, 0.1, 0.25, 0.12, 0.12, 0.45, trousers), box(0.45, -0.1, 0.25, 0.12, 0.12, 0.45, trousers),
-			   box(0.2, 0.235, 0.85, 0.5, 0.09, 0.09, shirt),	 box(0.2, -0.235, 0.85, 0.5, 0.09, 0.09, shirt),
+	o.boxes = {box(0, 0, 0.78, 0.22, 0.38, 0.55, shirt),
+			   box(0, 0, 1.2, 0.2, 0.18, 0.24, skin),
+			   box(0.22, 0.1, 0.5, 0.45, 0.13, 0.13, trousers),
+			   box(0.22, -0.1, 0.5, 0.45, 0.13, 0.13, trousers),
+			   box(0.45, 0.1, 0.25, 0.12, 0.12, 0.45, trousers),
+			   box(0.45, -0.1, 0.25, 0.12, 0.12, 0.45, trousers),
+			   box(0.2, 0.235, 0.85, 0.5, 0.09, 0.09, shirt),
+			   box(0.2, -0.235, 0.85, 0.5, 0.09, 0.09, shirt),
 			   box(0, 0, 1.08, 0.1, 0.1, 0.1, skin)};  // neck
-	o.boxes[1].limb = 10;  // head nods
-	o.boxes[6].limb = 11;  // arms move
+	o.boxes[1].limb = 10;                              // head nods
+	o.boxes[6].limb = 11;                              // arms move
 	o.boxes[7].limb = 12;
 	TSimPerson p;
 	p.object = addObject(o);
@@ -250,7 +263,8 @@ void CSimWorld::addMovingChair(const std::vector<mrpt::math::TPoint2D>& path, do
 	chair.classId = 56;
 	chair.moves = true;
 	const int ct = texture({30, 140, 200}, 128);
-	chair.boxes = {box(0, 0, 0.46, 0.45, 0.45, 0.06, ct), box(-0.21, 0, 0.72, 0.05, 0.45, 0.48, ct), box(0, 0, 0.22, 0.06, 0.06, 0.44, ct)};
+	chair.boxes = {box(0, 0, 0.46, 0.45, 0.45, 0.06, ct), box(-0.21, 0, 0.72, 0.05, 0.45, 0.48, ct),
+				   box(0, 0, 0.22, 0.06, 0.06, 0.44, ct)};
 	chairObjects_.push_back(addObject(chair));
 	chairPaths_.emplace_back(path, speed);
 }
@@ -295,7 +309,8 @@ void CSimWorld::animatePerson(const TSimPerson& p, double t, TSimObject& o) cons
 		// Slight sway of the whole body (and chair), head nods, arms typing.
 		o.pose = p.seat + CPose3D(0.02 * std::sin(0.5 * t + p.phase), 0, 0, 0.05 * std::sin(0.3 * t + p.phase), 0, 0);
 		const double nod = 0.15 * std::sin(0.9 * t + p.phase);
-		o.boxes[1].local = CPose3D(0, 0, 1.05, 0, 0, 0) + CPose3D(0, 0, 0, 0.3 * std::sin(0.4 * t), nod, 0) + CPose3D(0, 0, 0.15, 0, 0, 0);
+		o.boxes[1].local = CPose3D(0, 0, 1.05, 0, 0, 0) + CPose3D(0, 0, 0, 0.3 * std::sin(0.4 * t), nod, 0) +
+						   CPose3D(0, 0, 0.15, 0, 0, 0);
 		for (int k = 0; k < 2; k++)
 		{
 			const double side = k == 0 ? 0.235 : -0.235;
@@ -316,9 +331,11 @@ void CSimWorld::animatePerson(const TSimPerson& p, double t, TSimObject& o) cons
 	for (int k = 0; k < 2; k++)
 	{
 		const double side = k == 0 ? 0.1 : -0.1;
-		o.boxes[static_cast<std::size_t>(2 + k)].local = CPose3D(0, side, 0.88, 0, legs[k], 0) + CPose3D(0, 0, -0.44, 0, 0, 0);
+		o.boxes[static_cast<std::size_t>(2 + k)].local =
+			CPose3D(0, side, 0.88, 0, legs[k], 0) + CPose3D(0, 0, -0.44, 0, 0, 0);
 		const double aside = k == 0 ? 0.235 : -0.235;
-		o.boxes[static_cast<std::size_t>(4 + k)].local = CPose3D(0, aside, 1.4, 0, arms[k], 0) + CPose3D(0, 0, -0.31, 0, 0, 0);
+		o.boxes[static_cast<std::size_t>(4 + k)].local =
+			CPose3D(0, aside, 1.4, 0, arms[k], 0) + CPose3D(0, 0, -0.31, 0, 0, 0);
 	}
 }
 

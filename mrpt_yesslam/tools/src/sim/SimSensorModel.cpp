@@ -51,7 +51,7 @@ void addRealSensorDepthError(cv::Mat& z, const cv::Mat& grey, const cv::Mat& dro
 			if (pz[x] <= 0) continue;
 			const float rag = 4 * pu[x], fx = static_cast<float>(x), fy = static_cast<float>(y);
 			const bool border = fx < left - rag || fx >= right + rag || fy < top - rag || fy >= bottom + rag;
-			if (border || (pd[x] && pu[x] < 0.1f))	// dark: too little of the pattern comes back
+			if (border || (pd[x] && pu[x] < 0.1f))  // dark: too little of the pattern comes back
 			{
 				pz[x] = 0;
 				continue;
@@ -81,9 +81,10 @@ cv::Mat coherentUniform(cv::Size size, int cell, std::mt19937& rng)
 // `drop`: the dropout draws at depth edges (uniform on [0, 1]); per pixel when empty.
 // `edgeRadius`: how far from a depth edge depth may be lost (1 px for the Kinect model; 3 px for
 // the real sensor, whose frames lose 6-8 px across a person's silhouette).
-void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK, const cv::Mat& drop, int edgeRadius)
+void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK, const cv::Mat& drop,
+				   int edgeRadius)
 {
-	const float fb = static_cast<float>(cam.intrinsics.fx() * 0.075);	// focal length x baseline
+	const float fb = static_cast<float>(cam.intrinsics.fx() * 0.075);  // focal length x baseline
 	// Depth edge: a valid neighbour (within edgeRadius) differs by more than 8 %: the sensor often
 	// sees nothing there. Largest and smallest valid neighbour by dilation and erosion (missing
 	// depth counts as +inf for the smallest; pixels outside the image are ignored by both).
@@ -103,7 +104,8 @@ void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float 
 	for (int y = 0; y < z.rows; y++)
 	{
 		float* pz = z.ptr<float>(y);
-		const float *pmx = mx.ptr<float>(y), *pmn = mn.ptr<float>(y), *pg = gauss.ptr<float>(y), *pu = unif.ptr<float>(y);
+		const float *pmx = mx.ptr<float>(y), *pmn = mn.ptr<float>(y), *pg = gauss.ptr<float>(y),
+					*pu = unif.ptr<float>(y);
 		for (int x = 0; x < z.cols; x++)
 		{
 			float v = pz[x];

@@ -32,9 +32,7 @@ cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base, doub
 			case 0:
 				cv::rectangle(t, cv::Rect(p.x, p.y, small(rng), small(rng)), colour(), u(rng) < 0.6 ? cv::FILLED : 1);
 				break;
-			case 1:
-				cv::circle(t, p, small(rng) / 2 + 1, colour(), u(rng) < 0.5 ? cv::FILLED : 1, cv::LINE_AA);
-				break;
+			case 1: cv::circle(t, p, small(rng) / 2 + 1, colour(), u(rng) < 0.5 ? cv::FILLED : 1, cv::LINE_AA); break;
 			case 2:
 			{
 				// Short strokes (cables, edges, handwriting), not lines across the whole surface: those
@@ -62,7 +60,7 @@ cv::Mat makeClutterTexture(uint32_t seed, int size, const cv::Scalar& base, doub
 	}
 	// Fine grain, so that even plain-looking areas are not perfectly flat.
 	cv::Mat noise(t.size(), CV_16SC3);
-	cv::theRNG().state = seed + 1;	// randn uses OpenCV's RNG: seed it for determinism
+	cv::theRNG().state = seed + 1;  // randn uses OpenCV's RNG: seed it for determinism
 	cv::randn(noise, cv::Scalar::all(0), cv::Scalar::all(6));
 	cv::Mat t16;
 	t.convertTo(t16, CV_16SC3);
@@ -80,7 +78,8 @@ std::vector<cv::Mat> loadPhotoTextures(const std::string& folder, int size)
 	for (const auto& e : fs::directory_iterator(folder, ec))
 	{
 		std::string ext = e.path().extension().string();
-		std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+		std::transform(ext.begin(), ext.end(), ext.begin(),
+					   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
 		if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") files.push_back(e.path().string());
 	}
 	std::sort(files.begin(), files.end());

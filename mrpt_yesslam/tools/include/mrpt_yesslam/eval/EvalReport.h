@@ -14,7 +14,7 @@ struct TEvalReport
 	TAteResult ate;
 	bool hasRpe = false;
 	TRpeResult rpe;
-	std::string rpeProblem;	 //!< why RPE is missing, when it is
+	std::string rpeProblem;  //!< why RPE is missing, when it is
 	std::size_t gtPoses = 0, estPoses = 0;
 	/** Frame-to-frame steps between consecutive matched pairs (metres): the aligned estimate's
 	 * and the ground truth's step lengths, and `jitter`, the length of their difference (the
@@ -23,9 +23,8 @@ struct TEvalReport
 };
 
 /** Runs ATE and RPE; ATE problems throw, an RPE problem is recorded in rpeProblem. */
-TEvalReport evaluateTrajectories(
-	const TTrajectory& gt, const TTrajectory& est, const TEvalOptions& opts, const std::string& gtName,
-	const std::string& estName);
+TEvalReport evaluateTrajectories(const TTrajectory& gt, const TTrajectory& est, const TEvalOptions& opts,
+								 const std::string& gtName, const std::string& estName);
 
 /** "key: value" lines: ate_pairs, ate_rmse, ate_mean, ate_median, ate_std, ate_min, ate_max,
  * rpe_pairs, rpe_trans_rmse, rpe_trans_mean, rpe_trans_median, rpe_rot_rmse_deg, ..., step_est_median,

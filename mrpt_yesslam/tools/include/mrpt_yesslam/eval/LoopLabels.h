@@ -14,11 +14,11 @@ namespace mrpt_yesslam
 struct TLoopLabelOptions
 {
 	double maxDistance = 0.5;  //!< m between the two cameras' true positions
-	double maxAngleDeg = 30;  //!< between their viewing directions (a roll about the axis keeps the view)
+	double maxAngleDeg = 30;   //!< between their viewing directions (a roll about the axis keeps the view)
 	/** Each camera's view centre this far ahead must lie in the other's view (the views overlap). */
 	double viewDepth = 2.0;
 	double halfFovXDeg = 29, halfFovYDeg = 22.5;  //!< a Kinect's or Xtion's colour camera
-	double maxDiff = 0.02;	//!< s: the largest stamp difference to a ground-truth pose
+	double maxDiff = 0.02;                        //!< s: the largest stamp difference to a ground-truth pose
 };
 
 /** One row of loop_candidates.csv with its label. */
@@ -28,9 +28,9 @@ struct TLabelledLoopCandidate
 	double queryStamp = 0, candidateStamp = 0, bowScore = 0, loopScore = 0, minScore = 0;
 	std::string stage;
 	std::size_t matches = 0, inliers = 0;
-	bool labelled = false;	//!< both stamps have a ground-truth pose
+	bool labelled = false;  //!< both stamps have a ground-truth pose
 	bool trueRevisit = false;
-	double distance = 0, angleDeg = 0;	//!< between the true poses (when labelled)
+	double distance = 0, angleDeg = 0;  //!< between the true poses (when labelled)
 };
 
 /** The labels and what they add up to. */
@@ -44,13 +44,15 @@ struct TLoopLabelReport
 	 * passed; recall of detection over the true candidates that were not covisible or young (those
 	 * the map already links, or just left: no loop to close), of verification over the true ones
 	 * it tried (not `untried`: one loop per query is taken). */
-	std::size_t trueCandidates = 0, trueLoopCandidates = 0, detected = 0, trueDetected = 0, trueTried = 0, accepted = 0, trueAccepted = 0;
+	std::size_t trueCandidates = 0, trueLoopCandidates = 0, detected = 0, trueDetected = 0, trueTried = 0, accepted = 0,
+				trueAccepted = 0;
 };
 
 /** Reads loop_candidates.csv (yesslam writes it); throws InputError naming the file and line. */
 std::vector<TLabelledLoopCandidate> readLoopCandidatesCsv(const std::string& path);
 /** Labels each row by `gt` (camera poses, T_w_c). */
-TLoopLabelReport labelLoopCandidates(std::vector<TLabelledLoopCandidate> rows, const TTrajectory& gt, const TLoopLabelOptions& opts = {});
+TLoopLabelReport labelLoopCandidates(std::vector<TLabelledLoopCandidate> rows, const TTrajectory& gt,
+									 const TLoopLabelOptions& opts = {});
 /** "key: value" lines (loop_candidates, loop_true_candidates, detection_precision, ...) and a
  * table of the stages, true / false. */
 std::string formatLoopLabelReport(const TLoopLabelReport& r);

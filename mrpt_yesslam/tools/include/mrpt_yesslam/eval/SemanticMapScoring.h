@@ -14,21 +14,24 @@ namespace mrpt_yesslam
 /** The scores. Voxels are the octree's leaves at its resolution. */
 struct TSemanticMapScore
 {
-	std::size_t sweptVoxels = 0;  //!< voxels a moving object's surface passed through, away from static surfaces
-	std::size_t ghostVoxels = 0;  //!< of those, occupied in the map (goal: 0)
-	std::size_t scoredVoxels = 0;  //!< occupied map voxels on a static surface of the ground truth
-	std::size_t labelCorrect = 0;  //!< of those, carrying the ground truth's majority label (background included)
-	std::size_t objectVoxels = 0;  //!< scored voxels whose ground truth is an object (not background)
-	std::size_t objectCorrect = 0;	//!< of those, labelled with that object's class
-	std::size_t labelledObjectVoxels = 0;  //!< scored voxels the map labels as an object
-	std::size_t labelledObjectCorrect = 0;	//!< of those, right
+	std::size_t sweptVoxels = 0;    //!< voxels a moving object's surface passed through, away from static surfaces
+	std::size_t ghostVoxels = 0;    //!< of those, occupied in the map (goal: 0)
+	std::size_t scoredVoxels = 0;   //!< occupied map voxels on a static surface of the ground truth
+	std::size_t labelCorrect = 0;   //!< of those, carrying the ground truth's majority label (background included)
+	std::size_t objectVoxels = 0;   //!< scored voxels whose ground truth is an object (not background)
+	std::size_t objectCorrect = 0;  //!< of those, labelled with that object's class
+	std::size_t labelledObjectVoxels = 0;   //!< scored voxels the map labels as an object
+	std::size_t labelledObjectCorrect = 0;  //!< of those, right
 	/** Per ground-truth label: (correct, scored). */
 	std::map<int, std::pair<std::size_t, std::size_t>> perLabel;
 
 	double ghostShare() const { return sweptVoxels ? double(ghostVoxels) / double(sweptVoxels) : 0.0; }
 	double labelAccuracy() const { return scoredVoxels ? double(labelCorrect) / double(scoredVoxels) : 0.0; }
 	double objectRecall() const { return objectVoxels ? double(objectCorrect) / double(objectVoxels) : 0.0; }
-	double objectPrecision() const { return labelledObjectVoxels ? double(labelledObjectCorrect) / double(labelledObjectVoxels) : 0.0; }
+	double objectPrecision() const
+	{
+		return labelledObjectVoxels ? double(labelledObjectCorrect) / double(labelledObjectVoxels) : 0.0;
+	}
 };
 
 /** Back-projects every `frameStep`-th frame of the yesslam-sim folder `simDir` (depth, labels/,
@@ -38,6 +41,6 @@ struct TSemanticMapScore
  * next to (26-neighbourhood) a static surface voxel is not counted (a person touching a desk).
  * Throws InputError for a folder that is not a yesslam-sim output, or whose depth images were not
  * taken with their colour images (--depth-offset: the labels are the colour image's). */
-TSemanticMapScore scoreSemanticMap(
-	const CSemanticOcTree& tree, const std::string& simDir, const mrpt::poses::CPose3D& mapInGt, int frameStep = 3, int pixelStep = 4);
+TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::string& simDir,
+								   const mrpt::poses::CPose3D& mapInGt, int frameStep = 3, int pixelStep = 4);
 }  // namespace mrpt_yesslam

@@ -10,7 +10,6 @@ namespace mrpt_yesslam
 {
 /** Writes the PNG atomically. `gtFull` is drawn whole; the plane shown is the one spanned by the
  * two axes along which the ground truth extends most (x-y for TUM's motion-capture frame). */
-void plotAteTopDown(
-	const TAteResult& ate, const TTrajectory& gtFull, const std::string& pngPath, const std::string& title,
-	int width = 1000, int height = 800);
+void plotAteTopDown(const TAteResult& ate, const TTrajectory& gtFull, const std::string& pngPath,
+					const std::string& title, int width = 1000, int height = 800);
 }  // namespace mrpt_yesslam

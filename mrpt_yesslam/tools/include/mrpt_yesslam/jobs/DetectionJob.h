@@ -13,10 +13,10 @@ namespace mrpt_yesslam
 /** Inputs and outputs of a detection run. */
 struct TDetectJobOptions
 {
-	std::string input;	//!< image file (.png/.jpg/...), TUM folder or .rawlog
-	std::string outDir;	 //!< created if missing
-	bool overlay = false;  //!< also write overlays/<stamp>.png
-	std::size_t maxFrames = 0;	//!< 0 = all
+	std::string input;          //!< image file (.png/.jpg/...), TUM folder or .rawlog
+	std::string outDir;         //!< created if missing
+	bool overlay = false;       //!< also write overlays/<stamp>.png
+	std::size_t maxFrames = 0;  //!< 0 = all
 	CObjectDetector::TOptions detector;
 	CDynamicObjectMasker::TOptions masker;
 	CInputSource::TOptions source;
@@ -33,11 +33,11 @@ struct TDetectJobSummary
 
 /** Runs detection over the input; `progress(done,total)` after each frame, `cancel()` stops early
  * (what was done is written). Throws InputError for bad inputs or models. */
-TDetectJobSummary runDetectionJob(
-	const TDetectJobOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress = {},
-	const std::function<bool()>& cancel = {});
+TDetectJobSummary runDetectionJob(const TDetectJobOptions& opts,
+								  const std::function<void(std::size_t, std::size_t)>& progress = {},
+								  const std::function<bool()>& cancel = {});
 
 /** Draws boxes with class names and scores, and tints the mask red, on a copy of `bgr`. */
-cv::Mat drawDetectionOverlay(
-	const cv::Mat& bgr, const std::vector<TDetection>& dets, const CObjectDetector& detector, const cv::Mat& mask = {});
+cv::Mat drawDetectionOverlay(const cv::Mat& bgr, const std::vector<TDetection>& dets, const CObjectDetector& detector,
+							 const cv::Mat& mask = {});
 }  // namespace mrpt_yesslam

@@ -15,9 +15,9 @@ namespace mrpt_yesslam
 /** What a run is doing: a tool says by it what a second Ctrl-C does now. */
 enum class ESlamJobPhase
 {
-	Frames,	 //!< reading and tracking frames
+	Frames,        //!< reading and tracking frames
 	FinalMapping,  //!< input closed, the mapping, loop and global-BA stages finishing their work
-	Saving	//!< writing the outputs
+	Saving         //!< writing the outputs
 };
 
 /** What a second Ctrl-C does in `phase` (the line yesslam prints when it comes). */
@@ -26,13 +26,13 @@ const char* secondInterruptNote(ESlamJobPhase phase);
 /** Inputs of a run. */
 struct TSlamJobOptions
 {
-	std::string input;	//!< .rawlog, TUM folder, or "openni2[:URI]" (a camera, or an .oni file through OpenNI2)
-	std::string outDir;	 //!< created if missing
+	std::string input;   //!< .rawlog, TUM folder, or "openni2[:URI]" (a camera, or an .oni file through OpenNI2)
+	std::string outDir;  //!< created if missing
 	/** Ground truth; empty = the one found beside the input (findGroundTruthFor), if any. */
 	std::string groundTruth;
 	/** What the ground truth's poses are: the camera's (TUM) or the Bonn dataset's markers. */
 	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Auto;
-	std::size_t maxFrames = 0;	//!< 0 = all
+	std::size_t maxFrames = 0;  //!< 0 = all
 	/** Recorded input: frames read and dropped before the first one processed (start elsewhere in a
 	 * recording, e.g. to relocalise in a saved map from another place). */
 	std::size_t skipFrames = 0;
@@ -45,8 +45,8 @@ struct TSlamJobOptions
 		 * when SLAM falls behind (what a camera would do); .oni files always play this way unless
 		 * the system runs sequentially. */
 		bool realtime = false;
-		double speed = 1.0;	 //!< realtime playback speed (2 = twice as fast as recorded)
-		std::size_t slots = 1;	//!< captured frames waiting for SLAM at most; older ones are dropped
+		double speed = 1.0;           //!< realtime playback speed (2 = twice as fast as recorded)
+		std::size_t slots = 1;        //!< captured frames waiting for SLAM at most; older ones are dropped
 		double timeoutSeconds = 5.0;  //!< a camera silent this long is taken as unplugged
 	} live;
 	/** Every frame read (live: every frame captured, dropped ones included) is written to this
@@ -87,8 +87,8 @@ struct TSlamJobSummary
 	TReadout readout;
 	/** Outputs a second Ctrl-C skipped while saving (empty when all were written). */
 	std::vector<std::string> skippedOutputs;
-	std::string groundTruth;  //!< the file evaluated against, empty if none
-	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Tum;	 //!< what its poses were taken as
+	std::string groundTruth;                                         //!< the file evaluated against, empty if none
+	EGroundTruthFormat groundTruthFormat = EGroundTruthFormat::Tum;  //!< what its poses were taken as
 	bool evaluated = false;
 	TEvalReport eval;  //!< of trajectory.txt (each frame carried by its reference keyframe's final pose)
 	/** Of trajectory_online.txt: the poses the run had while it went (what a robot had). */
@@ -98,8 +98,8 @@ struct TSlamJobSummary
 	bool evaluatedSmoothed = false;
 	TEvalReport evalSmoothed;
 	std::string evalProblem;  //!< why there is no evaluation although ground truth exists
-	std::string detector;  //!< the detector used, in words
-	double seconds = 0;	 //!< wall time of the frame loop
+	std::string detector;     //!< the detector used, in words
+	double seconds = 0;       //!< wall time of the frame loop
 	/** The dense map written (all zero with dense mapping off). */
 	struct TDense
 	{
@@ -107,7 +107,7 @@ struct TSlamJobSummary
 		/** Octree leaves by EVoxelState (the states map.bt gives; unknown ones are left out of it). */
 		std::size_t occupiedLeaves = 0, freeLeaves = 0, unknownLeaves = 0;
 		std::uintmax_t plyBytes = 0, otBytes = 0, btBytes = 0;
-		double buildMs = 0;	 //!< fusion, filtering and octree at the end of the run
+		double buildMs = 0;  //!< fusion, filtering and octree at the end of the run
 		/** With --load-map: the octree started from the loaded map's (same resolution); else false. */
 		bool priorMerged = false;
 	} dense;
@@ -116,16 +116,16 @@ struct TSlamJobSummary
 	{
 		std::size_t loadedKeyFrames = 0, loadedPoints = 0;
 		std::uintmax_t savedBytes = 0;
-		std::string saveError;	//!< why --save-map failed (the run's other outputs are written)
+		std::string saveError;  //!< why --save-map failed (the run's other outputs are written)
 	} mapFiles;
 	/** Where the frames came from. */
 	struct TInput
 	{
-		bool live = false;	//!< through the capture thread (camera, .oni, --realtime)
-		std::string device;	 //!< OpenNI2 device and modes, empty otherwise
-		TLiveStats stats;  //!< captured and dropped frames (live only)
-		bool disconnected = false;	//!< the camera stopped delivering before the run was ended
-		std::size_t recorded = 0;  //!< frames written to TSlamJobOptions::record
+		bool live = false;          //!< through the capture thread (camera, .oni, --realtime)
+		std::string device;         //!< OpenNI2 device and modes, empty otherwise
+		TLiveStats stats;           //!< captured and dropped frames (live only)
+		bool disconnected = false;  //!< the camera stopped delivering before the run was ended
+		std::size_t recorded = 0;   //!< frames written to TSlamJobOptions::record
 		/** Entries of recorded input that could not become frames (a TUM folder's colour images
 		 * without a depth image within [Input] maxDiff; a rawlog's other observations). */
 		std::size_t skippedEntries = 0;
@@ -141,11 +141,11 @@ void resolveDetector(CObjectDetector::TOptions& det, const std::string& input);
 std::string inputFilePath(const std::string& input);
 
 /** Runs SLAM over the input and writes OUT/trajectory.txt, keyframes.txt, map.3Dscene, stats.json,
- * config_used.ini (and eval.json with ground truth; dense_cloud.ply, map.ot, map.bt with dense mapping). `progress(done, total, status)` after each
- * frame; `cancel()` stops early and what exists is saved. The small outputs are written first;
- * once `abortSaving()` turns true, the outputs not yet begun are skipped (stats.json lists them).
- * A bad frame in the middle of the input saves what exists, then throws the InputError. */
-TSlamJobSummary runSlamJob(
-	const TSlamJobOptions& opts, const std::function<void(std::size_t, std::size_t, const std::string&)>& progress = {},
-	const std::function<bool()>& cancel = {}, const std::function<bool()>& abortSaving = {});
+ * config_used.ini (and eval.json with ground truth; dense_cloud.ply, map.ot, map.bt with dense mapping).
+ * `progress(done, total, status)` after each frame; `cancel()` stops early and what exists is saved. The small outputs
+ * are written first; once `abortSaving()` turns true, the outputs not yet begun are skipped (stats.json lists them). A
+ * bad frame in the middle of the input saves what exists, then throws the InputError. */
+TSlamJobSummary runSlamJob(const TSlamJobOptions& opts,
+						   const std::function<void(std::size_t, std::size_t, const std::string&)>& progress = {},
+						   const std::function<bool()>& cancel = {}, const std::function<bool()>& abortSaving = {});
 }  // namespace mrpt_yesslam

@@ -16,11 +16,11 @@ struct TRenderOptions
 	/** Around the vertical (z) axis. 200: a yesslam map seen from behind its first camera (its
 	 * world x axis is that camera's view), a little from the side. */
 	double azimuthDeg = 200.0;
-	double elevationDeg = 35.0;	 //!< above the horizon
-	std::optional<double> distance;	 //!< metres from the look-at point; default fits the scene
-	std::optional<mrpt::math::TPoint3D> lookAt;	 //!< default: centre of the scene's bounding box
-	double fovDeg = 60.0;  //!< vertical field of view
-	double background[3] = {1.0, 1.0, 1.0};	 //!< RGB in [0,1]
+	double elevationDeg = 35.0;                  //!< above the horizon
+	std::optional<double> distance;              //!< metres from the look-at point; default fits the scene
+	std::optional<mrpt::math::TPoint3D> lookAt;  //!< default: centre of the scene's bounding box
+	double fovDeg = 60.0;                        //!< vertical field of view
+	double background[3] = {1.0, 1.0, 1.0};      //!< RGB in [0,1]
 	/** Top-level objects whose name starts with one of these are left out (yesslam-sim names its
 	 * objects: "ceiling", "wall near", ... so that a room can be seen from inside). Unset:
 	 * renderSceneFileToPng leaves out defaultHidden(scene); renderScene nothing. */

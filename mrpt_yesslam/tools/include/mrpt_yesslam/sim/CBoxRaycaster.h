@@ -26,7 +26,7 @@ struct TRayBox
 	mrpt::poses::CPose3D pose;
 	double sx = 0.1, sy = 0.1, sz = 0.1;
 	const cv::Mat* texture = nullptr;  //!< BGR 8UC3, stretched over each face; null = grey
-	uint16_t id = 0;  //!< written to the instance image (0 = nothing)
+	uint16_t id = 0;                   //!< written to the instance image (0 = nothing)
 };
 
 /** Renders box worlds by ray casting (colour, depth and instance ids in one pass). */
@@ -51,9 +51,8 @@ class CBoxRaycaster
 	 * metres along z (0 = nothing), `instance` 16U (box id, 0 = nothing). With `rows`, only those
 	 * rows are written (the others keep what the images held): a rolling shutter renders each band
 	 * of rows from the camera's pose at its own moment. */
-	void render(
-		const std::vector<TRayBox>& boxes, const mrpt::poses::CPose3D& Twc, const mrpt::img::TCamera& K, cv::Mat& bgr, cv::Mat& depth,
-		cv::Mat& instance, cv::Range rows = cv::Range::all()) const;
+	void render(const std::vector<TRayBox>& boxes, const mrpt::poses::CPose3D& Twc, const mrpt::img::TCamera& K,
+				cv::Mat& bgr, cv::Mat& depth, cv::Mat& instance, cv::Range rows = cv::Range::all()) const;
 
 	TOptions options;
 };

@@ -38,7 +38,7 @@ class CSensorStatistics
 	{
 		double zMin = 0, zMax = 0;
 		std::size_t patches = 0;
-		double medianResidual = 0;	//!< metres, 8 x 8 patches
+		double medianResidual = 0;  //!< metres, 8 x 8 patches
 		std::size_t patches32 = 0;
 		double medianResidual32 = 0;  //!< metres, 32 x 32 patches (errors smooth over tens of pixels show here)
 	};
@@ -46,16 +46,16 @@ class CSensorStatistics
 	struct TResult
 	{
 		std::size_t frames = 0;
-		double validDepthShare = 0;	 //!< mean over frames of valid depth pixels / all pixels
-		double flyingPixelShare = 0;  //!< flying pixels / valid pixels
-		double speckleHoleShare = 0;  //!< missing pixels in holes under 16 px / missing pixels
-		double darkValidShare = 0;	//!< valid depth on dark surfaces, away from the border
-		double lightValidShare = 0;	 //!< valid depth on light surfaces, away from the border
+		double validDepthShare = 0;    //!< mean over frames of valid depth pixels / all pixels
+		double flyingPixelShare = 0;   //!< flying pixels / valid pixels
+		double speckleHoleShare = 0;   //!< missing pixels in holes under 16 px / missing pixels
+		double darkValidShare = 0;     //!< valid depth on dark surfaces, away from the border
+		double lightValidShare = 0;    //!< valid depth on light surfaces, away from the border
 		double texturedCellShare = 0;  //!< mean over frames
-		double sharpness = 0;  //!< median Laplacian variance (grey levels^2)
-		double colourNoise = 0;	 //!< median Immerkaer noise sigma of the grey image (grey levels)
+		double sharpness = 0;          //!< median Laplacian variance (grey levels^2)
+		double colourNoise = 0;        //!< median Immerkaer noise sigma of the grey image (grey levels)
 		std::vector<TNoiseBin> noise;  //!< 0.5-1, 1-1.5, ... 4.5-5 m
-		double noiseK = 0;	//!< k of sigma = k z^2, least squares over the bins' medians (0 without patches)
+		double noiseK = 0;             //!< k of sigma = k z^2, least squares over the bins' medians (0 without patches)
 	};
 
 	/** Adds one frame: colour (BGR or grey) and depth in metres (CV_32F, 0 = none). */

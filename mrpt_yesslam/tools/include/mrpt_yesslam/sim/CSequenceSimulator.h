@@ -15,7 +15,7 @@ namespace mrpt_yesslam
 struct TSimPreset
 {
 	std::string name, description;
-	std::string motion;	 //!< xyz | rpy | halfsphere | static | loop | tour | pan
+	std::string motion;            //!< xyz | rpy | halfsphere | static | loop | tour | pan
 	int walking = 0, sitting = 0;  //!< default people
 	std::size_t frames = 600;
 	/** The real sensor model without --real-sensor (a preset made to look like real frames). */
@@ -42,12 +42,12 @@ struct TSimOptions
 	/** The room's own seed (0 = `seed`): two passes with the same roomSeed and different seeds see
 	 * the same room in the same world frame, with other noise, detections and people's timing. */
 	uint32_t roomSeed = 0;
-	std::size_t frames = 0;	 //!< 0 = the preset's
-	int people = -1;  //!< -1 = the preset's; walking presets add walkers, sitting presets sitters
-	std::string trajectoryFile;	 //!< replay a TUM trajectory (its stamps and motion) instead of the preset's motion
-	std::string texturesDir;  //!< photos instead of procedural textures
-	std::string detNoise = "yolo";	//!< none | yolo
-	bool noise = true;	//!< depth and colour sensor noise
+	std::size_t frames = 0;         //!< 0 = the preset's
+	int people = -1;                //!< -1 = the preset's; walking presets add walkers, sitting presets sitters
+	std::string trajectoryFile;     //!< replay a TUM trajectory (its stamps and motion) instead of the preset's motion
+	std::string texturesDir;        //!< photos instead of procedural textures
+	std::string detNoise = "yolo";  //!< none | yolo
+	bool noise = true;              //!< depth and colour sensor noise
 	bool motionBlur = false;
 	bool autoExposure = false;
 	/** The sensor as measured on the real Xtion/Kinect frames of ../shared (bench/bench_realism.sh):
@@ -75,7 +75,7 @@ struct TSimOptions
 	std::size_t undetectedPeople = 0;
 	double missRate = 0;  //!< each detection of a moving object is also dropped with this probability
 	bool writeRawlog = true;
-	bool overlays = false;	//!< also write labels/overlay/ (colour with labels and boxes drawn)
+	bool overlays = false;    //!< also write labels/overlay/ (colour with labels and boxes drawn)
 	std::string commandLine;  //!< recorded in meta.json
 };
 
@@ -100,7 +100,6 @@ mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K);
  * unreadable trajectory). `progress(done,total)` after each frame; `cancel()` stops early and
  * keeps what was written. */
 
-TSimSummary runSimulation(
-	const TSimOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress = {},
-	const std::function<bool()>& cancel = {});
+TSimSummary runSimulation(const TSimOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress = {},
+						  const std::function<bool()>& cancel = {});
 }  // namespace mrpt_yesslam

@@ -29,12 +29,12 @@ struct TSimBox
 /** An object of the world. */
 struct TSimObject
 {
-	int id = 0;	 //!< instance id, 1..65535 (label image value)
+	int id = 0;        //!< instance id, 1..65535 (label image value)
 	int classId = -1;  //!< COCO class id (0 = person, 56 = chair, ...), -1 = room structure
 	std::string name;
 	bool moves = false;
 	std::vector<TSimBox> boxes;
-	mrpt::poses::CPose3D pose;	//!< object frame in the world (z up)
+	mrpt::poses::CPose3D pose;  //!< object frame in the world (z up)
 };
 
 /** How people move. */
@@ -42,10 +42,10 @@ struct TSimPerson
 {
 	int object = -1;  //!< index into objects
 	bool sitting = false;
-	std::vector<mrpt::math::TPoint2D> path;	 //!< walking: waypoints on the floor, walked back and forth
-	double speed = 1.1;	 //!< m/s
-	double phase = 0;  //!< gait phase offset
-	mrpt::poses::CPose3D seat;	//!< sitting: where
+	std::vector<mrpt::math::TPoint2D> path;  //!< walking: waypoints on the floor, walked back and forth
+	double speed = 1.1;                      //!< m/s
+	double phase = 0;                        //!< gait phase offset
+	mrpt::poses::CPose3D seat;               //!< sitting: where
 };
 
 /** The whole simulated world and its two render scenes. */
@@ -93,7 +93,7 @@ class CSimWorld
 	std::vector<cv::Mat> photos_;
 	std::vector<TSimObject> objects_;
 	std::vector<TSimPerson> people_;
-	std::vector<std::pair<std::vector<mrpt::math::TPoint2D>, double>> chairPaths_;	// (path, speed) by object
+	std::vector<std::pair<std::vector<mrpt::math::TPoint2D>, double>> chairPaths_;  // (path, speed) by object
 	std::vector<int> chairObjects_;
 	double t_ = 0;
 };

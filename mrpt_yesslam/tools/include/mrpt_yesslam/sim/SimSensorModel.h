@@ -21,5 +21,6 @@ cv::Mat coherentUniform(cv::Size size, int cell, std::mt19937& rng);
 
 /** Per-pixel depth noise (sigma = whiteK z^2), disparity quantisation, range limits, dropouts within
  * `edgeRadius` px of depth edges (draws from `drop`, per pixel when empty) and small holes. */
-void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK, const cv::Mat& drop, int edgeRadius);
+void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK, const cv::Mat& drop,
+				   int edgeRadius);
 }  // namespace mrpt_yesslam
