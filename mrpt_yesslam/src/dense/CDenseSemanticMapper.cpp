@@ -158,8 +158,9 @@ struct CDenseSemanticMapper::TPackedCloud
 		}
 		auto c = std::make_shared<TPackedCloud>();
 		c->size = n;
-		// Level 1: the dense stage's median per keyframe 5.4 -> 5.9 ms (level 6: 7.6 ms for 9 % less
-		// memory; 450 frames of a real-sensor sim crowd run, 1.4 million points: 16.9 -> 6.6 MB).
+		// Level 1: nearly all the packing at little cost in time; higher levels take much longer to save little more
+		// (docs/benchmarks.md, "The memory work of 2026-11-28, third round: the dense store packed, the network let
+		// go").
 		c->bytes = deflateBytes(planes.data(), planes.size(), 1);
 		return c;
 	}
@@ -220,8 +221,8 @@ CDenseSemanticMapper::CDenseSemanticMapper(const TOptions& o, const CDynamicObje
 		throw InputError("",
 						 "[DenseMapping] dynamicExclusion must be box, mask or none, got '" + o.dynamicExclusion + "'");
 	if (!(o.octomapResolution > 0)) throw InputError("", "[DenseMapping] octomapResolution must be > 0");
-	// The octree is built from the filtered cloud: finer than its grid it holds no more detail, only
-	// more nodes (0.005 m took 85 s and 3.8 GB for 30 frames, with fewer occupied voxels than 0.02 m).
+	// The octree is built from the filtered cloud: finer than its grid it holds no more detail, only more nodes, slower
+	// and larger to build, with fewer cells occupied.
 	if (o.octomapResolution < o.voxelSize - 1e-12)
 	{
 		char b[320];
@@ -502,10 +503,9 @@ TDenseMap CDenseSemanticMapper::build(const std::function<mrpt::poses::CPose3D(T
 	const auto columnOf = [](std::int64_t key) { return key >> 42; };  // voxelKey's x field
 	// The octree's cell keys, computed here from a grid of its resolution, not from the tree being built.
 	const CSemanticOcTree keyGrid(m.octree->getResolution());
-	// The octree on a second thread while this one sums the voxels: both only read the stored clouds
-	// and the poses, and each writes only its own part (the octree there, the cloud here; the cells'
-	// colours and labels go into the octree once it is done). At the end of a run the stages are idle,
-	// so the two share the cores the run had (the octree was about 60 % of the build).
+	// The octree on a second thread while this one sums the voxels: both only read the stored clouds and poses, and
+	// each writes only its own part (the cells' colours and labels go into the octree once it is done). At the end of a
+	// run the stages are idle, so the two share the run's cores (the octree is the larger part).
 	// (Deferred into get() if no thread can be started.)
 	auto octreeBuilt = std::async(
 		std::launch::async | std::launch::deferred,

@@ -134,11 +134,9 @@ CYoloDnnDetector::CYoloDnnDetector(const TOptions& o) : CObjectDetector(o), mode
 	std::error_code ec;
 	if (!fs::is_regular_file(o.model, ec)) throw InputError(o.model, "model file not found");
 	if (o.names.empty()) throw InputError(o.model, "[Detector] names is not set (the class names file of this model)");
-	// Process-wide in OpenCV (every parallel OpenCV call of the process). 0: every core but two, at
-	// least one, and never more than the process already allows (a test's or a caller's own limit
-	// stays): the frame thread and the mapping stages run beside inference, and on two cores
-	// OpenCV's default (a thread per core) split every layer over the core the frame thread needed
-	// (one thread: the real Bonn slice 42.7 -> 46.7 fps, user CPU -9 %, the same detections).
+	// Process-wide in OpenCV. 0: every core but two, at least one, never more than the process already allows (a test's
+	// or a caller's own limit stays): the frame thread and the mapping stages run beside inference, and OpenCV's
+	// default (a thread per core) took the core the frame thread needed and slowed the run.
 	if (o.threads > 0)
 		cv::setNumThreads(o.threads);
 	else if (const int automatic = std::max(1, cv::getNumberOfCPUs() - 2); automatic < cv::getNumThreads())

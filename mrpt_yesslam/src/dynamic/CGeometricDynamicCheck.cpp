@@ -149,11 +149,9 @@ TPoseEstimate CGeometricDynamicCheck::refine(const CPoseOptimizer& optimizer, co
 	if (!opts_.enabled || uncertainIdx.empty()) return plain();
 	if (certainIdx.size() < opts_.minCertainInliers)
 	{
-		// Blinded: a dynamic object fills most of the view. A pose from everything would mostly
-		// come from the object (measured: 0.4-0.5 m off on office_loop), so there is none unless
-		// the few certain matches give one that enough uncertain ones confirm (background seen
-		// beside the person, inside its box); else tracking reports the frame lost and keeps the
-		// prediction. With few features of either kind (a textureless view) the check stands aside.
+		// Blinded: a dynamic object fills most of the view, and a pose from everything would follow it far off: there
+		// is none unless the few certain matches give one that enough uncertain ones (background beside the person, in
+		// its box) confirm; else the frame is lost. With few features of either kind the check stands aside.
 		if (uncertainIdx.size() >= certainIdx.size())
 		{
 			if (opts_.minBlindedCertain > 0 && certainIdx.size() >= opts_.minBlindedCertain)
@@ -399,11 +397,9 @@ TPoseEstimate CGeometricDynamicCheck::rejectMovingClusters(const CPoseOptimizer&
 			size = shift.norm();
 			return true;
 		};
-		// The candidate is the group the others explain worst, and it leaves only if it moved far
-		// enough to count. Taking the worst of those that moved far enough instead let a far wall
-		// go whose misfit was the pull of a near mover below the threshold (its metric size grows
-		// with depth): the pose then followed the mover (yesslam-sim crowd seed 1 with the shipped
-		// detector, frames 549-551: 48-80 mm off, person inliers left in).
+		// The candidate is the group the others explain worst, and it leaves only if it moved far enough to count.
+		// Taking the worst of those that moved far enough instead let a far wall go whose misfit was a near mover's
+		// pull below the threshold (its metric size grows with depth), and the pose followed the mover.
 		double worst = 0, worstSize = 0;
 		std::size_t worstGroup = groups.size();
 		for (std::size_t gi = 0; gi < groups.size(); gi++)

@@ -270,11 +270,9 @@ TFeatures COrbExtractor::extract(const cv::Mat& image, const cv::Mat& depth, con
 			cells[static_cast<std::size_t>(cy * cols + cx)].push_back(k);
 		}
 		for (auto& v : cells)
-			// FAST scores are small integers: ties are common. They are broken by a hash of the
-			// position, so the choice neither depends on the order the detector listed its corners in
-			// nor favours a side of the cell (broken by row, the top rows of every cell won). Which
-			// of the tied corners is kept moves a whole run's ATE by chance: four hashes gave the Bonn
-			// slice 13.4-14.8 mm and sim_crowd 5.9-6.8 (sequential), about what OpenCV's own order gave.
+			// FAST scores are small integers, so ties are common: broken by a hash of the position, the choice depends
+			// neither on the order the detector listed its corners in nor on a side of the cell (by row, the top rows
+			// of every cell won). Which tied corner is kept moves a run's ATE by chance, as OpenCV's own order did.
 			std::sort(v.begin(), v.end(),
 					  [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
 						  return a.response != b.response ? a.response > b.response
@@ -330,10 +328,9 @@ float COrbExtractor::depthAt(const cv::Mat& depth, double px, double py)
 	if (depth.empty() || x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return 0.f;
 	const float z = depth.at<float>(y, x);
 	if (!(std::isfinite(z) && z > 0 && depthIsSmoothAround(depth, x, y, z))) return 0.f;
-	// A keypoint lies between pixels (any keypoint of a coarser pyramid level does), and on a floor or
-	// a wall seen at a slant the depth changes by up to a centimetre a pixel: the nearest pixel's
-	// depth put points up to 5 mm off their ray's surface (measured on exact simulated depth: 0.26 mm
-	// median, 3.5 mm p90). The four pixels around it lie within the smooth 5x5 window: interpolated.
+	// A keypoint lies between pixels (any keypoint of a coarser pyramid level does), and on a floor or a wall seen at a
+	// slant the depth changes by up to a centimetre a pixel: the nearest pixel's depth put points off their ray's
+	// surface, even on exact simulated depth. The four pixels around it lie within the smooth 5x5 window: interpolated.
 	const int x0 = static_cast<int>(std::floor(px)), y0 = static_cast<int>(std::floor(py));
 	if (x0 < 0 || y0 < 0 || x0 + 1 >= depth.cols || y0 + 1 >= depth.rows) return z;
 	const float ax = static_cast<float>(px - x0), ay = static_cast<float>(py - y0);

@@ -45,10 +45,9 @@ bool TReprojectionResidual::operator()(const T* const rvec, const T* const t, T*
 	}
 	r[0] = (T(fx) * Xc[0] / Xc[2] + T(cx) - T(uv.x())) * T(invSigma);
 	r[1] = (T(fy) * Xc[1] / Xc[2] + T(cy) - T(uv.y())) * T(invSigma);
-	// Depth breaks the ambiguity between sideways translation and rotation that reprojection alone
-	// leaves with a 60-degree field of view (ORB-SLAM2's RGB-D pose optimisation constrains depth
-	// too, through its virtual stereo coordinate); without it, poses from exact simulated data were
-	// off by 5-8 mm.
+	// Depth breaks the ambiguity between sideways translation and rotation that reprojection alone leaves with a
+	// 60-degree field of view (ORB-SLAM2's RGB-D pose optimisation constrains depth too, through its virtual stereo
+	// coordinate); without it, even poses from exact simulated data came out off.
 	r[2] = depth > 0 ? (Xc[2] - T(depth)) * T(invSigmaZ) : T(0.0);
 	return true;
 }

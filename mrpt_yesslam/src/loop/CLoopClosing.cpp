@@ -131,12 +131,9 @@ bool CLoopClosing::runGlobalBundle()
 	const TBundleStats st = closer_->globalBundleAdjust(&mapUpdate_);  // write-back exclusive
 	const double ms = msSince(t0);
 #if defined(__GLIBC__)
-	// The global problem (every keyframe and point, a cost and a loss per observation, Ceres'
-	// Jacobians) is tens of MB freed at once; glibc keeps such memory in the arena of the thread
-	// that ran it, and the process's resident size with it, until the run's end (yesslam-sim
-	// office_tour seed 31, sequential: 189 MB resident after its one global BA for the rest of the
-	// run, 166-170 MB with this). Handed back as SlamJob does before the outputs; once per loop, a
-	// few ms. Under a sanitizer's or another allocator the call trims glibc's unused arenas only.
+	// The global problem (every keyframe, point and cost, Ceres' Jacobians) is freed at once, and glibc keeps it in the
+	// arena of the thread that ran it, resident until the run's end. Handed back as SlamJob does before the outputs,
+	// cheaply, once per loop; under a sanitizer's or another allocator this trims glibc's unused arenas only.
 	malloc_trim(0);
 #endif
 	std::lock_guard<std::mutex> sl(statsMtx_);

@@ -260,11 +260,9 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		return orbDistance(fa.descriptors.ptr<unsigned char>(static_cast<int>(i)),
 						   fb.descriptors.ptr<unsigned char>(static_cast<int>(j)));
 	};
-	// 1. Keypoints with depth matched: every usable pair ([LoopClosing] matching = all), or within
-	// the nodes of the direct index (bow, ORB-SLAM2's SearchByBoW). The direct index is ORB-SLAM2's
-	// shortcut for 1000-2000 monocular keypoints; an RGB-D keyframe with people in view keeps 100-300
-	// static keypoints with depth, and on the real Bonn slice the index found 2-16 of the 25-48
-	// pairs the same test finds among them all (frames 150-180 against frame 0).
+	// 1. Keypoints with depth matched: every usable pair ([LoopClosing] matching = all), or within the direct index's
+	// nodes (bow, ORB-SLAM2's SearchByBoW), a shortcut for thousands of monocular keypoints: among the few static ones
+	// of an RGB-D keyframe with people in view it found a fraction of the pairs on the real Bonn slice.
 	std::vector<std::pair<std::size_t, std::size_t>> matches;
 	{
 		TNearestForB bestForB;
@@ -446,10 +444,9 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 		T(r, 3) = t(r);
 	}
 	loop.relative = mrpt::poses::CPose3D(T);  // T_b_a: the current camera in the matched one's frame
-	// 4. The relative pose from the reprojection of the matched place's points into the current
-	// keyframe, with their depth as a weak term (the pose solve of tracking): the 3D-3D fit above
-	// weighs every point's depth error, which grows faster than z (real Bonn slice: the fit was 6-11 cm
-	// off the ground truth's relative pose, reprojection brings it to a few cm).
+	// 4. The relative pose from the reprojection of the matched place's points into the current keyframe, with their
+	// depth as a weak term (the pose solve of tracking): the 3D-3D fit above weighs every point's depth error, which
+	// grows faster than z, and on the real Bonn slice reprojection brought its pose much nearer the ground truth's.
 	// With the sensor's depth noise at 0 (paper.ini) on reprojection alone: the solve and its inlier
 	// gate still run, as they did when the loop had its own depth option.
 	{
@@ -480,14 +477,9 @@ std::optional<TLoop> CLoopDetector::verify(TKeyFrameId id, TKeyFrameId candidate
 	const auto found =
 		matcher.searchByProjection(f, loop.correctedPose, pts, opts_.projectionRadius, nullptr, false, scaleFactor_);
 	if (found.size() < opts_.minProjectionMatches) return stop("projection", found.size());
-	// 6. The pose re-solved on what that search found, as tracking solves a frame on its local map
-	// (ORB-SLAM2 stops at the count; its loop edge keeps the Sim3 fit's pose). The search's pairs
-	// obey the matcher's view and scale checks, where the fit's inliers only passed a loose 3-sigma
-	// reprojection gate: on the real Bonn slice's revisits (frames 180-205 against frame 0) the
-	// relative pose came 38 / 33 / 27 / 26 mm off the ground truth's before, 13 / 11 / 27 / 18 after
-	// (a second search with the new pose finds the same pairs). The new pose is taken only where as
-	// many pairs agree with it as the count asked for, and then only those pairs are fused by the
-	// correction; otherwise the fitted pose and every pair the search found stay.
+	// 6. The pose re-solved on the search's pairs, which passed the matcher's view and scale checks, not only the fit's
+	// loose gate (ORB-SLAM2 keeps the fit's pose): nearer the ground truth on the real Bonn slice's revisits. Taken,
+	// and only its pairs fused, where as many agree as the count asked; else the fit and all pairs stay.
 	std::vector<bool> agrees(found.size(), true);
 	{
 		std::vector<TPoseObservation> obs;

@@ -54,14 +54,9 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			const double sigma = std::pow(o.scaleFactor, std::max(0, key.octave));
 			const CPinholeCamera K(w.cameras.at(k));
 			const bool useDepth = hasDepth && o.depthNoise.measures(z);
-			// The depth of a keypoint found at a coarse pyramid level is uncertain with its position:
-			// it is read where the keypoint is, known to sigma pixels, and on a slanted surface or
-			// near an edge the depth changes within that. ORB-SLAM2's RGB-D edges weigh their
-			// virtual right-image coordinate (the depth) by the same 1/sigma^2 as the pixel; a
-			// coarse keypoint's depth weighed as a fine one's pulled the map towards noisy depths
-			// (real Xtion frames of bonn_crowd_dev: 26.2 -> 17.2 mm ATE, its people-free opening
-			// 14.6 -> 11.5 mm; the simulator's presets within +-3 %, fr1 3.1 / 3.2 mm). Tracking
-			// keeps the level-0 model: scaled there too, the dev slice got worse (21.3 mm).
+			// A coarse keypoint's depth is as uncertain as its position (read where the keypoint is, on slants and near
+			// edges), so it takes the pixel's 1/sigma^2 too, as ORB-SLAM2's RGB-D edges do: weighed as a fine one's, it
+			// pulled the map towards noisy depths on the real Bonn slice. Tracking keeps the level-0 model.
 			const double sigmaZ = useDepth ? o.depthNoise.sigma(z, sigma) : 0.0;
 			costs.emplace_back(TRgbdReprojectionCost(key.pt.x, key.pt.y, useDepth ? z : 0.0, sigma, sigmaZ, K.fx(),
 													 K.fy(), K.cx(), K.cy()));
@@ -83,11 +78,9 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 		problem.AddResidualBlock(&costs[j], ob.hasDepth ? &lossWithDepth : &lossWithoutDepth, pp, pp + 3,
 								 X[ob.point].data());
 	}
-	// A point that no keyframe of the window measured with depth is constrained only by its rays,
-	// and with a short baseline (a still camera: walking_static) not at all along them: Ceres then
-	// moves it anywhere (measured: points 100+ m away, which later made a pose solve collapse and
-	// relocalisation jump by metres). Such points keep their position; ORB-SLAM2's stereo/RGB-D
-	// edges always carry the right-image coordinate for the same reason.
+	// A point no keyframe of the window measured with depth is constrained only by its rays, and with a short baseline
+	// (a still camera) not along them: Ceres moved such points far off, which later made a pose solve collapse. They
+	// stay put; ORB-SLAM2's RGB-D edges always carry the right-image coordinate for this reason.
 	std::vector<char> hasDepth(w.points.size(), 0);
 	for (const auto& o : all)
 		if (o.hasDepth) hasDepth[o.point] = 1;
@@ -126,8 +119,7 @@ TBundleSolution solveBundle(const TBundleWindow& w, const TBundleSolveOptions& o
 			ordering->AddElementToGroup(pp + 3, 1);
 		}
 	so.linear_solver_ordering = ordering;
-	// A local window has at most a few dozen cameras: Ceres' dense Schur complement beats the sparse
-	// one there (measured: local BA 118 -> ~100 ms median per keyframe on walking_halfsphere).
+	// A local window has at most a few dozen cameras: Ceres' dense Schur complement beats the sparse one there.
 	so.linear_solver_type = o.sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
 	so.max_num_iterations = o.iterations;
 	so.num_threads = o.threads;

@@ -104,18 +104,16 @@ void smoothCorrections(TTrajectory& out, const std::vector<bool>& tracked, const
 	replaceAveraged(out, smoothed, averaged, tracked, anchored);
 }
 
-// Each averaged frame's position replaced by the value at its stamp of a parabola fitted in time
-// through the positions of the lending frames around it: as many on each side, up to `window` (a
-// one-sided fit at a run's ends would extrapolate). A parabola, not a line: a camera that speeds
-// up or turns back keeps its corners (a line through a 3x-speed walking_xyz sim's 7 frames cut
-// them: 7.0 -> 9.5 mm). A side ends at another stretch, at a frame tracking lost (the camera
-// may have turned back unseen; a relocalised pose may jump against the drift before the loss) and
-// beyond window / 15 s, twice the time the window spans at 30 Hz (frames a live run dropped); so
-// the two tracked frames either side of a loss stay as solved, and the lost ones with them. The
-// orientation stays the frame's own: a single frame fixes it well, and the real hand-held cameras
-// turn back and forth faster than they move (a parabola through the orientations too made the real
-// Bonn slice's and the real fr1/xyz path's rotation errors larger: RPE 0.587 -> 0.598 and 0.138 ->
-// 0.178 deg). Lending and smoothed frames as the lending and averaged ones of smoothCorrections.
+// Each averaged frame's position replaced by the value at its stamp of a parabola fitted in time through the positions
+// of the lending frames around it: as many on each side, up to `window` (a one-sided fit at a run's ends would
+// extrapolate). A parabola, not a line: a camera that speeds up or turns back keeps its corners (a line cut those of a
+// fast simulated camera). A side ends at another stretch, at a frame tracking lost (the camera may have turned back
+// unseen; a relocalised pose may jump against the drift before the loss) and beyond window / 15 s, twice the time the
+// window spans at 30 Hz (frames a live run dropped); so the two tracked frames either side of a loss stay as solved,
+// and the lost ones with them. The orientation stays the frame's own: a single frame fixes it well, and the real
+// hand-held cameras turn back and forth faster than they move (a parabola through the orientations too made the
+// rotation errors of the real Bonn slice and the real fr1/xyz path larger). Lending and smoothed frames as the lending
+// and averaged ones of smoothCorrections.
 void smoothMotion(TTrajectory& out, const std::vector<bool>& tracked, const std::vector<bool>& anchored,
 				  const std::vector<bool>& pinned, const std::vector<std::uint64_t>& stretch, int window)
 {

@@ -143,8 +143,8 @@ TYesSlamOptions TYesSlamOptions::effective() const
 	// left in it, while mapping it took away the background between people (CGeometricDynamicCheck.h).
 	if (o.geometric.boxes == "auto") o.geometric.boxes = o.system.localizeOnly ? "true" : "false";
 	if (o.system.dynamicFilter) return o;
-	// One switch for the baseline: the checks added beside the mask (issue 14) are dynamic handling
-	// too, and left on they made "--no-dynamic-filter" 7.9 mm where ORB-SLAM2 is 0.5 m off.
+	// One switch for the baseline: the checks added beside the mask (issue 14) are dynamic handling too, and left on
+	// they made "--no-dynamic-filter" far better than the ORB-SLAM2 it stands for.
 	o.geometric.enabled = false;  // uncertain keypoints, the certain-first solve, movers (markMovers too)
 	o.geometric.movers = false;
 	o.geometric.boxes = "false";
@@ -443,12 +443,9 @@ TFrameReport CYesSlamSystem::processFrame(const cv::Mat& bgr, const cv::Mat& dep
 	if (opts_.tracking.depthMoment && depthTime && std::abs(*depthTime - timestamp) > 1e-4)
 		if (const auto motion = tracker_.motionOver(*depthTime - timestamp))
 			moveDepthToColourMoment(f->features, depth, CPinholeCamera(f->camera), *motion);
-	// With the motion model's (mean) velocity the correction comes within 0.1 mm of the true
-	// motion's (walking_rpy seed 53, rolling sensor: 5.72 mm against 5.69 with the ground truth's
-	// velocity, 14.6 uncorrected). A camera reads its rows within a frame period, so a readout
-	// longer than the time since the last frame (a faster camera than the one assumed) is cut to
-	// it: scaled past the frame motion, its noise grew and the correction diverged (a 100 Hz
-	// sequence with 28 ms: 24 mm to 1.1 m ATE).
+	// The motion model's (mean) velocity corrects almost as well as the true motion's would. A camera reads its rows
+	// within a frame period, so a readout longer than the time since the last frame (a faster camera than the one
+	// assumed) is cut to it: scaled past the frame motion, its noise grew and the correction diverged.
 	if (opts_.tracking.rollingShutter > 0)
 	{
 		double readout = opts_.tracking.rollingShutter;
@@ -529,9 +526,9 @@ TFrameReport CYesSlamSystem::processFrame(const cv::Mat& bgr, const cv::Mat& dep
 	{
 		const auto ref = tracker_.referenceKeyFrame();
 		CKeyFrameInserter::TReference refInfo;
-		// All the reference's points, not only those three keyframes see as ORB-SLAM2 counts: without
-		// point fusion our points gain observations slowly, and that count stays near zero for the
-		// first keyframes (measured: no second keyframe was ever inserted).
+		// All the reference's points, not only those three keyframes see as ORB-SLAM2 counts: without point fusion our
+		// points gain observations slowly, and that count stays near zero for the first keyframes (counting only those,
+		// no second keyframe was ever inserted).
 		if (ref) refInfo.points = map_.numKeyFramePoints(*ref);
 		const double D = opts_.keyFrames.policy == "semantic" ? motionToReference(*frame) : 0.0;
 		decision = inserter_.addFrame(*frame, refInfo, D);
@@ -549,10 +546,9 @@ TFrameReport CYesSlamSystem::processFrame(const cv::Mat& bgr, const cv::Mat& dep
 		if (const auto kf = recent_.tracked(decision->frameId, map_))
 		{
 			newKeyFrames.emplace_back(insertKeyFrame(kf, decision->forced), kf);
-			// frames.csv marks the frame a keyframe is made from, Algorithm 1's earlier picks too (issue
-			// 43); [System] keyFrameFramePose = keyframe also hangs it from its keyframe (ORB-SLAM2's;
-			// not the default: after local BA it stood out of its neighbours, real Bonn slice 14.5 ->
-			// 14.9 mm, jitter 6.6 -> 7.2; docs/benchmarks.md).
+			// frames.csv marks the frame a keyframe is made from, Algorithm 1's earlier picks too (issue 43); [System]
+			// keyFrameFramePose = keyframe also hangs it from its keyframe (ORB-SLAM2's; not the default: after local
+			// BA it stood out of its neighbours and the real Bonn slice got worse; docs/benchmarks.md).
 			const bool own = opts_.system.keyFrameFramePose == "keyframe";
 			const TAnchor onKf{*lastKeyFrame_, mrpt::poses::CPose3D()};
 			if (kf->id == frame->id)

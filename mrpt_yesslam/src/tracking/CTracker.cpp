@@ -94,9 +94,9 @@ std::vector<TPoseObservation> makePoseObservations(const TFrame& f, const std::v
 			// The depth stays known beyond [Camera] farDepth (the mover check sizes and groups
 			// keypoints by it); only its residual leaves the solve there (sigmaZ 0).
 			o.depth = z;
-			// The level-0 sigma, unlike bundle adjustment's (scaled with the pixel's): scaled here
-			// too, the Bonn slice got worse (21.3 mm against 17.2, when BA's was scaled), and again
-			// when measured with the one model (docs/benchmarks.md, "One depth-noise model").
+			// The level-0 sigma, unlike bundle adjustment's (scaled with the pixel's): scaled here too, it made the
+			// real Bonn slice worse, with the former models and the one model alike (docs/benchmarks.md, "One
+			// depth-noise model").
 			if (depthNoise.measures(z)) o.sigmaZ = depthNoise.sigma(z);
 		}
 		obs.push_back(o);
@@ -142,11 +142,9 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 	const bool relocalised = relocalisedFrame_ && *relocalisedFrame_ == f->id;
 	if (last_ && last_->tracked && f->tracked && relocalised)
 	{
-		// The step onto a relocalised frame is a jump from where tracking had drifted (or where the
-		// camera was carried), not the camera's motion: the velocity measured before it stays, for
-		// the next prediction and the rolling shutter, and is not averaged with the jump (a 90-degree
-		// jump within a frame made the next frame's prediction 30 degrees off and lost it). The motion
-		// prior waits for lostVelocityFrames steps after it.
+		// The step onto a relocalised frame is a jump from where tracking had drifted (or the camera was carried), not
+		// the camera's motion: the velocity from before it stays, for the prediction and the rolling shutter, and is
+		// not averaged with the jump (averaged, it lost the next frame). The prior waits lostVelocityFrames steps.
 		smoothMotions_ = 0;
 		if (f->timestamp < last_->timestamp)  // and a clock that went back: the motions before are of another
 		{
@@ -202,10 +200,9 @@ void CTracker::setLastFrame(const std::shared_ptr<const TFrame>& f)
 	}
 	else
 	{
-		// Only local BA since (millimetres): the last frame keeps the pose tracking gave it, as the
-		// prediction's start. Following the keyframe through local BA instead was identical on the
-		// simulator and worse on the real Bonn slice (sequential 17.2 -> 17.8 mm ATE, three parallel
-		// runs 17.8 -> 18.3 mm median), as was hanging a frame that became a keyframe from it (17.9 mm).
+		// Only local BA since (millimetres): the last frame keeps the pose tracking gave it, as the prediction's start.
+		// Following the keyframe through local BA instead, or hanging a frame that became a keyframe from it, changed
+		// nothing on the simulator and made the real Bonn slice worse.
 		lastAnchor_.refKf = referenceKeyFrame();
 		if (lastAnchor_.refKf) lastAnchor_.relative = f->pose - map_.keyFramePose(*lastAnchor_.refKf);
 	}
@@ -215,11 +212,9 @@ std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
 {
 	// A lost frame's velocity is a guess (coasting): it moves nothing.
 	if (!velocity_ || lostRun_ > 0 || !(velocityInterval_ > 0)) return std::nullopt;
-	// The mean motion of the last tracked frames (as a lost frame coasts), not the last one alone:
-	// each frame's pose carries its own noise, and a velocity scaled up by readout / interval
-	// passes it on. With the rolling-shutter correction: Bonn slice 15.4 -> 14.6 mm (jitter 8.8 ->
-	// 7.1 mm a frame), walking_rpy and crowd sims with a rolling shutter 5.75 -> 5.72 and 10.2 ->
-	// 10.0 mm; the 9 fr1 frames 1.76 -> 2.37 mm (3.12 uncorrected), where the mean has few frames.
+	// The mean motion of the last tracked frames (as a lost frame coasts), not the last one alone: each frame's pose
+	// carries its own noise, which a velocity scaled up by readout / interval passes on; the mean helped the correction
+	// on the real Bonn slice and the rolling-shutter sims, though not on a very short run.
 	// The mean is the motion over the time the frames span (their sum over their summed intervals):
 	// live input drops frames, and a step over two intervals is not twice the speed.
 	if (recentMotion_.empty())
@@ -239,11 +234,9 @@ std::optional<mrpt::poses::CPose3D> CTracker::motionOver(double seconds) const
 
 mrpt::math::CVectorFixedDouble<6> CTracker::meanRecentMotion() const
 {
-	// The mean motion of the last tracked frames, not the last one alone: the frames just before a
-	// person blinds the camera are the ones the person already pulls on (walking_static, seed 21,
-	// sim.ini: the error grew from 5.4 to 7.8 mm over the last tracked frame of a camera standing
-	// still, and five frames coasting on that step ended 56 mm off), while a smooth camera path
-	// keeps its velocity in a short mean.
+	// The mean motion of the last tracked frames, not the last one alone: the frames just before a person blinds the
+	// camera are the ones the person already pulls on (a still camera coasting on that last step drifted off in the
+	// sims), while a smooth camera path keeps its velocity in a short mean.
 	// Per frame interval: a step over a dropped frame (two intervals) counts as two of them.
 	mrpt::math::CVectorFixedDouble<6> v;
 	v.setZero();
@@ -553,12 +546,9 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 			predicted = lastPose + scaledTwist(mrpt::poses::Lie::SE<3>::log(*velocity_), sinceLast / then);
 	}
 	f.pose = predicted;
-	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak
-	// solution must agree with. After a loss the coasted prediction still stands for a few frames
-	// (priorLostFrames), with wider tolerance each: a person who blinded the camera, or moves with
-	// it, is there for several frames, and the first frames back see little but them (real Bonn
-	// crowd slice: a frame after two lost ones was taken on 35 inliers 86 mm off). A refused frame is
-	// a lost frame too, so the next one does not take the same weak solution unchecked.
+	// A prediction from measured motion (the last frame tracked, not coasting) is evidence a weak solution must agree
+	// with; after a loss the coasted one stands for priorLostFrames frames, wider each: a person who blinded the camera
+	// stays and fills the first frames back. A refused frame is lost too, so the next is checked as well.
 	// The departures allowed grow with the frames since the motion was last measured: each lost
 	// frame, and each interval since the last frame (dropped ones), the camera may have sped up.
 	prior_.reset();
@@ -625,11 +615,9 @@ CTracker::TResult CTracker::trackFrom(TFrame& f, const mrpt::poses::CPose3D& las
 	if (guess)
 		for (std::size_t k = 0; k < used.size(); k++)
 			if (e.inlier[k] && pts.ids[used[k].point] >= 0) seeds.push_back(pts.ids[used[k].point]);
-	// 2. The local map, from the motion-model pose, or the prediction when there is none (the last
-	// frame was lost: the pose coasted, unmeasured, for a while). Around an unmeasured prediction
-	// the search is as wide as the motion model's (ORB-SLAM2 searches coarser, th = 5, for the frames
-	// right after a relocalisation): with the narrow radius and the view checks' level window,
-	// a frame after two blinded fr1 frames kept 24 matches and landed 12 mm off.
+	// 2. The local map, from the motion-model pose, or the prediction when there is none (the last frame was lost: the
+	// pose coasted, unmeasured). Around such a prediction the search is as wide as the motion model's (ORB-SLAM2
+	// searches coarser after a relocalisation): the narrow radius left the first frame back on fr1 too few matches.
 	const bool okLocal =
 		trackLocalMap(f, guess ? *guess : predicted, seeds, r, guess ? opts_.localRadius : opts_.motionRadius);
 	if (okLocal)

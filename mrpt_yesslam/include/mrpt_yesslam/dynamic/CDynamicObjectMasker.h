@@ -18,12 +18,11 @@
 //   the whole box is used, configurably.
 // - Beyond the paper: the fill stays within maxDepthRange of the seed depth, so it cannot run along
 //   the floor under a person's feet (or a desk under a monitor) to the edges of the box.
-// - Beyond the paper: detectors flicker (a person missed for one frame). A frame whose features on
-//   a person are all used can become a keyframe and put the person into the map, which then drags
-//   the camera along with the person for many frames (measured on yesslam-sim walking_static: one
-//   missed detection, 14 cm of error). So a dynamic object seen in the last frames but missed now
-//   is still masked from its last box, grown, for up to holdFrames frames, as detection-based
-//   dynamic SLAM systems with missed-detection compensation do (e.g. Detect-SLAM's propagation).
+// - Beyond the paper: detectors flicker (a person missed for one frame). A frame whose features on a person are all
+//   used can become a keyframe and put the person into the map, which then drags the camera along with the person for
+//   many frames (as one missed detection did on the walking_static sim). So a dynamic object seen in the last frames
+//   but missed now is still masked from its last box, grown, for up to holdFrames frames, as detection-based dynamic
+//   SLAM systems with missed-detection compensation do (e.g. Detect-SLAM's propagation).
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <opencv2/core.hpp>

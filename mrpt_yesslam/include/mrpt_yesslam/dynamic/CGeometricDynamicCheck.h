@@ -1,16 +1,13 @@
 #pragma once
-// A geometric check beside the semantic mask (issue 14), so that an imperfect mask cannot drag the
-// camera. The flood fill leaves 7-14 % of the keypoints on a person unmasked; moving coherently they
-// can outvote a thin static background, and a result that hinges on the fill's tuning follows. The
-// check does not trust the fill where it cannot be sure:
+// A geometric check beside the semantic mask (issue 14), so that an imperfect mask cannot drag the camera. The flood
+// fill leaves some of the keypoints on a person unmasked; moving coherently they can outvote a thin static background,
+// and a result that hinges on the fill's tuning follows. The check does not trust the fill where it cannot be sure:
 // - A keypoint inside a dynamic detection's box (grown by boxMargin) but outside its mask is
 //   "uncertain": it may be background seen between the person's limbs, or the person itself.
-//   Since 2026-11-29 this box part is on only for localisation in a loaded map (`boxes = auto`):
-//   while mapping on the real Xtion crowd, where people fill the view, it took away the background
-//   between them (frames lost, the second half of the dev slice 23.8 -> 17.1 mm without it), while
-//   the mask and the mover check below kept the people out; a read-only map cannot cull what people
-//   left in it, and there it halves the error (simulated). Keypoints where the mover check found a
-//   mover are uncertain for a few frames either way.
+//   Since 2026-11-29 this box part is on only for localisation in a loaded map (`boxes = auto`): while mapping on the
+//   real Xtion crowd it took away the background between the people, whom the mask and the mover check below keep out;
+//   a read-only map cannot cull what people left in it, and there it helps.
+//   Keypoints where the mover check found a mover are uncertain for a few frames either way.
 // - The pose is first estimated from the certain-static matches alone (outside every dynamic box);
 //   an uncertain match joins only if it agrees with that pose (its chi-square under it passes the
 //   optimiser's own test), and the pose is refined with the certain and the agreeing ones. This is
@@ -27,7 +24,7 @@
 //   they also carry most of the information (depth noise grows with z^2, pixel parallax with 1/z),
 //   so the solve bends to them: every match of the mover passes the chi-square test, a few static
 //   ones fail, and the error adds up frame after frame (an undetected walker in front of the
-//   camera: 0.5 m ATE). A single residual cannot tell, a group can: after each solve the inliers
+//   camera: a ruined run). A single residual cannot tell, a group can: after each solve the inliers
 //   are grouped into depth-coherent surfaces (image cells split at depth gaps, joined with
 //   neighbours at the same depth), and each group is left out in turn (one Gauss-Newton step from
 //   the estimate). A static surface still fits the pose the others give; a mover's members then

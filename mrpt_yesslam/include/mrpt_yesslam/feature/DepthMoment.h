@@ -1,11 +1,10 @@
 #pragma once
 // Keypoint depth at the colour image's moment when the depth image was taken at another one.
-// RGB-D cameras run their colour and depth streams on separate clocks: the real Bonn slice pairs
-// images up to 16.7 ms apart, TUM fr1 14 ms. A hand-held camera turning 20 deg/s moves the scene
-// 3-5 px in that time, so the depth under a keypoint belongs to a neighbouring surface point, and a
-// translating camera reads every depth a millimetre off. With both stamps known (TUM lists) and the
-// motion model's velocity, each keypoint's depth is read where its scene point was at the depth
-// image's moment and carried back to the colour image's (as a rolling-shutter or time-offset
+// RGB-D cameras run their colour and depth streams on separate clocks: the real Bonn and TUM frames pair images up to
+// half a frame apart. A hand-held camera turning 20 deg/s moves the scene a few pixels in that time, so the depth under
+// a keypoint belongs to a neighbouring surface point, and a translating camera reads every depth a millimetre off. With
+// both stamps known (TUM lists) and the motion model's velocity, each keypoint's depth is read where its scene point
+// was at the depth image's moment and carried back to the colour image's (as a rolling-shutter or time-offset
 // correction in VIO carries measurements to one moment, e.g. VINS-Mono's td).
 #include <mrpt/poses/CPose3D.h>
 

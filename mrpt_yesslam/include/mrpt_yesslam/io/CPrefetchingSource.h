@@ -1,7 +1,7 @@
 #pragma once
-// Reads frames ahead on its own thread, so that image decoding (PNG, JPEG, gz: 10-20 ms a frame)
-// overlaps with the SLAM stages of the frame before instead of adding to them. A decorator over any
-// CInputSource: order, frames and errors are exactly those of the source it wraps.
+// Reads frames ahead on its own thread, so that image decoding (PNG, JPEG, gz) overlaps with the SLAM stages of the
+// frame before instead of adding to them. A decorator over any CInputSource: order, frames and errors are exactly those
+// of the source it wraps.
 #include <atomic>
 #include <deque>
 #include <future>

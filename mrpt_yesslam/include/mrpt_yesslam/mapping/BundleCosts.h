@@ -8,7 +8,7 @@
 // (DVO-SLAM, ElasticFusion) weight depth. The paper's eq. 7 / 24 use the reprojection error only, and ORB-SLAM2 uses a
 // virtual stereo coordinate u - bf/z with a 1-pixel sigma, which at 3 m is a depth sigma of ~0.2 m: with keyframes a
 // few centimetres apart (a handheld camera) the map's scale then hangs on weak parallax, and a few outliers bend it
-// (tests/mapping shows 13 mm for two bad pixels). The depth term removes that.
+// (tests/mapping: two bad pixels do). The depth term removes that.
 #include <ceres/rotation.h>
 #include <ceres/sized_cost_function.h>
 

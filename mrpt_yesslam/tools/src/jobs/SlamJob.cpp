@@ -83,8 +83,8 @@ struct TInputChain
 	std::function<bool()> disconnected = [] { return false; };
 };
 
-// --record: frames written on their own stage thread, so that compressing them (about 1 MB a
-// frame) never holds up the capture thread; a bounded queue keeps memory flat when the disk is slow.
+// --record: frames written on their own stage thread, so that compressing them never holds up the capture thread; a
+// bounded queue keeps memory flat when the disk is slow.
 class CRecorder
 {
    public:
@@ -173,10 +173,9 @@ TInputChain openInput(const TSlamJobOptions& o, const TYesSlamOptions& opts,
 // `stop`: why the run ended early (empty: it read the whole input, or --max-frames). stats.json
 // then starts with "complete": false, the reason and the frames done, so a run cut short is never
 // taken for a whole one.
-// The outputs (the dense map's build above all) were the run's peak of memory (issue 41 item 5):
-// before them, the frames no output needs go, and glibc gives back what its per-thread arenas hold
-// free (the stages' threads freed it). Bonn slice peak RSS 222-225 -> 188-190 MB with these two.
-// The detector's network goes too (a 900-frame run with the shipped detector: median peak 212 -> 202 MB).
+// The outputs (the dense map's build above all) were the run's peak of memory (issue 41 item 5): before them the frames
+// no output needs and the detector's network go, and glibc gives back what its per-thread arenas hold free (the stages'
+// threads freed it; docs/benchmarks.md, "Memory at the outputs").
 void releaseBeforeOutputs(CYesSlamSystem& sys)
 {
 	sys.releaseRecentFrames();
@@ -589,10 +588,9 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 			if (aheadError) std::rethrow_exception(std::exchange(aheadError, nullptr));
 			auto obs = first ? std::move(first) : ahead ? std::move(ahead) : src->next();
 			if (!obs) break;
-			// Recorded input: the next frame is read now and its detection started, so that it
-			// overlaps this frame's tracking as well as its own ORB extraction (issue 41: the frame
-			// waited 10 ms a frame for the detector). Live input is not read ahead: that would hold
-			// this frame until the camera delivers the next.
+			// Recorded input: the next frame is read now and its detection started, so that it overlaps this frame's
+			// tracking as well as its own ORB extraction (issue 41: the frame waited for the detector). Live input is
+			// not read ahead: that would hold this frame until the camera delivers the next.
 			if (!in.live && !(o.maxFrames && done + 1 >= o.maxFrames)) try
 				{
 					sys.detectAhead(*obs, 0);  // this frame first (already under way unless it is the first)

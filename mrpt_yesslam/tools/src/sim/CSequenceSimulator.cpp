@@ -186,13 +186,9 @@ TSimSummary runSimulation(const TSimOptions& o, const std::function<void(std::si
 	if (!(o.depthOffsetMs == -1 || (o.depthOffsetMs >= 0 && o.depthOffsetMs <= 100)))
 		throw InputError("", "--depth-offset must be in [0, 100] ms (or -1: the preset's)");
 	double depthOffsetMs = o.depthOffsetMs < 0 ? preset.depthOffsetMs : o.depthOffsetMs;
-	// Every reader pairs a depth image with the colour image nearest its stamp (TUM's associate.py,
-	// greedy): a depth image more than half a frame from its own colour image is nearer the next
-	// one and would be paired with it. Half a frame is the most a real pair of free-running streams
-	// is apart (the Bonn slice: -16.6 to +16.7 ms at 30 Hz), so 0.05 ms beyond it is let through.
-	// A frame is the median interval (a replayed trajectory's stamps are not even); the preset's own
-	// offset is held to it, as the readout below is (a 100 Hz replay gets a faster camera's), a
-	// value asked for is refused.
+	// Every reader pairs a depth image with the colour image nearest its stamp (TUM's associate.py): one over half a
+	// frame from its own would pair with the next. Half a frame is the most free-running streams are apart (the real
+	// Bonn slice's are), so 0.05 ms beyond is let through; a preset's offset is held to it, one asked for refused.
 	// The median interval between frames (seconds; 0 for a single frame): a frame, for the depth
 	// offset here and the readout below.
 	double medianInterval = 0;
@@ -324,10 +320,8 @@ TSimSummary runSimulation(const TSimOptions& o, const std::function<void(std::si
 	// shorter readout (the frame interval), as a faster camera has.
 	double readout = (o.readoutMs < 0 ? (realSensor ? 28.0 : 0.0) : o.readoutMs) * 1e-3;
 	if (stamps.size() > 1) readout = std::min(readout, medianInterval);
-	// Within a frame the camera moves smoothly. A replayed motion-capture trajectory is not smooth at
-	// its 100 Hz samples (fr3_walking_xyz: rotation between samples 118 deg/s at the 90th percentile,
-	// 20 deg/s over 0.1 s): rows posed between those samples took the capture's noise for motion and
-	// sheared the image by it (a 10 ms readout cost 3.4 mm ATE that no correction could recover).
+	// Within a frame the camera moves smoothly, but a replayed motion-capture trajectory is not smooth at its 100 Hz
+	// samples: rows posed between them took the capture's noise for motion and sheared the image beyond any correction.
 	// There the rows move from the frame's pose with the trajectory's velocity over +-50 ms.
 	const auto rowPose = [&](double stamp, double dt)
 	{
@@ -461,11 +455,9 @@ TSimSummary runSimulation(const TSimOptions& o, const std::function<void(std::si
 			}
 		}
 
-		// Sensor noise last: it arises at readout, after the optics and the exposure's motion blur
-		// (added before the blur, the blur smoothed it). The real frames of ../shared are quiet:
-		// Immerkaer's estimate gives 0.86 (Bonn Xtion) and 1.07 (TUM Kinect) grey levels, an upper
-		// bound (texture adds to it); 1.3 a channel gives 1.0 here. Their Laplacian variance
-		// (170-190, "sharpness") is strong edges, not noise (3.5 a channel made it 2.4).
+		// Sensor noise last: it arises at readout, after the optics and the exposure's motion blur (added before the
+		// blur, it was smoothed). 1.3 a channel matches the real frames of ../shared (Immerkaer's estimate); their
+		// Laplacian variance is edges, not noise (docs/benchmarks.md, "Simulator against real frames").
 		if (o.noise)
 		{
 			cv::Mat n(rgb.size(), CV_16SC3);

@@ -49,9 +49,8 @@ const std::vector<TSimPreset>& simPresets()
 		 "away "
 		 "(Bonn RGB-D Dynamic crowd); the real sensor model (--real-sensor) on",
 		 "pan", 3, 0, 900, true, true,
-		 // Its colour and depth images up to 16.7 ms apart, drifting, as the real Bonn frames'
-		 // stamps are (../shared/data/bonn_crowd_dev: -16.6 to +16.7 ms): the two streams of that
-		 // Xtion run free. The double without it was 2x easier than the real slice (issue 39 item 6).
+		 // Its colour and depth images up to 16.7 ms apart, drifting, as the real Bonn frames' are (the two streams of
+		 // their Xtion run free); without it the double was much easier than the real slice (issue 39 item 6).
 		 16.7},
 	};
 	return p;

@@ -9,28 +9,19 @@ namespace mrpt_yesslam
 // Kinect-like depth noise (Khoshelham & Elberink 2012): sigma_z = 1.425e-3 z^2, disparity quantised
 // to 1/8 pixel, no depth nearer than 0.5 m or beyond 4.5 m, missing depth at depth edges and in
 // small holes.
-// The real sensor (--real-sensor), against the frames of ../shared side by side in
-// bench/bench_realism.sh: its error is not white. A structured-light sensor matches 9 x 9 windows
-// of its pattern, so neighbouring pixels share their error: on the real Xtion and Kinect frames
-// 8 x 8 patches of smooth surfaces scatter by 1.1e-3 z^2 about their plane while 32 x 32 ones
-// scatter 1.4 times more, where white noise scatters the same at both scales. Such an error does
-// not average out over a frame's keypoints. Modelled as a smooth field (1/16 of the resolution,
-// bilinear) beside a smaller per-pixel part.
-// Where depth is missing, measured on the real frames (bench_realism's speckle_hole_share and the
-// ones below): a window either matches or not, so depth is lost in blobs, not pixel by pixel (0.3-2 %
-// of the real frames' missing pixels lie in holes under 16 px); the dropout draws come from a
-// smooth field (`drop`, uniform on [0, 1] at every pixel). Away from the image border, surfaces
-// dark to the colour camera keep 88-94 % of their depth against 95-98 % for light ones (jeans and
-// dark jumpers keep theirs; black office chairs lose blobs): dark 9 x 9 windows lose 10 %. Most
-// missing depth is the border that registering depth to the colour camera leaves empty (Bonn
-// Xtion: 20 px left, 22 right, 6 top, 18 bottom, ragged over a few pixels; about 10 % of the
-// image). The model had dropped 70 % of dark pixels one by one before: 13-20 % speckle, a third
-// of the depth on dark clothes, and a masker fill (eq. 4-5) that stopped at its seed on every
-// dark-clothed person (61 % of fills succeeded against 94 % on the real Bonn frames).
-// No projector shadow is modelled: where a person (< 1.6 m) stands before a wall (> 2.4 m) the
-// real Bonn frames lose 6-8 px of depth on either side alike, not the 18-20 px band on one side
-// that a shadow would leave (their depth is registered to the colour camera); the dropouts at
-// depth edges (addDepthNoise) leave 4-7 px.
+// The real sensor (--real-sensor), fitted to the frames of ../shared beside ours (bench/bench_realism.sh;
+// docs/benchmarks.md, "Simulator against real frames"). Its error is not white: a structured-light sensor matches 9 x 9
+// windows of its pattern, so neighbouring pixels share it, and it does not average out over a frame's keypoints.
+// Modelled as a smooth field (1/16 of the resolution, bilinear) beside a smaller per-pixel part.
+// Where depth is missing: a window either matches or not, so depth is lost in blobs, not pixel by pixel; the dropout
+// draws come from a smooth field (`drop`, uniform on [0, 1] at every pixel). Surfaces dark to the colour camera lose
+// more than light ones: dark 9 x 9 windows lose 10 %.
+// Most missing depth is the border that registering depth to the colour camera leaves empty (at 640 x 480: 20 px left,
+// 22 right, 6 top, 18 bottom, ragged). Dropping dark pixels one by one, as the model did before, left speckle and
+// stopped the masker's fill (eq. 4-5) at its seed on dark clothes.
+// No projector shadow is modelled: the real Bonn frames lose depth on both sides of a person before a wall alike, not
+// in a band on one side as a shadow would (their depth is registered to the colour camera); the dropouts at depth edges
+// (addDepthNoise) cover it.
 void addRealSensorDepthError(cv::Mat& z, const cv::Mat& grey, const cv::Mat& drop, std::mt19937& rng)
 {
 	const cv::Mat dark = CSensorStatistics::darkSurfaces(grey);
@@ -79,8 +70,8 @@ cv::Mat coherentUniform(cv::Size size, int cell, std::mt19937& rng)
 }
 
 // `drop`: the dropout draws at depth edges (uniform on [0, 1]); per pixel when empty.
-// `edgeRadius`: how far from a depth edge depth may be lost (1 px for the Kinect model; 3 px for
-// the real sensor, whose frames lose 6-8 px across a person's silhouette).
+// `edgeRadius`: how far from a depth edge depth may be lost (1 px for the Kinect model; 3 px for the real sensor, whose
+// frames lose a wider band across a person's silhouette).
 void addDepthNoise(cv::Mat& z, std::mt19937& rng, const TRgbdCamera& cam, float whiteK, const cv::Mat& drop,
 				   int edgeRadius)
 {

@@ -3,12 +3,9 @@
 // boxes and gives colour, exact metric depth and the instance id of what each pixel sees in a
 // single pass.
 //
-// Why our own renderer rather than MRPT's CFBORender (which the simulator used first): on these
-// machines CFBORender runs on Mesa's llvmpipe and needed two passes (colour + depth, then the
-// label scene) at ~100 ms per 640x480 frame on one core, its depth is a sawtooth of +-0.4 %
-// around the truth that had to be replaced by a ray cast per pixel anyway, and it samples pixel
-// k at k + 0.5. A ray cast against the boxes' slabs is exact by construction, samples pixel
-// centres at integer coordinates like TUM, and costs a fraction of one pass (bench/bench_sim.sh).
+// Why not MRPT's CFBORender (used first): here it runs on Mesa's llvmpipe, slowly and in two passes, its depth is a
+// sawtooth around the truth that needed a ray cast anyway, and it samples pixel k at k + 0.5. A ray cast against the
+// boxes' slabs is exact, samples pixel centres like TUM and costs a fraction of one pass (bench/bench_sim.sh).
 // The images are what a one-sample-per-pixel rasteriser produces (no anti-aliasing): nearest
 // texel, Lambertian light as MRPT's textured-triangle shader, so scene.3Dscene looks the same.
 #include <mrpt/img/TCamera.h>

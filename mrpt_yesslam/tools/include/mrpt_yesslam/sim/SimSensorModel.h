@@ -1,8 +1,7 @@
 #pragma once
-// yesslam-sim's depth sensor models: the Kinect model (white noise growing with depth squared,
-// quantised disparity, range limits, dropouts at depth edges and in small holes) and the real
-// sensor as measured on the real Xtion/Kinect frames (--real-sensor). The reasons and the
-// measurements behind each part are in SimSensorModel.cpp.
+// yesslam-sim's depth sensor models: the Kinect model (white noise growing with depth squared, quantised disparity,
+// range limits, dropouts at depth edges and in small holes) and the real sensor fitted to the real Xtion/Kinect frames
+// (--real-sensor). The reasons are in SimSensorModel.cpp, the measurements in docs/benchmarks.md.
 #include <opencv2/core.hpp>
 
 #include <random>
