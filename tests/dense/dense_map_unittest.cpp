@@ -2,6 +2,10 @@
 // clouds from images, re-placing after pose changes, and a whole run on a generated walking
 // sequence scored against the simulator's exact labels.
 #include <gtest/gtest.h>
+
+#include <memory>
+
+#include <random>
 #include <set>
 
 #include <octomap/OcTree.h>
@@ -277,6 +281,62 @@ TEST(DenseMapper, CloudsAreRePlacedWhenKeyFramePosesChange)
 	EXPECT_TRUE(dm.octree->search(octomap::point3d(1.0f, 2.5f, 5.5f)) != nullptr);
 	EXPECT_EQ(dm.cloud.label[1], 5);
 	EXPECT_NEAR(dm.cloud.labelProb[1], 0.8, 0.01);
+}
+
+// Issue 68 item 3: a long run in one place culls most of the keyframes it makes, and their clouds
+// were all kept. Over [DenseMapping] culledCloudsMB the culled ones go, oldest first; the map's own
+// keyframes' clouds never do, nor does a culled one while the store is under the budget.
+TEST(DenseMapper, CulledKeyFramesCloudsGoOldestFirstOnlyOverTheBudget)
+{
+	const auto cloud = [](int n)
+	{
+		TKeyFrameCloud c;
+		std::mt19937 rng(static_cast<unsigned>(n));  // noise: clouds that pack to about their size
+		std::uniform_real_distribution<float> u(-1.f, 1.f);
+		for (int i = 0; i < n; i++)
+		{
+			c.xyz.emplace_back(u(rng), u(rng), 2.f + u(rng));
+			c.bgr.emplace_back(static_cast<uchar>(rng()), static_cast<uchar>(rng()), static_cast<uchar>(rng()));
+			c.label.push_back(0);
+			c.labelProb.push_back(0.6f);
+		}
+		return c;
+	};
+	const auto storeWith = [&](double budgetMB)
+	{
+		CDenseSemanticMapper::TOptions o;
+		o.culledCloudsMB = budgetMB;
+		auto m = std::make_unique<CDenseSemanticMapper>(o, CDynamicObjectMasker::TOptions(), 80);
+		for (TKeyFrameId k = 0; k < 6; k++) m->setKeyFrameCloud(k, cloud(20000));
+		return m;
+	};
+	const double all = static_cast<double>(storeWith(1e6)->storedBytes()) / 1e6, one = all / 6;
+	ASSERT_GT(one, 0.05);
+
+	// Under the budget: culled clouds stay.
+	auto roomy = storeWith(all * 2);
+	roomy->keyFramesCulled({1, 2, 3});
+	EXPECT_EQ(roomy->numKeyFrames(), 6u);
+	EXPECT_EQ(roomy->droppedClouds(), 0u);
+
+	// Room for four clouds: the two oldest culled go, the third stays; the map's own never go.
+	auto tight = storeWith(one * 4.5);
+	tight->keyFramesCulled({3, 1, 2});
+	EXPECT_EQ(tight->numKeyFrames(), 4u);
+	EXPECT_EQ(tight->droppedClouds(), 2u);
+	EXPECT_LE(static_cast<double>(tight->storedBytes()) / 1e6, one * 4.5);
+	const auto poseOf = [](TKeyFrameId) { return mrpt::poses::CPose3D(); };
+	EXPECT_EQ(tight->build(poseOf).keyFrames, 4u);
+	// A culled keyframe whose cloud comes after it was culled (the dense stage's queue) goes too.
+	tight->keyFramesCulled({7});
+	tight->setKeyFrameCloud(7, cloud(20000));
+	EXPECT_EQ(tight->droppedClouds(), 3u);
+	EXPECT_EQ(tight->numKeyFrames(), 4u);
+
+	// Budget 0: every culled cloud goes, the others stay whatever they take.
+	auto none = storeWith(0);
+	none->keyFramesCulled({0, 5});
+	EXPECT_EQ(none->numKeyFrames(), 4u);
 }
 
 // Issue 41 item 5: the final build sorts the stored points by voxel a slab of x columns at a time

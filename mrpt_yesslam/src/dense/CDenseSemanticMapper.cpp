@@ -73,6 +73,9 @@ COptionTable CDenseSemanticMapper::TOptions::table()
 			"final build: stored points sorted by voxel at a time (32 bytes each; fewer = less memory, more passes; "
 			"the same map)");
 	t.count("queue", queue, 1, 1000, "parallel mode: keyframes waiting for the dense stage before tracking waits");
+	t.real("culledCloudsMB", culledCloudsMB, 0, 1e6,
+		   "MB the stored clouds may take before the clouds of culled keyframes are dropped, oldest first (the map's "
+		   "own keyframes' clouds always stay; 0 = as soon as culled)");
 	return t;
 }
 
@@ -390,7 +393,43 @@ void CDenseSemanticMapper::setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud
 	}
 	auto p = TPackedCloud::pack(points);
 	std::lock_guard<std::mutex> lk(mtx_);
-	clouds_[id] = std::move(p);
+	auto& slot = clouds_[id];
+	if (slot) storedBytes_ -= sizeof(TPackedCloud) + slot->bytes.capacity();
+	storedBytes_ += sizeof(TPackedCloud) + p->bytes.capacity();
+	slot = std::move(p);
+	dropCulledOverBudget();
+}
+
+void CDenseSemanticMapper::keyFramesCulled(const std::vector<TKeyFrameId>& ids)
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	culled_.insert(ids.begin(), ids.end());
+	dropCulledOverBudget();
+}
+
+void CDenseSemanticMapper::dropCulledOverBudget()
+{
+	const double budget = opts_.culledCloudsMB * 1e6;  // as stats.json's stored_mb
+	// A culled keyframe whose cloud has not come yet (the dense stage's queue) stays marked.
+	for (auto it = culled_.begin(); it != culled_.end() && static_cast<double>(storedBytes_) > budget;)
+	{
+		const auto c = clouds_.find(*it);
+		if (c == clouds_.end())
+		{
+			++it;
+			continue;
+		}
+		storedBytes_ -= sizeof(TPackedCloud) + c->second->bytes.capacity();
+		clouds_.erase(c);
+		it = culled_.erase(it);
+		dropped_++;
+	}
+}
+
+std::size_t CDenseSemanticMapper::droppedClouds() const
+{
+	std::lock_guard<std::mutex> lk(mtx_);
+	return dropped_;
 }
 
 void CDenseSemanticMapper::setPrior(const CSemanticOcTree& tree)
@@ -403,9 +442,7 @@ void CDenseSemanticMapper::setPrior(const CSemanticOcTree& tree)
 std::size_t CDenseSemanticMapper::storedBytes() const
 {
 	std::lock_guard<std::mutex> lk(mtx_);
-	std::size_t n = 0;
-	for (const auto& [id, c] : clouds_) n += sizeof(TPackedCloud) + c->bytes.capacity();
-	return n;
+	return storedBytes_;
 }
 
 std::size_t CDenseSemanticMapper::numKeyFrames() const

@@ -305,6 +305,7 @@ void CYesSlamSystem::mapKeyFrame(TKeyFrameId kf)
 	}
 	if (bowDatabase_)
 		for (const auto e : st.erasedKeyFrames) bowDatabase_->erase(e);
+	if (dense_ && !st.erasedKeyFrames.empty()) dense_->keyFramesCulled(st.erasedKeyFrames);
 	const double ms = clock.wallMs(), cpu = clock.cpuMs();
 	{
 		std::lock_guard<std::mutex> sl(statsMtx_);
@@ -749,6 +750,7 @@ TSlamStats CYesSlamSystem::stats() const
 		s.denseKeyFrames = dense_->numKeyFrames();
 		s.densePoints = dense_->numStoredPoints();
 		s.denseBytes = dense_->storedBytes();
+		s.denseDroppedClouds = dense_->droppedClouds();
 	}
 	return s;
 }

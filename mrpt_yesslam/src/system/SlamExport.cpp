@@ -137,7 +137,7 @@ std::string formatStatsJson(const TSlamStats& s, const TStatsContext& ctx)
 	{
 		std::snprintf(buf, sizeof(buf), "%.2f", static_cast<double>(s.denseBytes) / 1e6);
 		o << "  \"dense\": {\"keyframes\": " << s.denseKeyFrames << ", \"stored_points\": " << s.densePoints
-		  << ", \"stored_mb\": " << buf << "},\n";
+		  << ", \"stored_mb\": " << buf << ", \"dropped_culled_clouds\": " << s.denseDroppedClouds << "},\n";
 	}
 	o << "  \"keyframe_policy\": \"" << ctx.keyFramePolicy << "\",\n";
 	o << "  \"dynamic_filter\": " << (ctx.dynamicFilter ? "true" : "false") << ",\n";

@@ -24,6 +24,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,10 @@ class CDenseSemanticMapper
 		 * the same whatever it is. */
 		std::size_t buildSlabPoints = std::size_t{1} << 18;
 		std::size_t queue = 4;  //!< parallel: keyframes waiting for the dense stage before tracking waits
+		/** MB the stored clouds may take before the clouds of keyframes local mapping culled are
+		 * dropped, oldest first (they are redundant views; the map's own keyframes' clouds always
+		 * stay), so that a long run in one place keeps its memory and its final build bounded. */
+		double culledCloudsMB = 16;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -150,6 +155,11 @@ class CDenseSemanticMapper
 	TKeyFrameCloud keyFrameCloud(const TFrame& frame, const std::vector<cv::Rect2f>& heldBoxes) const;
 	/** Stores a cloud for keyframe `id` (tests and addKeyFrame). */
 	void setKeyFrameCloud(TKeyFrameId id, TKeyFrameCloud cloud);
+	/** Local mapping culled these keyframes: their clouds (now or when they come) may be dropped
+	 * once the store is over culledCloudsMB. */
+	void keyFramesCulled(const std::vector<TKeyFrameId>& ids);
+	/** Clouds of culled keyframes dropped so far (culledCloudsMB). */
+	std::size_t droppedClouds() const;
 
 	/** An earlier run's semantic OctoMap (a loaded map's) that build() starts the octree from, so
 	 * that this run's keyframes update it: what they see replaces it (space now free is cleared,
@@ -183,9 +193,13 @@ class CDenseSemanticMapper
 	double unit_;  //!< m per stored coordinate step
 	mutable std::mutex mtx_;
 	std::map<TKeyFrameId, std::shared_ptr<const TPackedCloud>> clouds_;
-	std::deque<std::vector<cv::Rect2f>> recentDynamic_;
+	std::deque<std::vector<cv::Rect2f>> recentDynamic_;  //!< dynamic boxes of the last keyframes added
 	std::string prior_;  //!< setPrior's tree as .ot bytes (each build reads its own copy; the tree cannot be copied)
-						 //!< //!< dynamic boxes of the last keyframes added
+	std::set<TKeyFrameId> culled_;  //!< culled keyframes whose clouds may go, oldest first (guarded by mtx_)
+	std::size_t storedBytes_ = 0;   //!< what clouds_ takes (guarded by mtx_)
+	std::size_t dropped_ = 0;       //!< clouds dropped by culledCloudsMB (guarded by mtx_)
+	/** Drops culled keyframes' clouds, oldest first, while the store is over culledCloudsMB (mtx_ held). */
+	void dropCulledOverBudget();
 };
 
 /** A colour per label for pictures (background grey, classes from a fixed palette). */

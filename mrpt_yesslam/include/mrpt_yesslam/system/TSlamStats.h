@@ -68,6 +68,7 @@ struct TSlamStats
 	}
 	std::size_t denseKeyFrames = 0, densePoints = 0;  //!< keyframe clouds of the dense map and their stored points
 	std::size_t denseBytes = 0;                       //!< memory those clouds take
+	std::size_t denseDroppedClouds = 0;  //!< culled keyframes' clouds dropped ([DenseMapping] culledCloudsMB)
 	/** Per stage: milliseconds of every frame (detect, mask, orb, track, keyframe) or keyframe (mapping). */
 	std::map<std::string, std::vector<double>> stageMs;
 };
