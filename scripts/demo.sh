@@ -11,9 +11,10 @@ cd "$ROOT"
 [ -d "$SHARED/data" ] || { echo "demo: error: $SHARED/data not found (the demo data lives in ../shared)" >&2; exit 1; }
 ./scripts/install_deps.sh
 echo "demo: building (Release) ..."
-# Only the tools the demo runs (the tests, if configured, are left to ./scripts/test.sh).
+# Every tool, so that `cmake --install build` works after the demo (the tests, if configured, are
+# left to ./scripts/test.sh).
 cmake -S "$ROOT" -B "$ROOT/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$ROOT/build" -j "$(nproc)" --target yesslam tum2rawlog yesslam-cloud yesslam-render yesslam-eval yesslam-sim yesslam-detect >/dev/null
+cmake --build "$ROOT/build" -j "$(nproc)" --target yesslam_tools >/dev/null
 BIN="$ROOT/build/rawlog_tools"
 mkdir -p "$OUT"
 DESK="$SHARED/data/tum_fr1_desk_9frames"

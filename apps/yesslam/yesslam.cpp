@@ -69,12 +69,9 @@ int main(int argc, char** argv)
 				"for octovis and navigation stacks); map.3Dscene then also holds the octree coloured by label. People\n"
 				"are left out, and the space they walked through is free.\n"
 				"--save-map keeps the map for a later --load-map (localise in it, or extend it; see yesslam-map).\n"
-				"Ctrl-C stops the run and saves everything up to that frame. While it runs, trajectory_online.txt (in "
-				"the\n"
-				"map's own frame until the end) and frames.csv are a journal written frame by frame, and stats.json "
-				"says\n"
-				"\"complete\": false: a run killed outright (kill -9, a power cut) keeps them up to about a second "
-				"before.",
+				"Ctrl-C stops the run and saves everything up to that frame. While it runs, trajectory_online.txt\n"
+				"(in the map's own frame until the end) and frames.csv are a journal written frame by frame, and\n"
+				"stats.json says \"complete\": false: a run killed outright (kill -9) keeps them to its last frame.",
 				{"yesslam --input sim_walking --out run1   (a yesslam-sim folder: uses its detections.txt)",
 				 "yesslam --input rgbd_dataset_freiburg3_walking_xyz --config share/mrpt_yesslam/config/tum_fr3.ini "
 				 "--out run2 --detector yolo",

@@ -319,19 +319,32 @@ TEST(DenseMapper, CulledKeyFramesCloudsGoOldestFirstOnlyOverTheBudget)
 	EXPECT_EQ(roomy->numKeyFrames(), 6u);
 	EXPECT_EQ(roomy->droppedClouds(), 0u);
 
+	// The keyframes whose clouds a build places.
+	const auto placed = [](const CDenseSemanticMapper& m)
+	{
+		std::set<TKeyFrameId> ids;
+		m.build(
+			[&](TKeyFrameId k)
+			{
+				ids.insert(k);
+				return mrpt::poses::CPose3D();
+			});
+		return ids;
+	};
 	// Room for four clouds: the two oldest culled go, the third stays; the map's own never go.
 	auto tight = storeWith(one * 4.5);
 	tight->keyFramesCulled({3, 1, 2});
-	EXPECT_EQ(tight->numKeyFrames(), 4u);
+	EXPECT_EQ(placed(*tight), (std::set<TKeyFrameId>{0, 3, 4, 5}));
 	EXPECT_EQ(tight->droppedClouds(), 2u);
 	EXPECT_LE(static_cast<double>(tight->storedBytes()) / 1e6, one * 4.5);
-	const auto poseOf = [](TKeyFrameId) { return mrpt::poses::CPose3D(); };
-	EXPECT_EQ(tight->build(poseOf).keyFrames, 4u);
-	// A culled keyframe whose cloud comes after it was culled (the dense stage's queue) goes too.
+	// A keyframe culled before its cloud comes (the dense stage's queue): the cloud, once there, puts
+	// the store over; the oldest culled one goes (3), the new one stays until it is the oldest.
 	tight->keyFramesCulled({7});
 	tight->setKeyFrameCloud(7, cloud(20000));
-	EXPECT_EQ(tight->droppedClouds(), 3u);
-	EXPECT_EQ(tight->numKeyFrames(), 4u);
+	EXPECT_EQ(placed(*tight), (std::set<TKeyFrameId>{0, 4, 5, 7}));
+	tight->setKeyFrameCloud(8, cloud(20000));
+	EXPECT_EQ(placed(*tight), (std::set<TKeyFrameId>{0, 4, 5, 8}));
+	EXPECT_EQ(tight->droppedClouds(), 4u);
 
 	// Budget 0: every culled cloud goes, the others stay whatever they take.
 	auto none = storeWith(0);

@@ -41,7 +41,7 @@ int openJournalFile(const std::string& path, const std::string& head)
 }
 }  // namespace
 
-CRunJournal::CRunJournal(const std::string& dir) : dir_(dir), lastSync_(std::chrono::steady_clock::now())
+CRunJournal::CRunJournal(const std::string& dir) : dir_(dir)
 {
 	const fs::path d(dir);
 	// First, so that whatever else is in the folder is never taken for a finished run.
@@ -79,8 +79,9 @@ CRunJournal::~CRunJournal()
 
 bool CRunJournal::append(int fd, const std::string& text, const std::string& name)
 {
-	// One write for whole lines: a process killed at any moment leaves no half line (a regular
-	// file's write is not cut by a signal); a short write (disk full) ends the journal.
+	// One write of whole lines per file and frame, handed to the kernel at once: a killed process
+	// loses none of it. Only a write that spans two pages of the file can be cut by the kill (or a
+	// full disk) at the page's end, leaving its last line without a newline; a short write ends the journal.
 	std::size_t done = 0;
 	while (done < text.size())
 	{
@@ -103,18 +104,12 @@ bool CRunJournal::update(const CYesSlamSystem& sys)
 	if (trajectoryFd_ < 0) return false;
 	const auto part = sys.framesSince(frames_);
 	if (part.rows.empty()) return true;
+	// The rows first: a kill between the two writes leaves a row without its pose, never a pose
+	// without its row.
+	if (!append(framesFd_, formatFrameLogCsv(part.rows, false), "frames.csv")) return false;
 	if (!part.online.empty() && !append(trajectoryFd_, formatTumTrajectory(part.online), "trajectory_online.txt"))
 		return false;
-	if (!append(framesFd_, formatFrameLogCsv(part.rows, false), "frames.csv")) return false;
 	frames_ += part.rows.size();
-	// On the disk at least once a second (a power cut loses the page cache, kill -9 does not).
-	const auto now = std::chrono::steady_clock::now();
-	if (now - lastSync_ >= std::chrono::seconds(1))
-	{
-		::fdatasync(trajectoryFd_);
-		::fdatasync(framesFd_);
-		lastSync_ = now;
-	}
 	return true;
 }
 
@@ -123,7 +118,6 @@ void CRunJournal::close()
 	for (int* fd : {&trajectoryFd_, &framesFd_})
 		if (*fd >= 0)
 		{
-			::fdatasync(*fd);
 			::close(*fd);
 			*fd = -1;
 		}

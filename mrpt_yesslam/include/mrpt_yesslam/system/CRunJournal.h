@@ -1,9 +1,8 @@
 #pragma once
 // What a run has done so far, kept in its output folder as it goes (issue 68 item 1): a process
-// killed by kill -9, the out-of-memory killer or a power cut keeps every frame's online pose and
-// frames.csv row up to about a second before it died. The end of the run replaces these files
-// atomically with the complete outputs (CYesSlamSystem's trajectories, frames.csv, stats.json).
-#include <chrono>
+// killed by kill -9 or the out-of-memory killer keeps every frame's online pose and frames.csv row
+// up to the last frame it finished. The end of the run replaces these files atomically with the
+// complete outputs (CYesSlamSystem's trajectories, frames.csv, stats.json).
 #include <cstddef>
 #include <string>
 
@@ -25,11 +24,12 @@ class CRunJournal
 	CRunJournal(const CRunJournal&) = delete;
 	CRunJournal& operator=(const CRunJournal&) = delete;
 
-	/** Appends what `sys` processed since the last call, written to the files at once (each call's
-	 * lines in one write) and synced to the disk at most once a second. A write that fails ends
-	 * the journal (the run goes on): false, and failure() says why. */
+	/** Appends what `sys` processed since the last call, handed to the kernel at once (each call's
+	 * lines in one write per file; not synced to the disk: a sync on the tracking thread could
+	 * stall a live camera behind a recording's writes). A write that fails ends the journal (the
+	 * run goes on): false, and failure() says why. */
 	bool update(const CYesSlamSystem& sys);
-	/** Syncs and closes the files (before the run's final outputs replace them); idempotent. */
+	/** Closes the files (before the run's final outputs replace them); idempotent. */
 	void close();
 	/** Frames journaled so far. */
 	std::size_t frames() const { return frames_; }
@@ -43,6 +43,5 @@ class CRunJournal
 	int trajectoryFd_ = -1, framesFd_ = -1;
 	std::size_t frames_ = 0;
 	std::string failure_;
-	std::chrono::steady_clock::time_point lastSync_;
 };
 }  // namespace mrpt_yesslam

@@ -551,20 +551,37 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 									  " skips every frame: the input holds only " + std::to_string(held) +
 									  (held == 1 ? " frame" : " frames"));
 	}
-	std::error_code ec;
-	fs::create_directories(o.outDir, ec);
-	if (!fs::is_directory(o.outDir))
-		throw InputError(o.outDir,
-						 "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
-	// What an earlier run left in this folder must not pass for this run's: an evaluation or a
-	// dense map this one may not write, and the outputs it writes only at its end (a killed run
-	// leaves its journal and nothing else; a second Ctrl-C skips the slow ones).
-	for (const char* f : {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot",
-						  "map.bt", "trajectory.txt", "trajectory_smoothed.txt", "keyframes.txt", "loop_candidates.csv",
-						  "config_used.ini", "map.3Dscene"})
-		fs::remove(fs::path(o.outDir) / f, ec);
-	// The online poses and frames.csv as the run goes, stats.json "complete": false until the end.
-	CRunJournal journal(o.outDir);
+	// The output folder and the journal; failing, the recording of the frames read so far is committed first.
+	std::optional<CRunJournal> journal;
+	try
+	{
+		std::error_code ec;
+		fs::create_directories(o.outDir, ec);
+		if (!fs::is_directory(o.outDir))
+			throw InputError(o.outDir,
+							 "cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+		// What an earlier run left in this folder must not pass for this run's: an evaluation or a
+		// dense map this one may not write, and the outputs it writes only at its end (a killed run
+		// leaves its journal and nothing else; a second Ctrl-C skips the slow ones).
+		for (const char* f : {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply",
+							  "map.ot", "map.bt", "trajectory.txt", "trajectory_smoothed.txt", "keyframes.txt",
+							  "loop_candidates.csv", "config_used.ini", "map.3Dscene"})
+			fs::remove(fs::path(o.outDir) / f, ec);
+		// The online poses and frames.csv as the run goes, stats.json "complete": false until the end.
+		journal.emplace(o.outDir);
+	}
+	catch (...)
+	{
+		try
+		{
+			closeInput();
+		}
+		catch (const std::exception&)
+		{
+			// Already failing: the first error is the one reported.
+		}
+		throw;
+	}
 
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
@@ -612,9 +629,9 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 									   "depth.txt); the depth is taken as of the colour image's moment");
 			const TFrameReport r = sys.processFrame(*obs, depthTime);
 			done++;
-			if (!journal.update(sys) && !journal.failure().empty() && !journalWarned)
+			if (!journal->update(sys) && !journal->failure().empty() && !journalWarned)
 			{
-				sum.warnings.push_back(journal.failure() + " (the run went on; its outputs at the end are complete)");
+				sum.warnings.push_back(journal->failure() + " (the run went on; its outputs at the end are complete)");
 				journalWarned = true;
 			}
 			if (progress)
@@ -656,15 +673,29 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 		}
 		sys.settle();               // every stage done before the outputs (its failures are not this error)
 		releaseBeforeOutputs(sys);  // no frame is processed after this
-		journal.close();
+		journal->close();
 		writeOutputs(sys, o.outDir, sum, "error at frame " + std::to_string(done) + ": " + exceptionSummary(e.what()),
 					 o.saveMap);
 		throw;
 	}
 	const std::size_t skippedEntries = src->skipped();
-	closeInput();
-	if (o.onPhase) o.onPhase(ESlamJobPhase::FinalMapping);
-	sys.waitForMapping();
+	try
+	{
+		closeInput();
+		if (o.onPhase) o.onPhase(ESlamJobPhase::FinalMapping);
+		sys.waitForMapping();
+	}
+	catch (const std::exception& e)
+	{
+		// The recording or the final mapping failed: the outputs of the frames done say so (the
+		// journal alone would say the run has not ended).
+		sys.settle();
+		releaseBeforeOutputs(sys);
+		journal->close();
+		writeOutputs(sys, o.outDir, sum,
+					 "error after frame " + std::to_string(done) + ": " + exceptionSummary(e.what()), o.saveMap);
+		throw;
+	}
 	sum.input.skippedEntries = skippedEntries;
 	if (!sum.input.live && fs::is_directory(o.input)) sum.input.stats.unpaired = skippedEntries;
 	if (skippedEntries > 0 && !sum.input.live)
@@ -690,7 +721,7 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
 	if (o.onPhase) o.onPhase(ESlamJobPhase::Saving);
 	releaseBeforeOutputs(sys);
-	journal.close();
+	journal->close();
 	writeOutputs(sys, o.outDir, sum, stop, o.saveMap, abortSaving);
 	// A pass that was never placed in the loaded map has no pose to give: an error, not identity
 	// poses and an ATE over them (the outputs say so too: no pose, every frame "none").
