@@ -22,7 +22,7 @@
 #include "mrpt_yesslam/place/CBowDatabase.h"
 #include "mrpt_yesslam/place/CVocabulary.h"
 #include "mrpt_yesslam/loop/CLoopCloser.h"
-#include "mrpt_yesslam/loop/PoseGraph.h"
+#include "mrpt_yesslam/optimize/PoseGraph.h"
 #include "mrpt_yesslam/util/CWriterFirstMutex.h"
 #include "mrpt_yesslam/io/CInputSource.h"
 #include "mrpt_yesslam/eval/LoopLabels.h"

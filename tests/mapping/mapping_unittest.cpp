@@ -13,7 +13,7 @@
 #endif
 
 #include "TestUtils.h"
-#include "mrpt_yesslam/mapping/BundleCosts.h"
+#include "mrpt_yesslam/optimize/BundleCosts.h"
 #include "mrpt_yesslam/mapping/CLocalMapper.h"
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 

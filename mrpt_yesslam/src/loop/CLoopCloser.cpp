@@ -6,8 +6,8 @@
 #include <set>
 
 #include "mrpt_yesslam/util/Stopwatch.h"
-#include "mrpt_yesslam/mapping/PointFusion.h"
-#include "mrpt_yesslam/loop/PoseGraph.h"
+#include "mrpt_yesslam/optimize/PointFusion.h"
+#include "mrpt_yesslam/optimize/PoseGraph.h"
 
 namespace mrpt_yesslam
 {

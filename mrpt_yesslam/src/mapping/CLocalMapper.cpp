@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
-#include "mrpt_yesslam/mapping/BundleCosts.h"
-#include "mrpt_yesslam/mapping/PointFusion.h"
+#include "mrpt_yesslam/optimize/BundleCosts.h"
+#include "mrpt_yesslam/optimize/PointFusion.h"
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 namespace mrpt_yesslam

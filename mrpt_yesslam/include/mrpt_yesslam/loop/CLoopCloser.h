@@ -18,7 +18,7 @@
 #include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/loop/CLoopDetector.h"
-#include "mrpt_yesslam/mapping/BundleAdjustment.h"
+#include "mrpt_yesslam/optimize/BundleAdjustment.h"
 #include "mrpt_yesslam/util/CWriterFirstMutex.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 

@@ -12,8 +12,8 @@
 
 #include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
-#include "mrpt_yesslam/mapping/BundleAdjustment.h"
-#include "mrpt_yesslam/mapping/PointFusion.h"
+#include "mrpt_yesslam/optimize/BundleAdjustment.h"
+#include "mrpt_yesslam/optimize/PointFusion.h"
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/OptionTable.h"
 

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/loop/PoseGraph.h"
+#include "mrpt_yesslam/optimize/PoseGraph.h"
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/mapping/BundleAdjustment.h"
+#include "mrpt_yesslam/optimize/BundleAdjustment.h"
 
 #include <ceres/ceres.h>
 
@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "mrpt_yesslam/geometry/CPinholeCamera.h"
-#include "mrpt_yesslam/mapping/BundleCosts.h"
+#include "mrpt_yesslam/optimize/BundleCosts.h"
 #include "mrpt_yesslam/geometry/CPoseOptimizer.h"
 
 namespace mrpt_yesslam

@@ -1,4 +1,4 @@
-#include "mrpt_yesslam/mapping/PointFusion.h"
+#include "mrpt_yesslam/optimize/PointFusion.h"
 
 #include <cmath>
 
