@@ -19,25 +19,28 @@ namespace fs = std::filesystem;
 
 namespace
 {
+// Writes all of `text` to `fd` (a signal may interrupt it); 0, or the errno of the failure (-1: nothing written).
+int writeAll(int fd, const std::string& text)
+{
+	for (std::size_t done = 0; done < text.size();)
+	{
+		const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+		if (n < 0 && errno == EINTR) continue;
+		if (n <= 0) return n < 0 ? errno : -1;
+		done += static_cast<std::size_t>(n);
+	}
+	return 0;
+}
+
 // A new file holding `head`, open for appending; throws InputError naming it.
 int openJournalFile(const std::string& path, const std::string& head)
 {
 	const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-	if (fd < 0) throw InputError(path, std::string("cannot write the run's journal: ") + std::strerror(errno));
-	std::size_t done = 0;
-	while (done < head.size())
-	{
-		const ssize_t n = ::write(fd, head.data() + done, head.size() - done);
-		if (n < 0 && errno == EINTR) continue;
-		if (n <= 0)
-		{
-			const int e = errno;
-			::close(fd);
-			throw InputError(path, std::string("cannot write the run's journal: ") + std::strerror(e));
-		}
-		done += static_cast<std::size_t>(n);
-	}
-	return fd;
+	const int e = fd < 0 ? errno : writeAll(fd, head);
+	if (e == 0) return fd;
+	if (fd >= 0) ::close(fd);
+	throw InputError(path,
+					 std::string("cannot write the run's journal: ") + (e > 0 ? std::strerror(e) : "nothing written"));
 }
 }  // namespace
 
@@ -82,19 +85,12 @@ bool CRunJournal::append(int fd, const std::string& text, const std::string& nam
 	// One write of whole lines per file and frame, handed to the kernel at once: a killed process
 	// loses none of it. Only a write that spans two pages of the file can be cut by the kill (or a
 	// full disk) at the page's end, leaving its last line without a newline; a short write ends the journal.
-	std::size_t done = 0;
-	while (done < text.size())
+	if (const int e = writeAll(fd, text); e != 0)
 	{
-		const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-		if (n < 0 && errno == EINTR) continue;
-		if (n <= 0)
-		{
-			failure_ = (fs::path(dir_) / name).string() + ": the journal stopped after " + std::to_string(frames_) +
-					   " frames: " + (n < 0 ? std::strerror(errno) : "nothing written");
-			close();
-			return false;
-		}
-		done += static_cast<std::size_t>(n);
+		failure_ = (fs::path(dir_) / name).string() + ": the journal stopped after " + std::to_string(frames_) +
+				   " frames: " + (e > 0 ? std::strerror(e) : "nothing written");
+		close();
+		return false;
 	}
 	return true;
 }

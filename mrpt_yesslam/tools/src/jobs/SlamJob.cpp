@@ -360,6 +360,17 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 			}
 		}
 	};
+	// On a failure: the recording of the frames read is committed if it can be; the first error is the one reported.
+	auto closeInputQuietly = [&]
+	{
+		try
+		{
+			closeInput();
+		}
+		catch (const std::exception&)
+		{
+		}
+	};
 	// Skipped before any output: a skip past the end of the input is an error, not an empty run;
 	// so is a skip that leaves no frame (the first one is read here to know).
 	std::size_t skipped = 0;
@@ -408,14 +419,7 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 	}
 	catch (...)
 	{
-		try
-		{
-			closeInput();
-		}
-		catch (const std::exception&)
-		{
-			// Already failing: the first error is the one reported.
-		}
+		closeInputQuietly();
 		throw;
 	}
 
@@ -499,14 +503,7 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 		// A bad frame, or a failure of the mapping stage: keep what was done up to here. The input
 		// first (it commits the recording): waiting for mapping may throw again (another keyframe
 		// that failed), and the recording of the frames so far must not be lost with it.
-		try
-		{
-			closeInput();
-		}
-		catch (const std::exception&)
-		{
-			// Already failing: the first error is the one reported.
-		}
+		closeInputQuietly();
 		sys.settle();               // every stage done before the outputs (its failures are not this error)
 		releaseBeforeOutputs(sys);  // no frame is processed after this
 		journal->close();
