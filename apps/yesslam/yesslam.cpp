@@ -68,7 +68,8 @@ int main(int argc, char** argv)
 				"only,\n"
 				"for octovis and navigation stacks); map.3Dscene then also holds the octree coloured by label. People\n"
 				"are left out, and the space they walked through is free.\n"
-				"--save-map keeps the map for a later --load-map (localise in it, or extend it; see yesslam-map).\n"
+				"--save-map keeps the map for a later --load-map (localise in it, or extend it; see yesslam-map),\n"
+				"saved in the background every [System] checkpointSeconds (30) while the run goes and at its end.\n"
 				"Ctrl-C stops the run and saves everything up to that frame. While it runs, trajectory_online.txt\n"
 				"(in the map's own frame until the end) and frames.csv are a journal written frame by frame, and\n"
 				"stats.json says \"complete\": false: a run killed outright (kill -9) keeps them to its last frame.",
@@ -99,7 +100,10 @@ int main(int argc, char** argv)
 			cl.number("width", "PX", "OpenNI2 camera: image width (640)", &width);
 			cl.number("height", "PX", "OpenNI2 camera: image height (480)", &height);
 			cl.number("fps", "HZ", "OpenNI2 camera: frame rate (30)", &fps);
-			cl.text("save-map", "MAP.ysm", "save the sparse map at the end (also on Ctrl-C) for a later --load-map",
+			cl.text("save-map", "MAP.ysm",
+					"save the map (with its semantic OctoMap) for a later --load-map: at the end (also on Ctrl-C), and "
+					"every [System] checkpointSeconds (30) while the run goes, atomically in the background, so that a "
+					"killed run keeps the map of its last checkpoint",
 					&o.saveMap);
 			cl.text("load-map", "MAP.ysm",
 					"start from a saved map: the first frames are placed in it by relocalisation, the trajectory is in "
@@ -315,6 +319,10 @@ int main(int argc, char** argv)
 			if (!o.saveMap.empty() && s.mapFiles.saveError.empty() && s.mapFiles.savedBytes > 0)
 				std::printf("map saved:       %s (%s, %zu points, %.1f MB)\n", o.saveMap.c_str(),
 							countOf(st.keyFramesInMap, "keyframe").c_str(), st.mapPoints, s.mapFiles.savedBytes / 1e6);
+			if (s.mapFiles.checkpoints > 0)
+				std::printf("                 and %s while the run went (every %s s, the longest %.0f ms)\n",
+							countOf(s.mapFiles.checkpoints, "checkpoint").c_str(),
+							formatNumber(s.mapFiles.checkpointSeconds).c_str(), s.mapFiles.checkpointMaxMs);
 			if (s.evaluated)
 			{
 				std::printf("ground truth:    %s (%s)\n", s.groundTruth.c_str(),

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <thread>
@@ -20,6 +21,7 @@
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/io/WorldFrame.h"
 #include "mrpt_yesslam/jobs/SlamJob.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
 
 #include <cmath>
 
@@ -439,4 +441,78 @@ TEST(Interrupt, AKilledRunKeepsItsJournalOfPosesAndFrames)
 		EXPECT_DOUBLE_EQ(journal[i].t, finished[i].t);
 		EXPECT_LT(std::hypot(p.x() - q.x(), p.y() - q.y(), p.z() - q.z()), 1e-6) << "frame " << i;
 	}
+}
+
+TEST(Interrupt, AKilledRunKeepsItsLastMapCheckpointAndALaterRunLocalisesInItAndExtendsIt)
+{
+	// Issue 68 item 2: with --save-map the map went to its file only at the end, so kill -9 lost
+	// it. Now it is saved every [System] checkpointSeconds in the background, atomically: a killed
+	// run leaves a whole map (its semantic OctoMap with it) that a later run loads, is placed in by
+	// relocalisation where the killed run was, and extends with keyframes of its own. Real Kinect
+	// frames (tum_fr1_rpy_dev), sequential.
+	const std::string seq = sharedFile("data/tum_fr1_rpy_dev");
+	ASSERT_TRUE(fs::exists(seq + "/rgb.txt")) << seq;
+	TempDir d("sigkill_checkpoint");
+	const std::string cfg = d / "checkpoints.ini", map = d / "office.ysm", out = d / "killed";
+	writeText(cfg, "[System]\ncheckpointSeconds = 0.5\n");
+	const auto poseLines = [&]
+	{
+		std::ifstream f(out + "/trajectory_online.txt");
+		std::string line;
+		long n = 0;
+		while (std::getline(f, line))
+			if (!line.empty() && line[0] != '#') n++;
+		return n;
+	};
+	const auto r = interruptWhen(
+		"yesslam",
+		{"--input", seq, "--detector", "none", "--sequential", "--quiet", "--config", cfg, "--save-map", map, "--out",
+		 out},
+		[&] { return poseLines() >= 60 && fs::exists(map); }, SIGKILL);
+	ASSERT_TRUE(r.ready) << "no checkpoint after 60 journaled poses within 60 s: " << r.err;
+	EXPECT_EQ(r.exitCode, -1) << "killed by the signal";
+	const auto journal = mrpt_yesslam::parseTumTrajectory(
+		[&](std::string t) { return t.substr(0, t.rfind('\n') + 1); }(readText(out + "/trajectory_online.txt")),
+		"trajectory_online.txt");
+	ASSERT_LT(journal.size(), 300u) << "killed before the end";
+
+	// A whole map file (the checksum holds), with keyframes and the semantic OctoMap.
+	mrpt_yesslam::CSparseMap saved;
+	std::unique_ptr<mrpt_yesslam::CSemanticOcTree> octree;
+	mrpt_yesslam::TMapFileInfo info;
+	ASSERT_NO_THROW(info = mrpt_yesslam::loadMapFile(map, saved, 0, &octree));
+	const std::size_t keyFrames = saved.numKeyFrames();
+	EXPECT_GE(keyFrames, 2u);
+	ASSERT_TRUE(octree) << "the checkpoint holds the semantic OctoMap";
+	EXPECT_GT(octree->size(), 1000u);
+
+	// A later run on the same frames loads it, is placed in it and adds keyframes of its own
+	// (frames beyond the checkpoint's); its poses are where the killed run had them.
+	const std::string resumed = d / "resumed";
+	const auto res = runTool("yesslam", {"--input", seq, "--detector", "none", "--sequential", "--quiet",
+										 "--no-dense-map", "--max-frames", "150", "--load-map", map, "--out", resumed});
+	ASSERT_EQ(res.exitCode, 0) << res.err;
+	const std::string stats = readText(resumed + "/stats.json");
+	const auto number = [&](const std::string& key)
+	{
+		const auto p = stats.find("\"" + key + "\": ");
+		return p == std::string::npos ? -1.0 : std::stod(stats.substr(p + key.size() + 4));
+	};
+	EXPECT_GE(number("tracked_frames"), 140) << stats;
+	EXPECT_GT(number("keyframes_in_map"), static_cast<double>(keyFrames)) << "the map was extended\n" << stats;
+	const auto again = mrpt_yesslam::readTumTrajectory(resumed + "/trajectory_online.txt");
+	const auto worldFromMap = mrpt_yesslam::readWorldFromMap(resumed + "/trajectory_online.txt");
+	ASSERT_TRUE(worldFromMap);
+	std::map<double, mrpt::poses::CPose3D> resumedAt;
+	for (const auto& s : again) resumedAt[s.t] = s.asPose();
+	std::size_t compared = 0;
+	for (const auto& s : journal)
+		if (const auto it = resumedAt.find(s.t); it != resumedAt.end())
+		{
+			const auto p = *worldFromMap + s.asPose();
+			const auto& q = it->second;
+			EXPECT_LT(std::hypot(p.x() - q.x(), p.y() - q.y(), p.z() - q.z()), 0.03) << "frame at " << s.t;
+			compared++;
+		}
+	EXPECT_GE(compared, 50u);
 }

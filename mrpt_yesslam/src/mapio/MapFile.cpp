@@ -27,13 +27,23 @@ std::string hex(std::uint64_t v)
 }  // namespace
 
 void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint,
-				 const CSemanticOcTree* octree, const TWorldFrame& frame)
+				 const CSemanticOcTree* octree, const TWorldFrame& frame, bool durable)
 {
-	std::ostringstream o(std::ios::binary);
-	o.write(kMagic, 8);
-	binio::put<std::uint32_t>(o, kMapFileVersion);
-	binio::put<std::uint64_t>(o, vocabularyFingerprint);
-	map.serialize(o);
+	std::ostringstream m(std::ios::binary);
+	map.serialize(m);
+	saveSerializedMapFile(path, std::move(m).str(), vocabularyFingerprint, octree, frame, durable);
+}
+
+void saveSerializedMapFile(const std::string& path, const std::string& serializedMap,
+						   std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree, const TWorldFrame& frame,
+						   bool durable)
+{
+	// The file is composed in one buffer (a map's size, not several copies of it): the head, the
+	// map, the octree section and the frame, then the checksum of all of it.
+	std::ostringstream head(std::ios::binary);
+	head.write(kMagic, 8);
+	binio::put<std::uint32_t>(head, kMapFileVersion);
+	binio::put<std::uint64_t>(head, vocabularyFingerprint);
 	// The semantic OctoMap as its own .ot bytes, with their length (0: none), after its occupancy
 	// threshold (a run's is configurable, [DenseMapping] occupancyThreshold, and .ot does not keep it).
 	std::string ot;
@@ -43,22 +53,28 @@ void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t v
 		if (!octree->write(os)) throw InputError(path, "OctoMap could not write the semantic octree");
 		ot = std::move(os).str();
 	}
-	binio::put<double>(o, octree ? octree->getOccupancyThres() : 0.0);
-	binio::put<std::uint64_t>(o, ot.size());
-	o.write(ot.data(), static_cast<std::streamsize>(ot.size()));
+	std::ostringstream tail(std::ios::binary);
+	binio::put<double>(tail, octree ? octree->getOccupancyThres() : 0.0);
+	binio::put<std::uint64_t>(tail, ot.size());
+	tail.write(ot.data(), static_cast<std::streamsize>(ot.size()));
+	ot = std::string();
 	// Version 2: the export frame (kind, how it was levelled, T_world_map as its rotation matrix row
 	// by row and its translation: read back exactly, so that a map saved again keeps its bytes).
-	binio::put<std::uint8_t>(o, frame.kind == TWorldFrame::EKind::ZUp ? 1 : 0);
-	binio::put<std::uint8_t>(o, frame.floorSeen ? 1 : 0);
-	binio::put<double>(o, frame.cameraHeight);
+	binio::put<std::uint8_t>(tail, frame.kind == TWorldFrame::EKind::ZUp ? 1 : 0);
+	binio::put<std::uint8_t>(tail, frame.floorSeen ? 1 : 0);
+	binio::put<double>(tail, frame.cameraHeight);
 	const auto R = frame.worldFromMap.getRotationMatrix();
 	for (int r = 0; r < 3; r++)
-		for (int c = 0; c < 3; c++) binio::put<double>(o, R(r, c));
-	for (double v : {frame.worldFromMap.x(), frame.worldFromMap.y(), frame.worldFromMap.z()}) binio::put<double>(o, v);
-	std::string buf = std::move(o).str();
+		for (int c = 0; c < 3; c++) binio::put<double>(tail, R(r, c));
+	for (double v : {frame.worldFromMap.x(), frame.worldFromMap.y(), frame.worldFromMap.z()})
+		binio::put<double>(tail, v);
+	const std::string h = std::move(head).str(), t = std::move(tail).str();
+	std::string buf;
+	buf.reserve(h.size() + serializedMap.size() + t.size() + 8);
+	buf.append(h).append(serializedMap).append(t);
 	const std::uint64_t sum = binio::checksum(buf.data(), buf.size());
 	buf.append(reinterpret_cast<const char*>(&sum), 8);
-	writeFileAtomically(path, buf);
+	writeFileAtomically(path, buf.data(), buf.size(), durable);
 }
 
 TMapFileInfo loadMapFile(const std::string& path, CSparseMap& map, std::uint64_t vocabularyFingerprint,

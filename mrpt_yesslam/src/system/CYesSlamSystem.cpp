@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -17,7 +18,6 @@
 #include "mrpt_yesslam/util/ConfigFile.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/StageTasks.h"
-#include "mrpt_yesslam/mapio/MapFile.h"
 
 namespace mrpt_yesslam
 {
@@ -45,6 +45,9 @@ COptionTable TYesSlamOptions::TSystem::table()
 		   "frame of every export: zup (x forward, y left, z up; floor at z = 0 when seen) or optical (the first "
 		   "keyframe's camera: x right, y down, z forward); a loaded map keeps its own",
 		   {"zup", "optical"});
+	t.real("checkpointSeconds", checkpointSeconds, 0, 1e6,
+		   "with a map file to save (yesslam --save-map): the map is saved to it this often, in the background, while "
+		   "the run goes, so that a killed run keeps its map (seconds of wall time; 0 = at the end only)");
 	return t;
 }
 
@@ -243,41 +246,6 @@ void CYesSlamSystem::denseKeyFrame(TKeyFrameId kf, const std::shared_ptr<const T
 	std::lock_guard<std::mutex> sl(statsMtx_);
 	stats_.stageMs["dense"].push_back(ms);
 	stats_.stageMs["dense_cpu"].push_back(cpu);
-}
-
-TDenseMap CYesSlamSystem::buildDenseMap() const
-{
-	if (!dense_) throw std::logic_error("dense mapping is off ([DenseMapping] enabled = false)");
-	const mrpt::poses::CPose3D worldFromMap = worldFrame().worldFromMap;
-	return dense_->build([&](TKeyFrameId id) { return worldFromMap + map_.keyFramePose(id); });
-}
-
-TWorldFrame CYesSlamSystem::worldFrame() const
-{
-	std::lock_guard<std::mutex> lk(worldFrameMtx_);
-	if (worldFrame_) return *worldFrame_;
-	TWorldFrame f;
-	if (opts_.system.worldFrame == "zup")
-	{
-		// The first keyframe's camera (the map's origin unless a correction moved it).
-		mrpt::poses::CPose3D first;
-		std::optional<TKeyFrameId> firstId;
-		for (const auto& k : map_.keyFramePoses())
-			if (!firstId || k.id < *firstId) firstId = k.id, first = k.pose;
-		// The dense clouds see the floor far better than the sparse points (textured spots only).
-		std::vector<mrpt::math::TPoint3D> pts;
-		if (dense_ && dense_->numKeyFrames() > 0)
-		{
-			const std::size_t step = std::max<std::size_t>(1, dense_->numStoredPoints() / 200000);
-			for (const auto& p : dense_->worldPoints([this](TKeyFrameId id) { return map_.keyFramePose(id); }, step))
-				pts.emplace_back(p.x, p.y, p.z);
-		}
-		else
-			for (const auto& p : map_.points()) pts.push_back(p.position);
-		f = estimateZUpWorldFrame(pts, first);
-	}
-	worldFrame_ = f;
-	return f;
 }
 
 void CYesSlamSystem::addWords(TKeyFrameId kf)
@@ -682,36 +650,6 @@ void CYesSlamSystem::correctMap(const std::map<TKeyFrameId, mrpt::poses::CPose3D
 {
 	std::unique_lock<CWriterFirstMutex> lk(mapUpdateMtx_);
 	map_.applyCorrection(poses);  // a global BA solving now is dropped and runs again (CLoopClosing)
-}
-
-void CYesSlamSystem::loadMap(const std::string& path)
-{
-	if (nextFrameId_ > 0) throw std::logic_error("CYesSlamSystem::loadMap after the first frame");
-	std::unique_ptr<CSemanticOcTree> octree;
-	const TMapFileInfo info = loadMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, &octree);
-	// The saved semantic OctoMap is where this run's dense map starts: the map stays up to date
-	// from one run to the next instead of holding only what this run saw. A run without a dense
-	// map (localisation only) keeps it as it is, so that saving the map again keeps it too.
-	if (dense_ && octree) dense_->setPrior(*octree);
-	if (!dense_) loadedOctree_ = std::move(octree);
-	// The saved octree is in the frame the map was exported in: this run's exports stay in it.
-	{
-		std::lock_guard<std::mutex> lk(worldFrameMtx_);
-		worldFrame_ = info.worldFrame;
-	}
-	// What the run uses (options() and config_used.ini say so), whatever [System] worldFrame asked.
-	opts_.system.worldFrame = info.worldFrame.kind == TWorldFrame::EKind::ZUp ? "zup" : "optical";
-	if (map_.numKeyFrames() == 0) throw InputError(path, "the map has no keyframes");
-	if (loopClosing_)
-		loopClosing_->setSessionStart(map_.keyFrameIds().back() +
-									  1);  // the saved keyframes are all of an earlier session
-	for (TKeyFrameId id : map_.keyFrameIds()) addWords(id);
-}
-
-void CYesSlamSystem::saveMap(const std::string& path, const CSemanticOcTree* octree) const
-{
-	saveMapFile(path, map_, vocabulary_ ? vocabulary_->fingerprint() : 0, octree ? octree : loadedOctree_.get(),
-				worldFrame());
 }
 
 std::vector<TFrameLogRow> CYesSlamSystem::frameLog() const

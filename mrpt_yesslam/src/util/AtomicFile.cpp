@@ -1,5 +1,6 @@
 #include "mrpt_yesslam/util/AtomicFile.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -35,6 +36,16 @@ int descriptorNamed(const std::string& path)
 	return -1;
 }
 
+// fsync of a file or a folder (a folder: the rename in it); false when it failed. A file that
+// cannot be synced (a pipe, /dev/null: EINVAL) has nothing to keep.
+bool syncToDisk(const std::string& path)
+{
+	const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+	if (fd < 0) return false;
+	const bool ok = ::fsync(fd) == 0 || errno == EINVAL || errno == EROFS;
+	::close(fd);
+	return ok;
+}
 }  // namespace
 
 void appendFileToDescriptor(const std::string& from, int fd, const std::string& path)
@@ -144,19 +155,27 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
 	}
 }
 
-void writeFileAtomically(const std::string& path, const void* data, std::size_t size)
+void writeFileAtomically(const std::string& path, const void* data, std::size_t size, bool durable)
 {
-	writeFileAtomically(path,
-						[&](const std::string& tmp)
-						{
-							std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-							if (!f)
-								throw InputError(path,
-												 std::string("cannot open for writing (") + std::strerror(errno) + ")");
-							f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
-							f.flush();
-							if (!f) throw InputError(path, "write failed (disk full?)");
-						});
+	writeFileAtomically(
+		path,
+		[&](const std::string& tmp)
+		{
+			std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+			if (!f) throw InputError(path, std::string("cannot open for writing (") + std::strerror(errno) + ")");
+			f.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+			f.flush();
+			if (!f) throw InputError(path, "write failed (disk full?)");
+			f.close();
+			if (durable && !syncToDisk(tmp))
+				throw InputError(path, std::string("cannot sync to the disk (") + std::strerror(errno) + ")");
+		});
+	if (durable)
+	{
+		const auto dir = std::filesystem::path(outputTarget(path).path).parent_path();
+		syncToDisk(dir.empty() ? std::string(".")
+							   : dir.string());  // the rename; a folder that cannot be synced is no error
+	}
 }
 
 void writeFileAtomically(const std::string& path, const std::string& content)

@@ -32,9 +32,15 @@ constexpr std::uint32_t kMapFileVersion = 2;
 /** Writes `map` to `path` atomically (also what Ctrl-C saves); `vocabularyFingerprint` is
  * CVocabulary::fingerprint() of the run's vocabulary, 0 without one; `octree`, the run's semantic
  * OctoMap, is stored with it when given, in `frame` (the frame the octree was built in and later
- * runs export in). Throws InputError naming the file. */
+ * runs export in). `durable`: synced to the disk (a checkpoint, on a thread of its own). Throws
+ * InputError naming the file. */
 void saveMapFile(const std::string& path, const CSparseMap& map, std::uint64_t vocabularyFingerprint,
-				 const CSemanticOcTree* octree = nullptr, const TWorldFrame& frame = {});
+				 const CSemanticOcTree* octree = nullptr, const TWorldFrame& frame = {}, bool durable = false);
+/** saveMapFile with the map already serialized (CSparseMap::serialize's bytes): a checkpoint
+ * copies the map under a lock and writes the file after it. */
+void saveSerializedMapFile(const std::string& path, const std::string& serializedMap,
+						   std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree, const TWorldFrame& frame,
+						   bool durable);
 
 /** Reads a map file into `map` (replacing its content; after an error it is unspecified). `vocabularyFingerprint`: this
  * run's vocabulary (0: none); a map saved under another vocabulary is refused (saved or loaded without one is

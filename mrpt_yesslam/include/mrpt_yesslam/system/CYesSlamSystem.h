@@ -72,6 +72,9 @@ struct TYesSlamOptions
 		 * y left, z up, levelled by the floor (io/WorldFrame.h); optical: the first keyframe's camera
 		 * frame, as before. A loaded map keeps the frame it was saved in. */
 		std::string worldFrame = "zup";
+		/** With a map file to save (yesslam --save-map): the map is saved to it this often while the
+		 * run goes (CMapCheckpointer; 0 = at the end only), so that a killed run keeps its map. */
+		double checkpointSeconds = 30;
 
 		/** Every option once: key, member, range, help (load, dump and keys come from it). */
 		COptionTable table();
@@ -261,6 +264,21 @@ class CYesSlamSystem
 	 * (buildDenseMap's), else the one loaded with the map by a run without a dense map; throws
 	 * InputError naming the file. */
 	void saveMap(const std::string& path, const CSemanticOcTree* octree = nullptr) const;
+	/** A semantic OctoMap with the world frame it was built in (checkpointOctree). */
+	struct TFramedOctree
+	{
+		std::shared_ptr<const CSemanticOcTree> tree;  //!< null without a dense map
+		TWorldFrame frame;
+	};
+	/** The semantic OctoMap of the dense store as it is now, at the keyframes' poses of one state
+	 * of the map, in the world frame the end of the run would find now (the run's own is not fixed
+	 * by it); callable while frames are processed on another thread. */
+	TFramedOctree checkpointOctree() const;
+	/** Saves the map as it is now, while frames are processed on another thread (a checkpoint:
+	 * CMapCheckpointer): the sparse map in one state of the map, with `octree` and its frame (null:
+	 * the one loaded with the map, in the run's frame); atomic and synced to the disk. False when
+	 * the map has no keyframe yet (nothing written); throws InputError naming the file. */
+	bool checkpointMap(const std::string& path, const TFramedOctree* octree = nullptr) const;
 	const CObjectDetector* detector() const { return builder_.detector(); }
 	/** The vocabulary of place recognition (null when none could be loaded and none was required). */
 	std::shared_ptr<const CVocabulary> vocabulary() const { return vocabulary_; }
@@ -290,6 +308,11 @@ class CYesSlamSystem
 	void mapKeyFrame(TKeyFrameId kf);
 	/** Collects finished mapping tasks (all queued ones with `wait`); rethrows the first failure. */
 	void collectMapping(bool wait);
+	/** The export frame [System] worldFrame asks for, from the map as it is now (worldFrame() keeps
+	 * its first answer). */
+	TWorldFrame findWorldFrame() const;
+	/** worldFrame() once fixed, else findWorldFrame() without fixing it (checkpoints). */
+	TWorldFrame currentWorldFrame() const;
 
 	TYesSlamOptions opts_;
 	std::string askedBoxes_;  //!< [GeometricCheck] boxes as given, before effective() resolved it
@@ -339,7 +362,7 @@ class CYesSlamSystem
 	 * pinned against culling while a loop is pending (CSparseMap::pinKeyFrame). A waiting writer
 	 * goes before new readers (CWriterFirstMutex): tracking and local mapping overlap most of the
 	 * time, and a reader-preferring lock could hold a correction back indefinitely. */
-	CWriterFirstMutex mapUpdateMtx_;
+	mutable CWriterFirstMutex mapUpdateMtx_;  // mutable: a checkpoint (const) reads the map under it
 
 	/** Loop detection, correction and global BA (their own stages in parallel mode), fed by local
 	 * mapping: after the lock it takes, destroyed after the mapping stage that feeds it. */

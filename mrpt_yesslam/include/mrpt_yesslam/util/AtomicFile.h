@@ -13,8 +13,10 @@ namespace mrpt_yesslam
 /** Writes `content` to `path` atomically; throws InputError naming `path` on failure. */
 void writeFileAtomically(const std::string& path, const std::string& content);
 
-/** Writes `size` bytes at `data` to `path` atomically (no copy into a string first). */
-void writeFileAtomically(const std::string& path, const void* data, std::size_t size);
+/** Writes `size` bytes at `data` to `path` atomically (no copy into a string first). `durable`:
+ * also synced to the disk before and after the rename (fsync of the file and its folder), so that
+ * a power cut leaves the old file or the new one whole; for a background thread, never a frame's. */
+void writeFileAtomically(const std::string& path, const void* data, std::size_t size, bool durable = false);
 
 /** Calls `writer(tmpPath)` to produce the file, then renames it to `path`; on any failure the
  * temporary file is removed and the error (an InputError naming `path`) propagates. */

@@ -26,6 +26,7 @@
 #include "mrpt_yesslam/io/RgbdCamera.h"
 #include "mrpt_yesslam/io/RgbdObservation.h"
 #include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/system/CMapCheckpointer.h"
 #include "mrpt_yesslam/system/CRunJournal.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/TextParsing.h"
@@ -423,6 +424,26 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 		throw;
 	}
 
+	// The map saved in the background every [System] checkpointSeconds (a loaded map only localised
+	// in does not change); stopped, with its figures kept, before the run's own outputs.
+	std::optional<CMapCheckpointer> checkpoints;
+	if (!o.saveMap.empty() && opts.system.checkpointSeconds > 0 && !opts.system.localizeOnly)
+		checkpoints.emplace(sys, o.saveMap, opts.system.checkpointSeconds);
+	const auto endCheckpoints = [&]
+	{
+		if (!checkpoints) return;
+		checkpoints->stop();
+		const auto c = checkpoints->stats();
+		sum.mapFiles.checkpointSeconds = opts.system.checkpointSeconds;
+		sum.mapFiles.checkpoints = c.saved;
+		sum.mapFiles.checkpointFailures = c.failed;
+		sum.mapFiles.checkpointOctrees = c.octrees;
+		sum.mapFiles.checkpointMaxMs = c.maxMs;
+		sum.mapFiles.checkpointError = c.lastError;
+		if (c.failed > 0)
+			sum.warnings.push_back(std::to_string(c.failed) + " of " + std::to_string(c.saved + c.failed) +
+								   " map checkpoints failed, the last: " + c.lastError);
+	};
 	if (o.onFrame) sys.setFrameCallback(o.onFrame);
 	if (o.onKeyFrame) sys.setKeyFrameCallback(o.onKeyFrame);
 	if (o.onLoop) sys.setLoopCallback(o.onLoop);
@@ -474,6 +495,7 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 				sum.warnings.push_back(journal->failure() + " (the run went on; its outputs at the end are complete)");
 				journalWarned = true;
 			}
+			if (checkpoints) checkpoints->tick();
 			if (progress)
 			{
 				const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -504,7 +526,8 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 		// first (it commits the recording): waiting for mapping may throw again (another keyframe
 		// that failed), and the recording of the frames so far must not be lost with it.
 		closeInputQuietly();
-		sys.settle();               // every stage done before the outputs (its failures are not this error)
+		sys.settle();  // every stage done before the outputs (its failures are not this error)
+		endCheckpoints();
 		releaseBeforeOutputs(sys);  // no frame is processed after this
 		journal->close();
 		writeSlamOutputs(sys, o.outDir, sum,
@@ -523,6 +546,7 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 		// The recording or the final mapping failed: the outputs of the frames done say so (the
 		// journal alone would say the run has not ended).
 		sys.settle();
+		endCheckpoints();
 		releaseBeforeOutputs(sys);
 		journal->close();
 		writeSlamOutputs(sys, o.outDir, sum,
@@ -553,6 +577,7 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 	std::string stop = sum.interrupted ? "interrupted after " + std::to_string(done) + " frames" : std::string();
 	if (sum.input.disconnected) stop = "the camera stopped delivering frames after " + std::to_string(done) + " frames";
 	if (o.onPhase) o.onPhase(ESlamJobPhase::Saving);
+	endCheckpoints();
 	releaseBeforeOutputs(sys);
 	journal->close();
 	writeSlamOutputs(sys, o.outDir, sum, stop, o.saveMap, abortSaving);

@@ -2,6 +2,7 @@
 
 #include <mrpt/opengl/CPointCloudColoured.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -64,6 +65,13 @@ void writeSlamOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJo
 		head += ", \"device\": \"" + jsonEscape(in.device) + "\"},\n";
 		head += "  \"rolling_shutter\": {\"readout_s\": " + formatNumber(sum.readout.seconds, 9) + ", \"source\": \"" +
 				jsonEscape(sum.readout.source) + "\"},\n";
+		if (const auto& m = sum.mapFiles; m.checkpointSeconds > 0)
+			head += "  \"map_checkpoints\": {\"every_s\": " + formatNumber(m.checkpointSeconds) +
+					", \"saved\": " + std::to_string(m.checkpoints) +
+					", \"failed\": " + std::to_string(m.checkpointFailures) +
+					", \"octrees_built\": " + std::to_string(m.checkpointOctrees) +
+					", \"max_ms\": " + std::to_string(std::lround(m.checkpointMaxMs)) + ", \"last_error\": \"" +
+					jsonEscape(m.checkpointError) + "\"},\n";
 		return head + body.substr(body.find('\n') + 1);
 	};
 	// The small files first, so that a second Ctrl-C during the slow ones (the dense map's build,

@@ -117,6 +117,12 @@ struct TSlamJobSummary
 		std::size_t loadedKeyFrames = 0, loadedPoints = 0;
 		std::uintmax_t savedBytes = 0;
 		std::string saveError;  //!< why --save-map failed (the run's other outputs are written)
+		/** The map saved while the run went ([System] checkpointSeconds; 0: off). */
+		double checkpointSeconds = 0;
+		std::size_t checkpoints = 0, checkpointFailures = 0;
+		std::size_t checkpointOctrees = 0;  //!< semantic OctoMaps built for them (CMapCheckpointer)
+		double checkpointMaxMs = 0;         //!< the longest checkpoint (wall time, in the background)
+		std::string checkpointError;        //!< why the last failed checkpoint failed
 	} mapFiles;
 	/** Where the frames came from. */
 	struct TInput

@@ -1,0 +1,94 @@
+#include "mrpt_yesslam/system/CMapCheckpointer.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "mrpt_yesslam/system/CYesSlamSystem.h"
+
+namespace mrpt_yesslam
+{
+struct CMapCheckpointer::TOctree
+{
+	CYesSlamSystem::TFramedOctree built;
+	std::chrono::steady_clock::time_point due;  //!< the next build (none yet: now)
+};
+
+CMapCheckpointer::CMapCheckpointer(const CYesSlamSystem& sys, std::string path, double seconds)
+	: sys_(sys),
+	  path_(std::move(path)),
+	  every_(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds))),
+	  octree_(std::make_unique<TOctree>())
+{
+	if (!(seconds > 0)) throw std::invalid_argument("CMapCheckpointer: the interval must be positive");
+	due_ = std::chrono::steady_clock::now() + every_;
+}
+
+CMapCheckpointer::~CMapCheckpointer()
+{
+	stop();
+}
+
+void CMapCheckpointer::tick()
+{
+	if (stopped_ || busy_.load(std::memory_order_acquire)) return;
+	const auto now = std::chrono::steady_clock::now();
+	if (now < due_) return;
+	if (worker_.joinable()) worker_.join();  // the last save, finished
+	// The next one is due an interval after this one starts: a save longer than the interval is
+	// followed by the next at once, never by two at a time.
+	due_ = now + every_;
+	busy_.store(true, std::memory_order_release);
+	worker_ = std::thread([this] { save(); });
+}
+
+void CMapCheckpointer::save()
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	std::string error;
+	bool built = false, wrote = false;
+	try
+	{
+		if (sys_.denseMapper() && t0 >= octree_->due)
+		{
+			octree_->built = sys_.checkpointOctree();
+			const auto took = std::chrono::steady_clock::now() - t0;
+			octree_->due = t0 + 10 * took;
+			built = true;
+		}
+		wrote = sys_.checkpointMap(path_, &octree_->built);  // false: no keyframe yet, nothing to keep
+	}
+	catch (const std::exception& e)
+	{
+		error = e.what();
+		if (error.empty()) error = "unknown error";
+	}
+	catch (...)
+	{
+		error = "unknown error";
+	}
+	const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+	{
+		std::lock_guard<std::mutex> lk(statsMtx_);
+		stats_.octrees += built ? 1 : 0;
+		if (error.empty())
+			stats_.saved += wrote ? 1 : 0;
+		else
+			stats_.failed++, stats_.lastError = error;
+		stats_.lastMs = ms;
+		stats_.maxMs = std::max(stats_.maxMs, ms);
+	}
+	busy_.store(false, std::memory_order_release);
+}
+
+void CMapCheckpointer::stop()
+{
+	stopped_ = true;
+	if (worker_.joinable()) worker_.join();
+}
+
+CMapCheckpointer::TStats CMapCheckpointer::stats() const
+{
+	std::lock_guard<std::mutex> lk(statsMtx_);
+	return stats_;
+}
+}  // namespace mrpt_yesslam
