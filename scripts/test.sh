@@ -34,7 +34,7 @@ if [ "$mode" = tsan ]; then
     ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF \
       -DYESSLAM_TEST_CACHE_DIR="$ROOT/build/tests/cache"
   # The system tests that run mapping on its own thread; the single-threaded ones add only time.
-  FILTER=(-R "WorkerPool|WriterFirstMutex|PngWriter|Prefetch|LiveSource|FrameBuilder|System\\.(ParallelMappingMapsEveryKeyFrame|ParallelLiveInput|ACorrectionFromAnotherThread|AFailedLoopTask|AKeyFrameWaitingForItsMapping|CallbacksMayBeReplaced)|LoopClosing\\.(ACorrectionWhileTracking|AKeyFrameCulledBetween|AGlobalBundleWriteBackWaits|AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgainInParallel)")
+  FILTER=(-R "WorkerPool|WriterFirstMutex|PngWriter|Prefetch|LiveSource|FrameBuilder|System\\.(ParallelMappingMapsEveryKeyFrame|MapCheckpointsWhileTheParallelStages|ParallelLiveInput|ACorrectionFromAnotherThread|AFailedLoopTask|AKeyFrameWaitingForItsMapping|CallbacksMayBeReplaced)|LoopClosing\\.(ACorrectionWhileTracking|AKeyFrameCulledBetween|AGlobalBundleWriteBackWaits|AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgainInParallel)")
 elif [ "$mode" = sanitize ]; then
   BUILD="$ROOT/build-sanitize"
   # The generated test sequences of the normal build are reused (byte-identical).

@@ -22,6 +22,8 @@
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
 #include "mrpt_yesslam/jobs/SlamJob.h"
+#include "mrpt_yesslam/mapio/MapFile.h"
+#include "mrpt_yesslam/system/CMapCheckpointer.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
@@ -604,6 +606,45 @@ TEST(System, AKeyFrameWaitingForItsMappingIsNeverCulled)
 	EXPECT_GT(culled, 0u) << "the cull erased nothing: it proves nothing";
 	EXPECT_TRUE(erasedBeforeMapped.empty())
 		<< erasedBeforeMapped.size() << " keyframes were culled while they waited for their mapping";
+}
+
+TEST(System, MapCheckpointsWhileTheParallelStagesRunLeaveWholeMaps)
+{
+	// Issue 68 item 2: checkpoints read the map, the dense store and the world frame on a thread of
+	// their own while tracking, local mapping and the dense stage change them (the TSan suite runs
+	// this). Every checkpoint that was due is a whole map with its octree, and the run's world frame
+	// is still found at the end, not fixed by a checkpoint.
+	const TYesSlamOptions o = walkingSystemOptions(true);
+	CYesSlamSystem sys(o);
+	TempDir d("checkpoints");
+	const std::string path = d / "map.ysm";
+	CMapCheckpointer checkpoints(sys, path, 0.02);
+	auto src = openInputSource(walkingSequence(), o.input);
+	std::size_t frames = 0;
+	while (auto obs = src->next())
+	{
+		sys.processFrame(*obs);
+		checkpoints.tick();
+		frames++;
+		std::this_thread::sleep_for(std::chrono::milliseconds(10));  // a camera's pace, roughly
+	}
+	checkpoints.stop();
+	sys.waitForMapping();
+	const auto st = checkpoints.stats();
+	EXPECT_GE(st.saved, 2u);
+	EXPECT_EQ(st.failed, 0u) << st.lastError;
+	EXPECT_GE(st.octrees, 1u);
+	checkpoints.tick();  // stopped: nothing more
+	EXPECT_EQ(checkpoints.stats().saved, st.saved);
+
+	CSparseMap saved;
+	std::unique_ptr<CSemanticOcTree> octree;
+	ASSERT_NO_THROW(loadMapFile(path, saved, 0, &octree));
+	EXPECT_GE(saved.numKeyFrames(), 1u);
+	EXPECT_LE(saved.numKeyFrames(), sys.stats().keyFrames);
+	ASSERT_TRUE(octree);
+	EXPECT_GT(octree->size(), 0u);
+	EXPECT_EQ(sys.trajectory().size(), frames);
 }
 
 TEST(System, ParallelMappingMapsEveryKeyFrameAndReportsItsFailures)
