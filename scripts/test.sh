@@ -52,9 +52,9 @@ elif [ "$mode" = sanitize ]; then
   # The stages' unit tests, the fuzz corpora, the bad-input tests of every tool, the parallel
   # stages' lifetimes and failure reporting, and a keyframe culled under the loop stage. Not the
   # whole-sequence runs (tools, system, loop closing, relocalisation, map reuse, dense map, the
-  # simulator's presets, the live app, the interrupts): each costs minutes under ASan and runs the
+  # simulator's presets, the live app, the interrupts, the soak): each costs minutes under ASan and runs the
   # SLAM code the tests here run; TSan runs the threaded ones; the install tests check packaging.
-  FILTER=(-E "^(Tools|LiveApp|Interrupt|Simulator|MapReuse|LoopClosing|Relocalisation|DenseMap|Install|System)\\.")
+  FILTER=(-E "^(Tools|LiveApp|Interrupt|Soak|Simulator|MapReuse|LoopClosing|Relocalisation|DenseMap|Install|System)\\.")
   AGAIN=(-R "^Tools\\.[A-Za-z0-9]*BadInput|^Tools\\.SlamAppOnRealFramesAndItsErrors|^MapReuse\\.DamagedForeign|^Simulator\\.BadOptions|^System\\.(ParallelMappingMapsEveryKeyFrame|AKeyFrameWaitingForItsMapping|AFailedLoopTask|AFailedStageSettles|AMappingFailureStillCommits|TheRecentFramesImagesAreLetGo|CallbacksMayBeReplaced)|^LoopClosing\\.(AKeyFrameCulledBetween|AGlobalBundleWriteBackWaits)")
 else
   BUILD="$ROOT/build"

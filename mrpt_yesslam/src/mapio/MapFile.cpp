@@ -38,8 +38,8 @@ void saveSerializedMapFile(const std::string& path, const std::string& serialize
 						   std::uint64_t vocabularyFingerprint, const CSemanticOcTree* octree, const TWorldFrame& frame,
 						   bool durable)
 {
-	// The file is composed in one buffer (a map's size, not several copies of it): the head, the
-	// map, the octree section and the frame, then the checksum of all of it.
+	// The file is composed in one buffer: the head, the map, the octree section and the frame, then
+	// the checksum of all of it.
 	std::ostringstream head(std::ios::binary);
 	head.write(kMagic, 8);
 	binio::put<std::uint32_t>(head, kMapFileVersion);

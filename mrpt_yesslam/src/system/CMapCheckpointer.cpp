@@ -38,7 +38,16 @@ void CMapCheckpointer::tick()
 	// followed by the next at once, never by two at a time.
 	due_ = now + every_;
 	busy_.store(true, std::memory_order_release);
-	worker_ = std::thread([this] { save(); });
+	try
+	{
+		worker_ = std::thread([this] { save(); });
+	}
+	catch (const std::exception& e)  // no thread to be had: a failed checkpoint, not a failed run
+	{
+		busy_.store(false, std::memory_order_release);
+		std::lock_guard<std::mutex> lk(statsMtx_);
+		stats_.failed++, stats_.lastError = std::string("no thread for the checkpoint: ") + e.what();
+	}
 }
 
 void CMapCheckpointer::save()
@@ -50,17 +59,23 @@ void CMapCheckpointer::save()
 	{
 		if (sys_.denseMapper() && t0 >= octree_->due)
 		{
-			octree_->built = sys_.checkpointOctree();
-			const auto took = std::chrono::steady_clock::now() - t0;
-			octree_->due = t0 + 10 * took;
-			built = true;
+			// A build that fails waits as a finished one would: the map is saved with the last tree.
+			try
+			{
+				octree_->built = sys_.checkpointOctree();
+				built = true;
+			}
+			catch (const std::exception& e)
+			{
+				error = std::string("the semantic OctoMap: ") + e.what();
+			}
+			octree_->due = t0 + 10 * (std::chrono::steady_clock::now() - t0);
 		}
 		wrote = sys_.checkpointMap(path_, &octree_->built);  // false: no keyframe yet, nothing to keep
 	}
 	catch (const std::exception& e)
 	{
-		error = e.what();
-		if (error.empty()) error = "unknown error";
+		error = e.what()[0] ? e.what() : "unknown error";
 	}
 	catch (...)
 	{
@@ -70,10 +85,8 @@ void CMapCheckpointer::save()
 	{
 		std::lock_guard<std::mutex> lk(statsMtx_);
 		stats_.octrees += built ? 1 : 0;
-		if (error.empty())
-			stats_.saved += wrote ? 1 : 0;
-		else
-			stats_.failed++, stats_.lastError = error;
+		stats_.saved += wrote ? 1 : 0;  // also with the last tree after a failed build
+		if (!error.empty()) stats_.failed++, stats_.lastError = error;
 		stats_.lastMs = ms;
 		stats_.maxMs = std::max(stats_.maxMs, ms);
 	}
@@ -84,6 +97,7 @@ void CMapCheckpointer::stop()
 {
 	stopped_ = true;
 	if (worker_.joinable()) worker_.join();
+	octree_->built = {};  // not held through the end of the run's own outputs (its peak of memory)
 }
 
 CMapCheckpointer::TStats CMapCheckpointer::stats() const

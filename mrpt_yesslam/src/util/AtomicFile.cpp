@@ -167,14 +167,16 @@ void writeFileAtomically(const std::string& path, const void* data, std::size_t 
 			f.flush();
 			if (!f) throw InputError(path, "write failed (disk full?)");
 			f.close();
-			if (durable && !syncToDisk(tmp))
+			if (!f) throw InputError(path, "write failed (disk full?)");
+			// Only a regular file is synced (opening a FIFO to sync it would wait for a writer).
+			if (durable && std::filesystem::is_regular_file(tmp) && !syncToDisk(tmp))
 				throw InputError(path, std::string("cannot sync to the disk (") + std::strerror(errno) + ")");
 		});
 	if (durable)
 	{
 		const auto dir = std::filesystem::path(outputTarget(path).path).parent_path();
-		syncToDisk(dir.empty() ? std::string(".")
-							   : dir.string());  // the rename; a folder that cannot be synced is no error
+		// The rename; a folder that cannot be synced is no error.
+		syncToDisk(dir.empty() ? std::string(".") : dir.string());
 	}
 }
 

@@ -427,7 +427,13 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 	// The map saved in the background every [System] checkpointSeconds (a loaded map only localised
 	// in does not change); stopped, with its figures kept, before the run's own outputs.
 	std::optional<CMapCheckpointer> checkpoints;
-	if (!o.saveMap.empty() && opts.system.checkpointSeconds > 0 && !opts.system.localizeOnly)
+	// A file only: a pipe or a device (/dev/stdout) would get a map per checkpoint.
+	if (!o.saveMap.empty() && opts.system.checkpointSeconds > 0 && !opts.system.localizeOnly &&
+		[&]
+		{
+			const auto t = outputTarget(o.saveMap);
+			return !t.direct && t.fd < 0;
+		}())
 		checkpoints.emplace(sys, o.saveMap, opts.system.checkpointSeconds);
 	const auto endCheckpoints = [&]
 	{
