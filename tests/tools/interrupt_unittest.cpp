@@ -72,6 +72,17 @@ std::string stillDeskSequence(const std::string& folder)
 	return folder;
 }
 
+// The poses a run's journal (trajectory_online.txt in `out`) holds so far.
+long journaledPoses(const std::string& out)
+{
+	std::ifstream f(out + "/trajectory_online.txt");
+	std::string line;
+	long n = 0;
+	while (std::getline(f, line))
+		if (!line.empty() && line[0] != '#') n++;
+	return n;
+}
+
 /** What an interrupted tool left: its exit code (or -1 if a signal killed it) and its stdout. */
 struct TInterrupted
 {
@@ -385,15 +396,7 @@ TEST(Interrupt, AKilledRunKeepsItsJournalOfPosesAndFrames)
 	fs::create_directories(out);
 	writeText(out + "/trajectory.txt", "# an earlier run's\n");
 	writeText(out + "/map.3Dscene", "an earlier run's");
-	const auto poseLines = [&]
-	{
-		std::ifstream f(out + "/trajectory_online.txt");
-		std::string line;
-		long n = 0;
-		while (std::getline(f, line))
-			if (!line.empty() && line[0] != '#') n++;
-		return n;
-	};
+	const auto poseLines = [&] { return journaledPoses(out); };
 	const auto r = interruptWhen(
 		"yesslam", with({"--out", out}), [&] { return poseLines() >= 40; }, SIGKILL);
 	ASSERT_TRUE(r.ready) << "no 40 journaled poses within 60 s: " << r.err;
@@ -455,15 +458,7 @@ TEST(Interrupt, AKilledRunKeepsItsLastMapCheckpointAndALaterRunLocalisesInItAndE
 	TempDir d("sigkill_checkpoint");
 	const std::string cfg = d / "checkpoints.ini", map = d / "office.ysm", out = d / "killed";
 	writeText(cfg, "[System]\ncheckpointSeconds = 0.5\n");
-	const auto poseLines = [&]
-	{
-		std::ifstream f(out + "/trajectory_online.txt");
-		std::string line;
-		long n = 0;
-		while (std::getline(f, line))
-			if (!line.empty() && line[0] != '#') n++;
-		return n;
-	};
+	const auto poseLines = [&] { return journaledPoses(out); };
 	const auto r = interruptWhen(
 		"yesslam",
 		{"--input", seq, "--detector", "none", "--sequential", "--quiet", "--config", cfg, "--save-map", map, "--out",
