@@ -240,7 +240,7 @@ CFrameRecords::TCarried CFrameRecords::carried(
 	std::vector<bool> relocalised;
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
-		records = records_;
+		records.assign(records_.begin(), records_.end());
 		for (const auto& row : rows_) relocalised.push_back(row.relocalised);
 	}
 	const std::map<TKeyFrameId, mrpt::poses::CPose3D> keyFramePoses = poses();
@@ -315,7 +315,7 @@ TTrajectory CFrameRecords::online() const
 std::vector<TFrameLogRow> CFrameRecords::frameLog() const
 {
 	std::lock_guard<std::mutex> lk(mtx_);
-	std::vector<TFrameLogRow> rows = rows_;
+	std::vector<TFrameLogRow> rows(rows_.begin(), rows_.end());
 	const auto src = poseSources();
 	for (std::size_t i = 0; i < rows.size() && i < src.size(); i++) rows[i].pose = src[i];
 	return rows;

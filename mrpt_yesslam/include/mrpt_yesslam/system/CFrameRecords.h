@@ -4,6 +4,7 @@
 // trajectories relative to reference keyframes), the pose it had online, and its frames.csv row.
 // Thread-safe: the trajectory may be read while frames are processed.
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -111,7 +112,9 @@ class CFrameRecords
 	int correctionWindow_;
 	int smoothingWindow_;
 	mutable std::mutex mtx_;
-	std::vector<TRecord> records_;    //!< guarded by mtx_
-	std::vector<TFrameLogRow> rows_;  //!< guarded by mtx_
+	// Deques: a long run's records grow by blocks, never by a copy to twice their size (a vector's
+	// growth held up to three times the records for a moment, and half of it unused after).
+	std::deque<TRecord> records_;    //!< guarded by mtx_
+	std::deque<TFrameLogRow> rows_;  //!< guarded by mtx_
 };
 }  // namespace mrpt_yesslam
