@@ -193,10 +193,54 @@ void smoothMotion(TTrajectory& out, const std::vector<bool>& tracked, const std:
 }
 }  // namespace
 
+CFrameRecords::TPoseRT CFrameRecords::TPoseRT::of(const mrpt::poses::CPose3D& p)
+{
+	TPoseRT out;
+	const auto& R = p.getRotationMatrix();
+	for (int r = 0; r < 3; r++)
+		for (int c = 0; c < 3; c++) out.v[3 * r + c] = R(r, c);
+	out.v[9] = p.x(), out.v[10] = p.y(), out.v[11] = p.z();
+	return out;
+}
+
+mrpt::poses::CPose3D CFrameRecords::TPoseRT::pose() const
+{
+	mrpt::math::CMatrixDouble33 R;
+	for (int r = 0; r < 3; r++)
+		for (int c = 0; c < 3; c++) R(r, c) = v[3 * r + c];
+	return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>({v[9], v[10], v[11]}));
+}
+
+CFrameRecords::TStored CFrameRecords::TStored::of(const TRecord& r)
+{
+	TStored s;
+	s.t = r.t;
+	s.refKf = r.anchor.refKf;
+	s.relative = TPoseRT::of(r.anchor.relative);
+	s.online = TPoseRT::of(r.online);
+	s.measured = TPoseRT::of(r.measured);
+	s.generation = r.generation;
+	s.tracked = r.tracked, s.hasPose = r.hasPose, s.jumped = r.jumped, s.pinned = r.pinned;
+	return s;
+}
+
+CFrameRecords::TRecord CFrameRecords::TStored::record() const
+{
+	TRecord r;
+	r.t = t;
+	r.anchor.refKf = refKf;
+	r.anchor.relative = relative.pose();
+	r.online = online.pose();
+	r.measured = measured.pose();
+	r.generation = generation;
+	r.tracked = tracked, r.hasPose = hasPose, r.jumped = jumped, r.pinned = pinned;
+	return r;
+}
+
 void CFrameRecords::add(const TRecord& record, const TFrameLogRow& row)
 {
 	std::lock_guard<std::mutex> lk(mtx_);
-	records_.push_back(record);
+	records_.push_back(TStored::of(record));
 	rows_.push_back(row);
 }
 
@@ -207,7 +251,12 @@ void CFrameRecords::markKeyFrame(std::size_t frame, const std::optional<TAnchor>
 		if (rows_[i].frame == frame)
 		{
 			rows_[i].keyFrame = true;
-			if (anchor) records_[i].pinTo(*anchor);
+			if (anchor)
+			{
+				records_[i].refKf = anchor->refKf;
+				records_[i].relative = TPoseRT::of(anchor->relative);
+				records_[i].pinned = true;
+			}
 			return;
 		}
 }
@@ -236,7 +285,7 @@ std::vector<EPoseSource> CFrameRecords::poseSources() const
 CFrameRecords::TCarried CFrameRecords::carried(
 	const std::function<std::map<TKeyFrameId, mrpt::poses::CPose3D>()>& poses) const
 {
-	std::vector<TRecord> records;
+	std::vector<TStored> records;
 	std::vector<bool> relocalised;
 	{
 		std::lock_guard<std::mutex> lk(mtx_);
@@ -253,8 +302,8 @@ CFrameRecords::TCarried CFrameRecords::carried(
 	c.poses.reserve(records.size());
 	for (std::size_t i = 0; i < records.size(); i++)
 	{
-		const TRecord& r = records[i];
-		if (!r.hasPose) continue;  // only before the first pose: what follows is in time order still
+		if (!records[i].hasPose) continue;  // only before the first pose: what follows is in time order still
+		const TRecord r = records[i].record();
 		const bool newStretch = !c.stretch.empty() &&
 								(r.generation != generation || (i < relocalised.size() && relocalised[i]) || r.jumped);
 		c.stretch.push_back(c.stretch.empty() ? 0 : c.stretch.back() + (newStretch ? 1 : 0));
@@ -308,7 +357,7 @@ TTrajectory CFrameRecords::online() const
 	TTrajectory out;
 	out.reserve(records_.size());
 	for (const auto& r : records_)
-		if (r.hasPose) out.push_back(TStampedPose::fromPose(r.t, r.online));
+		if (r.hasPose) out.push_back(TStampedPose::fromPose(r.t, r.online.pose()));
 	return out;
 }
 
@@ -327,10 +376,10 @@ CFrameRecords::TSince CFrameRecords::since(std::size_t first) const
 	TSince out;
 	for (std::size_t i = first; i < records_.size(); i++)
 	{
-		const TRecord& r = records_[i];
+		const TStored& r = records_[i];
 		out.rows.push_back(rows_[i]);
 		out.rows.back().pose = !r.hasPose ? EPoseSource::None : r.tracked ? EPoseSource::Tracked : EPoseSource::Coasted;
-		if (r.hasPose) out.online.push_back(TStampedPose::fromPose(r.t, r.online));
+		if (r.hasPose) out.online.push_back(TStampedPose::fromPose(r.t, r.online.pose()));
 	}
 	return out;
 }

@@ -108,13 +108,33 @@ class CFrameRecords
 	/** Where each record's pose comes from (Interpolated: lost, and filled in by smoothed()). */
 	std::vector<EPoseSource> poseSources() const;
 
+	/** A pose as its rotation matrix and translation (96 bytes; a CPose3D also caches its angles):
+	 * read back into the same rotation and translation bit for bit. */
+	struct TPoseRT
+	{
+		double v[12];
+		static TPoseRT of(const mrpt::poses::CPose3D& p);
+		mrpt::poses::CPose3D pose() const;
+	};
+	/** A TRecord as kept: a long run keeps one per frame (about 330 bytes instead of 770). */
+	struct TStored
+	{
+		double t = 0;
+		std::optional<TKeyFrameId> refKf;
+		TPoseRT relative, online, measured;
+		std::uint64_t generation = 0;
+		bool tracked = false, hasPose = false, jumped = false, pinned = false;
+		static TStored of(const TRecord& r);
+		TRecord record() const;
+	};
+
 	bool lostInterpolate_;
 	int correctionWindow_;
 	int smoothingWindow_;
 	mutable std::mutex mtx_;
 	// Deques: a long run's records grow by blocks, never by a copy to twice their size (a vector's
 	// growth held up to three times the records for a moment, and half of it unused after).
-	std::deque<TRecord> records_;    //!< guarded by mtx_
+	std::deque<TStored> records_;    //!< guarded by mtx_
 	std::deque<TFrameLogRow> rows_;  //!< guarded by mtx_
 };
 }  // namespace mrpt_yesslam
