@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/data/TFrame.h"
+#include "mrpt_yesslam/data/TLocalMapPoints.h"
 
 namespace mrpt_yesslam
 {
