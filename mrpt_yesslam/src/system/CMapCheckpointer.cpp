@@ -30,23 +30,21 @@ CMapCheckpointer::~CMapCheckpointer()
 
 void CMapCheckpointer::tick()
 {
-	if (stopped_ || busy_.load(std::memory_order_acquire)) return;
+	if (stopped_ || (pending_.valid() && pending_.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
+		return;
 	const auto now = std::chrono::steady_clock::now();
 	if (now < due_) return;
-	if (worker_.joinable()) worker_.join();  // the last save, finished
 	// The next one is due an interval after this one starts: a save longer than the interval is
 	// followed by the next at once, never by two at a time.
 	due_ = now + every_;
-	busy_.store(true, std::memory_order_release);
 	try
 	{
-		worker_ = std::thread([this] { save(); });
+		pending_ = worker_.submit([this] { save(); });  // save() keeps its own errors
 	}
-	catch (const std::exception& e)  // no thread to be had: a failed checkpoint, not a failed run
+	catch (const std::exception& e)  // could not be queued: a failed checkpoint, not a failed run
 	{
-		busy_.store(false, std::memory_order_release);
 		std::lock_guard<std::mutex> lk(statsMtx_);
-		stats_.failed++, stats_.lastError = std::string("no thread for the checkpoint: ") + e.what();
+		stats_.failed++, stats_.lastError = std::string("the checkpoint could not be started: ") + e.what();
 	}
 }
 
@@ -90,13 +88,12 @@ void CMapCheckpointer::save()
 		stats_.lastMs = ms;
 		stats_.maxMs = std::max(stats_.maxMs, ms);
 	}
-	busy_.store(false, std::memory_order_release);
 }
 
 void CMapCheckpointer::stop()
 {
 	stopped_ = true;
-	if (worker_.joinable()) worker_.join();
+	if (pending_.valid()) pending_.wait();
 	octree_->built = {};  // not held through the end of the run's own outputs (its peak of memory)
 }
 

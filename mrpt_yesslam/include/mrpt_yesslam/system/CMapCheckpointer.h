@@ -3,24 +3,24 @@
 // out-of-memory killer or a power cut keeps the map of a few seconds before it died, which a
 // later run loads (--load-map), localises in and extends. RTAB-Map keeps its map in a database it
 // writes as it goes; we rewrite one file atomically instead, so that it is always a whole map.
-#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
+
+#include "mrpt_yesslam/util/CWorkerPool.h"
+#include <future>
 
 namespace mrpt_yesslam
 {
 class CYesSlamSystem;
 
 /** Saves `sys`'s map to one file every so many seconds (CYesSlamSystem::checkpointMap) on a thread
- * of its own, so that tracking never waits for the file: the frame thread only asks (tick), and a
- * save still running when the next is due is not doubled. The semantic OctoMap (a build of the
- * whole dense store, seconds on a long run) is rebuilt only once ten times its last build's time
- * has passed, so that it takes at most a tenth of a core; a checkpoint in between carries the last
- * one built. Not thread-safe: one caller. */
+ * of its own (a one-thread CWorkerPool), so that tracking never waits for the file: the frame thread only asks (tick),
+ * and a save still running when the next is due is not doubled. The semantic OctoMap (a build of the whole dense store,
+ * seconds on a long run) is rebuilt only once ten times its last build's time has passed, so that it takes at most a
+ * tenth of a core; a checkpoint in between carries the last one built. Not thread-safe: one caller. */
 class CMapCheckpointer
 {
    public:
@@ -54,12 +54,12 @@ class CMapCheckpointer
 	const std::string path_;
 	const std::chrono::steady_clock::duration every_;
 	std::chrono::steady_clock::time_point due_;
-	std::thread worker_;
 	struct TOctree;                    // the last OctoMap built and when the next is due
 	std::unique_ptr<TOctree> octree_;  // the worker's own (one save at a time)
-	std::atomic<bool> busy_{false};
 	bool stopped_ = false;
 	mutable std::mutex statsMtx_;
 	TStats stats_;
+	std::future<void> pending_;  //!< the save under way, or the last one
+	CWorkerPool worker_{1};      //!< last: stopped first, before what its task uses
 };
 }  // namespace mrpt_yesslam
