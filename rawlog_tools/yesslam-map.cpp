@@ -1,20 +1,39 @@
 // yesslam-map: what a saved map (.ysm, yesslam --save-map) holds, and the map as a scene, a point
 // cloud or an occupancy octree.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 
+#include "mrpt_yesslam/dense/COccupancyGridBuilder.h"
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/mapio/MapFile.h"
+#include "mrpt_yesslam/mapio/GridMapFiles.h"
 #include "mrpt_yesslam/mapio/MapSummary.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ShareDir.h"
+#include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
+
+namespace
+{
+// Every output's folder is made before it is written (an export to a new folder is not an error).
+void makeParentFolder(const std::string& file)
+{
+	const auto parent = std::filesystem::path(file).parent_path();
+	std::error_code ec;
+	if (parent.empty() || std::filesystem::is_directory(parent, ec)) return;
+	std::filesystem::create_directories(parent, ec);
+	if (!std::filesystem::is_directory(parent, ec))
+		throw InputError(file, "cannot create its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+}
+}  // namespace
 
 int main(int argc, char** argv)
 {
@@ -22,11 +41,13 @@ int main(int argc, char** argv)
 		"yesslam-map",
 		[&]() -> int
 		{
-			std::string map, scene, ply, bt, ot;
+			std::string map, octreeIn, scene, ply, bt, ot, grid, dynamicClasses = "person";
 			double resolution = 0.05;
+			COccupancyGridBuilder::TOptions go;
 			CommandLine cl("yesslam-map",
-						   "yesslam-map --map MAP.ysm [--scene OUT.3Dscene] [--ply OUT.ply] [--bt OUT.bt [--resolution "
-						   "M]] [--ot OUT.ot]",
+						   "yesslam-map (--map MAP.ysm | --octree MAP.ot) [--scene OUT.3Dscene] [--ply OUT.ply] [--bt "
+						   "OUT.bt [--resolution M]] [--ot OUT.ot] [--grid BASE [--grid-min-height M] "
+						   "[--grid-max-height M] [--grid-resolution M]]",
 						   "Prints what a map saved by `yesslam --save-map` holds: keyframes, map points, the extent "
 						   "of the points,\n"
 						   "the time span and path of the keyframes, loop edges, and the object classes its keyframes "
@@ -39,10 +60,23 @@ int main(int argc, char** argv)
 						   "octomap_server); a map\n"
 						   "saved without one gets a .bt of its points (each keyframe's points inserted from its "
 						   "camera: the space in\n"
-						   "front of them free). Files are written atomically. The map is only read (any vocabulary).",
+						   "front of them free). --grid projects the semantic OctoMap (of the map, or a run's map.ot "
+						   "given with\n"
+						   "--octree) into a 2D occupancy grid for navigation, as yesslam's map_2d.* with other band "
+						   "and cell options:\n"
+						   "BASE.gridmap (MRPT COccupancyGridMap2D), BASE.pgm + BASE.yaml (ROS map_server), BASE.png "
+						   "(with the keyframes'\n"
+						   "path). Files are written atomically; their folders are made. The map is only read (any "
+						   "vocabulary).",
 						   {"yesslam-map --map office.ysm",
-							"yesslam-map --map office.ysm --scene office.3Dscene --ply office.ply --bt office.bt"});
-			cl.text("map", "MAP.ysm", "the saved map", &map, true);
+							"yesslam-map --map office.ysm --scene office.3Dscene --ply office.ply --bt office.bt",
+							"yesslam-map --octree run/map.ot --grid nav/office --grid-max-height 0.5"});
+			cl.text("map", "MAP.ysm", "the saved map", &map);
+			cl.text(
+				"octree", "MAP.ot",
+				"instead of --map: a semantic OctoMap written by yesslam (map.ot, z-up world frame with the floor at "
+				"z = 0), for --grid and --bt",
+				&octreeIn);
 			cl.text("scene", "FILE", "write the map as an MRPT .3Dscene", &scene);
 			cl.text("ply", "FILE",
 					"write the sparse map points as a binary PLY (colour, observations; no labels: the dense semantic "
@@ -53,23 +87,72 @@ int main(int argc, char** argv)
 			cl.text("ot", "FILE", "write the saved semantic OctoMap (.ot: occupancy, colour, label)", &ot);
 			cl.number("resolution", "M",
 					  "voxel size of a --bt made from the points, in metres (0.005..10, default 0.05)", &resolution);
+			cl.text("grid", "BASE",
+					"write the 2D occupancy grid as BASE.gridmap, BASE.pgm, BASE.yaml and BASE.png (people never "
+					"occupied)",
+					&grid);
+			cl.number("grid-min-height", "M", "bottom of the grid's height band, metres above the floor (default 0.15)",
+					  &go.minHeight);
+			cl.number("grid-max-height", "M",
+					  "top of the grid's height band, metres above the floor: the robot's height (default 1.5)",
+					  &go.maxHeight);
+			cl.number("grid-resolution", "M", "cell size of the grid, metres (0.01..1, default 0.05)", &go.resolution);
+			cl.text("dynamic-classes", "LIST",
+					"comma-separated class names never occupied in the grid (default person, as [Detector] "
+					"dynamicClasses)",
+					&dynamicClasses);
 			if (!cl.parse(argc, argv)) return 0;
 			if (!(resolution >= 0.005 && resolution <= 10))
 				throw InputError("", "--resolution must be between 0.005 and 10 m");
+			if (map.empty() == octreeIn.empty()) throw InputError("", "give one of --map MAP.ysm and --octree MAP.ot");
+			if (!(go.resolution >= 0.01 && go.resolution <= 1))
+				throw InputError("", "--grid-resolution must be between 0.01 and 1 m");
+			if (!(go.maxHeight > go.minHeight))
+				throw InputError("", "--grid-max-height must be above --grid-min-height");
+			if (!octreeIn.empty() && (!scene.empty() || !ply.empty() || !ot.empty()))
+				throw InputError(octreeIn,
+								 "an OctoMap alone gives --grid and --bt only (--scene, --ply and --ot need "
+								 "the map: --map)");
 			CSparseMap m;
-			// Any vocabulary: the fingerprint check is for runs that localise in the map.
 			std::unique_ptr<CSemanticOcTree> octree;
-			const TMapFileInfo info = loadMapFile(map, m, 0, &octree);
+			TMapFileInfo info;
+			if (!map.empty())
+				// Any vocabulary: the fingerprint check is for runs that localise in the map.
+				info = loadMapFile(map, m, 0, &octree);
+			else
+			{
+				octree = CSemanticOcTree::readFile(octreeIn);
+				// yesslam's map.ot: the z-up frame, the floor at z = 0 (when the run saw one).
+				info.worldFrame.kind = TWorldFrame::EKind::ZUp;
+				info.worldFrame.floorSeen = true;
+			}
+			const std::string input = map.empty() ? octreeIn : map;
 			std::vector<std::string> names;
 			const std::string share = shareDir();
 			std::error_code ec;
 			if (!share.empty() && std::filesystem::exists(share + "/models/yolo-fastest-1.1/coco.names", ec))
 				names = readClassNames(share + "/models/yolo-fastest-1.1/coco.names");
-			std::printf("map:          %s (format %u, %.1f MB, vocabulary %016llx)\n", map.c_str(), info.version,
-						info.bytes / 1e6, static_cast<unsigned long long>(info.vocabularyFingerprint));
-			std::fputs(formatMapSummary(summarizeMap(m, names, info.worldFrame.worldFromMap)).c_str(), stdout);
-			const std::string frame = info.worldFrame.describe();
-			std::printf("exports in:   %s\n", frame.substr(0, frame.find('\n')).c_str());
+			// The grid's classes that are never obstacles, checked before anything is printed or written.
+			std::set<std::uint8_t> dynamicLabels;
+			for (const auto& c : splitFields(dynamicClasses))
+			{
+				const auto it = std::find(names.begin(), names.end(), c);
+				if (it == names.end())
+					throw InputError("", "--dynamic-classes: '" + c +
+											 "' is not a COCO class name of the shipped "
+											 "detector");
+				dynamicLabels.insert(static_cast<std::uint8_t>(it - names.begin() + 1));
+			}
+			if (!map.empty())
+			{
+				std::printf("map:          %s (format %u, %.1f MB, vocabulary %016llx)\n", map.c_str(), info.version,
+							info.bytes / 1e6, static_cast<unsigned long long>(info.vocabularyFingerprint));
+				std::fputs(formatMapSummary(summarizeMap(m, names, info.worldFrame.worldFromMap)).c_str(), stdout);
+				const std::string frame = info.worldFrame.describe();
+				std::printf("exports in:   %s\n", frame.substr(0, frame.find('\n')).c_str());
+			}
+			else
+				std::printf("octree file:  %s\n", octreeIn.c_str());
 			if (octree)
 			{
 				std::map<std::string, std::size_t> byLabel;
@@ -88,23 +171,26 @@ int main(int argc, char** argv)
 			}
 			else
 				std::printf("octree:       none (the run that saved the map had no dense map)\n");
+			// The keyframes' path in the exports' frame (none from an OctoMap alone).
+			TTrajectory path;
+			for (const auto& k : m.keyFramePoses())
+				if (!k.bad) path.push_back(TStampedPose::fromPose(k.timestamp, info.worldFrame.worldFromMap + k.pose));
 			if (!ot.empty())
 			{
 				if (!octree) throw InputError(map, "has no semantic octree to write to " + ot);
+				makeParentFolder(ot);
 				writeSemanticOcTree(ot, *octree);
 				std::printf("ot:           %s\n", ot.c_str());
 			}
 			if (!scene.empty())
 			{
-				TTrajectory path;
-				for (const auto& k : m.keyFramePoses())
-					if (!k.bad)
-						path.push_back(TStampedPose::fromPose(k.timestamp, info.worldFrame.worldFromMap + k.pose));
+				makeParentFolder(scene);
 				saveSceneAtomically(*buildMapScene(m, path, info.worldFrame.worldFromMap), scene);
 				std::printf("scene:        %s\n", scene.c_str());
 			}
 			if (!ply.empty())
 			{
+				makeParentFolder(ply);
 				writeDenseCloudPly(
 					ply, mapPointCloud(m, info.worldFrame.worldFromMap), names,
 					"sparse map points, without labels (label 0; the dense semantic map is yesslam's dense_cloud.ply)",
@@ -115,9 +201,33 @@ int main(int argc, char** argv)
 			{
 				const auto fromPoints = octree ? nullptr : mapOccupancy(m, resolution, info.worldFrame.worldFromMap);
 				const CSemanticOcTree& tree = octree ? *octree : *fromPoints;
+				makeParentFolder(bt);
 				writeOccupancyBt(bt, tree);
 				std::printf("bt:           %s (%zu leaves at %.3f m, %s)\n", bt.c_str(), tree.getNumLeafNodes(),
 							tree.getResolution(), octree ? "the saved semantic octree" : "from the map points");
+			}
+			if (!grid.empty())
+			{
+				if (!octree)
+					throw InputError(input,
+									 "has no semantic octree: a 2D grid is made from the dense map's (a run "
+									 "without --no-dense-map)");
+				if (info.worldFrame.kind != TWorldFrame::EKind::ZUp)
+					throw InputError(input, "is in the optical frame: a 2D grid needs the z-up world frame");
+				std::vector<mrpt::math::TPoint3D> cams;
+				for (const auto& p : path) cams.emplace_back(p.tx, p.ty, p.tz);
+				// A map whose run saw no floor has its origin at the first camera: the floor is assumed below it.
+				const double floorZ = info.worldFrame.floorSeen ? 0.0 : -go.cameraHeight;
+				const TOccupancyGrid2D g =
+					COccupancyGridBuilder(go).build(*octree, dynamicLabels, cams, floorZ, info.worldFrame.floorSeen);
+				makeParentFolder(grid + ".gridmap");
+				writeGridMapFiles(grid, g, cams);
+				std::printf(
+					"grid:         %s.{gridmap,pgm,yaml,png} (%d x %d cells of %.3f m; %zu occupied, %zu free, "
+					"%zu unknown; band %.2f-%.2f m above the floor%s)\n",
+					grid.c_str(), g.width, g.height, g.resolution, g.count(TOccupancyGrid2D::kOccupied),
+					g.count(TOccupancyGrid2D::kFree), g.count(TOccupancyGrid2D::kUnknown), go.minHeight, go.maxHeight,
+					g.floorSeen ? "" : ", no floor seen: assumed [Grid2D] cameraHeight below the first camera");
 			}
 			return 0;
 		});

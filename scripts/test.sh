@@ -34,7 +34,7 @@ if [ "$mode" = tsan ]; then
     ./scripts/build.sh "$BUILD" "${SANFLAGS[@]}" -DYESSLAM_SANITIZE=thread -DYESSLAM_BUILD_TESTS=ON -DYESSLAM_BUILD_BENCH=OFF \
       -DYESSLAM_TEST_CACHE_DIR="$ROOT/build/tests/cache"
   # The system tests that run mapping on its own thread; the single-threaded ones add only time.
-  FILTER=(-R "WorkerPool|WriterFirstMutex|PngWriter|Prefetch|LiveSource|FrameBuilder|System\\.(ParallelMappingMapsEveryKeyFrame|MapCheckpointsWhileTheParallelStages|ParallelLiveInput|ACorrectionFromAnotherThread|AFailedLoopTask|AKeyFrameWaitingForItsMapping|CallbacksMayBeReplaced)|LoopClosing\\.(ACorrectionWhileTracking|AKeyFrameCulledBetween|AGlobalBundleWriteBackWaits|AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgainInParallel)")
+  FILTER=(-R "WorkerPool|WriterFirstMutex|PngWriter|Prefetch|LiveSource|FrameBuilder|System\\.(ParallelMappingMapsEveryKeyFrame|MapCheckpointsWhileTheParallelStages|ParallelLiveInput|ACorrectionFromAnotherThread|AFailedLoopTask|AKeyFrameWaitingForItsMapping|CallbacksMayBeReplaced)|LoopClosing\\.(ACorrectionWhileTracking|AGlobalBundleWriteBackWaits|AGlobalBundleAnOutsideCorrectionMadeStaleRunsAgainInParallel)")
 elif [ "$mode" = sanitize ]; then
   BUILD="$ROOT/build-sanitize"
   # The generated test sequences of the normal build are reused (byte-identical).
@@ -52,9 +52,9 @@ elif [ "$mode" = sanitize ]; then
   # The stages' unit tests, the fuzz corpora, the bad-input tests of every tool, the parallel
   # stages' lifetimes and failure reporting, and a keyframe culled under the loop stage. Not the
   # whole-sequence runs (tools, system, loop closing, relocalisation, map reuse, dense map, the
-  # simulator's presets, the live app, the interrupts, the soak): each costs minutes under ASan and runs the
+  # simulator's presets, the live app, the interrupts, the soak, the 2D grid's runs): each costs minutes under ASan and runs the
   # SLAM code the tests here run; TSan runs the threaded ones; the install tests check packaging.
-  FILTER=(-E "^(Tools|LiveApp|Interrupt|Soak|Simulator|MapReuse|LoopClosing|Relocalisation|DenseMap|Install|System)\\.")
+  FILTER=(-E "^(Tools|LiveApp|Interrupt|Soak|Simulator|MapReuse|LoopClosing|Relocalisation|DenseMap|Install|System)\\.|^Grid2D\\.(OnRealFrames|YesslamMap)")
   AGAIN=(-R "^Tools\\.[A-Za-z0-9]*BadInput|^Tools\\.SlamAppOnRealFramesAndItsErrors|^MapReuse\\.DamagedForeign|^Simulator\\.BadOptions|^System\\.(ParallelMappingMapsEveryKeyFrame|AKeyFrameWaitingForItsMapping|AFailedLoopTask|AFailedStageSettles|AMappingFailureStillCommits|TheRecentFramesImagesAreLetGo|CallbacksMayBeReplaced)|^LoopClosing\\.(AKeyFrameCulledBetween|AGlobalBundleWriteBackWaits)")
 else
   BUILD="$ROOT/build"

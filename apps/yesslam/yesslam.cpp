@@ -67,7 +67,10 @@ int main(int argc, char** argv)
 				"probability per point), map.ot (semantic OctoMap: occupancy, colour, label) and map.bt (occupancy "
 				"only,\n"
 				"for octovis and navigation stacks); map.3Dscene then also holds the octree coloured by label. People\n"
-				"are left out, and the space they walked through is free.\n"
+				"are left out, and the space they walked through is free. A 2D occupancy grid for navigation is\n"
+				"projected from the octree's band [Grid2D] minHeight-maxHeight (0.15-1.5 m) above the floor, people\n"
+				"never occupied: map_2d.gridmap (MRPT COccupancyGridMap2D), map_2d.pgm + map_2d.yaml (ROS\n"
+				"map_server) and map_2d.png (with the path).\n"
 				"--save-map keeps the map for a later --load-map (localise in it, or extend it; see yesslam-map),\n"
 				"saved in the background every [System] checkpointSeconds (30) while the run goes and at its end.\n"
 				"Ctrl-C stops the run and saves everything up to that frame. While it runs, trajectory_online.txt\n"
@@ -294,6 +297,13 @@ int main(int argc, char** argv)
 					s.dense.cloudPoints, s.dense.outliersRemoved, s.dense.occupiedLeaves, s.dense.freeLeaves,
 					s.dense.unknownLeaves, s.dense.plyBytes / 1e6, s.dense.otBytes / 1e6, s.dense.btBytes / 1e6,
 					s.dense.buildMs / 1000);
+				if (!s.dense.gridProblem.empty())
+					std::printf("2D grid:         %s\n", s.dense.gridProblem.c_str());
+				else if (o.slam.grid.enabled && s.skippedOutputs.empty())
+					std::printf(
+						"2D grid:         %zu occupied / %zu free / %zu unknown cells of %.2f m%s (map_2d.*)\n",
+						s.dense.gridOccupied, s.dense.gridFree, s.dense.gridUnknown, s.dense.gridResolution,
+						s.dense.gridFloorSeen ? "" : "; no floor seen: the band measured from [Grid2D] cameraHeight");
 				// A map with nothing occupied is no map for a planner: say why instead of a quiet file.
 				if (s.dense.occupiedLeaves == 0 && s.skippedOutputs.empty())
 					std::fprintf(stderr,
@@ -315,7 +325,10 @@ int main(int argc, char** argv)
 				"{trajectory.txt,trajectory_online.txt,trajectory_smoothed.txt,keyframes.txt,frames.csv,map.3Dscene,"
 				"stats.json,config_used.ini%s%s}\n",
 				o.outDir.c_str(), o.slam.loop.detection.enabled ? ",loop_candidates.csv" : "",
-				o.slam.dense.enabled ? ",dense_cloud.ply,map.ot,map.bt" : "");
+				o.slam.dense.enabled
+					? (o.slam.grid.enabled ? ",dense_cloud.ply,map.ot,map.bt,map_2d.{gridmap,pgm,yaml,png}"
+										   : ",dense_cloud.ply,map.ot,map.bt")
+					: "");
 			if (!o.saveMap.empty() && s.mapFiles.saveError.empty() && s.mapFiles.savedBytes > 0)
 				std::printf("map saved:       %s (%s, %zu points, %.1f MB)\n", o.saveMap.c_str(),
 							countOf(st.keyFramesInMap, "keyframe").c_str(), st.mapPoints, s.mapFiles.savedBytes / 1e6);

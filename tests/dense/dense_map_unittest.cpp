@@ -24,6 +24,7 @@
 #include "TestUtils.h"
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
 #include "mrpt_yesslam/dense/DenseMapExport.h"
+#include "mrpt_yesslam/mapio/GridMapFiles.h"
 #include "mrpt_yesslam/eval/SemanticMapScoring.h"
 #include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/io/CInputSource.h"
@@ -547,6 +548,7 @@ struct TDenseRun
 {
 	TSlamJobSummary summary;
 	TSemanticMapScore score;
+	TGridScore grid;  //!< map_2d.yaml/.pgm against the sequence (issue 67)
 };
 
 TDenseRun denseRun(const std::string& seq, const std::string& out, bool dynamicFilter)
@@ -565,6 +567,12 @@ TDenseRun denseRun(const std::string& seq, const std::string& out, bool dynamicF
 	for (const auto& g : gt)
 		if (std::abs(g.t - kfs.front().t) < std::abs(g0->t - kfs.front().t)) g0 = &g;
 	r.score = scoreSemanticMap(*tree, seq, g0->asPose() + (-kfs.front().asPose()));
+	// The grid as a navigation stack reads it, with the band the run measured from the floor it saw.
+	TOccupancyGrid2D grid = readRosMap(out + "/map_2d.yaml");
+	EXPECT_TRUE(r.summary.dense.gridFloorSeen);
+	const COccupancyGridBuilder::TOptions go;
+	grid.minZ = go.minHeight, grid.maxZ = go.maxHeight;
+	r.grid = scoreGrid2D(grid, seq, g0->asPose() + (-kfs.front().asPose()));
 	return r;
 }
 }  // namespace
@@ -586,6 +594,19 @@ TEST(DenseMap, PeopleLeaveNoOccupiedVoxelWhereTheyWalkedAndObjectsKeepTheirClass
 	EXPECT_GT(on.score.sweptVoxels, 5000u);
 	EXPECT_EQ(on.score.ghostVoxels, 0u);
 	EXPECT_GT(off.score.ghostVoxels, 0u);
+	// Issue 67: the 2D grid of the same runs (band 0.15-1.5 m above the floor): the camera's true
+	// path free, the static surfaces in the band occupied within a cell, the cells only people swept
+	// never occupied; without the dynamic filter people become obstacles.
+	for (const auto* r : {&on, &off})
+		std::printf("grid %s: path free %zu/%zu, static occupied %zu/%zu, swept occupied %zu/%zu\n",
+					r == &on ? "on" : "off", r->grid.pathFree, r->grid.pathCells, r->grid.staticOccupied,
+					r->grid.staticCells, r->grid.sweptOccupied, r->grid.sweptCells);
+	EXPECT_EQ(on.grid.pathCellsOutside, 0u);
+	EXPECT_GE(on.grid.pathFreeShare(), 0.98) << on.grid.pathFree << " of " << on.grid.pathCells;
+	EXPECT_GE(on.grid.staticOccupiedShare(), 0.8) << on.grid.staticOccupied << " of " << on.grid.staticCells;
+	EXPECT_GT(on.grid.sweptCells, 50u);
+	EXPECT_LE(on.grid.sweptOccupiedShare(), 0.02) << on.grid.sweptOccupied << " of " << on.grid.sweptCells;
+	EXPECT_GT(off.grid.sweptOccupied, on.grid.sweptOccupied);
 	// Labels: most occupied voxels right; monitors (tv, label 63), plants (59), desks (COCO dining
 	// table, 61) and chairs (57) keep their class. Measured: 0.91 overall, tv 0.85, plant 0.68,
 	// desk 0.49, chair 0.19; with the paper's single-seed fill ([DenseMapping] labelMethod fill)

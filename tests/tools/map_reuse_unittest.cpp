@@ -409,5 +409,7 @@ TEST(MapReuse, DamagedForeignAndMismatchedMapFilesAreRefusedInOneLine)
 	};
 	fails({"--input", seq, "--out", d / "y", "--localize-only"}, "--load-map");
 	fails({"--input", "openni2", "--out", d / "y", "--skip-frames", "5"}, "recorded input");
-	fails({"--input", seq, "--out", d / "y", "--save-map", d / "no/such/dir/m.ysm"}, "folder does not exist");
+	// A new folder is made (Grid2D.YesslamMapMakesTheGridFromASavedMapOrAnOctoMap saves into one); one
+	// under a file cannot be.
+	fails({"--input", seq, "--out", d / "y", "--save-map", d / "good.ysm/dir/m.ysm"}, "its folder cannot be made");
 }

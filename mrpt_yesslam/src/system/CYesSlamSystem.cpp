@@ -110,6 +110,7 @@ void TYesSlamOptions::loadFromFile(const std::string& path)
 	load("LocalMapping", mapping, CLocalMapper::TOptions::configKeys());
 	load("LoopClosing", loop, CLoopCloser::TOptions::configKeys());
 	load("DenseMapping", dense, CDenseSemanticMapper::TOptions::configKeys());
+	load("Grid2D", grid, COccupancyGridBuilder::TOptions::configKeys());
 	load("System", system, TSystem::configKeys());
 	load("Output", output, TOutput::configKeys());
 	std::vector<std::string> sections;
@@ -131,7 +132,7 @@ std::string TYesSlamOptions::dump() const
 	std::ostringstream o;
 	for (const mrpt::config::CLoadableOptions* p : std::initializer_list<const mrpt::config::CLoadableOptions*>{
 			 &camera, &input, &detector, &masker, &geometric, &orb, &tracking, &onlinePose, &keyFrames, &mapping, &loop,
-			 &dense, &system, &output})
+			 &dense, &grid, &system, &output})
 	{
 		p->dumpToTextStream(o);
 		o << "\n";

@@ -23,6 +23,7 @@
 #include "mrpt_yesslam/geometry/DepthNoise.h"
 #include "mrpt_yesslam/data/CSparseMap.h"
 #include "mrpt_yesslam/dense/CDenseSemanticMapper.h"
+#include "mrpt_yesslam/dense/COccupancyGridBuilder.h"
 #include "mrpt_yesslam/detection/CObjectDetector.h"
 #include "mrpt_yesslam/dynamic/CDynamicObjectMasker.h"
 #include "mrpt_yesslam/feature/COrbExtractor.h"
@@ -109,6 +110,7 @@ struct TYesSlamOptions
 	CLocalMapper::TOptions mapping;
 	CLoopCloser::TOptions loop;            //!< section [LoopClosing]
 	CDenseSemanticMapper::TOptions dense;  //!< section [DenseMapping]
+	COccupancyGridBuilder::TOptions grid;  //!< section [Grid2D]: the 2D occupancy grid of the outputs
 	TSystem system;
 	TOutput output;
 

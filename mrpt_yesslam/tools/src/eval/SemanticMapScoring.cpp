@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <set>
 #include <unordered_map>
 #include <unordered_set>
@@ -18,8 +20,13 @@ namespace fs = std::filesystem;
 
 namespace mrpt_yesslam
 {
-TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::string& simDir,
-								   const mrpt::poses::CPose3D& mapInGt, int frameStep, int pixelStep)
+namespace
+{
+// Every frame of a yesslam-sim folder: `onFrame(camera pose in the map frame)`; every `frameStep`-th
+// also `onPoint(x, y, z in the map frame, moving, class)` for every `pixelStep`-th pixel with depth.
+void forEachSimPoint(const std::string& simDir, const mrpt::poses::CPose3D& mapInGt, int frameStep, int pixelStep,
+					 const std::function<void(const mrpt::poses::CPose3D&)>& onFrame,
+					 const std::function<void(double, double, double, bool, int)>& onPoint)
 {
 	const fs::path dir(simDir);
 	for (const char* f : {"objects.txt", "depth.txt", "rgb.txt", "groundtruth.txt", "calibration.txt"})
@@ -63,14 +70,13 @@ TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::strin
 	};
 	const mrpt::poses::CPose3D gtToMap = -mapInGt;
 
-	using Key = octomap::OcTreeKey;
-	std::unordered_set<Key, Key::KeyHash> swept;
-	std::unordered_map<Key, std::map<int, std::uint32_t>, Key::KeyHash> surface;  // label -> pixels
 	int index = 0;
 	for (const auto& line : splitLines(readTextFile((dir / "depth.txt").string())))
 	{
 		const auto f = splitFields(line);
 		if (f.size() < 2 || f[0][0] == '#') continue;
+		const mrpt::poses::CPose3D T = gtToMap + gtAt(std::stod(f[0]));  // camera in the map frame
+		onFrame(T);
 		if (index++ % frameStep) continue;
 		const std::string name = fs::path(f[1]).filename().string();
 		const cv::Mat depth = cv::imread((dir / f[1]).string(), cv::IMREAD_UNCHANGED);
@@ -79,7 +85,6 @@ TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::strin
 		if (depth.empty() || cls.empty() || inst.empty() || depth.type() != CV_16U || cls.size() != depth.size() ||
 			inst.size() != depth.size())
 			throw InputError((dir / f[1]).string(), "depth or labels/ image missing or of the wrong type");
-		const mrpt::poses::CPose3D T = gtToMap + gtAt(std::stod(f[0]));  // camera in the map frame
 		for (int v = 0; v < depth.rows; v += pixelStep)
 			for (int u = 0; u < depth.cols; u += pixelStep)
 			{
@@ -87,15 +92,31 @@ TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::strin
 				if (z <= 0) continue;
 				double x, y, w;
 				T.composePoint((u - cx) * z / fx, (v - cy) * z / fy, z, x, y, w);
-				Key k;
-				if (!tree.coordToKeyChecked(octomap::point3d(float(x), float(y), float(w)), k)) continue;
 				const int id = inst.type() == CV_16U ? inst.at<std::uint16_t>(v, u) : inst.at<std::uint8_t>(v, u);
-				if (moving.count(id))
-					swept.insert(k);
-				else
-					surface[k][cls.type() == CV_16U ? cls.at<std::uint16_t>(v, u) : cls.at<std::uint8_t>(v, u)]++;
+				onPoint(x, y, w, moving.count(id) > 0,
+						cls.type() == CV_16U ? cls.at<std::uint16_t>(v, u) : cls.at<std::uint8_t>(v, u));
 			}
 	}
+}
+}  // namespace
+
+TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::string& simDir,
+								   const mrpt::poses::CPose3D& mapInGt, int frameStep, int pixelStep)
+{
+	using Key = octomap::OcTreeKey;
+	std::unordered_set<Key, Key::KeyHash> swept;
+	std::unordered_map<Key, std::map<int, std::uint32_t>, Key::KeyHash> surface;  // label -> pixels
+	forEachSimPoint(
+		simDir, mapInGt, frameStep, pixelStep, [](const mrpt::poses::CPose3D&) {},
+		[&](double x, double y, double z, bool moving, int cls)
+		{
+			Key k;
+			if (!tree.coordToKeyChecked(octomap::point3d(float(x), float(y), float(z)), k)) return;
+			if (moving)
+				swept.insert(k);
+			else
+				surface[k][cls]++;
+		});
 	TSemanticMapScore s;
 	auto occupied = [&](const Key& k)
 	{
@@ -131,5 +152,66 @@ TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::strin
 		if (n->label > 0) s.labelledObjectVoxels++, s.labelledObjectCorrect += ok;
 	}
 	return s;
+}
+
+TGridScore scoreGrid2D(const TOccupancyGrid2D& grid, const std::string& simDir, const mrpt::poses::CPose3D& mapInGt,
+					   int frameStep, int pixelStep)
+{
+	const auto key = [&](double x, double y) -> std::optional<std::pair<int, int>>
+	{
+		int i, j;
+		if (!grid.cellOf(x, y, i, j)) return std::nullopt;
+		return std::make_pair(i, j);
+	};
+	std::set<std::pair<int, int>> path, staticCells, sweptCells;
+	TGridScore sc;
+	forEachSimPoint(
+		simDir, mapInGt, frameStep, pixelStep,
+		[&](const mrpt::poses::CPose3D& cam)
+		{
+			// Every frame's camera, outside the grid too (a cell never seen is a failure).
+			if (const auto c = key(cam.x(), cam.y()))
+				path.insert(*c);
+			else
+				sc.pathCellsOutside++;
+		},
+		[&](double x, double y, double z, bool moving, int)
+		{
+			if (z < grid.minZ || z > grid.maxZ) return;
+			if (const auto c = key(x, y)) (moving ? sweptCells : staticCells).insert(*c);
+		});
+	const auto occupiedNear = [&](const std::pair<int, int>& c, int reach)
+	{
+		for (int dj = -reach; dj <= reach; dj++)
+			for (int di = -reach; di <= reach; di++)
+			{
+				const int i = c.first + di, j = c.second + dj;
+				if (i >= 0 && j >= 0 && i < grid.width && j < grid.height &&
+					grid.at(i, j) == TOccupancyGrid2D::kOccupied)
+					return true;
+			}
+		return false;
+	};
+	for (const auto& c : path)
+	{
+		sc.pathCells++;
+		sc.pathFree += grid.at(c.first, c.second) == TOccupancyGrid2D::kFree;
+	}
+	for (const auto& c : staticCells)
+	{
+		sc.staticCells++;
+		sc.staticOccupied += occupiedNear(c, 1);
+	}
+	for (const auto& c : sweptCells)
+	{
+		bool nearStatic = false;
+		for (int dj = -1; dj <= 1 && !nearStatic; dj++)
+			for (int di = -1; di <= 1 && !nearStatic; di++)
+				nearStatic = staticCells.count({c.first + di, c.second + dj}) > 0;
+		if (nearStatic) continue;
+		sc.sweptCells++;
+		sc.sweptOccupied += grid.at(c.first, c.second) == TOccupancyGrid2D::kOccupied;
+	}
+	return sc;
 }
 }  // namespace mrpt_yesslam

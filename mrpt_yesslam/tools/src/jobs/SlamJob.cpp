@@ -213,9 +213,13 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 	if (!o.saveMap.empty())
 	{
 		// Found out now, not after an hour of mapping.
+		// Its folder is made, as --out's is (the map inside the run's new output folder is usual).
 		const fs::path dir = fs::path(o.saveMap).parent_path();
+		std::error_code made;
+		if (!dir.empty() && !fs::is_directory(dir)) fs::create_directories(dir, made);
 		if (!dir.empty() && !fs::is_directory(dir))
-			throw InputError(o.saveMap, "cannot save the map there: the folder does not exist");
+			throw InputError(o.saveMap, "cannot save the map there: its folder cannot be made" +
+											(made ? " (" + made.message() + ")" : std::string()));
 		if (fs::is_directory(o.saveMap)) throw InputError(o.saveMap, "cannot save the map there: it is a folder");
 		// A folder that exists but takes no files (/proc, read-only media, no permission).
 		const fs::path probe = (dir.empty() ? fs::path(".") : dir) / (".yesslam_probe_" + std::to_string(::getpid()));
@@ -411,9 +415,10 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 		// What an earlier run left in this folder must not pass for this run's: an evaluation or a
 		// dense map this one may not write, and the outputs it writes only at its end (a killed run
 		// leaves its journal and nothing else; a second Ctrl-C skips the slow ones).
-		for (const char* f : {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply",
-							  "map.ot", "map.bt", "trajectory.txt", "trajectory_smoothed.txt", "keyframes.txt",
-							  "loop_candidates.csv", "config_used.ini", "map.3Dscene"})
+		for (const char* f :
+			 {"eval.json", "eval_online.json", "eval_smoothed.json", "ate.png", "dense_cloud.ply", "map.ot", "map.bt",
+			  "map_2d.gridmap", "map_2d.pgm", "map_2d.yaml", "map_2d.png", "trajectory.txt", "trajectory_smoothed.txt",
+			  "keyframes.txt", "loop_candidates.csv", "config_used.ini", "map.3Dscene"})
 			fs::remove(fs::path(o.outDir) / f, ec);
 		// The online poses and frames.csv as the run goes, stats.json "complete": false until the end.
 		journal.emplace(o.outDir);

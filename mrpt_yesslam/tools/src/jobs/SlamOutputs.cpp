@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <vector>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -14,6 +15,7 @@
 #include "mrpt_yesslam/dense/DenseMapExport.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/io/WorldFrame.h"
+#include "mrpt_yesslam/mapio/GridMapFiles.h"
 #include "mrpt_yesslam/system/CYesSlamSystem.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
@@ -35,6 +37,46 @@ void releaseBeforeOutputs(CYesSlamSystem& sys)
 	malloc_trim(0);
 #endif
 }
+
+namespace
+{
+// map_2d.gridmap, .pgm, .yaml and .png from the dense map's octree (issue 67): a failure is reported
+// in the summary, not the run's.
+void writeGrid2D(const CYesSlamSystem& sys, const TWorldFrame& world, const TTrajectory& trajectory,
+				 const TDenseMap& dm, const std::string& base, TSlamJobSummary& sum)
+{
+	const auto& go = sys.options().grid;
+	if (!go.enabled) return;
+	if (world.kind != TWorldFrame::EKind::ZUp)
+	{
+		sum.dense.gridProblem = "no 2D grid: it needs the z-up world frame ([System] worldFrame = zup)";
+		return;
+	}
+	std::set<std::uint8_t> dynamicLabels;
+	const CObjectDetector& det = *sys.detector();
+	for (std::size_t c = 0; c < det.classNames().size() && c < 255; c++)
+		if (det.isDynamicClass(static_cast<int>(c))) dynamicLabels.insert(static_cast<std::uint8_t>(c + 1));
+	std::vector<mrpt::math::TPoint3D> path;
+	for (const auto& p : trajectory) path.emplace_back(p.tx, p.ty, p.tz);
+	// Without a floor the world's origin is the first camera: the floor is assumed cameraHeight below it.
+	const double floorZ = world.floorSeen ? 0.0 : -go.cameraHeight;
+	try
+	{
+		const TOccupancyGrid2D g =
+			COccupancyGridBuilder(go).build(*dm.octree, dynamicLabels, path, floorZ, world.floorSeen);
+		writeGridMapFiles(base, g, path);
+		sum.dense.gridOccupied = g.count(TOccupancyGrid2D::kOccupied);
+		sum.dense.gridFree = g.count(TOccupancyGrid2D::kFree);
+		sum.dense.gridUnknown = g.count(TOccupancyGrid2D::kUnknown);
+		sum.dense.gridResolution = g.resolution;
+		sum.dense.gridFloorSeen = g.floorSeen;
+	}
+	catch (const std::exception& e)
+	{
+		sum.dense.gridProblem = std::string("no 2D grid: ") + e.what();
+	}
+}
+}  // namespace
 
 void writeSlamOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJobSummary& sum, const std::string& stop,
 					  const std::string& mapPath, const std::function<bool()>& abort)
@@ -122,7 +164,7 @@ void writeSlamOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJo
 		return true;
 	};
 	std::optional<TDenseMap> dense;
-	if (sys.denseMapper() && go("the dense map (dense_cloud.ply, map.ot, map.bt)"))
+	if (sys.denseMapper() && go("the dense map (dense_cloud.ply, map.ot, map.bt, map_2d.*)"))
 	{
 		// The dense map from the keyframes' final poses: labelled cloud, OctoMaps, and the octree in
 		// the scene (coloured by label) so that yesslam-render pictures it.
@@ -143,6 +185,7 @@ void writeSlamOutputs(const CYesSlamSystem& sys, const std::string& dir, TSlamJo
 				case EVoxelState::Free: sum.dense.freeLeaves++; break;
 				case EVoxelState::Unknown: sum.dense.unknownLeaves++; break;
 			}
+		writeGrid2D(sys, world, trajectory, dm, (d / "map_2d").string(), sum);
 		std::error_code ec;
 		sum.dense.plyBytes = fs::file_size(d / "dense_cloud.ply", ec);
 		sum.dense.otBytes = fs::file_size(d / "map.ot", ec);

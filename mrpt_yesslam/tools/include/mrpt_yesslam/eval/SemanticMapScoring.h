@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "mrpt_yesslam/dense/COccupancyGridBuilder.h"
 #include "mrpt_yesslam/dense/CSemanticOcTree.h"
 
 namespace mrpt_yesslam
@@ -43,4 +44,27 @@ struct TSemanticMapScore
  * taken with their colour images (--depth-offset: the labels are the colour image's). */
 TSemanticMapScore scoreSemanticMap(const CSemanticOcTree& tree, const std::string& simDir,
 								   const mrpt::poses::CPose3D& mapInGt, int frameStep = 3, int pixelStep = 4);
+
+/** How a 2D grid (COccupancyGridBuilder) agrees with a yesslam-sim sequence (issue 67). Cells are
+ * the grid's; "in the band" is the grid's band. */
+struct TGridScore
+{
+	std::size_t pathCells = 0;         //!< cells under the camera's true path
+	std::size_t pathFree = 0;          //!< of those, free
+	std::size_t pathCellsOutside = 0;  //!< true camera positions outside the grid
+	std::size_t staticCells = 0;       //!< cells holding a static surface in the band
+	std::size_t staticOccupied = 0;    //!< of those, occupied within one cell
+	std::size_t sweptCells = 0;        //!< cells only moving objects passed in the band (none static within one cell)
+	std::size_t sweptOccupied = 0;     //!< of those, occupied (goal: none)
+
+	double pathFreeShare() const { return pathCells ? double(pathFree) / double(pathCells) : 0.0; }
+	double staticOccupiedShare() const { return staticCells ? double(staticOccupied) / double(staticCells) : 0.0; }
+	double sweptOccupiedShare() const { return sweptCells ? double(sweptOccupied) / double(sweptCells) : 0.0; }
+};
+
+/** Scores `grid` against the yesslam-sim folder `simDir` (every frame's true camera position;
+ * the surfaces of every `frameStep`-th frame at every `pixelStep`-th pixel), with `mapInGt` as
+ * for scoreSemanticMap (the grid's world frame in the ground truth's). */
+TGridScore scoreGrid2D(const TOccupancyGrid2D& grid, const std::string& simDir, const mrpt::poses::CPose3D& mapInGt,
+					   int frameStep = 3, int pixelStep = 4);
 }  // namespace mrpt_yesslam

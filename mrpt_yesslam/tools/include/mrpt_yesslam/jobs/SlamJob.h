@@ -110,6 +110,11 @@ struct TSlamJobSummary
 		double buildMs = 0;  //!< fusion, filtering and octree at the end of the run
 		/** With --load-map: the octree started from the loaded map's (same resolution); else false. */
 		bool priorMerged = false;
+		/** The 2D grid (map_2d.*): cells by value; `gridProblem` says why none was written. */
+		std::size_t gridOccupied = 0, gridFree = 0, gridUnknown = 0;
+		double gridResolution = 0;
+		bool gridFloorSeen = false;
+		std::string gridProblem;
 	} dense;
 	/** The map loaded and the map saved (zero when none). */
 	struct TMapFiles

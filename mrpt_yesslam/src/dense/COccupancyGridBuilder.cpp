@@ -1,0 +1,154 @@
+#include "mrpt_yesslam/dense/COccupancyGridBuilder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mrpt_yesslam
+{
+bool TOccupancyGrid2D::cellOf(double x, double y, int& i, int& j) const
+{
+	const double fi = std::floor((x - originX) / resolution), fj = std::floor((y - originY) / resolution);
+	if (!(fi >= 0 && fi < width && fj >= 0 && fj < height)) return false;
+	i = static_cast<int>(fi), j = static_cast<int>(fj);
+	return true;
+}
+
+std::size_t TOccupancyGrid2D::count(std::int8_t value) const
+{
+	return static_cast<std::size_t>(std::count(cells.begin(), cells.end(), value));
+}
+
+COptionTable COccupancyGridBuilder::TOptions::table()
+{
+	COptionTable t("Grid2D");
+	t.flag("enabled", enabled,
+		   "write the 2D occupancy grid (map_2d.gridmap, map_2d.pgm + map_2d.yaml, map_2d.png) with the dense map; "
+		   "only in the z-up world frame");
+	t.real("resolution", resolution, 0.01, 1, "cell size, m");
+	t.real("minHeight", minHeight, -1, 10,
+		   "bottom of the height band projected into the grid, m above the floor (above the floor's own noise)");
+	t.real("maxHeight", maxHeight, 0, 10, "top of the band, m above the floor (the robot's height)");
+	t.real("footprintRadius", footprintRadius, 0, 5,
+		   "cells this near the camera's path are free (the robot was there) unless a static surface was seen in "
+		   "the band there, m");
+	t.real("cameraHeight", cameraHeight, 0, 10,
+		   "the first camera's height above the floor when the run saw no floor (the band is measured from there), "
+		   "m");
+	return t;
+}
+
+namespace
+{
+// What the band's voxels over one cell say, strongest first; a cell takes the strongest.
+enum ERank : std::uint8_t
+{
+	kNothing = 0,
+	kRayFree = 1,
+	kSurface = 2,  // a surface seen but not confirmed, or a dynamic object's: neither free nor an obstacle
+	kObstacle = 3
+};
+
+struct TFootprint
+{
+	double x0, x1, y0, y1;
+	ERank rank;
+};
+}  // namespace
+
+TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const std::set<std::uint8_t>& dynamicLabels,
+											  const std::vector<mrpt::math::TPoint3D>& path, double floorZ,
+											  bool floorSeen) const
+{
+	if (!(opts_.maxHeight > opts_.minHeight)) throw std::invalid_argument("[Grid2D] maxHeight must be above minHeight");
+	TOccupancyGrid2D g;
+	g.resolution = opts_.resolution;
+	g.floorZ = floorZ;
+	g.floorSeen = floorSeen;
+	g.minZ = floorZ + opts_.minHeight;
+	g.maxZ = floorZ + opts_.maxHeight;
+	// The band's leaves: a leaf counts where at least half a voxel of it lies in the band (a voxel at
+	// the tree's resolution: where its centre does), so the floor's top layer never does.
+	std::vector<TFootprint> leaves;
+	double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+	double hi[2] = {-lo[0], -lo[1]};
+	const auto grow = [&](double x0, double x1, double y0, double y1)
+	{
+		lo[0] = std::min(lo[0], x0), hi[0] = std::max(hi[0], x1);
+		lo[1] = std::min(lo[1], y0), hi[1] = std::max(hi[1], y1);
+	};
+	if (tree.getRoot())
+	{
+		double mx, my, mz, Mx, My, Mz;
+		tree.getMetricMin(mx, my, mz);
+		tree.getMetricMax(Mx, My, Mz);
+		const octomap::point3d bmin(float(mx), float(my), float(g.minZ)), bmax(float(Mx), float(My), float(g.maxZ));
+		const double need = 0.5 * tree.getResolution();
+		for (auto it = tree.begin_leafs_bbx(bmin, bmax), end = tree.end_leafs_bbx(); it != end; ++it)
+		{
+			const double s = it.getSize(), cz = it.getZ();
+			if (std::min(cz + s / 2, g.maxZ) - std::max(cz - s / 2, g.minZ) < std::min(need, s / 2)) continue;
+			ERank rank = kRayFree;
+			switch (tree.stateOf(*it))
+			{
+				case EVoxelState::Occupied: rank = dynamicLabels.count(it->label) ? kSurface : kObstacle; break;
+				case EVoxelState::Unknown: rank = kSurface; break;
+				case EVoxelState::Free: rank = kRayFree; break;
+			}
+			const double x0 = it.getX() - s / 2, y0 = it.getY() - s / 2;
+			leaves.push_back({x0, x0 + s, y0, y0 + s, rank});
+			grow(x0, x0 + s, y0, y0 + s);
+		}
+	}
+	const double rf = opts_.footprintRadius;
+	for (const auto& p : path) grow(p.x - rf, p.x + rf, p.y - rf, p.y + rf);
+	if (lo[0] > hi[0]) return g;  // nothing seen, no path: an empty grid
+	const double r = g.resolution;
+	// Cells on the resolution's lattice, one cell of margin (so that what bounds the map is inside it).
+	g.originX = (std::floor(lo[0] / r) - 1) * r;
+	g.originY = (std::floor(lo[1] / r) - 1) * r;
+	g.width = static_cast<int>(std::ceil((hi[0] - g.originX) / r)) + 1;
+	g.height = static_cast<int>(std::ceil((hi[1] - g.originY) / r)) + 1;
+	std::vector<std::uint8_t> rank(static_cast<std::size_t>(g.width) * g.height, kNothing);
+	// A cell takes a leaf that covers its centre.
+	const auto span = [&](double a0, double a1, double origin, int n, int& i0, int& i1)
+	{
+		i0 = std::max(0, static_cast<int>(std::ceil((a0 - origin) / r - 0.5)));
+		i1 = std::min(n - 1, static_cast<int>(std::ceil((a1 - origin) / r - 0.5)) - 1);
+	};
+	for (const auto& l : leaves)
+	{
+		int i0, i1, j0, j1;
+		span(l.x0, l.x1, g.originX, g.width, i0, i1);
+		span(l.y0, l.y1, g.originY, g.height, j0, j1);
+		for (int j = j0; j <= j1; j++)
+			for (int i = i0; i <= i1; i++)
+			{
+				auto& c = rank[static_cast<std::size_t>(j) * g.width + i];
+				c = std::max<std::uint8_t>(c, l.rank);
+			}
+	}
+	for (const auto& p : path)
+	{
+		int i0, i1, j0, j1;
+		span(p.x - rf, p.x + rf, g.originX, g.width, i0, i1);
+		span(p.y - rf, p.y + rf, g.originY, g.height, j0, j1);
+		int pi = -1, pj = -1;  // the camera's own cell, whatever the radius
+		if (g.cellOf(p.x, p.y, pi, pj))
+			i0 = std::min(i0, pi), i1 = std::max(i1, pi), j0 = std::min(j0, pj), j1 = std::max(j1, pj);
+		for (int j = j0; j <= j1; j++)
+			for (int i = i0; i <= i1; i++)
+			{
+				const double dx = g.originX + (i + 0.5) * r - p.x, dy = g.originY + (j + 0.5) * r - p.y;
+				auto& c = rank[static_cast<std::size_t>(j) * g.width + i];
+				if ((dx * dx + dy * dy <= rf * rf || (i == pi && j == pj)) && c < kObstacle) c = kRayFree;
+			}
+	}
+	g.cells.resize(rank.size());
+	for (std::size_t k = 0; k < rank.size(); k++)
+		g.cells[k] = rank[k] == kObstacle
+						 ? TOccupancyGrid2D::kOccupied
+						 : (rank[k] == kRayFree ? TOccupancyGrid2D::kFree : TOccupancyGrid2D::kUnknown);
+	return g;
+}
+}  // namespace mrpt_yesslam
