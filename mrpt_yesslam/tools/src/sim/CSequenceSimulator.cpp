@@ -1,6 +1,7 @@
 #include "mrpt_yesslam/sim/CSequenceSimulator.h"
 
 #include "SimModelHash.h"
+#include "SimRunSteps.h"
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/math/CMatrixDynamic.h>
@@ -46,90 +47,9 @@ std::string simulatorModelHash()
 	return YESSLAM_SIM_MODEL_HASH;
 }
 
-namespace
-{
-// Pixels covered by an object's boxes if nothing occluded them (its faces rasterised).
-std::size_t unoccludedPixels(const CSimWorld& world, int idx, const CPose3D& Twc, const TRgbdCamera& cam,
-							 cv::Mat& scratch)
-{
-	scratch.setTo(0);
-	const CPose3D Tcw = -Twc;
-	const CPinholeCamera K(cam.intrinsics);
-	static const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {3, 0, 4, 7}};
-	for (const auto& [pose, b] : world.worldBoxes(idx))
-	{
-		cv::Point pts[8];
-		bool front[8];
-		for (int c = 0; c < 8; c++)
-		{
-			const mrpt::math::TPoint3D local((c == 1 || c == 2 || c == 5 || c == 6 ? 0.5 : -0.5) * b.sx,
-											 (c == 2 || c == 3 || c == 6 || c == 7 ? 0.5 : -0.5) * b.sy,
-											 (c >= 4 ? 0.5 : -0.5) * b.sz);
-			const auto pc = Tcw.composePoint(pose.composePoint(local));
-			front[c] = pc.z > 0.05;
-			double u = 0, v = 0;
-			if (front[c]) K.project(pc.x, pc.y, pc.z, u, v);
-			pts[c] = front[c] ? cv::Point(static_cast<int>(u), static_cast<int>(v)) : cv::Point();
-		}
-		for (const auto& f : faces)
-		{
-			if (!(front[f[0]] && front[f[1]] && front[f[2]] && front[f[3]])) continue;
-			const cv::Point poly[4] = {pts[f[0]], pts[f[1]], pts[f[2]], pts[f[3]]};
-			cv::fillConvexPoly(scratch, poly, 4, cv::Scalar(255));
-		}
-	}
-	return static_cast<std::size_t>(cv::countNonZero(scratch));
-}
-
-// Wall time per stage, summed over the run, in first-seen order (yesslam-sim prints it, the
-// benchmark reads it): tells whether rendering, our own per-pixel work or encoding is the limit.
-class TStageClock
-{
-   public:
-	explicit TStageClock(std::vector<std::pair<std::string, double>>& out) : out_(out) {}
-	/** Charges the time since the previous lap to `stage`. */
-	void lap(const std::string& stage)
-	{
-		const auto now = std::chrono::steady_clock::now();
-		add(stage, std::chrono::duration<double>(now - last_).count());
-		last_ = now;
-	}
-	void add(const std::string& stage, double sec)
-	{
-		for (auto& [n, v] : out_)
-			if (n == stage)
-			{
-				v += sec;
-				return;
-			}
-		out_.emplace_back(stage, sec);
-	}
-
-   private:
-	std::vector<std::pair<std::string, double>>& out_;
-	std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
-
-std::string stampText(double t)
-{
-	char b[64];
-	std::snprintf(b, sizeof(b), "%.6f", t);
-	return b;
-}
-
-}  // namespace
-
-mrpt::img::TCamera openGlIntrinsics(const mrpt::img::TCamera& K)
-{
-	// CFBORender samples pixel k at image coordinate k + 0.5 (OpenGL's pixel centres), while TUM
-	// and our tracking put pixel centres at integers: rendered with the true cx, cy every image
-	// came out half a pixel off its own calibration (tests/sim measures box edges placed at
-	// fractional pixel positions), which bent the map wherever depth and pixels were combined.
-	mrpt::img::TCamera g = K;
-	g.cx(K.cx() + 0.5);
-	g.cy(K.cy() + 0.5);
-	return g;
-}
+using sim_detail::stampText;
+using sim_detail::TStageClock;
+using sim_detail::unoccludedPixels;
 
 TSimSummary runSimulation(const TSimOptions& o, const std::function<void(std::size_t, std::size_t)>& progress,
 						  const std::function<bool()>& cancel)
