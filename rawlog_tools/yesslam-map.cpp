@@ -14,26 +14,13 @@
 #include "mrpt_yesslam/mapio/MapSummary.h"
 #include "mrpt_yesslam/io/SceneExport.h"
 #include "mrpt_yesslam/system/SlamExport.h"
+#include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/CommandLine.h"
 #include "mrpt_yesslam/util/Error.h"
 #include "mrpt_yesslam/util/ShareDir.h"
 #include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
-
-namespace
-{
-// Every output's folder is made before it is written (an export to a new folder is not an error).
-void makeParentFolder(const std::string& file)
-{
-	const auto parent = std::filesystem::path(file).parent_path();
-	std::error_code ec;
-	if (parent.empty() || std::filesystem::is_directory(parent, ec)) return;
-	std::filesystem::create_directories(parent, ec);
-	if (!std::filesystem::is_directory(parent, ec))
-		throw InputError(file, "cannot create its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
-}
-}  // namespace
 
 int main(int argc, char** argv)
 {
@@ -202,9 +189,9 @@ int main(int argc, char** argv)
 				const auto fromPoints = octree ? nullptr : mapOccupancy(m, resolution, info.worldFrame.worldFromMap);
 				const CSemanticOcTree& tree = octree ? *octree : *fromPoints;
 				makeParentFolder(bt);
-				writeOccupancyBt(bt, tree);
-				std::printf("bt:           %s (%zu leaves at %.3f m, %s)\n", bt.c_str(), tree.getNumLeafNodes(),
-							tree.getResolution(), octree ? "the saved semantic octree" : "from the map points");
+				const std::size_t leaves = writeOccupancyBt(bt, tree);
+				std::printf("bt:           %s (%zu leaves at %.3f m, %s)\n", bt.c_str(), leaves, tree.getResolution(),
+							octree ? "the saved semantic octree" : "from the map points");
 			}
 			if (!grid.empty())
 			{

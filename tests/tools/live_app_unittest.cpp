@@ -51,7 +51,7 @@ TEST(LiveApp, ACameraFasterThanSlamHasItsFramesDroppedAndCounted)
 	TempDir d("live_app");
 	const std::string seq = walkingSequence60();
 	const auto r = runTool("yesslam", {"--input", seq, "--out", d / "run", "--realtime", "--speed", "10", "--record",
-									   d / "captured.rawlog", "--no-dense-map", "--quiet"});
+									   d / "recordings/captured.rawlog", "--no-dense-map", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	const long captured = inputCount(d / "run/stats.json", "captured_frames"),
 			   dropped = inputCount(d / "run/stats.json", "dropped_frames");
@@ -62,7 +62,9 @@ TEST(LiveApp, ACameraFasterThanSlamHasItsFramesDroppedAndCounted)
 	EXPECT_NE(readText(d / "run/stats.json").find("\"live\": true"), std::string::npos);
 	EXPECT_NE(r.out.find("dropped"), std::string::npos) << r.out;
 	EXPECT_EQ(static_cast<long>(mrpt_yesslam::readTumTrajectory(d / "run/trajectory.txt").size()), frames);
-	EXPECT_EQ(static_cast<long>(rawlogFrames(d / "captured.rawlog")), captured) << "dropped frames are recorded too";
+	// Into a folder the run made (issue 63 item 6).
+	EXPECT_EQ(static_cast<long>(rawlogFrames(d / "recordings/captured.rawlog")), captured)
+		<< "dropped frames are recorded too";
 }
 
 TEST(LiveApp, ARecordedRunReplaysToTheSameTrajectory)
@@ -109,7 +111,9 @@ TEST(LiveApp, WithoutACameraOrWithBadLiveOptionsNothingStarts)
 	fails({"--input", "openni2", "--out", d / "run", "--realtime"}, {"--realtime is for recorded input"});
 	fails({"--input", seq, "--out", d / "run", "--realtime", "--speed", "0"}, {"--speed must be in (0, 100]"});
 	fails({"--input", "openni2", "--out", d / "run", "--width", "-640"}, {"--width must be a whole number"});
-	fails({"--input", seq, "--out", d / "run", "--record", d / "no/such/folder/x.rawlog"}, {"x.rawlog"});
+	// A recording's new folder is made (issue 63 item 6); one under a file cannot be.
+	fails({"--input", seq, "--out", d / "run", "--record", seq + "/rgb.txt/x.rawlog"},
+		  {"x.rawlog", "cannot make its folder"});
 	fails({"--out", d / "run"}, {"--input is required"});
 	// A recording is data that cannot be made again (issue 30 item 8): an existing file is not
 	// replaced unless asked, and the input itself never.

@@ -249,9 +249,11 @@ TEST(Tools, CloudOfRealFramesRendersAndRejectsBadPoses)
 	ASSERT_EQ(c.exitCode, 0) << c.err;
 	EXPECT_EQ(value(c.out, "frames used"), "9");
 	EXPECT_GT(std::stol(value(c.out, "points")), 100000);
-	const auto r = runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "desk.png", "--width", "400",
-											  "--height", "300"});
+	// Into a folder it makes (issue 63 item 6: it failed, "cannot open for writing").
+	const auto r = runTool("yesslam-render", {"--scene", d / "desk.3Dscene", "--out", d / "pictures/desk.png",
+											  "--width", "400", "--height", "300"});
 	ASSERT_EQ(r.exitCode, 0) << r.err;
+	EXPECT_TRUE(fs::is_regular_file(d / "pictures/desk.png"));
 	EXPECT_NE(r.out.find("of pixels show the scene"), std::string::npos);
 	EXPECT_EQ(r.out.find("(0.0% of pixels"), std::string::npos) << r.out;
 	// Issue 18 item 6: a .jpg name gets a JPEG, an unknown extension an error, never a mislabelled PNG.
@@ -922,6 +924,19 @@ TEST(Tools, ARunWhoseMapNeverStartsFailsAndAnImplausibleDepthScaleIsNamed)
 	EXPECT_EQ(near.exitCode, 0) << near.err;
 	EXPECT_NE(near.err.find("yesslam: warning: the median depth is 0.2"), std::string::npos) << near.err;
 	EXPECT_NE(near.err.find("nearer than RGB-D cameras measure"), std::string::npos) << near.err;
+	// Issue 63 item 6: a scale no camera can have (100x either way: a median of 1.5 cm or 150 m) stops
+	// the run at its fifth frame with depth, in one line naming the depth scale, and nothing says complete.
+	for (const char* scale : {"500000", "50"})
+	{
+		writeText(d / "kbad.txt", std::string("517.3 516.5 318.6 255.3 640 480 ") + scale + "\n");
+		const auto bad = runTool("yesslam", {"--input", desk, "--out", d / "bad", "--detector", "none", "--quiet",
+											 "--camera", d / "kbad.txt"});
+		EXPECT_EQ(bad.exitCode, 1) << bad.out;
+		EXPECT_NE(bad.err.find("the median depth of its first 5 frames with depth is"), std::string::npos) << bad.err;
+		EXPECT_NE(bad.err.find("the depth scale is wrong"), std::string::npos) << bad.err;
+		EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+		EXPECT_NE(readText(d / "bad/stats.json").find("\"complete\": false"), std::string::npos);
+	}
 	// The right scale: no such warning, and stats.json has the typical depth (fr1/desk: 0.74-2.41 m).
 	const auto right = runTool("yesslam", {"--input", desk, "--out", d / "right", "--detector", "none", "--quiet"});
 	ASSERT_EQ(right.exitCode, 0) << right.err;

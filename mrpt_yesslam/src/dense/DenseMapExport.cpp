@@ -119,7 +119,8 @@ struct TBtSubtree
 {
 	unsigned code = 0;  //!< 0 unknown, 1 occupied, 2 free, 3 inner
 	std::string bytes;
-	std::size_t nodes = 0;  //!< nodes below it that OctoMap's reader creates
+	std::size_t nodes = 0;   //!< nodes below it that OctoMap's reader creates
+	std::size_t leaves = 0;  //!< of those, leaves (occupied or free)
 };
 
 constexpr unsigned kBtUnknown = 0, kBtOccupied = 1, kBtFree = 2, kBtInner = 3;
@@ -171,16 +172,17 @@ TBtSubtree btChildren(const CSemanticOcTree& tree, const CSemanticOcTreeNode& no
 		if (c == kBtFree) bits[i / 4] |= 1u << j;
 		if (c == kBtInner) bits[i / 4] |= 3u << j;
 		out.nodes += c != kBtUnknown;
+		out.leaves += c == kBtOccupied || c == kBtFree;
 	}
 	out.code = kBtInner;
 	out.bytes.assign(reinterpret_cast<const char*>(bits), 2);
 	for (const auto& c : child)
-		if (c.code == kBtInner) out.bytes += c.bytes, out.nodes += c.nodes;
+		if (c.code == kBtInner) out.bytes += c.bytes, out.nodes += c.nodes, out.leaves += c.leaves;
 	return out;
 }
 }  // namespace
 
-void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
+std::size_t writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 {
 	// The .bt format is the same for every occupancy tree, but OctoMap's readers refuse a tree type
 	// they do not know: the header names OctoMap's own OcTree, so that octovis and octomap_server
@@ -189,7 +191,7 @@ void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 	// seen and later passed by rays) would be free to a planner (issue 43). Such voxels are left
 	// out of the file: unknown, as what was never seen.
 	std::string data;
-	std::size_t size = 0;
+	std::size_t size = 0, leaves = 0;
 	if (tree.getRoot())
 	{
 		TBtSubtree root = btChildren(tree, *tree.getRoot());
@@ -200,10 +202,11 @@ void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 				// Uniformly occupied or free: the root with eight such leaves.
 				const std::uint8_t b = root.code == kBtOccupied ? 0xAA : 0x55;
 				root.bytes.assign({static_cast<char>(b), static_cast<char>(b)});
-				root.nodes = 8;
+				root.nodes = root.leaves = 8;
 			}
 			data = std::move(root.bytes);
 			size = root.nodes + 1;
+			leaves = root.leaves;
 		}
 	}
 	std::ostringstream s(std::ios::binary);
@@ -212,6 +215,7 @@ void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree)
 	s << "id OcTree\nsize " << size << "\nres " << tree.getResolution() << "\ndata\n";
 	s << data;
 	writeFileAtomically(path, s.str());
+	return leaves;
 }
 
 mrpt::opengl::CSetOfObjects::Ptr semanticOcTreeObject(const CSemanticOcTree& tree,

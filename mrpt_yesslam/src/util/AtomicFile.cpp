@@ -15,6 +15,16 @@
 
 namespace mrpt_yesslam
 {
+void makeParentFolder(const std::string& path)
+{
+	const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+	std::error_code ec;
+	if (parent.empty() || std::filesystem::is_directory(parent, ec)) return;
+	std::filesystem::create_directories(parent, ec);
+	if (!std::filesystem::is_directory(parent, ec))
+		throw InputError(path, "cannot make its folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+}
+
 std::string temporaryPathFor(const std::string& path)
 {
 	return path + ".tmp." + std::to_string(::getpid());

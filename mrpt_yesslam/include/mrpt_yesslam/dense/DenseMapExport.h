@@ -22,8 +22,9 @@ TDenseCloud readDenseCloudPly(const std::string& path);
 
 /** Writes the octree as .ot (OctoMap's full format: occupancy, colour, label) atomically. */
 void writeSemanticOcTree(const std::string& path, const CSemanticOcTree& tree);
-/** Writes the occupancy alone as .bt (OctoMap's binary OcTree: octovis, octomap_server), atomically. */
-void writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree);
+/** Writes the occupancy alone as .bt (OctoMap's binary OcTree: octovis, octomap_server), atomically;
+ * returns the leaves the file holds (unknown voxels are left out, uniform subtrees are one leaf). */
+std::size_t writeOccupancyBt(const std::string& path, const CSemanticOcTree& tree);
 
 /** The occupied leaves as MRPT voxels coloured by label (or by colour with `byLabel` false), with
  * the legend of the labels present as a hidden set "legend" of coloured texts (yesslam-render

@@ -10,6 +10,10 @@
 
 namespace mrpt_yesslam
 {
+/** Makes the folder `path` is to go in (and its parents) when it does not exist; throws InputError
+ * naming `path` when it cannot be made. For tools' outputs, once their inputs are known good. */
+void makeParentFolder(const std::string& path);
+
 /** Writes `content` to `path` atomically; throws InputError naming `path` on failure. */
 void writeFileAtomically(const std::string& path, const std::string& content);
 

@@ -43,6 +43,25 @@ using job_detail::CRecorder;
 using job_detail::openInput;
 using job_detail::TInputChain;
 
+namespace
+{
+// Frames with depth whose median depth judges the depth scale, and the range it must fall in.
+constexpr std::size_t kDepthScaleFrames = 5;
+constexpr double kLeastMedianDepth = 0.1, kMostMedianDepth = 20;
+
+void checkDepthScale(std::vector<double> medians, const std::string& input)
+{
+	auto mid = medians.begin() + static_cast<std::ptrdiff_t>(medians.size() / 2);
+	std::nth_element(medians.begin(), mid, medians.end());
+	if (*mid >= kLeastMedianDepth && *mid <= kMostMedianDepth) return;
+	throw InputError(input, "the median depth of its first " + std::to_string(medians.size()) +
+								" frames with depth is " + formatNumber(*mid) + " m, which no RGB-D camera measures (" +
+								formatNumber(kLeastMedianDepth) + "-" + formatNumber(kMostMedianDepth) +
+								" m): the depth scale is wrong (units a metre: TUM 5000, OpenNI 1000; set by a TUM "
+								"folder's calibration, a camera file's last number or the rawlog's range units)");
+}
+}  // namespace
+
 const char* secondInterruptNote(ESlamJobPhase phase)
 {
 	// The final mapping is not cut short (a half-done local BA leaves keyframes and points
@@ -158,7 +177,11 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 	// The recording is opened before the input starts delivering, written by whoever reads the
 	// frames first (the capture thread for live input), and committed however the run ends.
 	std::unique_ptr<CRecorder> recorder;
-	if (!o.record.empty()) recorder = std::make_unique<CRecorder>(o.record);
+	if (!o.record.empty())
+	{
+		makeParentFolder(o.record);
+		recorder = std::make_unique<CRecorder>(o.record);
+	}
 	std::function<void(const mrpt::obs::CObservation3DRangeScan::Ptr&)> record;
 	if (recorder) record = [&recorder](const mrpt::obs::CObservation3DRangeScan::Ptr& f) { recorder->add(f); };
 	TInputChain in = openInput(o, opts, record);
@@ -359,7 +382,12 @@ TSlamJobSummary runSlamJob(const TSlamJobOptions& o,
 					aheadError = std::current_exception();  // after this frame, as without reading ahead
 				}
 			if (const double md = medianDepth(*obs); md > 0)
+			{
 				depthMedians.push_back(md);  // frames without depth say nothing of its scale
+				// A depth scale no camera can have (metres read as millimetres, or the reverse) stops the run
+				// at once: every pose and map from it would be wrong (issue 63 item 6).
+				if (depthMedians.size() == kDepthScaleFrames) checkDepthScale(depthMedians, o.input);
+			}
 			if (record) record(obs);
 			const std::optional<double> depthTime = src->depthTime(observationTime(*obs));
 			// Said, not silently ignored (issue 42): only inputs that stamp their depth images apart

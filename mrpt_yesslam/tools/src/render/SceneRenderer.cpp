@@ -346,6 +346,7 @@ double renderSceneFileToPng(const std::string& scenePath, const std::string& png
 	TRenderOptions o = opts;
 	if (!o.hide) o.hide = defaultHidden(scene);
 	const mrpt::img::CImage img = renderScene(scene, o);
+	makeParentFolder(pngPath);
 	writeImageAtomically(pngPath, img.asCvMatRef());
 	return nonBackgroundShare(img, opts.background);
 }
