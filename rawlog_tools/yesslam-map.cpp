@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "mrpt_yesslam/dense/COccupancyGridBuilder.h"
@@ -13,6 +14,7 @@
 #include "mrpt_yesslam/mapio/GridMapFiles.h"
 #include "mrpt_yesslam/mapio/MapSummary.h"
 #include "mrpt_yesslam/io/SceneExport.h"
+#include "mrpt_yesslam/io/Trajectory.h"
 #include "mrpt_yesslam/system/SlamExport.h"
 #include "mrpt_yesslam/util/AtomicFile.h"
 #include "mrpt_yesslam/util/CommandLine.h"
@@ -21,6 +23,46 @@
 #include "mrpt_yesslam/util/TextParsing.h"
 
 using namespace mrpt_yesslam;
+
+namespace
+{
+// The 2D grid of --grid: the octree's band as the options say, the dynamic classes never occupied;
+// `cams` gets the path's positions. Throws InputError naming `input` when the map cannot give one.
+TOccupancyGrid2D makeGrid(const std::string& input, const CSemanticOcTree* octree, const TWorldFrame& frame,
+						  const TTrajectory& path, const COccupancyGridBuilder::TOptions& go,
+						  const std::string& dynamicClasses, const std::vector<std::string>& names,
+						  std::vector<mrpt::math::TPoint3D>& cams)
+{
+	if (!octree)
+		throw InputError(input,
+						 "has no semantic octree: a 2D grid is made from the dense map's (a run without "
+						 "--no-dense-map)");
+	if (frame.kind != TWorldFrame::EKind::ZUp)
+		throw InputError(input, "is in the optical frame: a 2D grid needs the z-up world frame");
+	std::set<std::uint8_t> dynamicLabels;
+	for (const auto& c : splitFields(dynamicClasses))
+	{
+		const auto it = std::find(names.begin(), names.end(), c);
+		if (it == names.end())
+			throw InputError("", "--dynamic-classes: '" + c + "' is not a COCO class name of the shipped detector");
+		dynamicLabels.insert(static_cast<std::uint8_t>(it - names.begin() + 1));
+	}
+	for (const auto& p : path) cams.emplace_back(p.tx, p.ty, p.tz);
+	// A map whose run saw no floor has its origin at the first camera: the floor is assumed below it.
+	const double floorZ = frame.floorSeen ? 0.0 : -go.cameraHeight;
+	try
+	{
+		TOccupancyGrid2D g = COccupancyGridBuilder(go).build(*octree, dynamicLabels, cams, floorZ, frame.floorSeen);
+		if (g.width == 0)
+			throw std::invalid_argument("nothing was seen in the grid's height band and there is no path");
+		return g;
+	}
+	catch (const std::invalid_argument& e)
+	{
+		throw InputError(input, e.what());
+	}
+}
+}  // namespace
 
 int main(int argc, char** argv)
 {
@@ -107,29 +149,47 @@ int main(int argc, char** argv)
 				// Any vocabulary: the fingerprint check is for runs that localise in the map.
 				info = loadMapFile(map, m, 0, &octree);
 			else
-			{
 				octree = CSemanticOcTree::readFile(octreeIn);
-				// yesslam's map.ot: the z-up frame, the floor at z = 0 (when the run saw one).
-				info.worldFrame.kind = TWorldFrame::EKind::ZUp;
-				info.worldFrame.floorSeen = true;
-			}
 			const std::string input = map.empty() ? octreeIn : map;
+			// The path in the exports' frame: the keyframes' of a map; beside a run's map.ot, its
+			// trajectory.txt, whose header also says the frame (a .ot itself does not).
+			TTrajectory path;
+			for (const auto& k : m.keyFramePoses())
+				if (!k.bad) path.push_back(TStampedPose::fromPose(k.timestamp, info.worldFrame.worldFromMap + k.pose));
+			std::string frameNote;
+			if (!octreeIn.empty())
+			{
+				const auto beside = std::filesystem::path(octreeIn).parent_path() / "trajectory.txt";
+				std::error_code exists;
+				if (std::filesystem::is_regular_file(beside, exists))
+				{
+					const std::string head = readTextFile(beside.string()).substr(0, 2000);
+					info.worldFrame.kind = head.find("world frame: optical") != std::string::npos
+											   ? TWorldFrame::EKind::Optical
+											   : TWorldFrame::EKind::ZUp;
+					info.worldFrame.floorSeen = head.find("levelled by the floor plane") != std::string::npos;
+					path = readTumTrajectory(beside.string());
+					frameNote = "the frame and path of " + beside.string();
+				}
+				else
+				{
+					// No run beside it: taken as yesslam's z-up frame with the floor at z = 0.
+					info.worldFrame.kind = TWorldFrame::EKind::ZUp;
+					info.worldFrame.floorSeen = true;
+					frameNote = "no trajectory.txt beside it: taken as z-up with the floor at z = 0, no path";
+				}
+			}
 			std::vector<std::string> names;
 			const std::string share = shareDir();
 			std::error_code ec;
 			if (!share.empty() && std::filesystem::exists(share + "/models/yolo-fastest-1.1/coco.names", ec))
 				names = readClassNames(share + "/models/yolo-fastest-1.1/coco.names");
-			// The grid's classes that are never obstacles, checked before anything is printed or written.
-			std::set<std::uint8_t> dynamicLabels;
-			for (const auto& c : splitFields(dynamicClasses))
-			{
-				const auto it = std::find(names.begin(), names.end(), c);
-				if (it == names.end())
-					throw InputError("", "--dynamic-classes: '" + c +
-											 "' is not a COCO class name of the shipped "
-											 "detector");
-				dynamicLabels.insert(static_cast<std::uint8_t>(it - names.begin() + 1));
-			}
+			// The grid, made before anything is printed or written: a bad option or a map that cannot
+			// give one writes nothing.
+			std::optional<TOccupancyGrid2D> gridMap;
+			std::vector<mrpt::math::TPoint3D> cams;
+			if (!grid.empty())
+				gridMap = makeGrid(input, octree.get(), info.worldFrame, path, go, dynamicClasses, names, cams);
 			if (!map.empty())
 			{
 				std::printf("map:          %s (format %u, %.1f MB, vocabulary %016llx)\n", map.c_str(), info.version,
@@ -139,7 +199,7 @@ int main(int argc, char** argv)
 				std::printf("exports in:   %s\n", frame.substr(0, frame.find('\n')).c_str());
 			}
 			else
-				std::printf("octree file:  %s\n", octreeIn.c_str());
+				std::printf("octree file:  %s (%s)\n", octreeIn.c_str(), frameNote.c_str());
 			if (octree)
 			{
 				std::map<std::string, std::size_t> byLabel;
@@ -158,10 +218,6 @@ int main(int argc, char** argv)
 			}
 			else
 				std::printf("octree:       none (the run that saved the map had no dense map)\n");
-			// The keyframes' path in the exports' frame (none from an OctoMap alone).
-			TTrajectory path;
-			for (const auto& k : m.keyFramePoses())
-				if (!k.bad) path.push_back(TStampedPose::fromPose(k.timestamp, info.worldFrame.worldFromMap + k.pose));
 			if (!ot.empty())
 			{
 				if (!octree) throw InputError(map, "has no semantic octree to write to " + ot);
@@ -193,20 +249,9 @@ int main(int argc, char** argv)
 				std::printf("bt:           %s (%zu leaves at %.3f m, %s)\n", bt.c_str(), leaves, tree.getResolution(),
 							octree ? "the saved semantic octree" : "from the map points");
 			}
-			if (!grid.empty())
+			if (gridMap)
 			{
-				if (!octree)
-					throw InputError(input,
-									 "has no semantic octree: a 2D grid is made from the dense map's (a run "
-									 "without --no-dense-map)");
-				if (info.worldFrame.kind != TWorldFrame::EKind::ZUp)
-					throw InputError(input, "is in the optical frame: a 2D grid needs the z-up world frame");
-				std::vector<mrpt::math::TPoint3D> cams;
-				for (const auto& p : path) cams.emplace_back(p.tx, p.ty, p.tz);
-				// A map whose run saw no floor has its origin at the first camera: the floor is assumed below it.
-				const double floorZ = info.worldFrame.floorSeen ? 0.0 : -go.cameraHeight;
-				const TOccupancyGrid2D g =
-					COccupancyGridBuilder(go).build(*octree, dynamicLabels, cams, floorZ, info.worldFrame.floorSeen);
+				const TOccupancyGrid2D& g = *gridMap;
 				makeParentFolder(grid + ".gridmap");
 				writeGridMapFiles(grid, g, cams);
 				std::printf(

@@ -94,6 +94,15 @@ TEST(Grid2D, TheBandAboveTheFloorIsProjectedAndPeopleAreNeverObstacles)
 		<< "the table top is below a band from 0.8 m";
 	o.minHeight = 1.5;
 	EXPECT_THROW(COccupancyGridBuilder(o).build(*tree, {1}, path, 0.0, true), std::invalid_argument);
+	// Cells larger than the voxels: the one-voxel wall is in every cell it overlaps (a cell took only
+	// the voxel at its centre, and the wall between two centres was lost).
+	o = COccupancyGridBuilder::TOptions();
+	o.resolution = 0.1;
+	const TOccupancyGrid2D coarse = COccupancyGridBuilder(o).build(*tree, {1}, path, 0.0, true);
+	for (double y = 0.05; y < 1.95; y += 0.1)
+		EXPECT_EQ(cellAt(coarse, 2.03, y), TOccupancyGrid2D::kOccupied) << "the wall at y " << y;
+	// A pose far astray asks for no gigabytes: refused.
+	EXPECT_THROW(COccupancyGridBuilder(o).build(*tree, {1}, {{5e4, 5e4, 1}}, 0.0, true), std::invalid_argument);
 }
 
 TEST(Grid2D, TheFilesReadBackWithTheSameCellsInMrptAndRos)
@@ -248,6 +257,8 @@ TEST(Grid2D, YesslamMapMakesTheGridFromASavedMapOrAnOctoMap)
 		const auto r = runTool("yesslam-map", args);
 		ASSERT_EQ(r.exitCode, 0) << r.err;
 		EXPECT_NE(r.out.find("grid:         " + (d / "nav/sub/a")), std::string::npos) << r.out;
+		if (input[0] == "--octree")  // the run's frame and path come from its trajectory.txt
+			EXPECT_NE(r.out.find("the frame and path of " + (d / "run/trajectory.txt")), std::string::npos) << r.out;
 		const TOccupancyGrid2D same = readRosMap(d / "nav/sub/a.yaml");
 		EXPECT_EQ(same.count(TOccupancyGrid2D::kOccupied), ran.count(TOccupancyGrid2D::kOccupied)) << input[0];
 		EXPECT_EQ(occupiedIn(same), ran.count(TOccupancyGrid2D::kOccupied)) << input[0];
@@ -262,13 +273,18 @@ TEST(Grid2D, YesslamMapMakesTheGridFromASavedMapOrAnOctoMap)
 	EXPECT_GT(lowGrid.count(TOccupancyGrid2D::kOccupied), 0u);
 	EXPECT_LT(lowGrid.count(TOccupancyGrid2D::kOccupied), ran.count(TOccupancyGrid2D::kOccupied))
 		<< "fewer cells of four times the area, in a lower band";
+	fs::create_directories(d / "optical");
+	fs::copy_file(d / "run/map.ot", d / "optical/map.ot");
+	writeText(d / "optical/trajectory.txt", "# world frame: optical (the first keyframe's camera)\n");
 	// Refused in one line, nothing written.
 	for (const auto& [args, fragment] : std::vector<std::pair<std::vector<std::string>, std::string>>{
 			 {{"--octree", d / "run/map.ot", "--grid", d / "bad/c", "--dynamic-classes", "persn"}, "'persn'"},
 			 {{"--octree", d / "run/map.ot", "--grid", d / "bad/c", "--grid-min-height", "2"}, "--grid-max-height"},
 			 {{"--octree", d / "run/map.ot", "--scene", d / "bad/c.3Dscene"}, "need the map"},
 			 {{"--octree", d / "run/trajectory.txt", "--grid", d / "bad/c"}, "trajectory.txt"},
-			 {{"--grid", d / "bad/c"}, "give one of --map"}})
+			 {{"--grid", d / "bad/c"}, "give one of --map"},
+			 // Beside a run in the optical frame (its trajectory.txt says so): refused before --bt is written.
+			 {{"--octree", d / "optical/map.ot", "--bt", d / "bad/x.bt", "--grid", d / "bad/c"}, "optical frame"}})
 	{
 		const auto r = runTool("yesslam-map", args);
 		EXPECT_EQ(r.exitCode, 1) << r.out;

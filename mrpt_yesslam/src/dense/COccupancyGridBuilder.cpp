@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace mrpt_yesslam
 {
@@ -40,6 +42,8 @@ COptionTable COccupancyGridBuilder::TOptions::table()
 
 namespace
 {
+constexpr std::size_t kMaxCells = std::size_t{1} << 25;
+
 // What the band's voxels over one cell say, strongest first; a cell takes the strongest.
 enum ERank : std::uint8_t
 {
@@ -61,6 +65,8 @@ TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const
 											  bool floorSeen) const
 {
 	if (!(opts_.maxHeight > opts_.minHeight)) throw std::invalid_argument("[Grid2D] maxHeight must be above minHeight");
+	if (!(opts_.resolution >= 0.001 && opts_.resolution <= 10))
+		throw std::invalid_argument("[Grid2D] resolution must be between 0.001 and 10 m");
 	TOccupancyGrid2D g;
 	g.resolution = opts_.resolution;
 	g.floorZ = floorZ;
@@ -107,20 +113,31 @@ TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const
 	// Cells on the resolution's lattice, one cell of margin (so that what bounds the map is inside it).
 	g.originX = (std::floor(lo[0] / r) - 1) * r;
 	g.originY = (std::floor(lo[1] / r) - 1) * r;
-	g.width = static_cast<int>(std::ceil((hi[0] - g.originX) / r)) + 1;
-	g.height = static_cast<int>(std::ceil((hi[1] - g.originY) / r)) + 1;
+	// A bounded grid: a pose gone far astray must not ask for gigabytes (2^25 cells: 290 m square at 5 cm).
+	const double w = std::ceil((hi[0] - g.originX) / r) + 1, h = std::ceil((hi[1] - g.originY) / r) + 1;
+	if (!(w * h <= double(kMaxCells)))
+		throw std::invalid_argument("the 2D grid would span " + std::to_string(std::lround(hi[0] - lo[0])) + " x " +
+									std::to_string(std::lround(hi[1] - lo[1])) + " m, over " +
+									std::to_string(kMaxCells) +
+									" cells (a pose far astray? a coarser [Grid2D] "
+									"resolution)");
+	g.width = static_cast<int>(w);
+	g.height = static_cast<int>(h);
 	std::vector<std::uint8_t> rank(static_cast<std::size_t>(g.width) * g.height, kNothing);
-	// A cell takes a leaf that covers its centre.
-	const auto span = [&](double a0, double a1, double origin, int n, int& i0, int& i1)
+	// A cell takes a leaf that covers its centre; an obstacle or a surface also every cell it
+	// overlaps (a wall one voxel thick is never lost between the centres of larger cells). The
+	// tolerance (in cells) absorbs OctoMap's float coordinates on the shared lattice.
+	const auto span = [&](double a0, double a1, double origin, int n, bool overlap, int& i0, int& i1)
 	{
-		i0 = std::max(0, static_cast<int>(std::ceil((a0 - origin) / r - 0.5)));
-		i1 = std::min(n - 1, static_cast<int>(std::ceil((a1 - origin) / r - 0.5)) - 1);
+		const double e = 1e-3, f0 = (a0 - origin) / r, f1 = (a1 - origin) / r;
+		i0 = std::max(0, static_cast<int>(overlap ? std::floor(f0 + e) : std::ceil(f0 - 0.5)));
+		i1 = std::min(n - 1, static_cast<int>(overlap ? std::ceil(f1 - e) : std::ceil(f1 - 0.5)) - 1);
 	};
 	for (const auto& l : leaves)
 	{
 		int i0, i1, j0, j1;
-		span(l.x0, l.x1, g.originX, g.width, i0, i1);
-		span(l.y0, l.y1, g.originY, g.height, j0, j1);
+		span(l.x0, l.x1, g.originX, g.width, l.rank >= kSurface, i0, i1);
+		span(l.y0, l.y1, g.originY, g.height, l.rank >= kSurface, j0, j1);
 		for (int j = j0; j <= j1; j++)
 			for (int i = i0; i <= i1; i++)
 			{
@@ -131,8 +148,8 @@ TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const
 	for (const auto& p : path)
 	{
 		int i0, i1, j0, j1;
-		span(p.x - rf, p.x + rf, g.originX, g.width, i0, i1);
-		span(p.y - rf, p.y + rf, g.originY, g.height, j0, j1);
+		span(p.x - rf, p.x + rf, g.originX, g.width, false, i0, i1);
+		span(p.y - rf, p.y + rf, g.originY, g.height, false, j0, j1);
 		int pi = -1, pj = -1;  // the camera's own cell, whatever the radius
 		if (g.cellOf(p.x, p.y, pi, pj))
 			i0 = std::min(i0, pi), i1 = std::max(i1, pi), j0 = std::min(j0, pj), j1 = std::max(j1, pj);

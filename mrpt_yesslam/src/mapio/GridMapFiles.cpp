@@ -90,27 +90,32 @@ TOccupancyGrid2D readRosMap(const std::string& yamlPath)
 		const auto colon = line.find(':');
 		if (line.empty() || line[0] == '#' || colon == std::string::npos) continue;
 		std::string value = line.substr(colon + 1);
+		value = value.substr(0, value.find('#'));  // a trailing comment
 		value.erase(0, value.find_first_not_of(" \t"));
+		value.erase(value.find_last_not_of(" \t\r") + 1);
 		kv[line.substr(0, colon)] = value;
 	}
 	for (const char* key : {"image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh"})
 		if (!kv.count(key))
 			throw InputError(yamlPath, std::string("no '") + key + "': not a map_server map description");
 	TOccupancyGrid2D g;
-	double yaw = 0;
+	double yaw = 0, occ = 0, fre = 0;
 	try
 	{
 		g.resolution = std::stod(kv["resolution"]);
+		occ = std::stod(kv["occupied_thresh"]), fre = std::stod(kv["free_thresh"]);
 		if (std::sscanf(kv["origin"].c_str(), "[%lf , %lf , %lf]", &g.originX, &g.originY, &yaw) != 3)
 			throw std::invalid_argument("origin");
 	}
 	catch (const std::exception&)
 	{
-		throw InputError(yamlPath, "resolution or origin is not a number (origin: [x, y, yaw])");
+		throw InputError(yamlPath, "resolution, a threshold or origin is not a number (origin: [x, y, yaw])");
 	}
 	if (!(g.resolution > 0) || yaw != 0 || kv["negate"] != "0")
 		throw InputError(yamlPath, "only a positive resolution, yaw 0 and negate 0 are read");
-	const double occ = std::stod(kv["occupied_thresh"]), fre = std::stod(kv["free_thresh"]);
+	if (!(fre >= 0 && fre < occ && occ <= 1))
+		throw InputError(yamlPath,
+						 "free_thresh and occupied_thresh must satisfy 0 <= free_thresh < occupied_thresh <= 1");
 	const fs::path image = fs::path(yamlPath).parent_path() / kv["image"];
 	const cv::Mat img = cv::imread(image.string(), cv::IMREAD_UNCHANGED);
 	if (img.empty() || img.type() != CV_8UC1) throw InputError(image.string(), "not an 8-bit grey map image");

@@ -61,7 +61,9 @@ class COccupancyGridBuilder
 
 	/** The grid of `tree` (world frame) with the floor at world z `floorZ` (`floorSeen` false: an
 	 * assumption, reported in the grid); `dynamicLabels` are the octree labels never occupied (COCO
-	 * class c is label c + 1); `path` the camera positions (world frame), cleared as the footprint. */
+	 * class c is label c + 1); `path` the camera positions (world frame) of tracked frames, cleared
+	 * as the footprint. Throws std::invalid_argument for a bad band or resolution, or a grid over
+	 * 2^25 cells. */
 	TOccupancyGrid2D build(const CSemanticOcTree& tree, const std::set<std::uint8_t>& dynamicLabels,
 						   const std::vector<mrpt::math::TPoint3D>& path, double floorZ, bool floorSeen) const;
 

@@ -8,6 +8,7 @@
 #include <functional>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -163,6 +164,9 @@ TGridScore scoreGrid2D(const TOccupancyGrid2D& grid, const std::string& simDir, 
 		if (!grid.cellOf(x, y, i, j)) return std::nullopt;
 		return std::make_pair(i, j);
 	};
+	if (!(grid.maxZ > grid.minZ))
+		throw std::invalid_argument(
+			"scoreGrid2D: the grid's band (minZ, maxZ) is not set (readRosMap does not know it)");
 	std::set<std::pair<int, int>> path, staticCells, sweptCells;
 	TGridScore sc;
 	forEachSimPoint(

@@ -56,14 +56,24 @@ void writeGrid2D(const CYesSlamSystem& sys, const TWorldFrame& world, const TTra
 	const CObjectDetector& det = *sys.detector();
 	for (std::size_t c = 0; c < det.classNames().size() && c < 255; c++)
 		if (det.isDynamicClass(static_cast<int>(c))) dynamicLabels.insert(static_cast<std::uint8_t>(c + 1));
-	std::vector<mrpt::math::TPoint3D> path;
-	for (const auto& p : trajectory) path.emplace_back(p.tx, p.ty, p.tz);
+	// The path drawn is every pose; the footprint cleared only where tracking measured the pose (a
+	// coasted one may have drifted anywhere).
+	std::set<double> trackedStamps;
+	for (const auto& row : sys.frameLog())
+		if (row.tracked) trackedStamps.insert(row.timestamp);
+	std::vector<mrpt::math::TPoint3D> path, tracked;
+	for (const auto& p : trajectory)
+	{
+		path.emplace_back(p.tx, p.ty, p.tz);
+		const auto at = trackedStamps.lower_bound(p.t - 1e-6);
+		if (at != trackedStamps.end() && *at <= p.t + 1e-6) tracked.emplace_back(p.tx, p.ty, p.tz);
+	}
 	// Without a floor the world's origin is the first camera: the floor is assumed cameraHeight below it.
 	const double floorZ = world.floorSeen ? 0.0 : -go.cameraHeight;
 	try
 	{
 		const TOccupancyGrid2D g =
-			COccupancyGridBuilder(go).build(*dm.octree, dynamicLabels, path, floorZ, world.floorSeen);
+			COccupancyGridBuilder(go).build(*dm.octree, dynamicLabels, tracked, floorZ, world.floorSeen);
 		writeGridMapFiles(base, g, path);
 		sum.dense.gridOccupied = g.count(TOccupancyGrid2D::kOccupied);
 		sum.dense.gridFree = g.count(TOccupancyGrid2D::kFree);
