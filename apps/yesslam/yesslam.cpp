@@ -241,8 +241,15 @@ int main(int argc, char** argv)
 				"\nyesslam: stopping: finishing the map and saving the results (Ctrl-C again skips what is not yet "
 				"written)\n",
 				secondNote->at(ESlamJobPhase::Frames).c_str());
-			o.onPhase = [](ESlamJobPhase p) { setAbortMessage(secondNote->at(p).c_str()); };
-			ProgressBar bar("yesslam", 0, !quiet);
+			// The bar's rate is the summary's fps: frames over the frame loop and the final mapping, not
+			// the start-up or the outputs' writing.
+			ProgressBar bar("yesslam", 0, !quiet, " fps");
+			o.onPhase = [&bar](ESlamJobPhase p)
+			{
+				setAbortMessage(secondNote->at(p).c_str());
+				if (p == ESlamJobPhase::Frames) bar.startClock();
+				if (p == ESlamJobPhase::Saving) bar.stopClock();
+			};
 			const TSlamJobSummary s = runSlamJob(
 				o,
 				[&](std::size_t done, std::size_t total, const std::string& status)

@@ -496,10 +496,24 @@ TEST(Tools, SlamAppOnRealFramesAndItsErrors)
 	EXPECT_EQ(value(r.out, "tracked").substr(0, 9), "9 (100.0%");
 	EXPECT_LT(std::stod(value(r.out, "ate_rmse")), 0.01);
 	EXPECT_EQ(value(r.out, "ate_pairs"), "9");
-	for (const char* f : {"trajectory.txt", "trajectory_online.txt", "trajectory_smoothed.txt", "keyframes.txt",
-						  "map.3Dscene", "stats.json", "config_used.ini", "eval.json", "eval_online.json",
-						  "eval_smoothed.json", "dense_cloud.ply", "map.ot", "map.bt", "frames.csv"})
+	for (const char* f :
+		 {"trajectory.txt", "trajectory_online.txt", "trajectory_smoothed.txt", "keyframes.txt", "map.3Dscene",
+		  "stats.json", "config_used.ini", "eval.json", "eval_online.json", "eval_smoothed.json", "dense_cloud.ply",
+		  "map.ot", "map.bt", "frames.csv", "map_2d.gridmap", "map_2d.pgm", "map_2d.yaml", "map_2d.png"})
 		EXPECT_TRUE(fs::exists(d / ("run/" + std::string(f)))) << f;
+	// Issue 63 item 6: the progress line's rate is labelled and is the summary's fps (it counted the
+	// start-up and the outputs' writing: 10.3/s against 16.5 fps).
+	{
+		const auto p = runTool("yesslam", {"--input", desk, "--out", d / "progress", "--detector", "none",
+										   "--sequential", "--no-dense-map"});
+		ASSERT_EQ(p.exitCode, 0) << p.err;
+		const auto bar = p.err.rfind("9/9 (100%) ");
+		ASSERT_NE(bar, std::string::npos) << p.err;
+		const double shown = std::stod(p.err.substr(bar + 11));
+		EXPECT_EQ(p.err.substr(p.err.find(' ', bar + 11), 4), " fps") << p.err;
+		const double summary = std::stod(value(p.out, "fps"));
+		EXPECT_NEAR(shown, summary, 0.05 * summary + 0.1) << p.err << p.out;
+	}
 	// Issue 62: each trajectory is evaluated, the smoothed one's header says it uses later frames.
 	EXPECT_NO_THROW(std::stod(value(r.out, "online_ate_rmse")));
 	EXPECT_NO_THROW(std::stod(value(r.out, "smoothed_ate_rmse")));

@@ -6,14 +6,26 @@
 
 namespace mrpt_yesslam
 {
-ProgressBar::ProgressBar(std::string label, std::size_t total, bool enabled)
+ProgressBar::ProgressBar(std::string label, std::size_t total, bool enabled, std::string rateUnit)
 	: label_(std::move(label)),
 	  total_(total),
 	  enabled_(enabled),
 	  tty_(::isatty(STDERR_FILENO) != 0),
+	  rateUnit_(std::move(rateUnit)),
 	  start_(std::chrono::steady_clock::now()),
 	  lastDraw_(start_)
 {
+}
+
+void ProgressBar::startClock()
+{
+	start_ = std::chrono::steady_clock::now();
+	stop_.reset();
+}
+
+void ProgressBar::stopClock()
+{
+	stop_ = std::chrono::steady_clock::now();
 }
 
 void ProgressBar::update(std::size_t done, const std::string& extra)
@@ -36,7 +48,8 @@ void ProgressBar::finish(const std::string& extra)
 
 void ProgressBar::draw(bool final, const std::string& extra)
 {
-	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+	const double secs =
+		std::chrono::duration<double>(stop_.value_or(std::chrono::steady_clock::now()) - start_).count();
 	const double rate = secs > 0 ? static_cast<double>(done_) / secs : 0.0;
 	std::string line = label_ + " ";
 	if (total_ > 0)
@@ -46,7 +59,8 @@ void ProgressBar::draw(bool final, const std::string& extra)
 		const int filled = static_cast<int>(frac * width + 0.5);
 		line += "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] ";
 		char buf[96];
-		std::snprintf(buf, sizeof(buf), "%zu/%zu (%3.0f%%) %.1f/s", done_, total_, frac * 100.0, rate);
+		std::snprintf(buf, sizeof(buf), "%zu/%zu (%3.0f%%) %.1f%s", done_, total_, frac * 100.0, rate,
+					  rateUnit_.c_str());
 		line += buf;
 		if (!final && rate > 0 && done_ < total_)
 		{
@@ -57,7 +71,7 @@ void ProgressBar::draw(bool final, const std::string& extra)
 	else
 	{
 		char buf[64];
-		std::snprintf(buf, sizeof(buf), "%zu done, %.1f/s", done_, rate);
+		std::snprintf(buf, sizeof(buf), "%zu done, %.1f%s", done_, rate, rateUnit_.c_str());
 		line += buf;
 	}
 	if (!extra.empty()) line += " " + extra;
