@@ -60,6 +60,101 @@ struct TFootprint
 };
 }  // namespace
 
+namespace
+{
+// The leaves of the band (a leaf counts where at least half a voxel of it lies in the band: a voxel at
+// the tree's resolution where its centre does, so the floor's top layer never does) with their rank.
+std::vector<TFootprint> bandLeaves(const CSemanticOcTree& tree, const std::set<std::uint8_t>& dynamicLabels,
+								   double minZ, double maxZ)
+{
+	std::vector<TFootprint> leaves;
+	if (!tree.getRoot()) return leaves;
+	double mx, my, mz, Mx, My, Mz;
+	tree.getMetricMin(mx, my, mz);
+	tree.getMetricMax(Mx, My, Mz);
+	const octomap::point3d bmin{float(mx), float(my), float(minZ)}, bmax{float(Mx), float(My), float(maxZ)};
+	const double need = 0.5 * tree.getResolution();
+	for (auto it = tree.begin_leafs_bbx(bmin, bmax), end = tree.end_leafs_bbx(); it != end; ++it)
+	{
+		const double s = it.getSize(), cz = it.getZ();
+		if (std::min(cz + s / 2, maxZ) - std::max(cz - s / 2, minZ) < std::min(need, s / 2)) continue;
+		ERank rank = kRayFree;
+		switch (tree.stateOf(*it))
+		{
+			case EVoxelState::Occupied: rank = dynamicLabels.count(it->label) ? kSurface : kObstacle; break;
+			case EVoxelState::Unknown: rank = kSurface; break;
+			case EVoxelState::Free: rank = kRayFree; break;
+		}
+		const double x0 = it.getX() - s / 2, y0 = it.getY() - s / 2;
+		leaves.push_back({x0, x0 + s, y0, y0 + s, rank});
+	}
+	return leaves;
+}
+
+// Sizes `g` to hold the leaves and the path's footprint (radius `rf`), on the resolution's lattice
+// with one cell of margin; false when there is nothing to hold.
+bool sizeGrid(TOccupancyGrid2D& g, const std::vector<TFootprint>& leaves, const std::vector<mrpt::math::TPoint3D>& path,
+			  double rf)
+{
+	double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+	double hi[2] = {-lo[0], -lo[1]};
+	const auto grow = [&](double x0, double x1, double y0, double y1)
+	{
+		lo[0] = std::min(lo[0], x0), hi[0] = std::max(hi[0], x1);
+		lo[1] = std::min(lo[1], y0), hi[1] = std::max(hi[1], y1);
+	};
+	for (const auto& l : leaves) grow(l.x0, l.x1, l.y0, l.y1);
+	for (const auto& p : path) grow(p.x - rf, p.x + rf, p.y - rf, p.y + rf);
+	if (lo[0] > hi[0]) return false;
+	const double r = g.resolution;
+	g.originX = (std::floor(lo[0] / r) - 1) * r;
+	g.originY = (std::floor(lo[1] / r) - 1) * r;
+	// A bounded grid: a pose gone far astray must not ask for gigabytes (2^25 cells: 290 m square at 5 cm).
+	const double w = std::ceil((hi[0] - g.originX) / r) + 1, h = std::ceil((hi[1] - g.originY) / r) + 1;
+	if (!(w * h <= double(kMaxCells)))
+		throw std::invalid_argument("the 2D grid would span " + std::to_string(std::lround(hi[0] - lo[0])) + " x " +
+									std::to_string(std::lround(hi[1] - lo[1])) + " m, over " +
+									std::to_string(kMaxCells) + " cells (a pose far astray? a coarser resolution)");
+	g.width = static_cast<int>(w);
+	g.height = static_cast<int>(h);
+	return true;
+}
+
+// The cells [i0, i1] along one axis that a span [a0, a1) reaches: those whose centre it covers, or
+// with `overlap` every cell it overlaps (a wall one voxel thick is never lost between the centres
+// of larger cells). The tolerance (in cells) absorbs OctoMap's float coordinates on the lattice.
+void cellSpan(double a0, double a1, double origin, double r, int n, bool overlap, int& i0, int& i1)
+{
+	const double e = 1e-3, f0 = (a0 - origin) / r, f1 = (a1 - origin) / r;
+	i0 = std::max(0, static_cast<int>(overlap ? std::floor(f0 + e) : std::ceil(f0 - 0.5)));
+	i1 = std::min(n - 1, static_cast<int>(overlap ? std::ceil(f1 - e) : std::ceil(f1 - 0.5)) - 1);
+}
+
+// The cells within `rf` of each camera position, and the camera's own cell, become free where no
+// static surface was seen.
+void clearFootprint(const TOccupancyGrid2D& g, const std::vector<mrpt::math::TPoint3D>& path, double rf,
+					std::vector<std::uint8_t>& rank)
+{
+	const double r = g.resolution;
+	for (const auto& p : path)
+	{
+		int i0, i1, j0, j1;
+		cellSpan(p.x - rf, p.x + rf, g.originX, r, g.width, false, i0, i1);
+		cellSpan(p.y - rf, p.y + rf, g.originY, r, g.height, false, j0, j1);
+		int pi = -1, pj = -1;
+		if (g.cellOf(p.x, p.y, pi, pj))
+			i0 = std::min(i0, pi), i1 = std::max(i1, pi), j0 = std::min(j0, pj), j1 = std::max(j1, pj);
+		for (int j = j0; j <= j1; j++)
+			for (int i = i0; i <= i1; i++)
+			{
+				const double dx = g.originX + (i + 0.5) * r - p.x, dy = g.originY + (j + 0.5) * r - p.y;
+				auto& c = rank[static_cast<std::size_t>(j) * g.width + i];
+				if ((dx * dx + dy * dy <= rf * rf || (i == pi && j == pj)) && c < kObstacle) c = kRayFree;
+			}
+	}
+}
+}  // namespace
+
 TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const std::set<std::uint8_t>& dynamicLabels,
 											  const std::vector<mrpt::math::TPoint3D>& path, double floorZ,
 											  bool floorSeen) const
@@ -73,71 +168,15 @@ TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const
 	g.floorSeen = floorSeen;
 	g.minZ = floorZ + opts_.minHeight;
 	g.maxZ = floorZ + opts_.maxHeight;
-	// The band's leaves: a leaf counts where at least half a voxel of it lies in the band (a voxel at
-	// the tree's resolution: where its centre does), so the floor's top layer never does.
-	std::vector<TFootprint> leaves;
-	double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
-	double hi[2] = {-lo[0], -lo[1]};
-	const auto grow = [&](double x0, double x1, double y0, double y1)
-	{
-		lo[0] = std::min(lo[0], x0), hi[0] = std::max(hi[0], x1);
-		lo[1] = std::min(lo[1], y0), hi[1] = std::max(hi[1], y1);
-	};
-	if (tree.getRoot())
-	{
-		double mx, my, mz, Mx, My, Mz;
-		tree.getMetricMin(mx, my, mz);
-		tree.getMetricMax(Mx, My, Mz);
-		const octomap::point3d bmin(float(mx), float(my), float(g.minZ)), bmax(float(Mx), float(My), float(g.maxZ));
-		const double need = 0.5 * tree.getResolution();
-		for (auto it = tree.begin_leafs_bbx(bmin, bmax), end = tree.end_leafs_bbx(); it != end; ++it)
-		{
-			const double s = it.getSize(), cz = it.getZ();
-			if (std::min(cz + s / 2, g.maxZ) - std::max(cz - s / 2, g.minZ) < std::min(need, s / 2)) continue;
-			ERank rank = kRayFree;
-			switch (tree.stateOf(*it))
-			{
-				case EVoxelState::Occupied: rank = dynamicLabels.count(it->label) ? kSurface : kObstacle; break;
-				case EVoxelState::Unknown: rank = kSurface; break;
-				case EVoxelState::Free: rank = kRayFree; break;
-			}
-			const double x0 = it.getX() - s / 2, y0 = it.getY() - s / 2;
-			leaves.push_back({x0, x0 + s, y0, y0 + s, rank});
-			grow(x0, x0 + s, y0, y0 + s);
-		}
-	}
-	const double rf = opts_.footprintRadius;
-	for (const auto& p : path) grow(p.x - rf, p.x + rf, p.y - rf, p.y + rf);
-	if (lo[0] > hi[0]) return g;  // nothing seen, no path: an empty grid
-	const double r = g.resolution;
-	// Cells on the resolution's lattice, one cell of margin (so that what bounds the map is inside it).
-	g.originX = (std::floor(lo[0] / r) - 1) * r;
-	g.originY = (std::floor(lo[1] / r) - 1) * r;
-	// A bounded grid: a pose gone far astray must not ask for gigabytes (2^25 cells: 290 m square at 5 cm).
-	const double w = std::ceil((hi[0] - g.originX) / r) + 1, h = std::ceil((hi[1] - g.originY) / r) + 1;
-	if (!(w * h <= double(kMaxCells)))
-		throw std::invalid_argument("the 2D grid would span " + std::to_string(std::lround(hi[0] - lo[0])) + " x " +
-									std::to_string(std::lround(hi[1] - lo[1])) + " m, over " +
-									std::to_string(kMaxCells) +
-									" cells (a pose far astray? a coarser [Grid2D] "
-									"resolution)");
-	g.width = static_cast<int>(w);
-	g.height = static_cast<int>(h);
+	const std::vector<TFootprint> leaves = bandLeaves(tree, dynamicLabels, g.minZ, g.maxZ);
+	if (!sizeGrid(g, leaves, path, opts_.footprintRadius)) return g;  // nothing seen, no path: an empty grid
+	// Each cell takes the strongest of the leaves that reach it, then the footprint.
 	std::vector<std::uint8_t> rank(static_cast<std::size_t>(g.width) * g.height, kNothing);
-	// A cell takes a leaf that covers its centre; an obstacle or a surface also every cell it
-	// overlaps (a wall one voxel thick is never lost between the centres of larger cells). The
-	// tolerance (in cells) absorbs OctoMap's float coordinates on the shared lattice.
-	const auto span = [&](double a0, double a1, double origin, int n, bool overlap, int& i0, int& i1)
-	{
-		const double e = 1e-3, f0 = (a0 - origin) / r, f1 = (a1 - origin) / r;
-		i0 = std::max(0, static_cast<int>(overlap ? std::floor(f0 + e) : std::ceil(f0 - 0.5)));
-		i1 = std::min(n - 1, static_cast<int>(overlap ? std::ceil(f1 - e) : std::ceil(f1 - 0.5)) - 1);
-	};
 	for (const auto& l : leaves)
 	{
 		int i0, i1, j0, j1;
-		span(l.x0, l.x1, g.originX, g.width, l.rank >= kSurface, i0, i1);
-		span(l.y0, l.y1, g.originY, g.height, l.rank >= kSurface, j0, j1);
+		cellSpan(l.x0, l.x1, g.originX, g.resolution, g.width, l.rank >= kSurface, i0, i1);
+		cellSpan(l.y0, l.y1, g.originY, g.resolution, g.height, l.rank >= kSurface, j0, j1);
 		for (int j = j0; j <= j1; j++)
 			for (int i = i0; i <= i1; i++)
 			{
@@ -145,22 +184,7 @@ TOccupancyGrid2D COccupancyGridBuilder::build(const CSemanticOcTree& tree, const
 				c = std::max<std::uint8_t>(c, l.rank);
 			}
 	}
-	for (const auto& p : path)
-	{
-		int i0, i1, j0, j1;
-		span(p.x - rf, p.x + rf, g.originX, g.width, false, i0, i1);
-		span(p.y - rf, p.y + rf, g.originY, g.height, false, j0, j1);
-		int pi = -1, pj = -1;  // the camera's own cell, whatever the radius
-		if (g.cellOf(p.x, p.y, pi, pj))
-			i0 = std::min(i0, pi), i1 = std::max(i1, pi), j0 = std::min(j0, pj), j1 = std::max(j1, pj);
-		for (int j = j0; j <= j1; j++)
-			for (int i = i0; i <= i1; i++)
-			{
-				const double dx = g.originX + (i + 0.5) * r - p.x, dy = g.originY + (j + 0.5) * r - p.y;
-				auto& c = rank[static_cast<std::size_t>(j) * g.width + i];
-				if ((dx * dx + dy * dy <= rf * rf || (i == pi && j == pj)) && c < kObstacle) c = kRayFree;
-			}
-	}
+	clearFootprint(g, path, opts_.footprintRadius, rank);
 	g.cells.resize(rank.size());
 	for (std::size_t k = 0; k < rank.size(); k++)
 		g.cells[k] = rank[k] == kObstacle
