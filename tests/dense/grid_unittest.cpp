@@ -258,7 +258,9 @@ TEST(Grid2D, YesslamMapMakesTheGridFromASavedMapOrAnOctoMap)
 		ASSERT_EQ(r.exitCode, 0) << r.err;
 		EXPECT_NE(r.out.find("grid:         " + (d / "nav/sub/a")), std::string::npos) << r.out;
 		if (input[0] == "--octree")  // the run's frame and path come from its trajectory.txt
+		{
 			EXPECT_NE(r.out.find("the frame and path of " + (d / "run/trajectory.txt")), std::string::npos) << r.out;
+		}
 		const TOccupancyGrid2D same = readRosMap(d / "nav/sub/a.yaml");
 		EXPECT_EQ(same.count(TOccupancyGrid2D::kOccupied), ran.count(TOccupancyGrid2D::kOccupied)) << input[0];
 		EXPECT_EQ(occupiedIn(same), ran.count(TOccupancyGrid2D::kOccupied)) << input[0];
